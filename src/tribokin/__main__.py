@@ -1,0 +1,5 @@
+import sys
+
+from tribokin.cli import main
+
+sys.exit(main())

@@ -1,0 +1,85 @@
+"""ISO 9283 pose accuracy and repeatability of n cycles at one commanded pose.
+
+Positions in [m], angles in [rad]. Orientation deviations a, b, c are the
+components, about the base x, y, z axes, of the rotation vector taking the
+commanded orientation to the reached one (``log3(R_j R_c^T)``): for the small
+deviations at stake they equal the standard's angle differences.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class PoseMetrics:
+    """ISO 9283 figures of one pose (SI units).
+
+    Attributes:
+        barycenter_m: (3,) barycenter of the reached positions [m].
+        AP_p_m: position accuracy |barycenter - commanded| [m].
+        RP_l_m: position repeatability l_bar + 3 S_l [m].
+        AP_abc_rad: (3,) orientation accuracy a_bar - a_c, b_bar - b_c, c_bar - c_c [rad].
+        RP_abc_rad: (3,) orientation repeatability 3 S_a, 3 S_b, 3 S_c [rad] (the standard's +/- value).
+        vAP_p_m: multi-directional position accuracy variation [m]; ``None`` with one approach direction.
+        distances_m: (n,) l_j = |x_j - barycenter| [m].
+    """
+
+    barycenter_m: np.ndarray
+    AP_p_m: float
+    RP_l_m: float
+    AP_abc_rad: np.ndarray
+    RP_abc_rad: np.ndarray
+    vAP_p_m: float | None
+    distances_m: np.ndarray
+
+
+def barycenter(positions: np.ndarray) -> np.ndarray:
+    """Mean of (n, 3) positions [m], summed relative to the first so identical points give it exactly."""
+    return positions[0] + (positions - positions[0]).mean(axis=0)
+
+
+def position_repeatability(positions: np.ndarray) -> tuple[float, np.ndarray]:
+    """RP_l = l_bar + 3 S_l [m] and the distances l_j [m] of (n, 3) positions (S_l with n - 1)."""
+    distances = np.linalg.norm(positions - barycenter(positions), axis=1)
+    spread = distances.std(ddof=1) if len(distances) > 1 else 0.0
+    return float(distances.mean() + 3 * spread), distances
+
+
+def multidirectional_variation(positions: np.ndarray, approach: np.ndarray) -> float | None:
+    """vAP_p [m]: largest distance between the barycenters reached from each approach direction.
+
+    ``None`` when all cycles come from one direction.
+    """
+    groups = np.unique(approach)
+    if len(groups) < 2:
+        return None
+    centres = np.array([barycenter(positions[approach == g]) for g in groups])
+    gaps = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=2)
+    return float(gaps.max())
+
+
+def pose_metrics(positions: np.ndarray, angles: np.ndarray, commanded_position: np.ndarray,
+                 approach: np.ndarray | None = None) -> PoseMetrics:
+    """ISO 9283 metrics of n cycles.
+
+    Args:
+        positions: (n, 3) reached tool positions [m].
+        angles: (n, 3) orientation deviations a, b, c from the commanded orientation [rad].
+        commanded_position: (3,) [m].
+        approach: (n,) approach-direction index of each cycle (default: all the same).
+    """
+    centre = barycenter(positions)
+    rp_l, distances = position_repeatability(positions)
+    ddof = 1 if len(angles) > 1 else 0
+    return PoseMetrics(
+        barycenter_m=centre,
+        AP_p_m=float(np.linalg.norm(centre - commanded_position)),
+        RP_l_m=rp_l,
+        AP_abc_rad=angles.mean(axis=0),
+        RP_abc_rad=3 * angles.std(axis=0, ddof=ddof),
+        vAP_p_m=None if approach is None else multidirectional_variation(positions, approach),
+        distances_m=distances,
+    )

@@ -1,0 +1,100 @@
+"""Per-joint error model: the joint's lost motion in each cycle (DESIGN.md §2).
+
+For joint i and cycle j::
+
+    dq_ij = offset_i + s_ij * (mu_ij * N_i * r_i / k_i + backlash_i / 2) + noise_ij
+
+The drive is a spring of stiffness k pushing a segment that rubs on its slide
+or bearing; the encoder sits on the motor side, so the segment stops short
+when the spring force equals friction, in the direction of travel s_ij.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from tribokin.tribology.laws import FrictionLaw
+
+APPROACH_MODES = ("unidirectional", "bidirectional", "random")
+
+
+@dataclass(frozen=True)
+class JointErrorModel:
+    """Error sources of one joint.
+
+    Attributes:
+        friction: law of the friction coefficient mu [-].
+        stiffness: transmission stiffness k [N/m] (prismatic) or [N·m/rad] (revolute).
+        normal_force_N: load carried by the slide or bearing [N]; ``None`` to compute it from statics.
+        friction_radius_m: effective friction radius r [m] of a revolute joint (ignored, taken as 1, for prismatic).
+        backlash: total backlash [m or rad]; each approach lands half of it short.
+        offset: constant displacement of the transmission elements, epsilon_t [m or rad].
+        noise_std: standard deviation of extra Gaussian noise per cycle [m or rad].
+    """
+
+    friction: FrictionLaw
+    stiffness: float
+    normal_force_N: float | None = None
+    friction_radius_m: float = 1.0
+    backlash: float = 0.0
+    offset: float = 0.0
+    noise_std: float = 0.0
+
+
+def friction_lever(models: list[JointErrorModel], prismatic: np.ndarray) -> np.ndarray:
+    """r_i / k_i for each joint: lost motion per newton of normal load per unit mu [m/N or rad/N]."""
+    radius = np.array([1.0 if p else m.friction_radius_m for m, p in zip(models, prismatic)])
+    return radius / np.array([m.stiffness for m in models])
+
+
+def approach_signs(mode: str, cycles: int, directions: np.ndarray, rng: np.random.Generator):
+    """Direction of travel of each joint in each cycle.
+
+    Args:
+        mode: ``"unidirectional"`` (every cycle from ``directions[0]``, ISO's default),
+            ``"bidirectional"`` (cycling through ``directions`` in turn) or
+            ``"random"`` (a direction drawn at random each cycle).
+        cycles: number of cycles n.
+        directions: (m, nv) array of +1/-1, the joint-space directions of travel
+            of the m approach directions (m >= 2 for multi-directional modes).
+        rng: random generator (used by ``"random"`` only).
+
+    Returns:
+        signs (n, nv) of +1/-1 and the approach-direction index (n,) of each cycle.
+    """
+    if mode == "unidirectional":
+        group = np.zeros(cycles, dtype=int)
+    elif mode == "bidirectional":
+        group = np.arange(cycles) % len(directions)
+    elif mode == "random":
+        group = rng.integers(len(directions), size=cycles)
+    else:
+        raise ValueError(f"unknown approach mode {mode!r}; valid: {APPROACH_MODES}")
+    return directions[group].astype(float), group
+
+
+def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray, normal_forces_N: np.ndarray,
+                            signs: np.ndarray, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """Draw the joint deviations dq of every cycle.
+
+    Args:
+        models: one error model per active joint.
+        prismatic: (nv,) True for prismatic joints.
+        normal_forces_N: (nv,) load on each joint's bearing [N].
+        signs: (n, nv) direction of travel of each joint in each cycle.
+        rng: random generator; draws mu joint by joint, then the noise.
+
+    Returns:
+        dq (n, nv) [m or rad] and the friction coefficients mu (n, nv) [-].
+    """
+    cycles = signs.shape[0]
+    mu = np.column_stack([m.friction.rvs(size=cycles, random_state=rng) for m in models])
+    lost = mu * (np.asarray(normal_forces_N, dtype=float) * friction_lever(models, prismatic))
+    half_backlash = np.array([m.backlash / 2 for m in models])
+    dq = np.array([m.offset for m in models]) + signs * (lost + half_backlash)
+    noise_std = np.array([m.noise_std for m in models])
+    if np.any(noise_std > 0):
+        dq += rng.standard_normal(dq.shape) * noise_std
+    return dq, mu

@@ -1,0 +1,105 @@
+"""Writing results to an output folder: all or nothing, never over a user's folder unasked.
+
+Files are written into a temporary sibling folder, which is renamed into
+place at the end; an existing folder is replaced only with ``force``.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import shutil
+import tempfile
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+
+from tribokin.errors import InputError
+from tribokin.results import StudyResult
+
+
+def check_output_folder(out, force: bool = False) -> Path:
+    """Refuse, before any work, an output folder that exists (without ``force``) or cannot be created."""
+    out = Path(out)
+    if out.exists() and not force:
+        raise InputError("output folder exists; choose another --out or pass --force to replace it",
+                         out, "--out")
+    if out.exists() and not out.is_dir():
+        raise InputError("is a file, not a folder; choose another --out", out, "--out")
+    parent = out.absolute().parent
+    if not parent.is_dir():
+        raise InputError(f"parent folder '{parent}' does not exist; create it first", out, "--out")
+    if not os.access(parent, os.W_OK):
+        raise InputError(f"parent folder '{parent}' is not writable", out, "--out")
+    return out
+
+
+@contextmanager
+def atomic_folder(out, force: bool = False):
+    """Yield a temporary folder; on success it replaces ``out``, on failure it is removed."""
+    out = check_output_folder(out, force)
+    temporary = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.absolute().parent))
+    try:
+        yield temporary
+    except BaseException:
+        shutil.rmtree(temporary, ignore_errors=True)
+        raise
+    if out.exists():
+        retired = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.absolute().parent))
+        os.replace(out, retired / out.name)
+        os.replace(temporary, out)
+        shutil.rmtree(retired, ignore_errors=True)
+    else:
+        os.replace(temporary, out)
+
+
+def write_summary(result: StudyResult, folder: Path) -> None:
+    """``summary.json``: settings and per-pose figures."""
+    (folder / "summary.json").write_text(json.dumps(result.summary(), indent=2) + "\n", encoding="utf-8")
+
+
+def write_pose_table(result: StudyResult, folder: Path) -> None:
+    """``poses.csv``: one row per pose, the scalar figures (µm, mdeg) and positions (m) flattened."""
+    rows = []
+    for pose in result.poses:
+        row = {}
+        for key, value in pose.report_row().items():
+            if isinstance(value, list) and key.endswith("_m"):
+                row.update({f"{key[:-2]}_{axis}_m": v for axis, v in zip("xyz", value)})
+            elif isinstance(value, list):
+                row.update({f"{key}[{i}]": v for i, v in enumerate(value)})
+            else:
+                row[key] = "" if value is None else value
+        rows.append(row)
+    columns = list(dict.fromkeys(key for row in rows for key in row))
+    with open(folder / "poses.csv", "w", newline="", encoding="utf-8") as handle:
+        writer = csv.DictWriter(handle, fieldnames=columns)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def write_samples(result: StudyResult, folder: Path) -> None:
+    """``samples.npz``: per pose ``<pose>/positions_m`` (n, 3), ``angles_rad``, ``dq``, ``mu``, ``approach``."""
+    arrays = {}
+    for pose in result.poses:
+        arrays[f"{pose.name}/positions_m"] = pose.positions_m
+        arrays[f"{pose.name}/angles_rad"] = pose.angles_rad
+        arrays[f"{pose.name}/dq"] = pose.dq
+        arrays[f"{pose.name}/mu"] = pose.mu
+        arrays[f"{pose.name}/approach"] = pose.approach
+    np.savez_compressed(folder / "samples.npz", **arrays)
+
+
+def write_results(result: StudyResult, out, force: bool = False) -> Path:
+    """Write summary.json, poses.csv, samples.npz and one figure per pose to ``out``, atomically."""
+    from tribokin.viz.figures import save_repeatability_field
+
+    with atomic_folder(out, force) as folder:
+        write_summary(result, folder)
+        write_pose_table(result, folder)
+        write_samples(result, folder)
+        for pose in result.poses:
+            save_repeatability_field(pose, folder / f"field_{pose.name}.png", title=f"{result.name} — {pose.name}")
+    return Path(out)

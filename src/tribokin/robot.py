@@ -1,0 +1,187 @@
+"""Load a robot: a URDF file or an example-robot-data name, reduced to the tool's chain.
+
+The joints that move the tool frame (its kinematic chain from the base) are
+the robot's *active joints*; every other joint (gripper fingers, a floating
+base) is locked at the robot's reference posture. Only one-degree-of-freedom
+joints (revolute, prismatic) may be active.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import warnings
+from collections import Counter
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from tribokin.errors import InputError, closest_hint
+
+#: example-robot-data names tested with tribokin (any fixed-base arm it ships should load).
+TESTED_ROBOTS = ("ur3", "ur5", "ur10", "panda", "xarm7", "z1", "so100")
+
+
+def example_robot_names() -> list[str]:
+    """Every robot name example-robot-data can load."""
+    from example_robot_data.robots_loader import ROBOTS
+
+    return sorted(ROBOTS)
+
+
+@dataclass
+class Robot:
+    """A Pinocchio model reduced to the chain that moves ``tool_frame``.
+
+    Attributes:
+        model: the reduced model; its joints are the active joints, in chain order.
+        tool_frame: name of the frame whose pose is measured.
+        label: robot name or URDF path, for reports.
+        visual_model, collision_model: geometry models (may be ``None``).
+        package_dirs: folders meshes are resolved against.
+    """
+
+    model: pin.Model
+    tool_frame: str
+    label: str
+    visual_model: pin.GeometryModel | None = None
+    collision_model: pin.GeometryModel | None = None
+    package_dirs: list[Path] = field(default_factory=list)
+
+    def __post_init__(self):
+        self.tool_frame_id = self.model.getFrameId(self.tool_frame)
+        self.data = self.model.createData()
+
+    @property
+    def joint_names(self) -> list[str]:
+        """Active joint names, in the order of ``q``."""
+        return list(self.model.names)[1:]
+
+    @property
+    def joint_is_prismatic(self) -> np.ndarray:
+        """True for each prismatic active joint (deviations in [m]); False for revolute ([rad])."""
+        return np.array(["JointModelP" in j.shortname() for j in self.model.joints[1:]])
+
+    @property
+    def lower_limits(self) -> np.ndarray:
+        """Lower position limits [m or rad]."""
+        return np.asarray(self.model.lowerPositionLimit, dtype=float)
+
+    @property
+    def upper_limits(self) -> np.ndarray:
+        """Upper position limits [m or rad]."""
+        return np.asarray(self.model.upperPositionLimit, dtype=float)
+
+    def tool_placement(self, q) -> pin.SE3:
+        """Pose of the tool frame in the world (base) frame at configuration ``q``."""
+        pin.forwardKinematics(self.model, self.data, np.asarray(q, dtype=float))
+        return pin.updateFramePlacement(self.model, self.data, self.tool_frame_id).copy()
+
+    def check_configuration(self, q, source=None, key: str = "q") -> np.ndarray:
+        """``q`` as an array, or an :class:`InputError` if its length or limits are wrong."""
+        try:
+            q = np.asarray(q, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"must be a list of numbers (got {q!r})", source, key) from None
+        names = self.joint_names
+        if q.shape != (len(names),):
+            raise InputError(f"needs {len(names)} values, one per joint ({', '.join(names)}); got {q.size}",
+                             source, key)
+        if not np.all(np.isfinite(q)):
+            raise InputError("must be finite numbers", source, key)
+        for i, name in enumerate(names):
+            if not self.lower_limits[i] <= q[i] <= self.upper_limits[i]:
+                raise InputError(f"joint '{name}' = {q[i]:g} is outside its limits "
+                                 f"[{self.lower_limits[i]:g}, {self.upper_limits[i]:g}]", source, key)
+        return q
+
+
+def _quiet(call, *args):
+    """Call a loader, hiding the chatter some URDF parsers print or warn."""
+    with contextlib.redirect_stdout(io.StringIO()), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return call(*args)
+
+
+def _make_frame_names_unique(model: pin.Model) -> None:
+    """Rename a body frame that shares its name with a joint to ``<name>_link``.
+
+    Some URDFs (so100) name a link and a joint alike; Pinocchio's
+    ``buildReducedModel`` then cannot tell their frames apart.
+    """
+    counts = Counter(frame.name for frame in model.frames)
+    for index, frame in enumerate(model.frames):
+        if counts[frame.name] > 1 and frame.type == pin.FrameType.BODY:
+            frame.name = f"{frame.name}_link"
+            model.frames[index] = frame
+
+
+def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, source, package_dirs) -> Robot:
+    """Lock every joint that does not move ``tool_frame``; check the rest are 1-DoF."""
+    _make_frame_names_unique(model)
+    frames = [f.name for f in model.frames]
+    if tool_frame is None:
+        tool_frame = frames[-1]
+    elif tool_frame not in frames:
+        raise InputError(f"unknown frame '{tool_frame}'{closest_hint(tool_frame, frames)}; frames of {label}: "
+                         f"{', '.join(frames[1:])}", source, "robot.tool_frame")
+    chain = set(model.supports[model.frames[model.getFrameId(tool_frame)].parentJoint])
+    locked = [j for j in range(1, model.njoints) if j not in chain or model.joints[j].shortname() == "JointModelFreeFlyer"]
+    if locked:
+        if visual is None or collision is None:
+            model = pin.buildReducedModel(model, locked, reference_q)
+        else:
+            model, (visual, collision) = pin.buildReducedModel(model, [visual, collision], locked, reference_q)
+    for joint, name in zip(model.joints[1:], list(model.names)[1:]):
+        if joint.nq != 1 or joint.nv != 1:
+            raise InputError(f"joint '{name}' ({joint.shortname()}) moves the tool but is not a 1-DoF revolute or "
+                             "prismatic joint; tribokin cannot model it", source, "robot")
+    if model.nq == 0:
+        raise InputError(f"frame '{tool_frame}' is not moved by any joint", source, "robot.tool_frame")
+    return Robot(model, tool_frame, label, visual, collision, [Path(p) for p in package_dirs])
+
+
+def load_urdf(path, tool_frame: str | None = None, package_dirs=(), source=None) -> Robot:
+    """Load a robot from a URDF file.
+
+    Args:
+        path: the URDF file.
+        tool_frame: frame whose pose is measured (default: the model's last frame).
+        package_dirs: folders that ``package://`` mesh URIs resolve against
+            (default: the URDF's folder and its parent).
+        source: file that named the URDF, for error messages.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"URDF file '{path}' not found", source, "robot.urdf")
+    dirs = [Path(p) for p in package_dirs] or [path.parent, path.parent.parent]
+    try:
+        model = _quiet(pin.buildModelFromUrdf, str(path))
+    except (RuntimeError, ValueError) as error:
+        first = str(error).strip().splitlines()[0] if str(error).strip() else "unreadable"
+        raise InputError(f"cannot read URDF '{path}': {first}", source, "robot.urdf") from None
+    visual = collision = None
+    try:
+        visual = _quiet(pin.buildGeomFromUrdf, model, str(path), pin.GeometryType.VISUAL, [str(d) for d in dirs])
+        collision = _quiet(pin.buildGeomFromUrdf, model, str(path), pin.GeometryType.COLLISION, [str(d) for d in dirs])
+    except (RuntimeError, ValueError):
+        pass  # kinematics do not need meshes; the viewers say when meshes are missing
+    return _reduce_to_chain(model, visual, collision, pin.neutral(model), tool_frame, str(path), source, dirs)
+
+
+def load_example_robot(name: str, tool_frame: str | None = None, source=None) -> Robot:
+    """Load a robot that example-robot-data ships, by name (e.g. ``"ur5"``)."""
+    names = example_robot_names()
+    if name not in names:
+        raise InputError(f"unknown robot '{name}'{closest_hint(name, names)}; run `tribokin robots` for the list",
+                         source, "robot.name")
+    import example_robot_data
+
+    wrapper = _quiet(example_robot_data.load, name)
+    reference_q = wrapper.q0 if wrapper.q0 is not None else pin.neutral(wrapper.model)
+    urdf = Path(wrapper.urdf).resolve()
+    package_dirs = [next((p for p in urdf.parents if p.name == "robots"), urdf.parent)]
+    return _reduce_to_chain(wrapper.model, wrapper.visual_model, wrapper.collision_model, reference_q, tool_frame,
+                            name, source, package_dirs)

@@ -1,0 +1,192 @@
+"""Friction-coefficient laws: the cycle-to-cycle statistics of mu.
+
+Each law has the shape of a frozen ``scipy.stats`` distribution --
+``rvs(size, random_state)``, ``mean()``, ``std()``, ``support()``, ``pdf(x)``
+-- so users need no new vocabulary; most delegate to ``scipy.stats``.
+Friction coefficients are dimensionless and never negative.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import stats
+
+from tribokin.errors import InputError
+
+
+def _check_finite(**values: float) -> None:
+    for key, value in values.items():
+        if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
+            raise InputError(f"must be a finite number (got {value!r})", key=key)
+
+
+def _check_non_negative(**values: float) -> None:
+    _check_finite(**values)
+    for key, value in values.items():
+        if value < 0:
+            raise InputError(f"must be >= 0: friction coefficients are never negative (got {value})", key=key)
+
+
+class FrictionLaw:
+    """Base class: a law of the friction coefficient mu [-].
+
+    Subclasses set ``self._dist`` (a frozen scipy distribution) and
+    ``self.params``; ``provenance`` says where the numbers come from.
+    """
+
+    law: str = ""
+
+    def __init__(self, dist, params: dict, provenance: str | None = None):
+        self._dist = dist
+        self.params = params
+        self.provenance = provenance
+
+    def rvs(self, size=None, random_state: np.random.Generator | None = None) -> np.ndarray:
+        """Draw friction coefficients [-] with a NumPy generator."""
+        return self._dist.rvs(size=size, random_state=random_state)
+
+    def mean(self) -> float:
+        """Mean friction coefficient [-]."""
+        return float(self._dist.mean())
+
+    def std(self) -> float:
+        """Standard deviation of the friction coefficient [-]."""
+        return float(self._dist.std())
+
+    def support(self) -> tuple[float, float]:
+        """Smallest and largest possible friction coefficient [-]."""
+        low, high = self._dist.support()
+        return float(low), float(high)
+
+    def pdf(self, x) -> np.ndarray:
+        """Probability density at ``x`` [1/-]."""
+        return self._dist.pdf(x)
+
+    def describe(self) -> dict:
+        """Law name, parameters, moments and provenance, for reports."""
+        return {
+            "law": self.law,
+            **self.params,
+            "mean": self.mean(),
+            "std": self.std(),
+            "support": list(self.support()),
+            "provenance": self.provenance,
+        }
+
+    def __repr__(self) -> str:
+        args = ", ".join(f"{k}={v!r}" for k, v in self.params.items() if k != "values")
+        return f"{type(self).__name__}({args})"
+
+
+class Constant(FrictionLaw):
+    """The same mu every cycle (the paper's Fig. 11 uses mu = 0.12, Fig. 10 mu = 0)."""
+
+    law = "constant"
+
+    def __init__(self, mu: float, provenance: str | None = None):
+        _check_non_negative(mu=mu)
+        super().__init__(None, {"mu": float(mu)}, provenance)
+
+    def rvs(self, size=None, random_state=None) -> np.ndarray:
+        return np.full(size if size is not None else (), self.params["mu"])
+
+    def mean(self) -> float:
+        return self.params["mu"]
+
+    def std(self) -> float:
+        return 0.0
+
+    def support(self) -> tuple[float, float]:
+        return self.params["mu"], self.params["mu"]
+
+    def pdf(self, x) -> np.ndarray:
+        """A point mass: infinite at mu, zero elsewhere."""
+        return np.where(np.asarray(x) == self.params["mu"], np.inf, 0.0)
+
+
+class Uniform(FrictionLaw):
+    """mu uniform on [low, high]: grease-dominated contacts (paper §4.2)."""
+
+    law = "uniform"
+
+    def __init__(self, low: float, high: float, provenance: str | None = None):
+        _check_non_negative(low=low, high=high)
+        if low > high:
+            raise InputError(f"low ({low}) is above high ({high}): swap them", key="low")
+        super().__init__(stats.uniform(loc=low, scale=high - low), {"low": float(low), "high": float(high)}, provenance)
+
+
+class Gaussian(FrictionLaw):
+    """mu Gaussian with ``mean`` and ``std``, truncated at mu = 0.
+
+    Friction cannot be negative, so the normal law is truncated at zero
+    (``scipy.stats.truncnorm``); ``mean()`` and ``std()`` are those of the
+    truncated law, equal to the parameters when ``mean`` is a few ``std``
+    above zero. Asperity-dominated contacts (paper §4.2).
+    """
+
+    law = "gaussian"
+
+    def __init__(self, mean: float, std: float, provenance: str | None = None):
+        _check_non_negative(mean=mean, std=std)
+        params = {"mean": float(mean), "std": float(std)}
+        if std == 0:
+            dist = stats.uniform(loc=mean, scale=0.0)
+        else:
+            dist = stats.truncnorm(a=-mean / std, b=np.inf, loc=mean, scale=std)
+        super().__init__(dist, params, provenance)
+
+
+class Lognormal(FrictionLaw):
+    """mu lognormal with the given ``mean`` and ``std`` of mu itself (not of log mu)."""
+
+    law = "lognormal"
+
+    def __init__(self, mean: float, std: float, provenance: str | None = None):
+        _check_non_negative(mean=mean, std=std)
+        if mean <= 0:
+            raise InputError(f"must be > 0 for a lognormal law (got {mean})", key="mean")
+        sigma_log = math.sqrt(math.log1p((std / mean) ** 2))
+        median = mean / math.sqrt(1 + (std / mean) ** 2)
+        super().__init__(stats.lognorm(s=sigma_log, scale=median), {"mean": float(mean), "std": float(std)}, provenance)
+
+
+class Empirical(FrictionLaw):
+    """Resamples measured friction coefficients (bootstrap, with replacement).
+
+    ``mean()``/``std()`` are those of the values (population std), the
+    support is their range and ``pdf`` a histogram density.
+    """
+
+    law = "empirical"
+
+    def __init__(self, values, provenance: str | None = None):
+        values = np.asarray(values, dtype=float).ravel()
+        if values.size < 2:
+            raise InputError(f"needs at least 2 measured values (got {values.size})", key="values")
+        if not np.all(np.isfinite(values)):
+            raise InputError("must all be finite numbers", key="values")
+        if np.any(values < 0):
+            raise InputError(f"must be >= 0: friction coefficients are never negative (min {values.min()})", key="values")
+        self.values = values
+        super().__init__(stats.rv_histogram(np.histogram(values, bins="auto"), density=True),
+                         {"values": values.tolist()}, provenance)
+
+    def rvs(self, size=None, random_state=None) -> np.ndarray:
+        return np.random.default_rng(random_state).choice(self.values, size=size, replace=True)
+
+    def mean(self) -> float:
+        return float(self.values.mean())
+
+    def std(self) -> float:
+        return float(self.values.std())
+
+    def support(self) -> tuple[float, float]:
+        return float(self.values.min()), float(self.values.max())
+
+    def describe(self) -> dict:
+        described = super().describe()
+        described["values"] = f"{self.values.size} measured values"
+        return described

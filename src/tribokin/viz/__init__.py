@@ -1,0 +1,1 @@
+"""Views of results: matplotlib figures, Meshcat scenes, static HTML."""

@@ -1,0 +1,115 @@
+"""Friction laws: moments against closed forms, sampling, validation, presets."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy import special
+
+from tribokin.errors import InputError
+from tribokin.tribology import PRESETS, Constant, Empirical, Gaussian, Lognormal, Uniform, law_from_spec, preset
+
+N = 200_000
+
+
+def sample_moments(law, seed=0):
+    x = law.rvs(size=N, random_state=np.random.default_rng(seed))
+    return x.mean(), x.std()
+
+
+def test_uniform_moments_closed_form():
+    law = Uniform(0.09, 0.16)
+    assert law.mean() == pytest.approx(0.125)
+    assert law.std() == pytest.approx(0.07 / math.sqrt(12))
+    assert law.support() == (0.09, 0.16)
+    assert law.pdf(0.1) == pytest.approx(1 / 0.07)
+    assert law.pdf(0.2) == 0
+    mean, std = sample_moments(law)
+    assert mean == pytest.approx(0.125, rel=2e-3)
+    assert std == pytest.approx(0.07 / math.sqrt(12), rel=5e-3)
+
+
+def test_gaussian_far_from_zero_keeps_its_parameters():
+    law = Gaussian(0.1375, 0.0075)
+    assert law.mean() == pytest.approx(0.1375, rel=1e-12)
+    assert law.std() == pytest.approx(0.0075, rel=1e-9)
+    assert law.pdf(0.1375) == pytest.approx(1 / (0.0075 * math.sqrt(2 * math.pi)), rel=1e-9)
+    mean, std = sample_moments(law)
+    assert mean == pytest.approx(0.1375, rel=1e-3)
+    assert std == pytest.approx(0.0075, rel=5e-3)
+
+
+def test_gaussian_is_truncated_at_zero():
+    law = Gaussian(0.02, 0.05)
+    x = law.rvs(size=N, random_state=np.random.default_rng(1))
+    assert x.min() >= 0
+    assert law.support()[0] == 0
+    # truncated-normal mean: m + s * phi(alpha) / (1 - Phi(alpha)), alpha = -m/s
+    alpha = -0.02 / 0.05
+    phi = math.exp(-alpha ** 2 / 2) / math.sqrt(2 * math.pi)
+    expected = 0.02 + 0.05 * phi / (0.5 * special.erfc(alpha / math.sqrt(2)))
+    assert law.mean() == pytest.approx(expected, rel=1e-9)
+    assert x.mean() == pytest.approx(expected, rel=5e-3)
+
+
+def test_lognormal_matches_requested_mean_and_std():
+    law = Lognormal(0.12, 0.02)
+    assert law.mean() == pytest.approx(0.12, rel=1e-12)
+    assert law.std() == pytest.approx(0.02, rel=1e-9)
+    mean, std = sample_moments(law)
+    assert mean == pytest.approx(0.12, rel=2e-3)
+    assert std == pytest.approx(0.02, rel=1e-2)
+
+
+def test_constant_and_empirical():
+    assert np.all(Constant(0.12).rvs(size=5) == 0.12)
+    assert Constant(0.12).std() == 0
+    values = [0.10, 0.11, 0.13, 0.16]
+    law = Empirical(values)
+    x = law.rvs(size=N, random_state=np.random.default_rng(2))
+    assert set(np.unique(x)) == set(values)
+    assert law.mean() == pytest.approx(np.mean(values))
+    assert law.std() == pytest.approx(np.std(values))
+    assert x.mean() == pytest.approx(np.mean(values), rel=2e-3)
+    assert law.support() == (0.10, 0.16)
+
+
+def test_same_generator_state_same_draws():
+    law = Gaussian(0.1, 0.01)
+    a = law.rvs(size=10, random_state=np.random.default_rng(5))
+    b = law.rvs(size=10, random_state=np.random.default_rng(5))
+    assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("make, key", [
+    (lambda: Uniform(0.2, 0.1), "low"),
+    (lambda: Gaussian(0.1, -0.01), "std"),
+    (lambda: Constant(-0.1), "mu"),
+    (lambda: Lognormal(0.0, 0.01), "mean"),
+    (lambda: Empirical([0.1]), "values"),
+    (lambda: Uniform(float("nan"), 0.1), "low"),
+])
+def test_bad_parameters_name_the_key(make, key):
+    with pytest.raises(InputError) as error:
+        make()
+    assert error.value.key == key
+
+
+def test_presets_carry_provenance():
+    assert set(PRESETS) == {"frictionless", "constant-0.12", "42CD4-raw", "42CD4-treated"}
+    treated = preset("42CD4-treated")
+    assert (treated.mean(), treated.std()) == pytest.approx((0.1375, 0.0075))
+    assert "ASSUMPTION" in treated.provenance
+    assert preset("42CD4-raw").support() == (0.09, 0.16)
+    assert preset("frictionless").mean() == 0
+
+
+def test_spec_errors_point_inside_the_mapping():
+    with pytest.raises(InputError, match="did you mean '42CD4-raw'") as error:
+        law_from_spec({"preset": "42CD4-rw"}, "s.toml", "joints.friction")
+    assert error.value.key == "joints.friction.preset"
+    with pytest.raises(InputError) as error:
+        law_from_spec({"law": "uniform", "low": 0.2, "high": 0.1}, "s.toml", "joints.friction")
+    assert error.value.key == "joints.friction.low"
+    with pytest.raises(InputError, match="unknown key 'sigma'"):
+        law_from_spec({"law": "gaussian", "mean": 0.1, "sigma": 0.1}, "s.toml")
