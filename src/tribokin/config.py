@@ -97,12 +97,14 @@ STUDY_KEYS = {
     "cycles": (positive_int, 30),
     "seed": (seed_int, 0),
     "approach": (one_of(*APPROACH_MODES), "unidirectional"),
+    "engine": (one_of("fast", "exact"), "exact"),
 }
 ROBOT_KEYS = {
     "urdf": (text, None),
     "name": (text, None),
     "tool_frame": (text, None),
     "package_dirs": (string_list, []),
+    "payload_kg": (non_negative, 0.0),
 }
 JOINT_KEYS = {
     "friction": (table, None),
@@ -112,13 +114,26 @@ JOINT_KEYS = {
     "backlash": (non_negative, 0.0),
     "offset": (finite, 0.0),
     "noise_std": (non_negative, 0.0),
+    "bearing_span_m": (positive, 0.1),
+}
+def vector3(value, source, key) -> list[float]:
+    values = number_list(value, source, key)
+    if len(values) != 3:
+        raise InputError(f"needs 3 numbers (got {len(values)})", source, key)
+    return values
+
+
+ISO_CUBE_KEYS = {
+    "center_m": (vector3, None),
+    "side_m": (positive, None),
+    "rpy_deg": (vector3, None),
 }
 POSE_KEYS = {
     "name": (text, None),
     "q": (number_list, REQUIRED),
     "normal_force_N": (non_negative, None),
 }
-TOP_KEYS = ("study", "robot", "joints", "poses")
+TOP_KEYS = ("study", "robot", "joints", "poses", "iso_cube")
 
 
 def check_table(mapping: dict, schema: dict, source, prefix: str, extra_ok=()) -> dict:
@@ -173,6 +188,8 @@ class Study:
     joints: dict
     joint_overrides: dict[str, dict]
     poses: list[PoseSpec]
+    iso_cube: dict | None
+    engine: str
     source: str
     base_dir: Path
     mapping: dict = field(repr=False, default_factory=dict)
@@ -185,9 +202,11 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         if key not in TOP_KEYS:
             raise InputError(f"unknown section [{key}]{closest_hint(key, TOP_KEYS)}; valid sections: "
                              f"{', '.join(TOP_KEYS)}", source, key)
-    for required in ("robot", "joints", "poses"):
+    for required in ("robot", "joints"):
         if required not in mapping:
             raise InputError(f"missing [{required}] section", source, required)
+    if "poses" not in mapping and "iso_cube" not in mapping:
+        raise InputError("nothing to test: add [[poses]] entries or an [iso_cube] section", source, "poses")
     study = check_table(table(mapping.get("study", {}), source, "study"), STUDY_KEYS, source, "study")
     robot = check_table(table(mapping["robot"], source, "robot"), ROBOT_KEYS, source, "robot")
     if (robot["urdf"] is None) == (robot["name"] is None):
@@ -199,14 +218,17 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
     for joint, values in overrides.items():
         checked = check_table(values, {k: (c, None) for k, (c, _) in JOINT_KEYS.items()}, source, f"joints.{joint}")
         joint_overrides[joint] = {k: v for k, v in checked.items() if k in values}
-    poses_list = mapping["poses"]
-    if not isinstance(poses_list, list) or not poses_list:
+    iso_cube = None
+    if "iso_cube" in mapping:
+        iso_cube = check_table(table(mapping["iso_cube"], source, "iso_cube"), ISO_CUBE_KEYS, source, "iso_cube")
+    poses_list = mapping.get("poses", [])
+    if not isinstance(poses_list, list) or (not poses_list and iso_cube is None):
         raise InputError("needs at least one [[poses]] entry with q = [...]", source, "poses")
     poses = []
     for i, pose in enumerate(poses_list):
         checked = check_table(table(pose, source, f"poses[{i}]"), POSE_KEYS, source, f"poses[{i}]")
         poses.append(PoseSpec(checked["name"] or f"P{i + 1}", checked["q"], checked["normal_force_N"]))
-    names = [p.name for p in poses]
+    names = [p.name for p in poses] + (["P1", "P2", "P3", "P4", "P5"] if iso_cube is not None else [])
     duplicate = next((n for n in names if names.count(n) > 1), None)
     if duplicate:
         raise InputError(f"pose name '{duplicate}' is used twice; names must be unique", source, "poses.name")
@@ -219,6 +241,8 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         joints=joints,
         joint_overrides=joint_overrides,
         poses=poses,
+        iso_cube=iso_cube,
+        engine=study["engine"],
         source=source,
         base_dir=Path(base_dir),
         mapping=mapping,

@@ -48,6 +48,26 @@ def position_repeatability(positions: np.ndarray) -> tuple[float, np.ndarray]:
     return float(distances.mean() + 3 * spread), distances
 
 
+def covariance_semi_axes(positions: np.ndarray) -> np.ndarray:
+    """1-sigma semi-axes [m] of the covariance ellipsoid of (n, 3) positions, largest first."""
+    if len(positions) < 2:
+        return np.zeros(3)
+    eigenvalues = np.linalg.eigvalsh(np.cov(positions.T))
+    return np.sqrt(np.clip(eigenvalues, 0, None))[::-1]
+
+
+def variance_contributions(position_jacobian: np.ndarray, dq: np.ndarray) -> np.ndarray:
+    """Share of the tool-position variance due to each joint (sums to 1; NaN without variance).
+
+    Linearised: joint i adds var(dq_i) |J_i|^2 to the trace of the position
+    covariance, J_i the (3,) column of the position Jacobian [m/unit].
+    """
+    variances = dq.var(axis=0, ddof=1) if len(dq) > 1 else np.zeros(dq.shape[1])
+    parts = variances * np.sum(position_jacobian ** 2, axis=0)
+    total = parts.sum()
+    return parts / total if total > 0 else np.full(len(parts), np.nan)
+
+
 def multidirectional_variation(positions: np.ndarray, approach: np.ndarray) -> float | None:
     """vAP_p [m]: largest distance between the barycenters reached from each approach direction.
 
@@ -83,3 +103,21 @@ def pose_metrics(positions: np.ndarray, angles: np.ndarray, commanded_position: 
         vAP_p_m=None if approach is None else multidirectional_variation(positions, approach),
         distances_m=distances,
     )
+
+
+#: Corner signs of the cube's diagonal plane holding P2-P5 (ISO 9283 §6.2): the plane through the
+#: opposite edges (-,-,·) and (+,+,·); P2 (-,-,+), P3 (+,+,+), P4 (+,+,-), P5 (-,-,-).
+DIAGONAL_PLANE_CORNERS = np.array([[-1, -1, 1], [1, 1, 1], [1, 1, -1], [-1, -1, -1]], dtype=float)
+
+
+def cube_test_positions(center_m, side_m: float) -> dict[str, np.ndarray]:
+    """ISO 9283 test positions P1-P5 [m] of a cube with edges parallel to the base axes.
+
+    P1 is the centre; P2-P5 lie on a diagonal plane at 10 % of the cube's
+    diagonal from its corners: P = c + 0.8 (C - c), C a corner of that plane.
+    """
+    center = np.asarray(center_m, dtype=float)
+    points = {"P1": center}
+    for k, corner in enumerate(DIAGONAL_PLANE_CORNERS):
+        points[f"P{k + 2}"] = center + 0.8 * (side_m / 2) * corner
+    return points

@@ -32,6 +32,7 @@ class JointErrorModel:
         backlash: total backlash [m or rad]; each approach lands half of it short.
         offset: constant displacement of the transmission elements, epsilon_t [m or rad].
         noise_std: standard deviation of extra Gaussian noise per cycle [m or rad].
+        bearing_span_m: span between the joint's guide pads or bearings [m], for loads from statics.
     """
 
     friction: FrictionLaw
@@ -41,6 +42,7 @@ class JointErrorModel:
     backlash: float = 0.0
     offset: float = 0.0
     noise_std: float = 0.0
+    bearing_span_m: float = 0.1
 
 
 def friction_lever(models: list[JointErrorModel], prismatic: np.ndarray) -> np.ndarray:

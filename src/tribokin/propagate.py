@@ -31,3 +31,11 @@ def tool_deviations_exact(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[
         positions[j] = placement.translation
         angles[j] = pin.log3(placement.rotation @ commanded_rotation.T)
     return positions, angles
+
+
+ENGINES = {"exact": tool_deviations_exact}
+
+
+def tool_deviations(robot: Robot, q: np.ndarray, dq: np.ndarray, engine: str = "exact"):
+    """Tool positions [m] and orientation deviations [rad] of each cycle, by the named engine."""
+    return ENGINES[engine](robot, q, dq)

@@ -39,13 +39,17 @@ class Robot:
         model: the reduced model; its joints are the active joints, in chain order.
         tool_frame: name of the frame whose pose is measured.
         label: robot name or URDF path, for reports.
+        reference_q: (nq,) a typical working posture [m or rad] (example-robot-data's, else mid-range).
         visual_model, collision_model: geometry models (may be ``None``).
         package_dirs: folders meshes are resolved against.
+        joint_is_prismatic: (nv,) True for prismatic joints (deviations in [m]), False for revolute ([rad]).
+        motion_axes: (nv, 3) unit motion axis of each joint in its own frame (linear or angular).
     """
 
     model: pin.Model
     tool_frame: str
     label: str
+    reference_q: np.ndarray
     visual_model: pin.GeometryModel | None = None
     collision_model: pin.GeometryModel | None = None
     package_dirs: list[Path] = field(default_factory=list)
@@ -53,16 +57,16 @@ class Robot:
     def __post_init__(self):
         self.tool_frame_id = self.model.getFrameId(self.tool_frame)
         self.data = self.model.createData()
+        pin.forwardKinematics(self.model, self.data, pin.neutral(self.model))
+        subspaces = np.array([np.asarray(self.data.joints[i].S).reshape(6) for i in range(1, self.model.njoints)])
+        self.joint_is_prismatic = np.linalg.norm(subspaces[:, :3], axis=1) > 0
+        axes = np.where(self.joint_is_prismatic[:, None], subspaces[:, :3], subspaces[:, 3:])
+        self.motion_axes = axes / np.linalg.norm(axes, axis=1, keepdims=True)
 
     @property
     def joint_names(self) -> list[str]:
         """Active joint names, in the order of ``q``."""
         return list(self.model.names)[1:]
-
-    @property
-    def joint_is_prismatic(self) -> np.ndarray:
-        """True for each prismatic active joint (deviations in [m]); False for revolute ([rad])."""
-        return np.array(["JointModelP" in j.shortname() for j in self.model.joints[1:]])
 
     @property
     def lower_limits(self) -> np.ndarray:
@@ -78,6 +82,12 @@ class Robot:
         """Pose of the tool frame in the world (base) frame at configuration ``q``."""
         pin.forwardKinematics(self.model, self.data, np.asarray(q, dtype=float))
         return pin.updateFramePlacement(self.model, self.data, self.tool_frame_id).copy()
+
+    def tool_jacobian(self, q) -> np.ndarray:
+        """(6, nv) Jacobian of the tool frame, LOCAL_WORLD_ALIGNED: rows (linear [m/unit], angular [rad/unit])."""
+        jacobian = pin.computeFrameJacobian(self.model, self.data, np.asarray(q, dtype=float), self.tool_frame_id,
+                                            pin.LOCAL_WORLD_ALIGNED)
+        return np.asarray(jacobian).reshape(6, self.model.nv)
 
     def check_configuration(self, q, source=None, key: str = "q") -> np.ndarray:
         """``q`` as an array, or an :class:`InputError` if its length or limits are wrong."""
@@ -127,6 +137,7 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, s
     elif tool_frame not in frames:
         raise InputError(f"unknown frame '{tool_frame}'{closest_hint(tool_frame, frames)}; frames of {label}: "
                          f"{', '.join(frames[1:])}", source, "robot.tool_frame")
+    full = model
     chain = set(model.supports[model.frames[model.getFrameId(tool_frame)].parentJoint])
     locked = [j for j in range(1, model.njoints) if j not in chain or model.joints[j].shortname() == "JointModelFreeFlyer"]
     if locked:
@@ -140,7 +151,8 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, s
                              "prismatic joint; tribokin cannot model it", source, "robot")
     if model.nq == 0:
         raise InputError(f"frame '{tool_frame}' is not moved by any joint", source, "robot.tool_frame")
-    return Robot(model, tool_frame, label, visual, collision, [Path(p) for p in package_dirs])
+    kept_q = np.array([reference_q[full.joints[full.getJointId(name)].idx_q] for name in list(model.names)[1:]])
+    return Robot(model, tool_frame, label, kept_q, visual, collision, [Path(p) for p in package_dirs])
 
 
 def load_urdf(path, tool_frame: str | None = None, package_dirs=(), source=None) -> Robot:
@@ -168,7 +180,10 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), source=None)
         collision = _quiet(pin.buildGeomFromUrdf, model, str(path), pin.GeometryType.COLLISION, [str(d) for d in dirs])
     except (RuntimeError, ValueError):
         pass  # kinematics do not need meshes; the viewers say when meshes are missing
-    return _reduce_to_chain(model, visual, collision, pin.neutral(model), tool_frame, str(path), source, dirs)
+    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
+    mid_range = np.where(np.isfinite(lower) & np.isfinite(upper) & (upper - lower < 1e3), (lower + upper) / 2,
+                         pin.neutral(model))
+    return _reduce_to_chain(model, visual, collision, mid_range, tool_frame, str(path), source, dirs)
 
 
 def load_example_robot(name: str, tool_frame: str | None = None, source=None) -> Robot:

@@ -8,20 +8,26 @@ output folder atomically (a temporary folder renamed into place).
 from __future__ import annotations
 
 import copy
-import json
-import os
-import shutil
 import sys
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
-from tribokin.config import PoseSpec, Study, parse_study
+from tribokin.config import Study, parse_study
+
+#: Replicate tests simulated for the 95 % interval of RP_l (fewer when they would exceed
+#: REPLICATE_SAMPLES cycles in all, never fewer than 20).
+RP_REPLICATES = 200
+REPLICATE_SAMPLES = 200_000
 from tribokin.errors import InputError, closest_hint
-from tribokin.iso9283 import pose_metrics
+from tribokin.cube import place_cube
+from tribokin.iso9283 import covariance_semi_axes, multidirectional_variation, pose_metrics, position_repeatability, \
+    variance_contributions
 from tribokin.joints import JointErrorModel, approach_signs, sample_joint_deviations
-from tribokin.propagate import tool_deviations_exact
-from tribokin.results import PoseResult, StudyResult
+from tribokin.loads import BearingLoads
+from tribokin.propagate import tool_deviations
+from tribokin.results import UM_PER_M, PoseResult, StudyResult
 from tribokin.robot import Robot, load_example_robot, load_urdf
 from tribokin.tribology.spec import law_from_spec
 
@@ -91,34 +97,100 @@ def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
     return models
 
 
-def normal_forces(models: list[JointErrorModel], pose: PoseSpec, study: Study) -> np.ndarray:
-    """Bearing loads [N] of each joint at a pose: the pose's value, else each joint's."""
-    if pose.normal_force_N is not None:
-        return np.full(len(models), pose.normal_force_N)
-    if any(m.normal_force_N is None for m in models):
-        raise InputError("normal_force_N is required for every joint (or for the pose)", study.source,
-                         "joints.normal_force_N")
-    return np.array([m.normal_force_N for m in models])
+def pose_rng(seed: int, index: int, stream: int = 0) -> np.random.Generator:
+    """Random stream ``stream`` of pose ``index``: depends on the seed, the index and the stream only."""
+    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, stream)))
 
 
-def pose_rng(seed: int, index: int) -> np.random.Generator:
-    """The random stream of pose ``index``: depends on the seed and the index only."""
-    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index,)))
+@dataclass
+class PoseTask:
+    """A pose to run: configuration [m or rad], the joints' approach signs (m, nv), and whether
+    those come from Cartesian approach directions (ISO cube poses: vAP measured from each)."""
+
+    name: str
+    q: np.ndarray
+    directions: np.ndarray
+    cartesian_approach: bool = False
+    normal_force_N: float | None = None
 
 
-def run_pose(robot: Robot, models: list[JointErrorModel], name: str, q: np.ndarray, forces_N: np.ndarray,
-             cycles: int, approach: str, rng: np.random.Generator) -> PoseResult:
-    """Sample ``cycles`` cycles at configuration ``q`` and measure them."""
+def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]:
+    """The study's joint-space poses, then the ISO cube's P1-P5 (solved by IK)."""
     nv = robot.model.nv
-    directions = np.vstack([np.ones(nv), -np.ones(nv)])
-    signs, group = approach_signs(approach, cycles, directions, rng)
-    dq, mu = sample_joint_deviations(models, robot.joint_is_prismatic, forces_N, signs, rng)
-    positions, angles = tool_deviations_exact(robot, q, dq)
-    commanded = robot.tool_placement(q)
-    reference = robot.tool_placement(q + np.array([m.offset for m in models]))
-    metrics = pose_metrics(positions, angles, commanded.translation, None if approach == "unidirectional" else group)
-    return PoseResult(name, q, commanded.translation.copy(), commanded.rotation.copy(),
-                      reference.translation.copy(), positions, angles, group, mu, dq, forces_N, metrics)
+    joint_space = np.vstack([np.ones(nv), -np.ones(nv)])
+    tasks = [PoseTask(p.name, robot.check_configuration(p.q, study.source, f"poses[{i}].q"), joint_space,
+                      normal_force_N=p.normal_force_N) for i, p in enumerate(study.poses)]
+    cube = None
+    if study.iso_cube is not None:
+        cube_poses, cube = place_cube(robot, study.iso_cube["center_m"], study.iso_cube["side_m"],
+                                      study.iso_cube["rpy_deg"], study.source)
+        tasks += [PoseTask(p.name, p.q, p.approach_signs, cartesian_approach=True) for p in cube_poses]
+    return tasks, cube
+
+
+class PoseRunner:
+    """Runs poses of one study: samples the cycles, propagates them, measures them."""
+
+    def __init__(self, study: Study, robot: Robot, models: list[JointErrorModel]):
+        self.study, self.robot, self.models = study, robot, models
+        self.offsets = np.array([m.offset for m in models])
+        self.loads = None
+        if any(m.normal_force_N is None for m in models):
+            self.loads = BearingLoads(robot, study.robot["payload_kg"], [m.bearing_span_m for m in models])
+
+    def normal_forces(self, task: PoseTask) -> np.ndarray:
+        """Bearing loads [N]: the pose's value, else each joint's fixed value, else statics at the pose."""
+        if task.normal_force_N is not None:
+            return np.full(len(self.models), task.normal_force_N)
+        fixed = np.array([np.nan if m.normal_force_N is None else m.normal_force_N for m in self.models])
+        return fixed if self.loads is None else np.where(np.isnan(fixed), self.loads(task.q), fixed)
+
+    def sample(self, task: PoseTask, forces_N, cycles: int, mode: str, rng):
+        """Cycles at one pose: (positions [m], angles [rad], approach index, dq, mu)."""
+        signs, group = approach_signs(mode, cycles, task.directions, rng)
+        dq, mu = sample_joint_deviations(self.models, self.robot.joint_is_prismatic, forces_N, signs, rng)
+        positions, angles = tool_deviations(self.robot, task.q, dq, self.study.engine)
+        return positions, angles, group, dq, mu
+
+    def run(self, task: PoseTask, index: int) -> PoseResult:
+        """Sample ``study.cycles`` cycles at ``task`` and measure them (ISO 9283 and beyond)."""
+        study, rng = self.study, pose_rng(self.study.seed, index)
+        forces = self.normal_forces(task)
+        positions, angles, group, dq, mu = self.sample(task, forces, study.cycles, study.approach, rng)
+        commanded = self.robot.tool_placement(task.q)
+        metrics = pose_metrics(positions, angles, commanded.translation,
+                               None if study.approach == "unidirectional" else group)
+        if study.approach == "unidirectional" and task.cartesian_approach:
+            multi = self.sample(task, forces, study.cycles * len(task.directions), "bidirectional", rng)
+            metrics = replace(metrics, vAP_p_m=multidirectional_variation(multi[0], multi[2]))
+        reference = self.robot.tool_placement(task.q + self.offsets)
+        result = PoseResult(task.name, task.q, commanded.translation.copy(), commanded.rotation.copy(),
+                            reference.translation.copy(), positions, angles, group, mu, dq, forces, metrics)
+        result.extra.update(self.beyond_iso(task, forces, result, index))
+        return result
+
+    def beyond_iso(self, task: PoseTask, forces_N, result: PoseResult, index: int) -> dict:
+        """Joint shares of the position variance, 1-sigma ellipsoid semi-axes [µm], 95 % interval of RP_l [µm].
+
+        The interval comes from replicate tests of ``study.cycles`` cycles each (fresh random
+        streams), propagated to first order through the position Jacobian: how much a test
+        of this length can vary.
+        """
+        jacobian = self.robot.tool_jacobian(task.q)[:3]
+        shares = variance_contributions(jacobian, result.dq)
+        extra = {f"contribution_{name}": None if np.isnan(share) else float(share)
+                 for name, share in zip(self.robot.joint_names, shares)}
+        extra["ellipsoid_semi_axes_um"] = (covariance_semi_axes(result.positions_m) * UM_PER_M).tolist()
+        cycles = self.study.cycles
+        replicates = int(np.clip(REPLICATE_SAMPLES // cycles, 20, RP_REPLICATES))
+        rng = pose_rng(self.study.seed, index, stream=1)
+        rp = np.empty(replicates)
+        for k in range(replicates):
+            signs, _ = approach_signs(self.study.approach, cycles, task.directions, rng)
+            dq, _ = sample_joint_deviations(self.models, self.robot.joint_is_prismatic, forces_N, signs, rng)
+            rp[k] = position_repeatability(dq @ jacobian.T)[0]
+        extra["RP_l_95_um"] = (np.percentile(rp, [2.5, 97.5]) * UM_PER_M).tolist()
+        return extra
 
 
 def run_study(study, cycles: int | None = None, seed: int | None = None) -> StudyResult:
@@ -134,12 +206,9 @@ def run_study(study, cycles: int | None = None, seed: int | None = None) -> Stud
     study = load_study(study, cycles, seed)
     robot = load_robot(study)
     models = joint_models(study, robot)
-    poses = []
-    for index, pose in enumerate(study.poses):
-        q = robot.check_configuration(pose.q, study.source, f"poses[{index}].q")
-        forces = normal_forces(models, pose, study)
-        poses.append(run_pose(robot, models, pose.name, q, forces, study.cycles, study.approach,
-                              pose_rng(study.seed, index)))
+    tasks, cube = pose_tasks(study, robot)
+    runner = PoseRunner(study, robot, models)
+    poses = [runner.run(task, index) for index, task in enumerate(tasks)]
     settings = {
         "name": study.name,
         "source": study.source,
@@ -149,6 +218,9 @@ def run_study(study, cycles: int | None = None, seed: int | None = None) -> Stud
         "cycles": study.cycles,
         "seed": study.seed,
         "approach": study.approach,
+        "engine": study.engine,
+        "payload_kg": study.robot["payload_kg"],
+        "iso_cube": cube,
         "friction": {name: m.friction.describe() for name, m in zip(robot.joint_names, models)},
     }
     return StudyResult(study.name, poses, settings)

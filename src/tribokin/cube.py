@@ -1,0 +1,92 @@
+"""The ISO 9283 test cube placed on a robot: P1-P5 as joint configurations, and their approach directions."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from tribokin.errors import InputError
+from tribokin.ik import solve_ik_with_restarts
+from tribokin.iso9283 import cube_test_positions
+from tribokin.robot import Robot
+
+#: Cartesian approach directions of the multi-directional test (vAP): moving along base +x, +y, +z.
+APPROACH_DIRECTIONS = np.eye(3)
+
+
+@dataclass(frozen=True)
+class CubePose:
+    """One ISO test pose: name, target position [m], configuration ``q`` and joint approach signs (3, nv)."""
+
+    name: str
+    position_m: np.ndarray
+    q: np.ndarray
+    approach_signs: np.ndarray
+
+
+def position_manipulability(robot: Robot, q) -> float:
+    """Yoshikawa manipulability sqrt(det(J J^T)) of the tool position [m^3 per unit^3]."""
+    jacobian = robot.tool_jacobian(q)[:3]
+    return float(np.sqrt(max(np.linalg.det(jacobian @ jacobian.T), 0.0)))
+
+
+def default_cube_posture(robot: Robot, samples: int = 256) -> np.ndarray:
+    """A well-conditioned working posture: the reference posture, or the random posture
+    (fixed seed) within the limits whose tool position is most manipulable."""
+    rng = np.random.default_rng(9283)
+    lower, upper = robot.lower_limits, robot.upper_limits
+    candidates = [robot.reference_q] + [rng.uniform(lower, upper) for _ in range(samples)]
+    scores = [position_manipulability(robot, q) for q in candidates]
+    return candidates[int(np.argmax(np.round(scores, 9)))]
+
+
+def joint_approach_signs(robot: Robot, q, directions=APPROACH_DIRECTIONS) -> np.ndarray:
+    """(m, nv) direction of travel of each joint when the tool approaches along each Cartesian direction.
+
+    The joint velocities that move the tool along ``d`` (least-squares, ``pinv(J_position) d``)
+    give the signs; a joint that does not move takes +1.
+    """
+    jacobian = robot.tool_jacobian(q)[:3]
+    velocities = np.linalg.pinv(jacobian) @ np.asarray(directions).T
+    signs = np.sign(np.round(velocities.T, 12))
+    signs[signs == 0] = 1.0
+    return signs
+
+
+def place_cube(robot: Robot, center_m=None, side_m: float | None = None, rpy_deg=None, source=None,
+               rng: np.random.Generator | None = None) -> tuple[list[CubePose], dict]:
+    """Solve P1-P5 of the ISO cube by IK, with the tool held at one orientation.
+
+    Defaults: centre at the tool position of :func:`default_cube_posture`, orientation
+    the tool's there, side the largest of 0.4, 0.3, 0.2, 0.1, 0.05 m with all five poses
+    reachable. An unreachable pose with a given side is an error naming it.
+
+    Returns:
+        the five poses and the cube actually used (``center_m``, ``side_m``, ``rpy_deg``).
+    """
+    rng = rng or np.random.default_rng(9283)
+    start = default_cube_posture(robot)
+    home = robot.tool_placement(start)
+    center = home.translation.copy() if center_m is None else np.asarray(center_m, dtype=float)
+    rotation = home.rotation.copy() if rpy_deg is None else pin.rpy.rpyToMatrix(*np.radians(rpy_deg))
+    if center_m is not None:
+        solved = solve_ik_with_restarts(robot, pin.SE3(rotation, center), start, rng)
+        start = solved.q
+    sides = [side_m] if side_m is not None else [0.4, 0.3, 0.2, 0.1, 0.05]
+    for side in sides:
+        poses, failure = [], None
+        for name, position in cube_test_positions(center, side).items():
+            result = solve_ik_with_restarts(robot, pin.SE3(rotation, position), start, rng)
+            if not result.success:
+                failure = (name, position, result)
+                break
+            poses.append(CubePose(name, position, result.q, joint_approach_signs(robot, result.q)))
+        if failure is None:
+            cube = {"center_m": center.tolist(), "side_m": side, "rpy_deg": np.degrees(pin.rpy.matrixToRpy(rotation)).tolist()}
+            return poses, cube
+    name, position, result = failure
+    raise InputError(f"ISO pose {name} at {np.round(position, 4).tolist()} m is unreachable with this tool "
+                     f"orientation within the joint limits (closest {result.position_error_m * 1e3:.3g} mm); "
+                     "move or shrink the cube", source, "iso_cube")
