@@ -32,14 +32,14 @@ def position_manipulability(robot: Robot, q) -> float:
     return float(np.sqrt(max(np.linalg.det(jacobian @ jacobian.T), 0.0)))
 
 
-def default_cube_posture(robot: Robot, samples: int = 256) -> np.ndarray:
-    """A well-conditioned working posture: the reference posture, or the random posture
-    (fixed seed) within the limits whose tool position is most manipulable."""
+def candidate_postures(robot: Robot, samples: int = 256, keep: int = 4) -> list[np.ndarray]:
+    """Well-conditioned working postures, best first: the reference posture and random
+    postures within the limits (fixed seed), ranked by the manipulability of the tool position."""
     rng = np.random.default_rng(9283)
     lower, upper = robot.lower_limits, robot.upper_limits
     candidates = [robot.reference_q] + [rng.uniform(lower, upper) for _ in range(samples)]
-    scores = [position_manipulability(robot, q) for q in candidates]
-    return candidates[int(np.argmax(np.round(scores, 9)))]
+    scores = np.round([position_manipulability(robot, q) for q in candidates], 9)
+    return [candidates[i] for i in np.argsort(-scores, kind="stable")[:keep]]
 
 
 def joint_approach_signs(robot: Robot, q, directions=APPROACH_DIRECTIONS) -> np.ndarray:
@@ -55,37 +55,52 @@ def joint_approach_signs(robot: Robot, q, directions=APPROACH_DIRECTIONS) -> np.
     return signs
 
 
+def holds_orientation(robot: Robot, q) -> bool:
+    """Whether the robot can move its tool in all 6 directions at ``q`` (full-rank Jacobian)."""
+    return robot.model.nv >= 6 and np.linalg.matrix_rank(robot.tool_jacobian(q), tol=1e-6) == 6
+
+
+def _solve_cube(robot, center, side, rotation, start, rng, position_only):
+    """Poses P1-P5 of one cube, or the first unreachable one as (name, position, IK result)."""
+    poses = []
+    for name, position in cube_test_positions(center, side).items():
+        result = solve_ik_with_restarts(robot, pin.SE3(rotation, position), start, rng, position_only=position_only)
+        if not result.success:
+            return None, (name, position, result)
+        poses.append(CubePose(name, position, result.q, joint_approach_signs(robot, result.q)))
+    return poses, None
+
+
 def place_cube(robot: Robot, center_m=None, side_m: float | None = None, rpy_deg=None, source=None,
                rng: np.random.Generator | None = None) -> tuple[list[CubePose], dict]:
     """Solve P1-P5 of the ISO cube by IK, with the tool held at one orientation.
 
-    Defaults: centre at the tool position of :func:`default_cube_posture`, orientation
-    the tool's there, side the largest of 0.4, 0.3, 0.2, 0.1, 0.05 m with all five poses
-    reachable. An unreachable pose with a given side is an error naming it.
+    Defaults: centre at the tool position of a well-conditioned posture (see
+    :func:`candidate_postures`), orientation the tool's there, side the largest of
+    0.4, 0.3, 0.2, 0.1, 0.05 m with all five poses reachable. A robot that cannot
+    hold its tool's orientation everywhere (fewer than 6 independent joints) is
+    solved for position only. An unreachable pose is an error naming it.
 
     Returns:
-        the five poses and the cube actually used (``center_m``, ``side_m``, ``rpy_deg``).
+        the five poses and the cube actually used (``center_m``, ``side_m``, ``rpy_deg``,
+        ``orientation_held``).
     """
     rng = rng or np.random.default_rng(9283)
-    start = default_cube_posture(robot)
-    home = robot.tool_placement(start)
-    center = home.translation.copy() if center_m is None else np.asarray(center_m, dtype=float)
-    rotation = home.rotation.copy() if rpy_deg is None else pin.rpy.rpyToMatrix(*np.radians(rpy_deg))
-    if center_m is not None:
-        solved = solve_ik_with_restarts(robot, pin.SE3(rotation, center), start, rng)
-        start = solved.q
     sides = [side_m] if side_m is not None else [0.4, 0.3, 0.2, 0.1, 0.05]
-    for side in sides:
-        poses, failure = [], None
-        for name, position in cube_test_positions(center, side).items():
-            result = solve_ik_with_restarts(robot, pin.SE3(rotation, position), start, rng)
-            if not result.success:
-                failure = (name, position, result)
-                break
-            poses.append(CubePose(name, position, result.q, joint_approach_signs(robot, result.q)))
-        if failure is None:
-            cube = {"center_m": center.tolist(), "side_m": side, "rpy_deg": np.degrees(pin.rpy.matrixToRpy(rotation)).tolist()}
-            return poses, cube
+    failure = None
+    for start in candidate_postures(robot, keep=1 if center_m is not None else 4):
+        home = robot.tool_placement(start)
+        center = home.translation.copy() if center_m is None else np.asarray(center_m, dtype=float)
+        rotation = home.rotation.copy() if rpy_deg is None else pin.rpy.rpyToMatrix(*np.radians(rpy_deg))
+        position_only = not holds_orientation(robot, start)
+        if center_m is not None:
+            start = solve_ik_with_restarts(robot, pin.SE3(rotation, center), start, rng, position_only=position_only).q
+        for side in sides:
+            poses, failure = _solve_cube(robot, center, side, rotation, start, rng, position_only)
+            if poses is not None:
+                rpy = np.degrees(pin.rpy.matrixToRpy(rotation)).tolist()
+                return poses, {"center_m": center.tolist(), "side_m": side, "rpy_deg": rpy,
+                               "orientation_held": not position_only}
     name, position, result = failure
     raise InputError(f"ISO pose {name} at {np.round(position, 4).tolist()} m is unreachable with this tool "
                      f"orientation within the joint limits (closest {result.position_error_m * 1e3:.3g} mm); "

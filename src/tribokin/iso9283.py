@@ -99,7 +99,7 @@ def pose_metrics(positions: np.ndarray, angles: np.ndarray, commanded_position: 
         AP_p_m=float(np.linalg.norm(centre - commanded_position)),
         RP_l_m=rp_l,
         AP_abc_rad=angles.mean(axis=0),
-        RP_abc_rad=3 * angles.std(axis=0, ddof=ddof),
+        RP_abc_rad=3 * (angles - angles[0]).std(axis=0, ddof=ddof),
         vAP_p_m=None if approach is None else multidirectional_variation(positions, approach),
         distances_m=distances,
     )
