@@ -1,6 +1,7 @@
 """Samples per second of the fast engine against the per-sample Pinocchio FK loop.
 
-Run from the repository root: ``PYTHONPATH=src python benchmarks/propagation.py``.
+Run from the repository root: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src python benchmarks/propagation.py``
+(multithreaded BLAS on this skinny product was up to 5x slower on a busy 2-core machine).
 Writes ``benchmarks/results/propagation.json`` and prints a table. Every figure is the best of
 ``REPEATS`` runs (the machine may be shared); ratios are against the exact loop on the same robot.
 """
@@ -70,7 +71,8 @@ def main() -> None:
     results = {
         "machine": {"python": platform.python_version(), "numpy": np.__version__, "pinocchio": pin.__version__,
                     "processor": platform.processor() or platform.machine(), "cpus": os.cpu_count(),
-                    "load_average_1min": os.getloadavg()[0]},
+                    "load_average_1min": os.getloadavg()[0],
+                    "OPENBLAS_NUM_THREADS": os.environ.get("OPENBLAS_NUM_THREADS")},
         "settings": {"fast_samples": FAST_SAMPLES, "loop_samples": LOOP_SAMPLES, "repeats": REPEATS},
         "robots": {name: benchmark_robot(name, rng) for name in ROBOTS},
     }

@@ -54,7 +54,7 @@ MAX_ORDER = 3
 #: Default truncation tolerance on the tool position [m] and on the orientation [rad].
 DEFAULT_TOLERANCE = 1e-10
 #: Samples evaluated together: features of a chunk stay in cache.
-CHUNK_SAMPLES = 4096
+CHUNK_SAMPLES = 8192
 
 
 class TruncationBound(NamedTuple):
