@@ -5,8 +5,8 @@ import pinocchio as pin
 import pytest
 
 from conftest import AXIS_URDF
-from tribokin.fast_propagation import _exp_tail, _log_tail, max_deviation_from_exact, tool_deviations_fast, tool_twists
-from tribokin.propagate import tool_deviations_exact
+from tribokin.fast_propagation import _exp_tail, _log_tail, tool_deviations_fast, tool_twists
+from tribokin.propagate import max_deviation_from_exact, tool_deviations_exact
 from tribokin.robot import load_example_robot, load_urdf
 
 NANOMETRE = 1e-9

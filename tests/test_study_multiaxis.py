@@ -73,3 +73,14 @@ def test_rp_interval_brackets_the_long_run_value():
     w = 150 * 0.07 / (2 * 2e6) * 1e6
     # the long-run value 1.366 w lies inside a 30-cycle test's 95 % range, which is wide
     assert low < 1.366 * w < high and high - low > 0.1 * w
+
+
+def test_fast_and_exact_engines_give_the_same_study_figures():
+    fast = arm_study({"name": "panda", "payload_kg": 1.0})
+    exact = copy.deepcopy(fast)
+    exact["study"]["engine"] = "exact"
+    fast_result, exact_result = run_study(fast), run_study(exact)
+    for a, b in zip(fast_result.poses, exact_result.poses):
+        assert np.abs(a.positions_m - b.positions_m).max() < 1e-9  # 1 nm
+        assert a.report_row()["RP_l_um"] == pytest.approx(b.report_row()["RP_l_um"], abs=1e-3)
+        assert a.report_row()["engine_max_deviation_nm"] < 1.0

@@ -97,7 +97,7 @@ STUDY_KEYS = {
     "cycles": (positive_int, 30),
     "seed": (seed_int, 0),
     "approach": (one_of(*APPROACH_MODES), "unidirectional"),
-    "engine": (one_of("fast", "exact"), "exact"),
+    "engine": (one_of("fast", "exact"), "fast"),
 }
 ROBOT_KEYS = {
     "urdf": (text, None),

@@ -46,7 +46,6 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
-from tribokin.propagate import tool_deviations_exact
 from tribokin.robot import Robot
 
 #: Highest truncation order the engine expands to.
@@ -83,20 +82,6 @@ class FastDeviations(NamedTuple):
     positions: np.ndarray
     angles: np.ndarray
     bound: TruncationBound
-
-
-class ExactDiscrepancy(NamedTuple):
-    """Largest difference between the fast and the exact engine on checked samples.
-
-    Attributes:
-        position_m: max over samples of |fast - exact| tool position [m].
-        angle_rad: max over samples of |fast - exact| rotation vector [rad].
-        samples: number of samples compared.
-    """
-
-    position_m: float
-    angle_rad: float
-    samples: int
 
 
 def tool_twists(robot: Robot, q: np.ndarray) -> np.ndarray:
@@ -350,29 +335,3 @@ def tool_deviations_fast(robot: Robot, q: np.ndarray, dq: np.ndarray, order: int
         deviations[:, start:start + chunk.shape[1]] = coefficients @ monomial_features(chunk, bound.order, buffer)
     positions = deviations[:3].T + robot.data.oMf[robot.tool_frame_id].translation
     return FastDeviations(np.ascontiguousarray(positions), np.ascontiguousarray(deviations[3:].T), bound)
-
-
-def max_deviation_from_exact(robot: Robot, q: np.ndarray, dq: np.ndarray, m: int = 32,
-                             tolerance_m: float = DEFAULT_TOLERANCE, tolerance_rad: float = DEFAULT_TOLERANCE
-                             ) -> ExactDiscrepancy:
-    """Check the fast engine against exact Pinocchio FK on the first ``m`` samples of a batch.
-
-    The fast engine runs at the order it would choose for the whole batch.
-
-    Args:
-        robot, q, dq: as for :func:`tool_deviations_fast` (``dq`` is the whole batch).
-        m: number of samples to check.
-        tolerance_m, tolerance_rad: as for :func:`tool_deviations_fast`.
-
-    Returns:
-        the largest position [m] and rotation-vector [rad] differences, and the sample count.
-    """
-    dq = np.asarray(dq, dtype=float)
-    order = truncation_bound(tool_twists(robot, q), dq, None, tolerance_m, tolerance_rad).order
-    checked = dq[:m]
-    fast = tool_deviations_fast(robot, q, checked, order=order)
-    positions, angles = tool_deviations_exact(robot, q, checked)
-    if not len(checked):
-        return ExactDiscrepancy(0.0, 0.0, 0)
-    return ExactDiscrepancy(float(np.linalg.norm(fast.positions - positions, axis=1).max()),
-                            float(np.linalg.norm(fast.angles - angles, axis=1).max()), len(checked))

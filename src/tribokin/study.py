@@ -26,7 +26,7 @@ from tribokin.iso9283 import covariance_semi_axes, multidirectional_variation, p
     variance_contributions
 from tribokin.joints import JointErrorModel, approach_signs, sample_joint_deviations
 from tribokin.loads import BearingLoads
-from tribokin.propagate import tool_deviations
+from tribokin.propagate import max_deviation_from_exact, tool_deviations
 from tribokin.results import UM_PER_M, PoseResult, StudyResult
 from tribokin.robot import Robot, load_example_robot, load_urdf
 from tribokin.tribology.spec import law_from_spec
@@ -167,6 +167,11 @@ class PoseRunner:
         result = PoseResult(task.name, task.q, commanded.translation.copy(), commanded.rotation.copy(),
                             reference.translation.copy(), positions, angles, group, mu, dq, forces, metrics)
         result.extra.update(self.beyond_iso(task, forces, result, index))
+        if study.engine == "fast":
+            check = max_deviation_from_exact(self.robot, task.q, dq)
+            result.extra["engine_check_cycles"] = check.samples
+            result.extra["engine_max_deviation_nm"] = check.position_m * 1e9
+            result.extra["engine_max_angle_deviation_nrad"] = check.angle_rad * 1e9
         return result
 
     def beyond_iso(self, task: PoseTask, forces_N, result: PoseResult, index: int) -> dict:
