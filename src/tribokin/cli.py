@@ -48,7 +48,7 @@ def _view(args) -> None:
     for note in info.notes:
         print(f"note: {note}")
     print(f"clouds magnified ×{info.magnification:g}")
-    print(f"scene at {vis.url()} (Ctrl-C to stop)", flush=True)
+    print(f"scene at {vis.url()} (meshcat-server pid {vis.window.server_proc.pid}; Ctrl-C to stop)", flush=True)
     if not wait_until_interrupted(vis):
         raise InputError("meshcat-server stopped unexpectedly; run `tribokin view` again", "meshcat-server")
     print("viewer stopped")

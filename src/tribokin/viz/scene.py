@@ -96,7 +96,8 @@ class SceneInfo:
 
 
 def _nice(value: float) -> float:
-    """The largest of 1, 2, 5 × 10^k not above ``value``."""
+    """The largest of 1, 2, 5 × 10^k not above ``value`` (to rounding: 9999.999... gives 10000)."""
+    value *= 1 + 1e-9
     power = 10.0 ** math.floor(math.log10(value))
     return max(step * power for step in (1, 2, 5) if step * power <= value)
 
