@@ -206,8 +206,8 @@ def draw_pose(vis, pose, magnification: float) -> None:
 
 def _set_camera(vis, points_m: np.ndarray) -> None:
     """Look at the base from a three-quarter view that frames ``points_m``, on a plain grey background."""
-    reach = max(float(np.linalg.norm(points_m, axis=1).max()) if len(points_m) else 0.0, 0.3)
-    vis["/Cameras/default/rotated/<object>"].set_property("position", [1.3 * reach, 1.0 * reach, 0.9 * reach])
+    reach = max(float(np.linalg.norm(points_m, axis=1).max()) if len(points_m) else 0.0, 0.5)
+    vis["/Cameras/default/rotated/<object>"].set_property("position", [1.8 * reach, 1.5 * reach, 1.2 * reach])
     vis["/Background"].set_property("top_color", [0.98, 0.98, 0.98])
     vis["/Background"].set_property("bottom_color", [0.80, 0.80, 0.80])
     vis["/Grid"].set_property("visible", False)
