@@ -26,7 +26,8 @@ demo: $(VENV)/.base
 		echo "== $$study"; \
 		$(VENV)/bin/tribokin run studies/$$study.toml --out $(DEMO_OUT)/$$study --force || exit $$?; \
 	done
-	@echo "demo results: $(DEMO_OUT)/<study>/ (summary.json, poses.csv, field_*.png)"
+	@echo "demo results: $(DEMO_OUT)/<study>/ (summary.json, poses.csv, field_*.png, report.html)"
+	@for study in $(DEMO_STUDIES); do echo "report: $(DEMO_OUT)/$$study/report.html"; done
 
 test: $(VENV)/.test
 	$(PY) -m pytest -q

@@ -92,9 +92,17 @@ def write_samples(result: StudyResult, folder: Path) -> None:
     np.savez_compressed(folder / "samples.npz", **arrays)
 
 
-def write_results(result: StudyResult, out, force: bool = False) -> Path:
-    """Write summary.json, poses.csv, samples.npz and one figure per pose to ``out``, atomically."""
+def write_results(result: StudyResult, out, force: bool = False, report: str = "full", map_layers=None,
+                  cube=None) -> Path:
+    """Write summary.json, poses.csv, samples.npz and one figure per pose to ``out``, atomically.
+
+    With ``report`` ``"full"`` or ``"light"`` (robot visual or collision meshes) it also writes
+    ``report.html`` and ``scene.npz`` (for ``tribokin view``), drawing ``result.robot`` with the
+    optional ``map_layers`` (:class:`~tribokin.viz.scene.MapLayer` by scenario) and ``cube``.
+    """
     from tribokin.viz.figures import save_repeatability_field
+    from tribokin.viz.report import write_report
+    from tribokin.viz.scene_file import save_scene_inputs
 
     with atomic_folder(out, force) as folder:
         write_summary(result, folder)
@@ -102,4 +110,7 @@ def write_results(result: StudyResult, out, force: bool = False) -> Path:
         write_samples(result, folder)
         for pose in result.poses:
             save_repeatability_field(pose, folder / f"field_{pose.name}.png", title=f"{result.name} — {pose.name}")
+        if report != "none":
+            _, info = write_report(result, result.robot, folder, map_layers, cube, variant=report)
+            save_scene_inputs(folder, result.poses[0].q, info.magnification, map_layers, cube)
     return Path(out)

@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from tribokin.iso9283 import PoseMetrics
+
+if TYPE_CHECKING:
+    from tribokin.robot import Robot
 
 UM_PER_M = 1e6
 MDEG_PER_RAD = 180e3 / np.pi
@@ -70,11 +74,12 @@ class PoseResult:
 
 @dataclass
 class StudyResult:
-    """Results of a whole study: ``poses`` in file order, plus what produced them."""
+    """Results of a whole study: ``poses`` in file order, plus what produced them (``robot``, for views)."""
 
     name: str
     poses: list[PoseResult]
     settings: dict
+    robot: Robot | None = field(default=None, repr=False)
 
     def pose(self, name: str) -> PoseResult:
         """The pose called ``name``."""

@@ -68,13 +68,25 @@ def load_study(study, cycles: int | None = None, seed: int | None = None) -> Stu
     return study
 
 
+def robot_spec(study: Study) -> dict:
+    """The study's ``[robot]`` table with absolute paths: loads the same robot from any folder."""
+    spec = dict(study.robot)
+    if spec["urdf"] is not None:
+        spec["urdf"] = str((study.base_dir / spec["urdf"]).absolute())
+    spec["package_dirs"] = [str((study.base_dir / p).absolute()) for p in spec["package_dirs"]]
+    return spec
+
+
+def load_robot_spec(spec: dict, source=None) -> Robot:
+    """The robot a ``[robot]`` table with absolute paths names (see :func:`robot_spec`)."""
+    if spec["name"] is not None:
+        return load_example_robot(spec["name"], spec["tool_frame"], source)
+    return load_urdf(spec["urdf"], spec["tool_frame"], spec["package_dirs"], source)
+
+
 def load_robot(study: Study) -> Robot:
     """The robot a study names, reduced to its tool frame's chain."""
-    spec = study.robot
-    if spec["name"] is not None:
-        return load_example_robot(spec["name"], spec["tool_frame"], study.source)
-    package_dirs = [study.base_dir / p for p in spec["package_dirs"]]
-    return load_urdf(study.base_dir / spec["urdf"], spec["tool_frame"], package_dirs, study.source)
+    return load_robot_spec(robot_spec(study), study.source)
 
 
 def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
@@ -218,6 +230,7 @@ def run_study(study, cycles: int | None = None, seed: int | None = None) -> Stud
         "name": study.name,
         "source": study.source,
         "robot": robot.label,
+        "robot_spec": robot_spec(study),
         "tool_frame": robot.tool_frame,
         "joints": robot.joint_names,
         "cycles": study.cycles,
@@ -228,4 +241,4 @@ def run_study(study, cycles: int | None = None, seed: int | None = None) -> Stud
         "iso_cube": cube,
         "friction": {name: m.friction.describe() for name, m in zip(robot.joint_names, models)},
     }
-    return StudyResult(study.name, poses, settings)
+    return StudyResult(study.name, poses, settings, robot)

@@ -1,0 +1,250 @@
+"""The meshcat scene of a study: robot, RP_l maps, ISO cube, and magnified cycle clouds.
+
+Scene paths (each a toggle in meshcat's GUI):
+
+- ``tribokin/robot``            the robot's meshes at the chosen configuration;
+- ``tribokin/maps/<label>``     one point cloud per map layer (scenario), coloured by RP_l;
+- ``tribokin/cube``             the ISO 9283 test cube and its points P1–P5;
+- ``tribokin/poses/<pose>``     the cycle cloud, its 3-sigma covariance ellipsoid and a label.
+
+Cycle deviations are micrometres: they are drawn around their barycenter,
+magnified by a factor written on screen (``×20000``).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import meshcat.geometry as mg
+import numpy as np
+
+from tribokin.errors import InputError
+from tribokin.iso9283 import barycenter, position_repeatability
+from tribokin.results import UM_PER_M
+from tribokin.robot import Robot
+from tribokin.viz.colours import ColourScale
+from tribokin.viz.meshes import mesh_files
+
+#: on-screen size [m] of the largest magnified cycle cloud (its largest distance from the barycenter).
+CLOUD_SCREEN_SIZE_M = 0.03
+VARIANTS = ("full", "light")
+CLOUD_RGB = (0.85, 0.10, 0.35)
+CUBE_COLOUR = 0x1D3557
+
+
+@dataclass
+class MapLayer:
+    """One RP_l map (a scenario) drawn as a coloured point cloud.
+
+    Attributes:
+        points_m: (N, 3) target positions in the base frame [m].
+        values_um: (N,) RP_l at each target [µm]; NaN where the target is unreachable (drawn grey).
+        label: scenario name, shown in the GUI and the report.
+    """
+
+    points_m: np.ndarray
+    values_um: np.ndarray
+    label: str
+
+    def __post_init__(self):
+        self.points_m = np.asarray(self.points_m, dtype=float)
+        self.values_um = np.asarray(self.values_um, dtype=float)
+        source = f"map layer '{self.label}'"
+        if self.points_m.ndim != 2 or self.points_m.shape[1] != 3 or not np.all(np.isfinite(self.points_m)):
+            raise InputError(f"must be an (N, 3) array of finite positions (got shape {self.points_m.shape})",
+                             source, "points_m")
+        if self.values_um.shape != (len(self.points_m),):
+            raise InputError(f"needs one value per point: shape ({len(self.points_m)},), got {self.values_um.shape}",
+                             source, "values_um")
+        if "/" in self.label or not self.label.strip():
+            raise InputError("must be a non-empty name without '/'", source, "label")
+
+
+@dataclass(frozen=True)
+class Cube:
+    """An ISO 9283 test cube with edges parallel to the base axes.
+
+    Attributes:
+        centre_m: (3,) centre [m]. edge_m: edge length [m].
+    """
+
+    centre_m: tuple[float, float, float]
+    edge_m: float
+
+    def corners_m(self) -> np.ndarray:
+        """(8, 3) corners [m], index bits (x, y, z) = (i & 1, i & 2, i & 4)."""
+        signs = np.array([[(i >> k & 1) * 2 - 1 for k in range(3)] for i in range(8)], dtype=float)
+        return np.asarray(self.centre_m) + 0.5 * self.edge_m * signs
+
+    def test_points_m(self) -> dict[str, np.ndarray]:
+        """P1 at the centre; P2–P5 at 0.8 of the way from the centre to the corners of the diagonal plane
+        through corners 0, 3, 7, 4 (ISO 9283: 10 % of the diagonal from the corners)."""
+        corners, centre = self.corners_m(), np.asarray(self.centre_m, dtype=float)
+        plane = [corners[i] for i in (7, 4, 0, 3)]
+        return {"P1": centre, **{f"P{k + 2}": centre + 0.8 * (c - centre) for k, c in enumerate(plane)}}
+
+
+@dataclass
+class SceneInfo:
+    """What :func:`build_scene` drew: the magnification, the map colour scale, and notes for the user."""
+
+    magnification: float
+    colour_scale: ColourScale | None
+    notes: list[str] = field(default_factory=list)
+
+
+def _nice(value: float) -> float:
+    """The largest of 1, 2, 5 × 10^k not above ``value`` (to rounding: 9999.999... gives 10000)."""
+    value *= 1 + 1e-9
+    power = 10.0 ** math.floor(math.log10(value))
+    return max(step * power for step in (1, 2, 5) if step * power <= value)
+
+
+def choose_magnification(poses, screen_size_m: float = CLOUD_SCREEN_SIZE_M) -> float:
+    """A round magnification that draws the largest cycle cloud ``screen_size_m`` across [-].
+
+    The cloud size is the largest distance of a cycle from its barycenter; with no
+    spread at all (frictionless), the magnification is 1.
+    """
+    radius = max((np.linalg.norm(p.positions_m - barycenter(p.positions_m), axis=1).max() for p in poses), default=0)
+    return _nice(screen_size_m / radius) if radius > 0 else 1.0
+
+
+def _hex(rgb) -> int:
+    r, g, b = (int(round(255 * c)) for c in rgb)
+    return (r << 16) + (g << 8) + b
+
+
+class _Sprite(mg.Object):
+    _type = "Sprite"
+
+
+class _SpriteMaterial(mg.GenericMaterial):
+    _type = "SpriteMaterial"
+
+
+def draw_text(node, text: str, position_m, height_m: float = 0.25) -> None:
+    """A camera-facing text label ``height_m`` across (meshcat 0.3.2 has no text geometry)."""
+    texture = mg.GenericTexture({"type": "_text", "text": text, "font_size": 36, "font_face": "sans-serif"})
+    node.set_object(_Sprite(mg.Box([1e-3] * 3), _SpriteMaterial(map=texture, transparent=True)))
+    transform = np.diag([height_m, height_m, height_m, 1.0])
+    transform[:3, 3] = position_m
+    node.set_transform(transform)
+
+
+def _point_size_m(points_m: np.ndarray) -> float:
+    """A point size [m] of about half the typical spacing of ``points_m``."""
+    extent = np.ptp(points_m, axis=0) if len(points_m) > 1 else np.zeros(3)
+    occupied = [e for e in extent if e > 1e-9]
+    if not occupied:
+        return 0.02
+    spacing = (np.prod(occupied) / len(points_m)) ** (1 / len(occupied))
+    return float(np.clip(0.6 * spacing, 0.004, 0.05))
+
+
+def draw_robot(vis, robot: Robot, q, variant: str) -> list[str]:
+    """The robot at ``q`` under ``vis["tribokin/robot"]``; returns notes (e.g. meshes missing).
+
+    ``"full"`` draws the visual meshes, ``"light"`` the (much smaller) collision meshes.
+    """
+    from pinocchio.visualize import MeshcatVisualizer
+
+    geometry = robot.visual_model if variant == "full" else robot.collision_model
+    if geometry is None:
+        return [f"no {'visual' if variant == 'full' else 'collision'} geometry for {robot.label}: robot not drawn"]
+    mesh_files(robot, geometry)
+    viewer = MeshcatVisualizer(robot.model, None, geometry)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # pinocchio warns that a custom window has no image capture
+        viewer.initViewer(viewer=vis)
+        viewer.loadViewerModel(rootNodeName="tribokin/robot")
+    viewer.display(np.asarray(q, dtype=float))
+    return []
+
+
+def draw_maps(vis, layers: dict[str, MapLayer], scale: ColourScale) -> None:
+    """Each layer as a point cloud ``tribokin/maps/<label>``, coloured by ``scale`` (NaN grey)."""
+    for layer in layers.values():
+        vis["tribokin/maps"][layer.label].set_object(mg.PointCloud(
+            layer.points_m.T, scale.rgb(layer.values_um).T, size=_point_size_m(layer.points_m)))
+
+
+def draw_cube(vis, cube: Cube) -> None:
+    """The cube's 12 edges and its points P1–P5, labelled."""
+    corners = cube.corners_m()
+    edges = [(i, i ^ bit) for i in range(8) for bit in (1, 2, 4) if i < i ^ bit]
+    segments = np.array([corners[k] for edge in edges for k in edge]).T
+    node = vis["tribokin/cube"]
+    node["edges"].set_object(mg.LineSegments(mg.PointsGeometry(segments), mg.LineBasicMaterial(color=CUBE_COLOUR)))
+    for name, point in cube.test_points_m().items():
+        node[name].set_object(mg.Sphere(0.008), mg.MeshLambertMaterial(color=CUBE_COLOUR))
+        node[name].set_transform(np.block([[np.eye(3), point[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]]))
+        draw_text(node[f"{name}_label"], name, point + [0, 0, 0.03], height_m=0.15)
+
+
+def draw_pose(vis, pose, magnification: float) -> None:
+    """The cycle cloud of ``pose`` magnified about its barycenter, its 3-sigma ellipsoid and a label."""
+    centre = barycenter(pose.positions_m)
+    deviations = pose.positions_m - centre
+    node = vis["tribokin/poses"][pose.name]
+    cloud = centre + magnification * deviations
+    colours = np.tile(CLOUD_RGB, (len(cloud), 1))
+    node["cloud"].set_object(mg.PointCloud(cloud.T, colours.T, size=0.004))
+    covariance = np.cov(deviations.T) if len(deviations) > 1 else np.zeros((3, 3))
+    variances, axes = np.linalg.eigh(covariance)
+    radii = 3 * magnification * np.sqrt(np.clip(variances, 0, None))
+    radii = np.maximum(radii, 0.02 * radii.max() + 1e-4)  # flat clouds: a visible disc, not nothing
+    if np.linalg.det(axes) < 0:
+        axes[:, 0] *= -1
+    node["ellipsoid"].set_object(mg.Ellipsoid(radii), mg.MeshLambertMaterial(color=_hex(CLOUD_RGB), opacity=0.3))
+    node["ellipsoid"].set_transform(np.block([[axes, centre[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]]))
+    rp_l_um = position_repeatability(pose.positions_m)[0] * UM_PER_M
+    draw_text(node["label"], f"{pose.name}: RP_l {rp_l_um:.2f} µm", centre + [0, 0, max(radii.max(), 0.02) + 0.04])
+
+
+def _set_camera(vis, points_m: np.ndarray) -> None:
+    """Look at the base from a three-quarter view that frames ``points_m``, on a plain grey background."""
+    reach = max(float(np.linalg.norm(points_m, axis=1).max()) if len(points_m) else 0.0, 0.5)
+    vis["/Cameras/default/rotated/<object>"].set_property("position", [1.8 * reach, 1.5 * reach, 1.2 * reach])
+    vis["/Background"].set_property("top_color", [0.98, 0.98, 0.98])
+    vis["/Background"].set_property("bottom_color", [0.80, 0.80, 0.80])
+    vis["/Grid"].set_property("visible", False)
+
+
+def build_scene(vis, robot: Robot, q, poses, map_layers: dict[str, MapLayer] | None = None,
+                cube: Cube | None = None, magnification: float | None = None, variant: str = "full") -> SceneInfo:
+    """Draw a study into the meshcat visualizer ``vis``.
+
+    Args:
+        vis: a ``meshcat.Visualizer`` (live, or static: :func:`tribokin.viz.static.static_visualizer`).
+        robot: the robot; q: its configuration [m or rad] for the drawing.
+        poses: objects with ``name``, ``positions_m`` (n, 3) [m] (e.g. :class:`~tribokin.results.PoseResult`).
+        map_layers: RP_l maps by scenario name, each toggled on its own in the GUI.
+        cube: the ISO 9283 test cube, drawn with P1–P5.
+        magnification: cloud magnification [-] (default: :func:`choose_magnification`).
+        variant: ``"full"`` (visual meshes) or ``"light"`` (collision meshes, far smaller pages).
+
+    Raises:
+        InputError: a mesh outside the robot's package folders, or an unknown variant.
+    """
+    if variant not in VARIANTS:
+        raise InputError(f"must be one of {', '.join(VARIANTS)} (got {variant!r})", "command line", "--report")
+    layers = dict(map_layers or {})
+    magnification = magnification or choose_magnification(poses)
+    notes = draw_robot(vis, robot, q, variant)
+    scale = ColourScale.spanning(*[layer.values_um for layer in layers.values()]) if layers else None
+    if layers:
+        draw_maps(vis, layers, scale)
+    if cube is not None:
+        draw_cube(vis, cube)
+    for pose in poses:
+        draw_pose(vis, pose, magnification)
+    tool = robot.tool_placement(q).translation
+    draw_text(vis["tribokin/magnification"], f"clouds ×{magnification:g}", tool + [0, 0, 0.25], height_m=0.3)
+    extent = [tool[None]] + [p.positions_m for p in poses] + [layer.points_m for layer in layers.values()]
+    if cube is not None:
+        extent.append(cube.corners_m())
+    _set_camera(vis, np.vstack(extent))
+    return SceneInfo(magnification, scale, notes)

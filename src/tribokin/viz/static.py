@@ -1,0 +1,82 @@
+"""A meshcat scene kept in memory and exported as one self-contained HTML page, with no server.
+
+``meshcat.Visualizer(window=StaticWindow())`` accepts every scene command; the
+window keeps the scene tree the way ``meshcat-server`` does
+(``meshcat.servers.tree.SceneTree``) and :meth:`StaticWindow.static_html`
+inlines the viewer's JavaScript and every command, so the page makes no
+network request.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import meshcat
+import umsgpack
+from meshcat.servers.tree import SceneTree, find_node, walk
+from meshcat.servers.zmqserver import VIEWER_ROOT, create_command
+
+
+class StaticWindow:
+    """A meshcat window that records scene commands instead of sending them to a server."""
+
+    def __init__(self):
+        self.tree = SceneTree()
+
+    def send(self, command) -> None:
+        """Apply one lowered meshcat command to the scene tree, as ``meshcat-server`` does."""
+        data = command.lower()
+        kind = data["type"]
+        path = [part for part in data["path"].split("/") if part]
+        packed = umsgpack.packb(data)
+        if kind == "delete":
+            if path:
+                find_node(self.tree, path[:-1]).pop(path[-1], None)
+            else:
+                self.tree = SceneTree()
+            return
+        node = find_node(self.tree, path)
+        if kind == "set_object":
+            node.object, node.properties = packed, []
+        elif kind == "set_property":
+            node.properties.append(packed)
+        elif kind == "set_transform":
+            node.transform = packed
+        elif kind == "set_animation":
+            node.animation = packed
+
+    def commands_js(self) -> str:
+        """The scene as JavaScript statements that replay it into a ``viewer``."""
+        parts = []
+        for node in walk(self.tree):
+            for packed in ([node.object] + node.properties + [node.transform, node.animation]):
+                if packed is not None:
+                    parts.append(create_command(packed))
+        return "".join(parts)
+
+    def get_scene(self) -> str:
+        """The page ``meshcat.Visualizer.static_html()`` returns."""
+        return static_html(self.commands_js())
+
+
+def viewer_js() -> str:
+    """meshcat's bundled viewer (three.js and its GUI), ≈ 0.85 MB of JavaScript."""
+    return (Path(VIEWER_ROOT) / "main.min.js").read_text(encoding="utf-8")
+
+
+def static_html(commands_js: str) -> str:
+    """A full-window meshcat viewer page that replays ``commands_js``."""
+    return f"""<!DOCTYPE html>
+<html><head><meta charset="utf-8"><title>tribokin scene</title>
+<style>body {{ margin: 0; }} #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}</style>
+</head><body><div id="meshcat-pane"></div>
+<script>{viewer_js()}</script>
+<script>var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
+{commands_js}</script>
+</body></html>
+"""
+
+
+def static_visualizer() -> meshcat.Visualizer:
+    """A :class:`meshcat.Visualizer` drawing into a new :class:`StaticWindow` (``vis.window``)."""
+    return meshcat.Visualizer(window=StaticWindow())

@@ -1,0 +1,84 @@
+"""report.html: self-contained (no network), with the colour bar, tables and figures; scene.npz round trip."""
+
+import base64
+import copy
+import re
+
+import numpy as np
+import pytest
+
+from tribokin.output import write_results
+from tribokin.study import run_study
+from tribokin.viz.report import write_report
+from tribokin.viz.scene_file import load_scene_inputs
+from viz_fixtures import CUBE, UNIFORM_AXIS, grid_layers
+
+NETWORK = re.compile(r"""(src|href)\s*=\s*["']?\s*(https?:)?//|url\(\s*["']?(https?:)?//|@import|fetch\(\s*["']https?:""",
+                     re.IGNORECASE)
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory):
+    out = tmp_path_factory.mktemp("report") / "out"
+    result = run_study(copy.deepcopy(UNIFORM_AXIS))
+    write_results(result, out, map_layers=grid_layers(), cube=CUBE)
+    return out, result
+
+
+def test_report_has_colour_bar_tables_and_figures(written):
+    out, result = written
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert "RP_l [µm]" in page and "1.000 µm" in page and "8.000 µm" in page  # colour bar range
+    assert "unreachable target" in page
+    row = result.poses[0].report_row()
+    assert f"{row['RP_l_um']:.3f}" in page and f"{row['AP_p_um']:.3f}" in page and "RP_a [mdeg]" in page
+    baseline = grid_layers()["baseline"].values_um[1:]  # the first target is unreachable
+    stats = "".join(f"<td>{v:.3f}</td>" for v in (baseline.min(), np.median(baseline), baseline.max()))
+    assert f"<td>baseline</td><td>34 / 35</td>{stats}<td>+0.0 %</td>" in page
+    halved = "".join(f"<td>{v / 2:.3f}</td>" for v in (baseline.min(), np.median(baseline), baseline.max()))
+    assert f"<td>treated</td><td>34 / 35</td>{halved}<td>-50.0 %</td>" in page
+    pngs = re.findall(r'src="data:image/png;base64,([^"]+)"', page)
+    assert [base64.b64decode(p) for p in pngs] == [(out / "field_P1.png").read_bytes()]
+    magnification = float(np.load(out / "scene.npz")["magnification"])
+    assert f"×{magnification:g}" in page
+
+
+def test_report_makes_no_network_request(written):
+    out, _ = written
+    page = (out / "report.html").read_text(encoding="utf-8")
+    srcdoc = re.search(r'srcdoc="([^"]*)"', page).group(1)
+    assert "MeshCat.Viewer" in srcdoc and len(srcdoc) > 500_000  # the viewer is inlined, not linked
+    assert not NETWORK.search(page.replace(srcdoc, "")), NETWORK.search(page.replace(srcdoc, ""))
+    assert not NETWORK.search(srcdoc.replace("&quot;", '"').replace("&amp;", "&"))
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]  # no temporary file left
+
+
+def test_scene_inputs_round_trip(written):
+    out, result = written
+    inputs = load_scene_inputs(out)
+    assert list(inputs.map_layers) == ["baseline", "treated"]
+    for label, layer in grid_layers().items():
+        np.testing.assert_array_equal(inputs.map_layers[label].points_m, layer.points_m)
+        np.testing.assert_array_equal(inputs.map_layers[label].values_um, layer.values_um)
+    assert inputs.cube == CUBE
+    np.testing.assert_array_equal(inputs.poses[0].positions_m, result.poses[0].positions_m)
+    np.testing.assert_array_equal(inputs.q, result.poses[0].q)
+    assert inputs.robot.joint_names == result.robot.joint_names
+
+
+def test_report_none_writes_neither_report_nor_scene(tmp_path):
+    write_results(run_study(copy.deepcopy(UNIFORM_AXIS)), tmp_path / "out", report="none")
+    assert (tmp_path / "out" / "summary.json").exists()
+    assert not (tmp_path / "out" / "report.html").exists() and not (tmp_path / "out" / "scene.npz").exists()
+
+
+def test_light_report_of_ur5_is_far_smaller_than_full(tmp_path):
+    study = {"robot": {"name": "ur5"},
+             "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 2e5, "normal_force_N": 200.0},
+             "poses": [{"q": [0.0, -1.2, 1.4, -1.8, -1.57, 0.0]}]}
+    result = run_study(study, cycles=10)
+    full, _ = write_report(result, result.robot, tmp_path, variant="full")
+    full_size = full.stat().st_size
+    light, _ = write_report(result, result.robot, tmp_path, variant="light")
+    assert light.stat().st_size < 0.3 * full_size
+    assert 1.2e6 < light.stat().st_size and full_size > 5e6

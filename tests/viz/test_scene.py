@@ -1,0 +1,139 @@
+"""The meshcat scene, drawn into the server-less window and read back from its scene tree."""
+
+import copy
+
+import numpy as np
+import pytest
+import umsgpack
+from meshcat.servers.tree import find_node
+
+from tribokin.errors import InputError
+from tribokin.study import run_study
+from tribokin.viz.colours import UNREACHABLE_RGB, ColourScale
+from tribokin.viz.scene import MapLayer, build_scene, choose_magnification
+from tribokin.viz.scene_file import CycleCloud
+from tribokin.viz.static import static_visualizer
+from viz_fixtures import CUBE, UNIFORM_AXIS, grid_layers
+
+
+def unpack(packed: bytes) -> dict:
+    return umsgpack.unpackb(packed)
+
+
+def node(vis, path: str):
+    return find_node(vis.window.tree, ["meshcat", *path.split("/")])
+
+
+def attribute(obj: dict, name: str) -> np.ndarray:
+    data = obj["object"]["geometries"][0]["data"]["attributes"][name]
+    return np.frombuffer(data["array"].data, dtype=np.float32).reshape(-1, data["itemSize"])
+
+
+@pytest.fixture(scope="module")
+def drawn():
+    result = run_study(copy.deepcopy(UNIFORM_AXIS))
+    vis = static_visualizer()
+    info = build_scene(vis, result.robot, result.poses[0].q, result.poses, grid_layers(), CUBE)
+    return vis, info, result
+
+
+def test_colour_scale_ends_and_unreachable_grey():
+    scale = ColourScale.spanning(np.array([3.0, np.nan, 9.0]), np.array([5.0]))
+    assert (scale.low_um, scale.high_um) == (3.0, 9.0)
+    low, high, missing = scale.rgb(np.array([3.0, 9.0, np.nan]))
+    np.testing.assert_allclose(low, [0.267, 0.005, 0.329], atol=0.01)   # viridis dark purple
+    np.testing.assert_allclose(high, [0.993, 0.906, 0.144], atol=0.01)  # viridis yellow
+    np.testing.assert_allclose(missing, UNREACHABLE_RGB)
+    assert scale.css_gradient().startswith("linear-gradient(to right, rgb(68,1,84) 0%")
+
+
+@pytest.mark.parametrize("radius_um, expected", [(3.0, 10_000), (4.0, 5_000), (0.02, 1_000_000)])
+def test_magnification_is_round_and_draws_the_largest_cloud_a_few_cm(radius_um, expected):
+    small = CycleCloud("a", np.array([[0.5, 0, 0], [0.5 + 0.002e-6, 0, 0]]))
+    large = CycleCloud("b", np.array([[0.2, 0, 0], [0.2 + 2 * radius_um * 1e-6, 0, 0]]))
+    magnification = choose_magnification([small, large])
+    assert magnification == expected
+    assert 0.01 <= magnification * radius_um * 1e-6 <= 0.03 + 1e-12
+
+
+def test_no_spread_is_not_magnified():
+    assert choose_magnification([CycleCloud("a", np.full((30, 3), 0.4))]) == 1.0
+
+
+def test_each_map_is_its_own_toggle_coloured_by_rp_l(drawn):
+    vis, info, _ = drawn
+    layers = grid_layers()
+    assert (info.colour_scale.low_um, info.colour_scale.high_um) == (1.0, 8.0)
+    maps = node(vis, "tribokin/maps")
+    assert sorted(maps) == ["baseline", "treated"]
+    for label, layer in layers.items():
+        obj = unpack(maps[label].object)
+        np.testing.assert_allclose(attribute(obj, "position"), layer.points_m, atol=1e-6)
+        np.testing.assert_allclose(attribute(obj, "color"), info.colour_scale.rgb(layer.values_um), atol=1e-6)
+    grey = attribute(unpack(maps["baseline"].object), "color")[0]
+    np.testing.assert_allclose(grey, UNREACHABLE_RGB, atol=1e-6)
+
+
+def test_cloud_is_magnified_about_its_barycenter_with_its_3_sigma_ellipsoid(drawn):
+    vis, info, result = drawn
+    pose = result.poses[0]
+    centre = pose.positions_m.mean(axis=0)
+    cloud = attribute(unpack(node(vis, "tribokin/poses/P1/cloud").object), "position")
+    np.testing.assert_allclose(cloud, centre + info.magnification * (pose.positions_m - centre), atol=1e-5)
+    ellipsoid = unpack(node(vis, "tribokin/poses/P1/ellipsoid").object)
+    radii = np.diag(np.reshape(ellipsoid["object"]["object"]["matrix"], (4, 4)))[:3]
+    spread_x = 3 * info.magnification * pose.positions_m[:, 0].std(ddof=1)  # the axis only moves along x
+    assert radii.max() == pytest.approx(spread_x, rel=1e-5)
+    transform = np.reshape(unpack(node(vis, "tribokin/poses/P1/ellipsoid").transform)["matrix"], (4, 4)).T
+    np.testing.assert_allclose(transform[:3, 3], centre, atol=1e-6)
+    assert unpack(node(vis, "tribokin/magnification").object)["object"]["textures"][0]["text"] == \
+        f"clouds ×{info.magnification:g}"
+
+
+def test_cube_has_its_edges_and_iso_points():
+    points = CUBE.test_points_m()
+    assert list(points) == ["P1", "P2", "P3", "P4", "P5"]
+    np.testing.assert_allclose(points["P1"], CUBE.centre_m)
+    corners = CUBE.corners_m()
+    assert np.ptp(corners, axis=0) == pytest.approx([0.3] * 3)
+    half_diagonal = np.sqrt(3) * 0.15
+    for name in ("P2", "P3", "P4", "P5"):
+        assert np.linalg.norm(points[name] - points["P1"]) == pytest.approx(0.8 * half_diagonal)
+    normal = np.cross(corners[3] - corners[0], corners[4] - corners[0])  # the diagonal plane
+    for point in points.values():
+        assert abs(np.dot(point - corners[0], normal)) < 1e-12
+
+
+def test_scene_tree_holds_robot_cube_and_labels(drawn):
+    vis, _, _ = drawn
+    tribokin = node(vis, "tribokin")
+    assert {"robot", "maps", "cube", "poses", "magnification"} <= set(tribokin)
+    assert {"P1", "P2", "P3", "P4", "P5", "edges"} <= set(tribokin["cube"])
+    edges = unpack(tribokin["cube"]["edges"].object)
+    assert attribute(edges, "position").shape == (24, 3)
+    assert tribokin["robot"]["visuals"]  # the slide and the segment
+
+
+@pytest.mark.parametrize("points, values, label, key", [
+    (np.zeros((4, 2)), np.zeros(4), "a", "points_m"),
+    (np.zeros((4, 3)), np.zeros(3), "a", "values_um"),
+    (np.zeros((4, 3)), np.zeros(4), "a/b", "label"),
+])
+def test_bad_map_layer_is_an_input_error(points, values, label, key):
+    with pytest.raises(InputError, match=key):
+        MapLayer(points, values, label)
+
+
+def test_unknown_variant_is_refused(drawn):
+    _, _, result = drawn
+    with pytest.raises(InputError, match="--report"):
+        build_scene(static_visualizer(), result.robot, result.poses[0].q, result.poses, variant="medium")
+
+
+def test_cube_is_optional_and_light_variant_uses_collision_geometry(drawn):
+    _, _, result = drawn
+    vis = static_visualizer()
+    build_scene(vis, result.robot, result.poses[0].q, result.poses, variant="light")
+    tribokin = node(vis, "tribokin")
+    assert "cube" not in tribokin and "maps" not in tribokin
+    assert set(tribokin["robot"]["visuals"]) == {g.name for g in result.robot.collision_model.geometryObjects}
