@@ -41,6 +41,9 @@ def atomic_folder(out, force: bool = False):
     """Yield a temporary folder; on success it replaces ``out``, on failure it is removed."""
     out = check_output_folder(out, force)
     temporary = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.absolute().parent))
+    umask = os.umask(0)
+    os.umask(umask)
+    temporary.chmod(0o777 & ~umask)  # mkdtemp makes it private; the result is an ordinary folder
     try:
         yield temporary
     except BaseException:
@@ -98,11 +101,17 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
 
     With ``report`` ``"full"`` or ``"light"`` (robot visual or collision meshes) it also writes
     ``report.html`` and ``scene.npz`` (for ``tribokin view``), drawing ``result.robot`` with the
-    optional ``map_layers`` (:class:`~tribokin.viz.scene.MapLayer` by scenario) and ``cube``.
+    optional ``map_layers`` (:class:`~tribokin.viz.scene.MapLayer` by scenario) and ``cube``
+    (default: the study's ISO cube, if it has one).
     """
     from tribokin.viz.figures import save_repeatability_field
     from tribokin.viz.report import write_report
+    from tribokin.viz.scene import Cube
     from tribokin.viz.scene_file import save_scene_inputs
+
+    iso_cube = result.settings.get("iso_cube")
+    if cube is None and iso_cube is not None:
+        cube = Cube(tuple(iso_cube["center_m"]), iso_cube["side_m"])
 
     with atomic_folder(out, force) as folder:
         write_summary(result, folder)
