@@ -18,7 +18,8 @@ $(VENV)/.test: $(VENV)/.base
 	$(PIP) install -e '.[test]'
 	touch $@
 
-DEMO_STUDIES := paper-fig10-frictionless paper-fig11-constant paper-fig12-gaussian paper-fig13-uniform
+DEMO_STUDIES := paper-fig10-frictionless paper-fig11-constant paper-fig12-gaussian paper-fig13-uniform \
+	tribology-log tribology-surface-turned tribology-surface-intermediate tribology-surface-ground
 
 demo: $(VENV)/.base
 	@for study in $(DEMO_STUDIES); do \
