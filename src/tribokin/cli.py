@@ -61,6 +61,31 @@ def _robots(args) -> None:
         print(f"{name}{'  (tested)' if name in TESTED_ROBOTS else ''}")
 
 
+def _fit_friction(args) -> None:
+    from tribokin.measurements import fit_friction
+
+    report = fit_friction(args.log, args.out, args.running_in, args.force)
+    print(f"{report['cycles']} cycles, {report['running_in_cycles']} running-in ({report['running_in']}), "
+          f"{report['steady_cycles']} fitted")
+    print(f"{'law':<10} {'AIC':>12} {'KS p':>8}")
+    for fit in report["fits"]:
+        print(f"{fit['law']:<10} {fit['aic']:>12.2f} {fit['ks_pvalue']:>8.3g}")
+    print(f"chosen: friction = {report['inline']}")
+    print(f"results in {args.out}/ (law.toml, fit.json, mu_cycles.png, mu_histogram.png)")
+
+
+def _surface(args) -> None:
+    from tribokin.measurements import surface_report
+
+    report = surface_report(args.profile, args.out, args.area_m2, args.z_range_m, args.radius_range_m, args.force)
+    print(f"{report['peaks']} peaks, AR = {report['AR_m'] * 1e6:.2f} µm, D_s = 1.2/AR² = "
+          f"{report['summit_density_m2'] * 1e-6:.1f} per mm²")
+    print(f"Alt = {report['Alt_m'] * 1e6:.3f} µm, SAlt = {report['SAlt_m'] * 1e6:.3f} µm, "
+          f"radius lognormal a = {report['radius_a']:.3f}, b = {report['radius_b']:.3f} (R* = R / 1 µm)")
+    print(f"asperities (eq. 6) on {args.area_m2:g} m²: {report['asperity_count']['count']:.1f}")
+    print(f"results in {args.out}/ (surface.json, profile.png, p_z_R.png)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="tribokin", description="Friction-induced pose repeatability (ISO 9283) of robots.")
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -81,6 +106,24 @@ def build_parser() -> argparse.ArgumentParser:
     view.add_argument("--meshes", choices=("full", "light"), default="full",
                       help="robot visual meshes (full, default) or collision meshes (light)")
     view.set_defaults(handler=_view)
+
+    fit = commands.add_parser("fit-friction", help="fit friction laws to a tribometer log (CSV)")
+    fit.add_argument("log", help="CSV with columns cycle, mu or friction_force_N, normal_force_N")
+    fit.add_argument("--out", default="friction-fit", help="output folder (must not exist, unless --force)")
+    fit.add_argument("--running-in", type=int, help="cycles to trim at the start (default: detected)")
+    fit.add_argument("--force", action="store_true", help="replace an existing output folder")
+    fit.set_defaults(handler=_fit_friction)
+
+    surface = commands.add_parser("surface", help="asperity statistics of a surface profile (CSV)")
+    surface.add_argument("profile", help="CSV with columns x_m, z_m")
+    surface.add_argument("--out", default="surface", help="output folder (must not exist, unless --force)")
+    surface.add_argument("--area-m2", type=float, default=1e-6, help="apparent area A_a of eq. (6) [m²]")
+    surface.add_argument("--z-range-m", type=float, nargs=2, default=(-float("inf"), float("inf")),
+                         metavar=("Z1", "Z2"), help="summit altitude range of eq. (6) [m]")
+    surface.add_argument("--radius-range-m", type=float, nargs=2, default=(0.0, float("inf")),
+                         metavar=("R1", "R2"), help="radius range of eq. (6) [m]")
+    surface.add_argument("--force", action="store_true", help="replace an existing output folder")
+    surface.set_defaults(handler=_surface)
 
     robots = commands.add_parser("robots", help="list the robot names [robot] name = ... accepts")
     robots.set_defaults(handler=_robots)

@@ -1,0 +1,64 @@
+"""Friction laws from files in study specs: law files, tribometer logs, surface profiles."""
+
+import numpy as np
+import pytest
+
+from tribokin.errors import InputError
+from tribokin.tribology import Empirical, Gaussian, law_from_spec
+
+from conftest import ROOT, axis_study
+
+PROFILES = ROOT / "src/tribokin/data/profiles"
+SURFACE = {"normal_force_N": 150.0, "contact_area_m2": 1e-6, "film_thickness_m": 1.2e-6, "cycles": 300}
+
+
+def test_file_kind_reads_a_law_relative_to_the_study(tmp_path):
+    (tmp_path / "law.toml").write_text('# comment\nlaw = "gaussian"\nmean = 0.13\nstd = 0.01\n')
+    law = law_from_spec({"file": "law.toml"}, "study.toml", "joints.friction", tmp_path)
+    assert isinstance(law, Gaussian) and law.mean() == pytest.approx(0.13) and "law.toml" in law.provenance
+
+
+def test_errors_inside_a_law_file_name_that_file(tmp_path):
+    (tmp_path / "law.toml").write_text('law = "gaussian"\nmean = 0.13\nstd = -0.01\n')
+    with pytest.raises(InputError) as error:
+        law_from_spec({"file": "law.toml"}, "study.toml", "joints.friction", tmp_path)
+    assert error.value.source.endswith("law.toml") and error.value.key == "std"
+    with pytest.raises(InputError, match="joints.friction.file"):
+        law_from_spec({"file": "nope.toml"}, "study.toml", "joints.friction", tmp_path)
+
+
+def test_log_kind_trims_running_in(tmp_path):
+    mu = np.concatenate([np.full(10, 0.3), np.full(40, 0.12)]) + np.linspace(0, 1e-3, 50)
+    (tmp_path / "log.csv").write_text("mu\n" + "\n".join(map(str, mu)) + "\n")
+    law = law_from_spec({"log": "log.csv", "running_in": 10}, "s.toml", "joints.friction", tmp_path)
+    assert isinstance(law, Empirical) and law.values.size == 40 and law.support()[1] < 0.13
+
+
+def test_surface_kind_gives_a_law_between_film_and_boundary_friction():
+    law = law_from_spec({"surface": "ground.csv", **SURFACE}, "s.toml", "joints.friction", PROFILES)
+    assert 0.09 < law.mean() < 0.16 and law.std() > 0
+    assert "ground.csv" in law.provenance
+
+
+def test_smoother_turned_surface_carries_less_asperity_load_than_ground():
+    mu = {name: law_from_spec({"surface": f"{name}.csv", **SURFACE}, "s", "f", PROFILES).mean()
+          for name in ("turned", "ground")}
+    assert mu["turned"] < mu["ground"]
+
+
+@pytest.mark.parametrize("edit, key", [
+    ({"film_thickness_m": -1.0}, "joints.friction.film_thickness_m"),
+    ({"cycles": 2.5}, "joints.friction.cycles"),
+    ({"filmthickness_m": 1e-6}, "joints.friction.filmthickness_m"),
+])
+def test_surface_kind_errors_name_the_key(edit, key):
+    with pytest.raises(InputError, match=key.replace(".", r"\.")):
+        law_from_spec({"surface": "ground.csv", **SURFACE, **edit}, "s.toml", "joints.friction", PROFILES)
+
+
+def test_surface_study_runs(tmp_path):
+    from tribokin.study import run_study
+
+    study = axis_study(friction={"surface": str(PROFILES / "turned.csv"), **SURFACE})
+    result = run_study(study)
+    assert 0.09 <= result.poses[0].mu.min() and result.poses[0].mu.max() <= 0.16
