@@ -19,7 +19,7 @@ $(VENV)/.test: $(VENV)/.base
 	touch $@
 
 DEMO_STUDIES := paper-fig10-frictionless paper-fig11-constant paper-fig12-gaussian paper-fig13-uniform \
-                tribology-log tribology-surface-turned tribology-surface-intermediate tribology-surface-ground \
+                tribology-log tribology-surfaces \
                 gantry-iso ur5-iso panda-iso
 
 demo: $(VENV)/.base

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from conftest import axis_study
+from conftest import STUDIES, axis_study
 from tribokin import InputError, run_study
 
 N, K = 150.0, 2.0e6
@@ -124,3 +124,24 @@ def test_bad_mappings_name_the_key(change, key):
     with pytest.raises(InputError) as error:
         run_study(study)
     assert error.value.key == key
+
+
+def test_pose_friction_overrides_joint_friction():
+    study = axis_study(friction={"law": "constant", "mu": 0.1})
+    study["poses"] = [{"name": "base", "q": [0.1]},
+                      {"name": "grippy", "q": [0.1], "friction": {"law": "constant", "mu": 0.3}},
+                      {"name": "bad", "q": [0.1], "friction": {"law": "uniform", "low": 0.3, "high": 0.1}}]
+    with pytest.raises(InputError) as error:
+        run_study(study)
+    assert error.value.key == "poses[2].friction.low"
+    study["poses"].pop()
+    result = run_study(study)
+    assert result.pose("base").report_row()["AP_p_um"] == pytest.approx(0.1 * 100 / 1e6 * 1e6)
+    assert result.pose("grippy").report_row()["AP_p_um"] == pytest.approx(0.3 * 100 / 1e6 * 1e6)
+    assert result.pose("grippy").report_row()["friction"]["mu"] == 0.3
+
+
+@pytest.mark.parametrize("path", sorted(STUDIES.glob("*.toml")), ids=lambda p: p.stem)
+def test_every_shipped_study_runs(path):
+    result = run_study(path, cycles=5)
+    assert result.poses and all(np.isfinite(p.report_row()["RP_l_um"]) for p in result.poses)

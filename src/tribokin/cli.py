@@ -26,11 +26,12 @@ def _run(args) -> None:
     check_output_folder(args.out, args.force)
     result = run_study(args.study, cycles=args.cycles, seed=args.seed)
     out = write_results(result, args.out, args.force, report=args.report)
-    print(f"{'pose':<10} {'RP_l [µm]':>10} {'AP_p [µm]':>10} {'vAP_p [µm]':>11}")
+    width = max(10, *(len(pose.name) for pose in result.poses))
+    print(f"{'pose':<{width}} {'RP_l [µm]':>10} {'AP_p [µm]':>10} {'vAP_p [µm]':>11}")
     for pose in result.poses:
         row = pose.report_row()
         vap = "-" if row["vAP_p_um"] is None else f"{row['vAP_p_um']:.3f}"
-        print(f"{pose.name:<10} {row['RP_l_um']:>10.3f} {row['AP_p_um']:>10.3f} {vap:>11}")
+        print(f"{pose.name:<{width}} {row['RP_l_um']:>10.3f} {row['AP_p_um']:>10.3f} {vap:>11}")
     print(f"results in {out}/ (summary.json, poses.csv, samples.npz, field_*.png)")
     if args.report != "none":
         import numpy as np

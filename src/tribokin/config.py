@@ -132,6 +132,7 @@ POSE_KEYS = {
     "name": (text, None),
     "q": (number_list, REQUIRED),
     "normal_force_N": (non_negative, None),
+    "friction": (table, None),
 }
 TOP_KEYS = ("study", "robot", "joints", "poses", "iso_cube")
 
@@ -161,13 +162,14 @@ def check_table(mapping: dict, schema: dict, source, prefix: str, extra_ok=()) -
 class PoseSpec:
     """A commanded configuration to test.
 
-    ``q`` in [m or rad], one value per active joint; ``normal_force_N`` [N],
-    when set, is the bearing load of every joint at this pose (overriding ``[joints]``).
+    ``q`` in [m or rad], one value per active joint; ``normal_force_N`` [N] and
+    ``friction`` (a law spec), when set, apply to every joint at this pose (overriding ``[joints]``).
     """
 
     name: str
     q: list[float]
     normal_force_N: float | None = None
+    friction: dict | None = None
 
 
 @dataclass
@@ -227,7 +229,8 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
     poses = []
     for i, pose in enumerate(poses_list):
         checked = check_table(table(pose, source, f"poses[{i}]"), POSE_KEYS, source, f"poses[{i}]")
-        poses.append(PoseSpec(checked["name"] or f"P{i + 1}", checked["q"], checked["normal_force_N"]))
+        poses.append(PoseSpec(checked["name"] or f"P{i + 1}", checked["q"], checked["normal_force_N"],
+                              checked["friction"]))
     names = [p.name for p in poses] + (["P1", "P2", "P3", "P4", "P5"] if iso_cube is not None else [])
     duplicate = next((n for n in names if names.count(n) > 1), None)
     if duplicate:

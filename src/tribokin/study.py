@@ -29,6 +29,7 @@ from tribokin.loads import BearingLoads
 from tribokin.propagate import max_deviation_from_exact, tool_deviations
 from tribokin.results import UM_PER_M, PoseResult, StudyResult
 from tribokin.robot import Robot, load_example_robot, load_urdf
+from tribokin.tribology.laws import FrictionLaw
 from tribokin.tribology.spec import law_from_spec
 
 if sys.version_info >= (3, 11):
@@ -124,6 +125,7 @@ class PoseTask:
     directions: np.ndarray
     cartesian_approach: bool = False
     normal_force_N: float | None = None
+    friction: FrictionLaw | None = None
 
 
 def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]:
@@ -131,7 +133,10 @@ def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]
     nv = robot.model.nv
     joint_space = np.vstack([np.ones(nv), -np.ones(nv)])
     tasks = [PoseTask(p.name, robot.check_configuration(p.q, study.source, f"poses[{i}].q"), joint_space,
-                      normal_force_N=p.normal_force_N) for i, p in enumerate(study.poses)]
+                      normal_force_N=p.normal_force_N,
+                      friction=None if p.friction is None else
+                      law_from_spec(p.friction, study.source, f"poses[{i}].friction", study.base_dir))
+             for i, p in enumerate(study.poses)]
     cube = None
     if study.iso_cube is not None:
         cube_poses, cube = place_cube(robot, study.iso_cube["center_m"], study.iso_cube["side_m"],
@@ -157,10 +162,14 @@ class PoseRunner:
         fixed = np.array([np.nan if m.normal_force_N is None else m.normal_force_N for m in self.models])
         return fixed if self.loads is None else np.where(np.isnan(fixed), self.loads(task.q), fixed)
 
+    def models_at(self, task: PoseTask) -> list[JointErrorModel]:
+        """The joint error models at a pose: the study's, with the pose's friction law if it has one."""
+        return self.models if task.friction is None else [replace(m, friction=task.friction) for m in self.models]
+
     def sample(self, task: PoseTask, forces_N, cycles: int, mode: str, rng):
         """Cycles at one pose: (positions [m], angles [rad], approach index, dq, mu)."""
         signs, group = approach_signs(mode, cycles, task.directions, rng)
-        dq, mu = sample_joint_deviations(self.models, self.robot.joint_is_prismatic, forces_N, signs, rng)
+        dq, mu = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs, rng)
         positions, angles = tool_deviations(self.robot, task.q, dq, self.study.engine)
         return positions, angles, group, dq, mu
 
@@ -178,6 +187,8 @@ class PoseRunner:
         reference = self.robot.tool_placement(task.q + self.offsets)
         result = PoseResult(task.name, task.q, commanded.translation.copy(), commanded.rotation.copy(),
                             reference.translation.copy(), positions, angles, group, mu, dq, forces, metrics)
+        if task.friction is not None:
+            result.extra["friction"] = task.friction.describe()
         result.extra.update(self.beyond_iso(task, forces, result, index))
         if study.engine == "fast":
             check = max_deviation_from_exact(self.robot, task.q, dq)
@@ -204,7 +215,7 @@ class PoseRunner:
         rp = np.empty(replicates)
         for k in range(replicates):
             signs, _ = approach_signs(self.study.approach, cycles, task.directions, rng)
-            dq, _ = sample_joint_deviations(self.models, self.robot.joint_is_prismatic, forces_N, signs, rng)
+            dq, _ = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs, rng)
             rp[k] = position_repeatability(dq @ jacobian.T)[0]
         extra["RP_l_95_um"] = (np.percentile(rp, [2.5, 97.5]) * UM_PER_M).tolist()
         return extra
