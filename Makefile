@@ -23,6 +23,7 @@ DEMO_STUDIES := paper-fig10-frictionless paper-fig11-constant paper-fig12-gaussi
                 gantry-iso ur5-iso panda-iso
 
 demo: $(VENV)/.base
+	@mkdir -p $(DEMO_OUT)
 	@for study in $(DEMO_STUDIES); do \
 		echo "== $$study"; \
 		$(VENV)/bin/tribokin run studies/$$study.toml --out $(DEMO_OUT)/$$study --force || exit $$?; \
