@@ -23,8 +23,9 @@ def test_panda_fingers_are_locked():
 
 
 def test_unknown_robot_and_frame_list_the_valid_ones():
-    with pytest.raises(InputError, match="did you mean 'ur5'"):
+    with pytest.raises(InputError, match="did you mean 'ur5'.*valid names: .*panda.*ur10") as error:
         load_example_robot("ur55")
+    assert error.value.key == "robot.name" and "\n" not in str(error.value)
     with pytest.raises(InputError, match="tool0") as error:
         load_example_robot("ur5", tool_frame="tool9")
     assert error.value.key == "robot.tool_frame"

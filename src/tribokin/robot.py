@@ -190,7 +190,7 @@ def load_example_robot(name: str, tool_frame: str | None = None, source=None) ->
     """Load a robot that example-robot-data ships, by name (e.g. ``"ur5"``)."""
     names = example_robot_names()
     if name not in names:
-        raise InputError(f"unknown robot '{name}'{closest_hint(name, names)}; run `tribokin robots` for the list",
+        raise InputError(f"unknown robot '{name}'{closest_hint(name, names)}; valid names: {', '.join(names)}",
                          source, "robot.name")
     import example_robot_data
 
