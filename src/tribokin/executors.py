@@ -12,6 +12,9 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 
 from tribokin.errors import InputError
 
+#: How long to try reaching a dask scheduler [s].
+SCHEDULER_TIMEOUT_S = 10.0
+
 
 def check_executor(workers: int, scheduler: str | None) -> None:
     """An :class:`InputError` for a bad ``--workers`` count or ``--workers`` with ``--scheduler``."""
@@ -52,13 +55,13 @@ def _run_on_dask(function: Callable, chunks: dict, scheduler: str) -> Iterator:
     from dask.distributed import as_completed as dask_completed
 
     try:
-        client = Client(scheduler, timeout="10s", set_as_default=False)
+        client = Client(scheduler, timeout=SCHEDULER_TIMEOUT_S, set_as_default=False)
     except (OSError, TimeoutError, ValueError) as error:
         raise InputError(f"cannot reach the dask scheduler at '{scheduler}' ({error})", "command line",
                          "--scheduler") from None
     try:
         futures = {client.submit(function, *arguments, pure=False): key for key, arguments in chunks.items()}
-        for future in dask_completed(futures):
+        for future in dask_completed(futures, loop=client.loop):
             yield futures[future], future.result()
             future.release()
     finally:
