@@ -19,14 +19,14 @@ $(VENV)/.test: $(VENV)/.base
 	touch $@
 
 DEMO_STUDIES := paper-fig10-frictionless paper-fig11-constant paper-fig12-gaussian paper-fig13-uniform \
-                gantry-iso ur5-iso panda-iso
+                gantry-iso ur5-iso panda-iso gantry-map ur5-map-horizontal panda-map-vertical ur5-what-if-materials
 
 demo: $(VENV)/.base
 	@for study in $(DEMO_STUDIES); do \
 		echo "== $$study"; \
 		$(VENV)/bin/tribokin run studies/$$study.toml --out $(DEMO_OUT)/$$study --force || exit $$?; \
 	done
-	@echo "demo results: $(DEMO_OUT)/<study>/ (summary.json, poses.csv, field_*.png)"
+	@echo "demo results: $(DEMO_OUT)/<study>/ (summary.json, poses.csv, field_*.png; maps: map*.csv, map_*.png)"
 
 test: $(VENV)/.test
 	$(PY) -m pytest -q

@@ -36,7 +36,7 @@ def test_gantry_with_fixed_loads_gives_a_flat_map_and_flags_unreachable_targets(
     assert result.poses == [] and workspace_map.grid.shape == (1, 4, 8)
     u = workspace_map.grid.coordinates["u_m"]
     np.testing.assert_array_equal(workspace_map.reachable, u < 0.65)
-    assert all("out of reach" in r for r in workspace_map.reasons[u > 0.65])
+    assert all("no IK solution" in r for r in workspace_map.reasons[u > 0.65])
     rp = workspace_map.reference.figure("RP_l_um")
     assert np.all(np.isnan(rp[u > 0.65]))
     # every axis lost mu N / k each way: cycles at x_c +/- delta (1, 1, 1), so RP_l = sqrt(3) delta everywhere
@@ -168,3 +168,9 @@ def test_study_without_poses_needs_a_map():
     del study["map"]
     with pytest.raises(InputError, match=r"\[map\]"):
         run_study(copy.deepcopy(study))
+
+
+def test_shipped_studies_are_valid():
+    for path in sorted((ROOT / "studies").glob("*.toml")):
+        study = load_study(path)
+        assert study.cycles >= 1, path

@@ -62,11 +62,12 @@ def _print_map(summary: dict) -> None:
     shape = " x ".join(str(n) for n in summary["shape"][::-1] if n > 1) or "1"
     print(f"map ({summary['kind']}, {shape}): {summary['reachable']} of {summary['count']} targets reachable, "
           f"{summary['cycles']} cycles each")
-    scenarios = summary.get("scenarios") or [{"name": "RP_l", "RP_l_um": summary["RP_l_um"]}]
-    print(f"{'':<16} {'RP_l min / median / max [µm]':>34}" + (f" {'wins':>7}" if "wins" in summary else ""))
+    scenarios = summary.get("scenarios") or [{"name": "", "RP_l_um": summary["RP_l_um"]}]
+    width = max(len(s["name"]) for s in scenarios)
+    print(f"{'':<{width}} {'RP_l min / median / max [µm]':>30}" + (f" {'wins':>7}" if "wins" in summary else ""))
     for scenario in scenarios:
         wins = f" {summary['wins'][scenario['name']]:>7}" if "wins" in summary else ""
-        print(f"{scenario['name']:<16} {_spread_um(scenario['RP_l_um']):>34}{wins}")
+        print(f"{scenario['name']:<{width}} {_spread_um(scenario['RP_l_um']):>30}{wins}")
 
 
 def _robots(args) -> None:

@@ -212,5 +212,5 @@ def unreachable_reason(result: IKResult, position_only: bool) -> str:
     """Why IK failed, for the map's ``reason`` column."""
     closest = f"closest {result.position_error_m * 1e3:.3g} mm"
     if not position_only:
-        closest += f" and {np.degrees(result.angle_error_rad):.3g} deg"
-    return f"out of reach within the joint limits ({closest})"
+        closest += f", {np.degrees(result.angle_error_rad):.3g} deg"
+    return f"no IK solution within the joint limits from the warm start and {IK_RESTARTS} restarts ({closest})"

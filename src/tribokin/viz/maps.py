@@ -4,6 +4,7 @@ unreachable targets in grey."""
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 
 import matplotlib
@@ -75,8 +76,8 @@ def save_grid_image(grid: TargetGrid, values: np.ndarray, path: Path, label: str
     if categories:
         bar.set_ticks(np.arange(-1, len(categories) - 1), labels=categories)
     unreachable = int(images.mask.sum()) if np.ndim(images.mask) else 0
-    note = f"; grey: {unreachable} unreachable" if unreachable else ""
-    fig.suptitle(f"{title}{note}", fontsize=10)
+    note = f" (grey: {unreachable} unreachable)" if unreachable else ""
+    fig.suptitle(textwrap.fill(f"{title}{note}", 40 + 50 * panels_across), fontsize=10)
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
@@ -85,14 +86,15 @@ def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) ->
     """``map_RP_l.png`` (reference scenario); with scenarios, per other scenario its RP_l, ratio and
     difference to the reference, and ``map_winner.png`` (which scenario has the smallest RP_l)."""
     grid, reference = workspace_map.grid, workspace_map.reference
-    where = {"plane": "plane", "box": "box", "joint": "joint grid"}[grid.kind]
     paths = []
 
     def save(name, values, label, title, **options):
         paths.append(folder / name)
-        save_grid_image(grid, values, paths[-1], label, f"{study_name} — {title} ({where})", **options)
+        save_grid_image(grid, values, paths[-1], label, f"{study_name}: {title}", **options)
 
-    save("map_RP_l.png", reference.figure("RP_l_um"), "RP_l [µm]", f"position repeatability RP_l, {reference.name}")
+    compared = f", {reference.name}" if len(workspace_map.scenarios) > 1 else ""
+    save("map_RP_l.png", reference.figure("RP_l_um"), "RP_l [µm]",
+         f"position repeatability RP_l, {reference.cycles} cycles per target{compared}")
     for scenario in workspace_map.scenarios[1:]:
         save(f"map_RP_l_{scenario.name}.png", scenario.figure("RP_l_um"), "RP_l [µm]",
              f"RP_l, {scenario.name}")
