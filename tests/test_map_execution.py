@@ -63,7 +63,7 @@ def test_two_local_workers_change_nothing(reference, tmp_path):
 def test_dask_cluster_changes_nothing(reference, tmp_path):
     from dask.distributed import LocalCluster
 
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    with LocalCluster(n_workers=2, threads_per_worker=2, processes=True, dashboard_address=None) as cluster:
         result = run_study(UR5_MAP, scheduler=cluster.scheduler_address)
     assert written(result, tmp_path / "out") == reference
 

@@ -24,6 +24,13 @@ def chunk_folder(out) -> Path:
     return out.with_name(out.name + ".chunks")
 
 
+def check_chunk_folder(folder, resume: bool) -> None:
+    """Refuse, without ``resume``, a chunk folder an interrupted run left (nothing is deleted unasked)."""
+    if Path(folder).exists() and not resume:
+        raise InputError("an interrupted run left its finished chunks here; pass --resume to finish it or --force "
+                         "to start over", folder, "--resume")
+
+
 def discard(folder) -> None:
     """Delete a chunk folder (once the results are written, or to start over)."""
     shutil.rmtree(folder, ignore_errors=True)
@@ -41,16 +48,14 @@ class ChunkStore:
         folder: the chunk folder.
         key: fingerprint of the settings the chunks were computed with.
         resume: keep the chunks of an earlier, interrupted run with the same ``key``; without it an
-            existing folder is an error (nothing is deleted unasked).
+            existing folder is an error.
     """
 
     def __init__(self, folder, key: str, resume: bool = False):
         self.folder = Path(folder)
         manifest = self.folder / "manifest.json"
+        check_chunk_folder(self.folder, resume)
         if self.folder.exists():
-            if not resume:
-                raise InputError("an interrupted run left its finished chunks here; pass --resume to finish it "
-                                 "or --force to start over", self.folder, "--resume")
             saved = json.loads(manifest.read_text()).get("key") if manifest.is_file() else None
             if saved != key:
                 raise InputError("these chunks were computed with other settings (study file, cycles, seed or "

@@ -20,7 +20,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _run(args) -> None:
-    from tribokin.checkpoint import chunk_folder, discard
+    from tribokin.checkpoint import check_chunk_folder, chunk_folder, discard
     from tribokin.executors import check_executor
     from tribokin.output import check_output_folder, write_results
     from tribokin.study import run_study
@@ -30,6 +30,7 @@ def _run(args) -> None:
     chunks = chunk_folder(args.out)
     if args.force and not args.resume:
         discard(chunks)
+    check_chunk_folder(chunks, args.resume)
     result = run_study(args.study, cycles=args.cycles, seed=args.seed, workers=args.workers,
                        scheduler=args.scheduler, checkpoint=chunks, resume=args.resume, progress=True)
     out = write_results(result, args.out, args.force)

@@ -11,6 +11,7 @@ measured at the same configurations with the same streams.
 from __future__ import annotations
 
 import math
+import threading
 import uuid
 from dataclasses import dataclass
 
@@ -46,17 +47,19 @@ class MapJob:
     scenarios: tuple[Study, ...]
 
 
-_cache: tuple | None = None
+#: Per thread (Pinocchio data is mutable, and a dask worker may run chunks in several threads):
+#: the last job's token and its (robot, grid, runners).
+_local = threading.local()
 
 
 def _job_context(job: MapJob):
-    """(robot, grid, runners) of ``job``, built once per process."""
-    global _cache
-    if _cache is None or _cache[0] != job.token:
+    """(robot, grid, runners) of ``job``, built once per thread."""
+    cache = getattr(_local, "cache", None)
+    if cache is None or cache[0] != job.token:
         robot = load_robot(job.study)
         runners = [PoseRunner(s, robot, joint_models(s, robot)) for s in job.scenarios]
-        _cache = (job.token, robot, make_grid(robot, job.study.map, job.study.source), runners)
-    return _cache[1:]
+        _local.cache = (job.token, robot, make_grid(robot, job.study.map, job.study.source), runners)
+    return _local.cache[1:]
 
 
 def measure_target(runner: PoseRunner, position_jacobian: np.ndarray, q: np.ndarray, index: int):
@@ -157,9 +160,8 @@ def run_map(study: Study, robot: Robot, workers: int = 1, scheduler: str | None 
     finished = store.finished() if store else []
     for chunk in finished:
         keep(chunk, store.load(chunk))
-    global _cache
     job = MapJob(uuid.uuid4().hex, study, studies)
-    _cache = (job.token, robot, grid, runners)  # chunks run in this process need not rebuild them
+    _local.cache = (job.token, robot, grid, runners)  # chunks run in this thread need not rebuild them
     todo = {k: (job, rows, heads[rows]) for k, rows in enumerate(chunks) if k not in finished}
     done_targets = sum(len(chunks[k]) for k in finished) * grid.row_length
     with tqdm(total=n, initial=done_targets, unit="target", desc=f"map {study.name}",
