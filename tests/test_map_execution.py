@@ -48,7 +48,7 @@ def test_reference_map_has_unreachable_targets_and_both_scenarios(reference):
     summary = json.loads(reference["summary.json"])["map"]
     assert 0 < summary["unreachable"] < summary["count"] == 35
     assert [s["name"] for s in summary["scenarios"]] == ["raw", "treated-shoulder"]
-    assert summary["wins"]["raw"] + summary["wins"]["treated-shoulder"] + summary["wins"]["tie"] == summary["reachable"]
+    assert summary["wins"]["raw"] + summary["wins"]["treated-shoulder"] + summary["ties"] == summary["reachable"]
 
 
 @pytest.mark.parametrize("rows", [2, 5])
@@ -147,3 +147,17 @@ def test_killed_run_resumes_to_the_same_bytes(tmp_path):
     write_results(run_study(study), tmp_path / "uninterrupted")
     for name in ("map.csv", "summary.json", "map_RP_l.png"):
         assert (out / name).read_bytes() == (tmp_path / "uninterrupted" / name).read_bytes(), name
+
+
+@pytest.mark.parametrize("edit, arguments, key", [
+    (str, ["--workers", "0"], "--workers"),
+    (str, ["--workers", "2", "--scheduler", "tcp://127.0.0.1:9"], "--scheduler"),
+    (lambda text: text.replace("axis_u = [1, 0, 0]", "axis_u = [1, 1, 0]"), [], "map.axis_u"),
+])
+def test_bad_map_input_is_one_line_and_writes_nothing(tmp_path, edit, arguments, key):
+    study = tmp_path / "study.toml"
+    study.write_text(edit(GANTRY_STUDY))
+    done = subprocess.run([sys.executable, "-m", "tribokin", "run", study, "--out", tmp_path / "out", *arguments],
+                          capture_output=True, text=True)
+    assert done.returncode == 2 and key in done.stderr and len(done.stderr.strip().splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]

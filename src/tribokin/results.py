@@ -170,8 +170,8 @@ class MapResult:
                 "RP_l_ratio": spread(self.ratio_RP_l(s)),
                 "RP_l_diff_um": spread(self.diff_RP_l_um(s)),
             } for s in self.scenarios]
-            block["wins"] = {**{s.name: int((winners == i).sum()) for i, s in enumerate(self.scenarios)},
-                             "tie": int(((winners == -1) & self.reachable).sum())}
+            block["wins"] = {s.name: int((winners == i).sum()) for i, s in enumerate(self.scenarios)}
+            block["ties"] = int(((winners == -1) & self.reachable).sum())
         return block
 
 
