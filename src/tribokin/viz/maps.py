@@ -82,9 +82,15 @@ def save_grid_image(grid: TargetGrid, values: np.ndarray, path: Path, label: str
     plt.close(fig)
 
 
+def _categorical(count: int) -> ListedColormap:
+    """White for the value -1 (none, tie), then one tab10 colour per category 0 .. count - 1."""
+    return ListedColormap(["#ffffff"] + [plt.get_cmap("tab10")(i % 10) for i in range(count)])
+
+
 def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) -> list[Path]:
-    """``map_RP_l.png`` (reference scenario); with scenarios, per other scenario its RP_l, ratio and
-    difference to the reference, and ``map_winner.png`` (which scenario has the smallest RP_l)."""
+    """``map_RP_l.png`` and ``map_dominant_joint.png`` (reference scenario); with scenarios, per other
+    scenario its RP_l, ratio and difference to the reference, and ``map_winner.png`` (which scenario
+    has the smallest RP_l)."""
     grid, reference = workspace_map.grid, workspace_map.reference
     paths = []
 
@@ -95,6 +101,11 @@ def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) ->
     compared = f", {reference.name}" if len(workspace_map.scenarios) > 1 else ""
     save("map_RP_l.png", reference.figure("RP_l_um"), "RP_l [µm]",
          f"position repeatability RP_l, {reference.cycles} cycles per target{compared}")
+    joints = workspace_map.joint_names
+    save("map_dominant_joint.png", np.where(workspace_map.reachable, reference.dominant_joint, np.nan),
+         "joint with the largest share of the position variance", f"dominant joint{compared}",
+         cmap=_categorical(len(joints)), norm=BoundaryNorm(np.arange(-1.5, len(joints)), len(joints) + 1),
+         categories=["none"] + joints)
     for scenario in workspace_map.scenarios[1:]:
         save(f"map_RP_l_{scenario.name}.png", scenario.figure("RP_l_um"), "RP_l [µm]",
              f"RP_l, {scenario.name}")
@@ -106,9 +117,8 @@ def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) ->
              f"RP_l difference {scenario.name} − {reference.name}", cmap="RdBu_r", norm=value_norm(diff, 0.0))
     if len(workspace_map.scenarios) > 1:
         names = [s.name for s in workspace_map.scenarios]
-        colours = ["#ffffff"] + [plt.get_cmap("tab10")(i % 10) for i in range(len(names))]
         winners = np.where(workspace_map.reachable, workspace_map.winners(), np.nan)
         save("map_winner.png", winners, "scenario with the smallest RP_l", "which scenario has the smallest RP_l",
-             cmap=ListedColormap(colours), norm=BoundaryNorm(np.arange(-1.5, len(names)), len(colours)),
+             cmap=_categorical(len(names)), norm=BoundaryNorm(np.arange(-1.5, len(names)), len(names) + 1),
              categories=["tie"] + names)
     return paths
