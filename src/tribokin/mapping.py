@@ -164,13 +164,16 @@ def run_map(study: Study, robot: Robot, workers: int = 1, scheduler: str | None 
     _local.cache = (job.token, robot, grid, runners)  # chunks run in this thread need not rebuild them
     todo = {k: (job, rows, heads[rows]) for k, rows in enumerate(chunks) if k not in finished}
     done_targets = sum(len(chunks[k]) for k in finished) * grid.row_length
-    with tqdm(total=n, initial=done_targets, unit="target", desc=f"map {study.name}",
-              disable=not progress or len(chunks) <= 1) as bar:
-        for chunk, arrays in run_chunks(compute_chunk, todo, workers, scheduler):
-            if store:
-                store.save(chunk, arrays)
-            keep(chunk, arrays)
-            bar.update(len(chunks[chunk]) * grid.row_length)
+    try:
+        with tqdm(total=n, initial=done_targets, unit="target", desc=f"map {study.name}",
+                  disable=not progress or len(chunks) <= 1) as bar:
+            for chunk, arrays in run_chunks(compute_chunk, todo, workers, scheduler):
+                if store:
+                    store.save(chunk, arrays)
+                keep(chunk, arrays)
+                bar.update(len(chunks[chunk]) * grid.row_length)
+    finally:
+        _local.cache = None
     maps = [ScenarioMap(name, s.cycles, totals[f"{i}/figures"], totals[f"{i}/normal_forces_N"],
                         totals[f"{i}/dominant_joint"]) for i, (name, s) in enumerate(zip(names, studies))]
     return MapResult(grid, robot.joint_names, totals["q"], totals["reachable"], totals["reason"].astype(str), maps)
