@@ -20,7 +20,7 @@ $(VENV)/.test: $(VENV)/.base
 
 DEMO_STUDIES := paper-fig10-frictionless paper-fig11-constant paper-fig12-gaussian paper-fig13-uniform \
                 tribology-log tribology-surfaces \
-                gantry-iso ur5-iso panda-iso
+                gantry-iso ur5-iso panda-iso gantry-map ur5-map-horizontal panda-map-vertical ur5-what-if-materials
 
 demo: $(VENV)/.base
 	@mkdir -p $(DEMO_OUT)
@@ -28,7 +28,7 @@ demo: $(VENV)/.base
 		echo "== $$study"; \
 		$(VENV)/bin/tribokin run studies/$$study.toml --out $(DEMO_OUT)/$$study --force || exit $$?; \
 	done
-	@echo "demo results: $(DEMO_OUT)/<study>/ (summary.json, poses.csv, field_*.png, report.html)"
+	@echo "demo results: $(DEMO_OUT)/<study>/ (summary.json, poses.csv, field_*.png, report.html; maps: map*.csv, map_*.png)"
 	@for study in $(DEMO_STUDIES); do echo "report: $(DEMO_OUT)/$$study/report.html"; done
 
 test: $(VENV)/.test

@@ -144,4 +144,9 @@ def test_pose_friction_overrides_joint_friction():
 @pytest.mark.parametrize("path", sorted(STUDIES.glob("*.toml")), ids=lambda p: p.stem)
 def test_every_shipped_study_runs(path):
     result = run_study(path, cycles=5)
-    assert result.poses and all(np.isfinite(p.report_row()["RP_l_um"]) for p in result.poses)
+    assert result.poses or result.map is not None
+    assert all(np.isfinite(p.report_row()["RP_l_um"]) for p in result.poses)
+    if result.map is not None:
+        reachable = result.map.reachable
+        assert reachable.any()
+        assert np.all(np.isfinite(result.map.reference.figure("RP_l_um")[reachable]))

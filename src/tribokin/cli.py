@@ -20,19 +20,29 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _run(args) -> None:
+    from tribokin.checkpoint import check_chunk_folder, chunk_folder, discard
+    from tribokin.executors import check_executor
     from tribokin.output import check_output_folder, write_results
     from tribokin.study import run_study
 
+    check_executor(args.workers, args.scheduler)
     check_output_folder(args.out, args.force)
-    result = run_study(args.study, cycles=args.cycles, seed=args.seed)
+    chunks = chunk_folder(args.out)
+    if args.force and not args.resume:
+        discard(chunks)
+    check_chunk_folder(chunks, args.resume)
+    result = run_study(args.study, cycles=args.cycles, seed=args.seed, workers=args.workers,
+                       scheduler=args.scheduler, checkpoint=chunks, resume=args.resume, progress=True)
     out = write_results(result, args.out, args.force, report=args.report)
-    width = max(10, *(len(pose.name) for pose in result.poses))
-    print(f"{'pose':<{width}} {'RP_l [µm]':>10} {'AP_p [µm]':>10} {'vAP_p [µm]':>11}")
-    for pose in result.poses:
-        row = pose.report_row()
-        vap = "-" if row["vAP_p_um"] is None else f"{row['vAP_p_um']:.3f}"
-        print(f"{pose.name:<{width}} {row['RP_l_um']:>10.3f} {row['AP_p_um']:>10.3f} {vap:>11}")
-    print(f"results in {out}/ (summary.json, poses.csv, samples.npz, field_*.png)")
+    discard(chunks)
+    files = []
+    if result.poses:
+        _print_poses(result)
+        files += ["poses.csv", "samples.npz", "field_*.png"]
+    if result.map is not None:
+        _print_map(result.map.summary())
+        files += ["map*.csv", "map_*.png"]
+    print(f"results in {out}/ (summary.json, {', '.join(files)})")
     if args.report != "none":
         import numpy as np
 
@@ -40,6 +50,33 @@ def _run(args) -> None:
         size_mb = (out / "report.html").stat().st_size / 1e6
         print(f"report: {out / 'report.html'} ({size_mb:.1f} MB, {args.report} meshes, clouds ×{magnification:g}); "
               f"live viewer: tribokin view {out}")
+
+
+def _print_poses(result) -> None:
+    width = max(10, *(len(pose.name) for pose in result.poses))
+    print(f"{'pose':<{width}} {'RP_l [µm]':>10} {'AP_p [µm]':>10} {'vAP_p [µm]':>11}")
+    for pose in result.poses:
+        row = pose.report_row()
+        vap = "-" if row["vAP_p_um"] is None else f"{row['vAP_p_um']:.3f}"
+        print(f"{pose.name:<{width}} {row['RP_l_um']:>10.3f} {row['AP_p_um']:>10.3f} {vap:>11}")
+
+
+def _spread_um(spread: dict) -> str:
+    if spread["min"] is None:
+        return "-"
+    return f"{spread['min']:.3f} / {spread['median']:.3f} / {spread['max']:.3f}"
+
+
+def _print_map(summary: dict) -> None:
+    shape = " x ".join(str(n) for n in summary["shape"][::-1] if n > 1) or "1"
+    print(f"map ({summary['kind']}, {shape}): {summary['reachable']} of {summary['count']} targets reachable, "
+          f"{summary['cycles']} cycles each")
+    scenarios = summary.get("scenarios") or [{"name": "", "RP_l_um": summary["RP_l_um"]}]
+    width = max(len(s["name"]) for s in scenarios)
+    print(f"{'':<{width}} {'RP_l min / median / max [µm]':>30}" + (f" {'wins':>7}" if "wins" in summary else ""))
+    for scenario in scenarios:
+        wins = f" {summary['wins'][scenario['name']]:>7}" if "wins" in summary else ""
+        print(f"{scenario['name']:<{width}} {_spread_um(scenario['RP_l_um']):>30}{wins}")
 
 
 def _view(args) -> None:
@@ -100,6 +137,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--report", choices=("full", "light", "none"), default="full",
                      help="report.html with the robot's visual meshes (full, default), its collision meshes "
                           "(light, far smaller) or no report")
+    run.add_argument("--workers", type=int, default=1, help="local processes computing the map's chunks (default 1)")
+    run.add_argument("--scheduler", help="address of a dask.distributed scheduler computing the map's chunks")
+    run.add_argument("--resume", action="store_true",
+                     help="finish an interrupted map: reuse the chunks saved in <out>.chunks/")
     run.set_defaults(handler=_run)
 
     view = commands.add_parser("view", help="show an output folder's scene in a live meshcat viewer")

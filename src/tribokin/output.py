@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from tribokin.errors import InputError
-from tribokin.results import StudyResult
+from tribokin.results import MAP_FIGURES, MapResult, ScenarioMap, StudyResult
 
 
 def check_output_folder(out, force: bool = False) -> Path:
@@ -95,31 +95,79 @@ def write_samples(result: StudyResult, folder: Path) -> None:
     np.savez_compressed(folder / "samples.npz", **arrays)
 
 
+def _csv_value(value) -> str:
+    """A map.csv cell: floats in full (repr), NaN as empty, booleans as true/false."""
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, (float, np.floating)):
+        return "" if np.isnan(value) else repr(float(value))
+    return str(value)
+
+
+def write_map_table(workspace_map: MapResult, scenario: ScenarioMap, path: Path) -> None:
+    """One scenario's map as CSV, one row per target in index order: position [m], reachable, the
+    figures (µm, mdeg), ratio and difference of RP_l to the reference scenario (other scenarios),
+    grid coordinates, q_<joint> [m or rad], normal_force_<joint>_N [N], and the reason a target is unreachable."""
+    names = workspace_map.joint_names
+    columns = {"x_m": workspace_map.grid.positions_m[:, 0], "y_m": workspace_map.grid.positions_m[:, 1],
+               "z_m": workspace_map.grid.positions_m[:, 2], "reachable": workspace_map.reachable}
+    columns.update({name: scenario.figures[:, i] for i, name in enumerate(MAP_FIGURES) if name != "dominant_share"})
+    columns["dominant_joint"] = np.array([names[i] if i >= 0 else "" for i in scenario.dominant_joint], dtype=object)
+    columns["dominant_share"] = scenario.figure("dominant_share")
+    if scenario is not workspace_map.reference:
+        columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario)
+        columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario)
+    columns.update(workspace_map.grid.coordinates or {})
+    columns.update({f"q_{name}": workspace_map.q[:, i] for i, name in enumerate(names)})
+    columns.update({f"normal_force_{name}_N": scenario.normal_forces_N[:, i] for i, name in enumerate(names)})
+    columns["reason"] = workspace_map.reasons
+    with open(path, "w", newline="", encoding="utf-8") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(columns)
+        for row in zip(*columns.values()):
+            writer.writerow([_csv_value(v) for v in row])
+
+
+def map_table_name(workspace_map: MapResult, scenario: ScenarioMap) -> str:
+    """``map.csv`` for the reference scenario, ``map_<scenario>.csv`` for the others."""
+    return "map.csv" if scenario is workspace_map.reference else f"map_{scenario.name}.csv"
+
+
 def write_results(result: StudyResult, out, force: bool = False, report: str = "full", map_layers=None,
                   cube=None) -> Path:
-    """Write summary.json, poses.csv, samples.npz and one figure per pose to ``out``, atomically.
+    """Write summary.json, the pose files (poses.csv, samples.npz, one figure per pose) and the map
+    files (map*.csv, map_*.png) to ``out``, atomically.
 
     With ``report`` ``"full"`` or ``"light"`` (robot visual or collision meshes) it also writes
-    ``report.html`` and ``scene.npz`` (for ``tribokin view``), drawing ``result.robot`` with the
-    optional ``map_layers`` (:class:`~tribokin.viz.scene.MapLayer` by scenario) and ``cube``
-    (default: the study's ISO cube, if it has one).
+    ``report.html`` and ``scene.npz`` (for ``tribokin view``), drawing ``result.robot`` with
+    ``map_layers`` (:class:`~tribokin.viz.scene.MapLayer` by scenario; default: the study's map
+    scenarios) and ``cube`` (default: the study's ISO cube, if it has one).
     """
     from tribokin.viz.figures import save_repeatability_field
+    from tribokin.viz.maps import save_map_figures
     from tribokin.viz.report import write_report
-    from tribokin.viz.scene import Cube
+    from tribokin.viz.scene import Cube, MapLayer
     from tribokin.viz.scene_file import save_scene_inputs
 
     iso_cube = result.settings.get("iso_cube")
     if cube is None and iso_cube is not None:
         cube = Cube(tuple(iso_cube["center_m"]), iso_cube["side_m"])
+    if map_layers is None and result.map is not None:
+        map_layers = {s.name: MapLayer(result.map.grid.positions_m, s.figure("RP_l_um"), s.name)
+                      for s in result.map.scenarios}
 
     with atomic_folder(out, force) as folder:
         write_summary(result, folder)
-        write_pose_table(result, folder)
-        write_samples(result, folder)
+        if result.poses:
+            write_pose_table(result, folder)
+            write_samples(result, folder)
         for pose in result.poses:
             save_repeatability_field(pose, folder / f"field_{pose.name}.png", title=f"{result.name} — {pose.name}")
+        if result.map is not None:
+            for scenario in result.map.scenarios:
+                write_map_table(result.map, scenario, folder / map_table_name(result.map, scenario))
+            save_map_figures(result.map, folder, result.name)
         if report != "none":
             _, info = write_report(result, result.robot, folder, map_layers, cube, variant=report)
-            save_scene_inputs(folder, result.poses[0].q, info.magnification, map_layers, cube)
+            save_scene_inputs(folder, result.display_configuration(), info.magnification, map_layers, cube)
     return Path(out)

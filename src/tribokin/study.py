@@ -22,6 +22,7 @@ RP_REPLICATES = 200
 REPLICATE_SAMPLES = 200_000
 from tribokin.errors import InputError, closest_hint
 from tribokin.cube import place_cube
+from tribokin.executors import check_executor
 from tribokin.iso9283 import covariance_semi_axes, multidirectional_variation, pose_metrics, position_repeatability, \
     variance_contributions
 from tribokin.joints import JointErrorModel, approach_signs, sample_joint_deviations
@@ -66,6 +67,8 @@ def load_study(study, cycles: int | None = None, seed: int | None = None) -> Stu
         if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
             raise InputError(f"must be a whole number >= 0 (got {seed!r})", "command line", "--seed")
         study.seed = seed
+    study.scenarios = [replace(s, study=_with_run_overrides(s.study, s.overrides.get("study", {}), study))
+                       for s in study.scenarios]
     return study
 
 
@@ -83,6 +86,12 @@ def load_robot_spec(spec: dict, source=None) -> Robot:
     if spec["name"] is not None:
         return load_example_robot(spec["name"], spec["tool_frame"], source)
     return load_urdf(spec["urdf"], spec["tool_frame"], spec["package_dirs"], source)
+
+
+def _with_run_overrides(scenario: Study, own: dict, base: Study) -> Study:
+    """A scenario's study with the base's ``cycles`` and ``seed`` (command-line overrides included),
+    unless the scenario sets its own."""
+    return replace(scenario, cycles=own.get("cycles", base.cycles), seed=own.get("seed", base.seed))
 
 
 def load_robot(study: Study) -> Robot:
@@ -128,14 +137,19 @@ class PoseTask:
     friction: FrictionLaw | None = None
 
 
+def joint_space_task(name: str, q: np.ndarray, normal_force_N: float | None = None,
+                     friction: FrictionLaw | None = None) -> PoseTask:
+    """A pose approached in joint space: every joint travelling + (or - for the second direction)."""
+    return PoseTask(name, q, np.vstack([np.ones(len(q)), -np.ones(len(q))]), normal_force_N=normal_force_N,
+                    friction=friction)
+
+
 def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]:
     """The study's joint-space poses, then the ISO cube's P1-P5 (solved by IK)."""
-    nv = robot.model.nv
-    joint_space = np.vstack([np.ones(nv), -np.ones(nv)])
-    tasks = [PoseTask(p.name, robot.check_configuration(p.q, study.source, f"poses[{i}].q"), joint_space,
-                      normal_force_N=p.normal_force_N,
-                      friction=None if p.friction is None else
-                      law_from_spec(p.friction, study.source, f"poses[{i}].friction", study.base_dir))
+    tasks = [joint_space_task(p.name, robot.check_configuration(p.q, study.source, f"poses[{i}].q"),
+                              p.normal_force_N,
+                              None if p.friction is None else
+                              law_from_spec(p.friction, study.source, f"poses[{i}].friction", study.base_dir))
              for i, p in enumerate(study.poses)]
     cube = None
     if study.iso_cube is not None:
@@ -173,25 +187,31 @@ class PoseRunner:
         positions, angles = tool_deviations(self.robot, task.q, dq, self.study.engine)
         return positions, angles, group, dq, mu
 
-    def run(self, task: PoseTask, index: int) -> PoseResult:
-        """Sample ``study.cycles`` cycles at ``task`` and measure them (ISO 9283 and beyond)."""
-        study, rng = self.study, pose_rng(self.study.seed, index)
+    def measure(self, task: PoseTask, rng: np.random.Generator) -> PoseResult:
+        """Sample ``study.cycles`` cycles at ``task`` from ``rng`` and take their ISO 9283 figures."""
+        study = self.study
         forces = self.normal_forces(task)
         positions, angles, group, dq, mu = self.sample(task, forces, study.cycles, study.approach, rng)
         commanded = self.robot.tool_placement(task.q)
         metrics = pose_metrics(positions, angles, commanded.translation,
                                None if study.approach == "unidirectional" else group)
-        if study.approach == "unidirectional" and task.cartesian_approach:
-            multi = self.sample(task, forces, study.cycles * len(task.directions), "bidirectional", rng)
-            metrics = replace(metrics, vAP_p_m=multidirectional_variation(multi[0], multi[2]))
         reference = self.robot.tool_placement(task.q + self.offsets)
-        result = PoseResult(task.name, task.q, commanded.translation.copy(), commanded.rotation.copy(),
-                            reference.translation.copy(), positions, angles, group, mu, dq, forces, metrics)
+        return PoseResult(task.name, task.q, commanded.translation.copy(), commanded.rotation.copy(),
+                          reference.translation.copy(), positions, angles, group, mu, dq, forces, metrics)
+
+    def run(self, task: PoseTask, index: int) -> PoseResult:
+        """Measure pose ``index`` (ISO 9283, vAP from the Cartesian approaches, and beyond)."""
+        rng = pose_rng(self.study.seed, index)
+        result = self.measure(task, rng)
+        if self.study.approach == "unidirectional" and task.cartesian_approach:
+            cycles = self.study.cycles * len(task.directions)
+            multi = self.sample(task, result.normal_forces_N, cycles, "bidirectional", rng)
+            result.metrics = replace(result.metrics, vAP_p_m=multidirectional_variation(multi[0], multi[2]))
         if task.friction is not None:
             result.extra["friction"] = task.friction.describe()
-        result.extra.update(self.beyond_iso(task, forces, result, index))
-        if study.engine == "fast":
-            check = max_deviation_from_exact(self.robot, task.q, dq)
+        result.extra.update(self.beyond_iso(task, result.normal_forces_N, result, index))
+        if self.study.engine == "fast":
+            check = max_deviation_from_exact(self.robot, task.q, result.dq)
             result.extra["engine_check_cycles"] = check.samples
             result.extra["engine_max_deviation_nm"] = check.position_m * 1e9
             result.extra["engine_max_angle_deviation_nrad"] = check.angle_rad * 1e9
@@ -221,22 +241,33 @@ class PoseRunner:
         return extra
 
 
-def run_study(study, cycles: int | None = None, seed: int | None = None) -> StudyResult:
+def run_study(study, cycles: int | None = None, seed: int | None = None, *, workers: int = 1,
+              scheduler: str | None = None, checkpoint=None, resume: bool = False,
+              progress: bool = False) -> StudyResult:
     """Run a study from a TOML path, a mapping or a :class:`Study`.
 
     Args:
         study: the study; relative paths in a mapping resolve against the current folder.
         cycles, seed: override the file's values.
+        workers, scheduler: where the map's chunks run: local processes, or a dask scheduler's address.
+        checkpoint, resume: folder where the map's finished chunks are saved, and whether to reuse them.
+        progress: show a progress bar for the map.
 
     Returns:
-        the per-pose samples and ISO 9283 figures.
+        the per-pose samples and ISO 9283 figures, and the map's per-target figures.
     """
+    from tribokin.mapping import run_map  # mapping builds on this module
+
+    check_executor(workers, scheduler)
     study = load_study(study, cycles, seed)
     robot = load_robot(study)
     models = joint_models(study, robot)
     tasks, cube = pose_tasks(study, robot)
     runner = PoseRunner(study, robot, models)
     poses = [runner.run(task, index) for index, task in enumerate(tasks)]
+    workspace_map = None
+    if study.map is not None:
+        workspace_map = run_map(study, robot, workers, scheduler, checkpoint, resume, progress)
     settings = {
         "name": study.name,
         "source": study.source,
@@ -252,4 +283,4 @@ def run_study(study, cycles: int | None = None, seed: int | None = None) -> Stud
         "iso_cube": cube,
         "friction": {name: m.friction.describe() for name, m in zip(robot.joint_names, models)},
     }
-    return StudyResult(study.name, poses, settings, robot)
+    return StudyResult(study.name, poses, settings, robot, workspace_map)

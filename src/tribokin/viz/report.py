@@ -112,7 +112,7 @@ def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: d
 <html><head><meta charset="utf-8"><title>{title}</title><style>{STYLE}</style></head>
 <body><h1>{title}</h1>
 <p>Robot {html.escape(str(result.settings.get("robot", "")))}, tool frame
-{html.escape(str(result.settings.get("tool_frame", "")))}, {result.poses[0].cycles} cycles per pose,
+{html.escape(str(result.settings.get("tool_frame", "")))}, {result.settings.get("cycles", "")} cycles per pose,
 approach {html.escape(str(result.settings.get("approach", "")))}; robot meshes: {variant}.</p>
 <h2>Scene</h2>
 <p>Cycle clouds and their 3σ covariance ellipsoids are drawn around their barycenter, magnified
@@ -130,7 +130,7 @@ def write_report(result: StudyResult, robot: Robot, folder, map_layers: dict[str
     """Write ``folder/report.html`` (a temporary name, then renamed); returns its path and what the scene drew.
 
     Args:
-        result: the study's results; the robot is drawn at its first pose.
+        result: the study's results; the robot is drawn at ``result.display_configuration()``.
         robot: the robot the study ran.
         folder: the output folder (its PNG figures are embedded).
         map_layers: RP_l maps by scenario. cube: the ISO 9283 test cube.
@@ -139,7 +139,7 @@ def write_report(result: StudyResult, robot: Robot, folder, map_layers: dict[str
     folder = Path(folder)
     layers = dict(map_layers or {})
     vis = static_visualizer()
-    info = build_scene(vis, robot, result.poses[0].q, result.poses, layers, cube, variant=variant)
+    info = build_scene(vis, robot, result.display_configuration(), result.poses, layers, cube, variant=variant)
     page = report_html(result, vis.static_html(), info, layers, folder, variant)
     temporary = folder / f".{REPORT_FILE}.partial"
     temporary.write_text(page, encoding="utf-8")

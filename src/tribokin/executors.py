@@ -1,0 +1,68 @@
+"""Where chunks of work run: in this process, in local worker processes, or on a dask cluster.
+
+A chunk is a call ``function(*arguments)`` whose result depends on its arguments only, so
+where it runs changes nothing but the time taken. Results come back as chunks finish.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+from collections.abc import Callable, Iterator
+from concurrent.futures import ProcessPoolExecutor, as_completed
+
+from tribokin.errors import InputError
+
+#: How long to try reaching a dask scheduler [s].
+SCHEDULER_TIMEOUT_S = 10.0
+
+
+def check_executor(workers: int, scheduler: str | None) -> None:
+    """An :class:`InputError` for a bad ``--workers`` count or ``--workers`` with ``--scheduler``."""
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise InputError(f"must be a whole number >= 1 (got {workers!r})", "command line", "--workers")
+    if scheduler is not None and workers != 1:
+        raise InputError("give --workers (local processes) or --scheduler (a dask cluster), not both",
+                         "command line", "--scheduler")
+
+
+def run_chunks(function: Callable, chunks: dict, workers: int = 1, scheduler: str | None = None) -> Iterator:
+    """Yield ``(key, function(*arguments))`` for every ``key: arguments`` of ``chunks``, as they finish.
+
+    Args:
+        workers: local processes (1: run here, in key order).
+        scheduler: address of a dask.distributed scheduler (``"tcp://host:8786"``); its workers
+            must be able to import tribokin.
+    """
+    check_executor(workers, scheduler)
+    if scheduler is not None:
+        yield from _run_on_dask(function, chunks, scheduler)
+    elif workers == 1:
+        for key, arguments in chunks.items():
+            yield key, function(*arguments)
+    else:
+        # spawn: workers start clean, whatever threads this process runs (dask, BLAS)
+        pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+        try:
+            futures = {pool.submit(function, *arguments): key for key, arguments in chunks.items()}
+            for future in as_completed(futures):
+                yield futures[future], future.result()
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _run_on_dask(function: Callable, chunks: dict, scheduler: str) -> Iterator:
+    from dask.distributed import Client
+    from dask.distributed import as_completed as dask_completed
+
+    try:
+        client = Client(scheduler, timeout=SCHEDULER_TIMEOUT_S, set_as_default=False)
+    except (OSError, TimeoutError, ValueError) as error:
+        raise InputError(f"cannot reach the dask scheduler at '{scheduler}' ({error})", "command line",
+                         "--scheduler") from None
+    try:
+        futures = {client.submit(function, *arguments, pure=False): key for key, arguments in chunks.items()}
+        for future in dask_completed(futures, loop=client.loop):
+            yield futures[future], future.result()
+            future.release()
+    finally:
+        client.close()

@@ -1,0 +1,179 @@
+"""Workspace maps: the ISO 9283 figures at every target of a grid, computed in chunks of whole rows.
+
+Each target is measured like a single pose (:meth:`~tribokin.study.PoseRunner.measure`,
+joint-space approach) from its own random stream ``pose_rng(seed, index, MAP_STREAM)``,
+and only its scalar figures are kept. A chunk solves and measures whole grid rows from
+their heads (:mod:`tribokin.targets`), so the numbers depend on neither the chunk size,
+nor the number of workers, nor where the chunks run, nor on a resume. Every scenario is
+measured at the same configurations with the same streams.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import uuid
+from dataclasses import dataclass
+
+import numpy as np
+from tqdm import tqdm
+
+from tribokin.checkpoint import ChunkStore, fingerprint
+from tribokin.config import Study
+from tribokin.errors import InputError
+from tribokin.executors import run_chunks
+from tribokin.iso9283 import covariance_semi_axes, variance_contributions
+from tribokin.results import MAP_FIGURES, MDEG_PER_RAD, UM_PER_M, MapResult, ScenarioMap
+from tribokin.robot import Robot
+from tribokin.study import PoseRunner, joint_models, joint_space_task, load_robot, pose_rng
+from tribokin.targets import make_grid, solve_row, solve_row_heads
+
+#: Random stream of map targets: target i draws from ``pose_rng(seed, i, MAP_STREAM)``
+#: (poses use streams 0 and 1).
+MAP_STREAM = 2
+#: Default chunk size: this many targets, rounded up to whole grid rows.
+CHUNK_TARGETS = 256
+
+
+@dataclass(frozen=True)
+class MapJob:
+    """What a chunk needs besides its rows: the study (robot, ``[map]``) and each scenario's study.
+
+    ``token`` names the job, so each process builds the robot, grid and runners once per job.
+    """
+
+    token: str
+    study: Study
+    scenarios: tuple[Study, ...]
+
+
+#: Per thread (Pinocchio data is mutable, and a dask worker may run chunks in several threads):
+#: the last job's token and its (robot, grid, runners).
+_local = threading.local()
+
+
+def _job_context(job: MapJob):
+    """(robot, grid, runners) of ``job``, built once per thread."""
+    cache = getattr(_local, "cache", None)
+    if cache is None or cache[0] != job.token:
+        robot = load_robot(job.study)
+        runners = [PoseRunner(s, robot, joint_models(s, robot)) for s in job.scenarios]
+        _local.cache = (job.token, robot, make_grid(robot, job.study.map, job.study.source), runners)
+    return _local.cache[1:]
+
+
+def measure_target(runner: PoseRunner, position_jacobian: np.ndarray, q: np.ndarray, index: int):
+    """Figures (``MAP_FIGURES``), bearing loads [N] and dominant joint (-1: none) of target ``index`` at ``q``."""
+    study = runner.study
+    pose = runner.measure(joint_space_task(f"target {index}", q), pose_rng(study.seed, index, MAP_STREAM))
+    metrics = pose.metrics
+    shares = variance_contributions(position_jacobian, pose.dq)
+    dominant = -1 if np.all(np.isnan(shares)) else int(np.argmax(shares))
+    figures = [metrics.RP_l_m * UM_PER_M, metrics.AP_p_m * UM_PER_M, *(metrics.RP_abc_rad * MDEG_PER_RAD),
+               covariance_semi_axes(pose.positions_m)[0] * UM_PER_M, np.nan if dominant < 0 else shares[dominant]]
+    return figures, pose.normal_forces_N, dominant
+
+
+def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, np.ndarray]:
+    """Solve and measure grid rows ``rows`` from their ``heads`` (rows, nv).
+
+    Returns:
+        arrays over the chunk's targets, in index order: ``q`` (n, nv), ``reachable``, ``reason``,
+        and for scenario s ``<s>/figures`` (n, len(MAP_FIGURES)), ``<s>/normal_forces_N`` (n, nv),
+        ``<s>/dominant_joint`` (n,).
+    """
+    robot, grid, runners = _job_context(job)
+    n, nv = len(rows) * grid.row_length, robot.model.nv
+    arrays = {"q": np.full((n, nv), np.nan), "reachable": np.zeros(n, dtype=bool)}
+    for s in range(len(runners)):
+        arrays[f"{s}/figures"] = np.full((n, len(MAP_FIGURES)), np.nan)
+        arrays[f"{s}/normal_forces_N"] = np.full((n, nv), np.nan)
+        arrays[f"{s}/dominant_joint"] = np.full(n, -1)
+    reasons = []
+    for k, (row, head) in enumerate(zip(rows, heads)):
+        q, reachable, why = solve_row(robot, grid, row, head)
+        span = slice(k * grid.row_length, (k + 1) * grid.row_length)
+        arrays["q"][span], arrays["reachable"][span] = q, reachable
+        reasons += why
+        for j, index in enumerate(grid.row_indices(row)):
+            if not reachable[j]:
+                continue
+            jacobian = robot.tool_jacobian(q[j])[:3]
+            for s, runner in enumerate(runners):
+                figures, forces, dominant = measure_target(runner, jacobian, q[j], int(index))
+                target = span.start + j
+                arrays[f"{s}/figures"][target] = figures
+                arrays[f"{s}/normal_forces_N"][target] = forces
+                arrays[f"{s}/dominant_joint"][target] = dominant
+    arrays["reason"] = np.array(reasons, dtype=str)
+    return arrays
+
+
+def chunk_rows(study: Study, row_length: int, row_count: int) -> list[list[int]]:
+    """The grid rows of each chunk: ``map.chunk_rows`` rows (default: about ``CHUNK_TARGETS`` targets)."""
+    size = study.map["chunk_rows"] or math.ceil(CHUNK_TARGETS / row_length)
+    return [list(range(start, min(start + size, row_count))) for start in range(0, row_count, size)]
+
+
+def run_map(study: Study, robot: Robot, workers: int = 1, scheduler: str | None = None, checkpoint=None,
+            resume: bool = False, progress: bool = False) -> MapResult:
+    """Measure the study's ``[map]`` for each scenario.
+
+    Args:
+        study: a study with a ``map`` (its ``scenarios``, if any, are measured instead of it).
+        robot: the study's robot.
+        workers, scheduler: where chunks run (see :func:`~tribokin.executors.run_chunks`).
+        checkpoint: folder where finished chunks are saved as they complete (``None``: kept in memory only).
+        resume: reuse the chunks an interrupted run saved in ``checkpoint``.
+        progress: show a progress bar (when there is more than one chunk).
+    """
+    scenarios = study.scenarios
+    studies = tuple(s.study for s in scenarios) or (study,)
+    names = [s.name for s in scenarios] or [study.name]
+    runners = []
+    for i, scenario in enumerate(studies):
+        try:
+            runners.append(PoseRunner(scenario, robot, joint_models(scenario, robot)))
+        except InputError as error:
+            key = error.key if not scenarios else f"scenarios[{i}].{error.key}"
+            raise InputError(error.message, error.source, key) from None
+    grid = make_grid(robot, study.map, study.source)
+    chunks = chunk_rows(study, grid.row_length, grid.row_count)
+    store = None
+    if checkpoint is not None:
+        settings = {"study": study.mapping, "source": study.source, "chunks": chunks,
+                    "scenarios": [[s.cycles, s.seed] for s in studies]}
+        store = ChunkStore(checkpoint, fingerprint(settings), resume)
+    heads = solve_row_heads(robot, grid)
+    n, nv = grid.size, robot.model.nv
+    totals = {"q": np.full((n, nv), np.nan), "reachable": np.zeros(n, dtype=bool), "reason": np.full(n, "", object)}
+    for s in range(len(studies)):
+        totals[f"{s}/figures"] = np.full((n, len(MAP_FIGURES)), np.nan)
+        totals[f"{s}/normal_forces_N"] = np.full((n, nv), np.nan)
+        totals[f"{s}/dominant_joint"] = np.full(n, -1)
+
+    def keep(chunk: int, arrays: dict) -> None:
+        first = chunks[chunk][0] * grid.row_length
+        for name, values in arrays.items():
+            totals[name][first:first + len(values)] = values
+
+    finished = store.finished() if store else []
+    for chunk in finished:
+        keep(chunk, store.load(chunk))
+    job = MapJob(uuid.uuid4().hex, study, studies)
+    _local.cache = (job.token, robot, grid, runners)  # chunks run in this thread need not rebuild them
+    todo = {k: (job, rows, heads[rows]) for k, rows in enumerate(chunks) if k not in finished}
+    done_targets = sum(len(chunks[k]) for k in finished) * grid.row_length
+    try:
+        with tqdm(total=n, initial=done_targets, unit="target", desc=f"map {study.name}",
+                  disable=not progress or len(chunks) <= 1) as bar:
+            for chunk, arrays in run_chunks(compute_chunk, todo, workers, scheduler):
+                if store:
+                    store.save(chunk, arrays)
+                keep(chunk, arrays)
+                bar.update(len(chunks[chunk]) * grid.row_length)
+    finally:
+        _local.cache = None
+    maps = [ScenarioMap(name, s.cycles, totals[f"{i}/figures"], totals[f"{i}/normal_forces_N"],
+                        totals[f"{i}/dominant_joint"]) for i, (name, s) in enumerate(zip(names, studies))]
+    return MapResult(grid, robot.joint_names, totals["q"], totals["reachable"], totals["reason"].astype(str), maps)

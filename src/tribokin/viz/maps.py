@@ -1,0 +1,124 @@
+"""Heat maps of workspace maps (PNG): one image per layer of the grid, a colour bar with units,
+unreachable targets in grey."""
+
+from __future__ import annotations
+
+import math
+import textwrap
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize, TwoSlopeNorm  # noqa: E402
+
+from tribokin.results import MapResult  # noqa: E402
+from tribokin.targets import GridAxis, TargetGrid  # noqa: E402
+
+UNREACHABLE_GREY = "#c8c8c8"
+
+
+def _edges(axis: GridAxis | None) -> np.ndarray:
+    """Cell edges around an axis' values (a single value gets a cell of width 1)."""
+    if axis is None or len(axis.values) == 1:
+        centre = 0.0 if axis is None else axis.values[0]
+        return np.array([centre - 0.5, centre + 0.5])
+    values = axis.values
+    middle = (values[1:] + values[:-1]) / 2
+    return np.concatenate([[2 * values[0] - middle[0]], middle, [2 * values[-1] - middle[-1]]])
+
+
+def value_norm(values: np.ndarray, centre: float | None = None) -> Normalize:
+    """A colour scale over the finite values, centred on ``centre`` when they straddle it."""
+    finite = values[np.isfinite(values)]
+    low, high = (float(finite.min()), float(finite.max())) if len(finite) else (0.0, 1.0)
+    if centre is not None and low < centre < high:
+        return TwoSlopeNorm(centre, low, high)
+    return Normalize(low, high if high > low else low + max(abs(low), 1.0) * 1e-9)
+
+
+def save_grid_image(grid: TargetGrid, values: np.ndarray, path: Path, label: str, title: str, cmap="viridis",
+                    norm: Normalize | None = None, categories: list[str] | None = None) -> None:
+    """``values`` (one per target) as images over the grid's columns and rows, one panel per layer.
+
+    Args:
+        label: colour-bar label with its unit, e.g. ``"RP_l [µm]"``.
+        norm: colour scale (default: the finite values' range).
+        categories: names of the integer values -1, 0, 1, ... (a categorical colour bar).
+    """
+    columns, rows, layers = grid.axes
+    n_layers, n_rows, n_columns = grid.shape
+    images = np.ma.masked_invalid(np.asarray(values, dtype=float).reshape(n_layers, n_rows, n_columns))
+    cmap = plt.get_cmap(cmap).with_extremes(bad=UNREACHABLE_GREY)
+    norm = norm or value_norm(np.asarray(values, dtype=float))
+    panels_across = math.ceil(math.sqrt(n_layers))
+    panels_down = math.ceil(n_layers / panels_across)
+    fig, axes = plt.subplots(panels_down, panels_across, figsize=(1.5 + 4.6 * panels_across, 0.8 + 3.9 * panels_down),
+                             squeeze=False, constrained_layout=True)
+    mesh = None
+    for layer, ax in enumerate(axes.flat):
+        if layer >= n_layers:
+            ax.set_visible(False)
+            continue
+        mesh = ax.pcolormesh(_edges(columns), _edges(rows), images[layer], cmap=cmap, norm=norm)
+        ax.set_xlabel(columns.label)
+        if rows is not None:
+            ax.set_ylabel(rows.label)
+        else:
+            ax.set_yticks([])
+        if grid.kind != "joint" and rows is not None:
+            ax.set_aspect("equal")
+        if layers is not None:
+            ax.set_title(f"{layers.name} = {layers.values[layer]:.4g} {layers.unit}", fontsize=9)
+    bar = fig.colorbar(mesh, ax=axes, label=label, shrink=0.9)
+    if categories:
+        bar.set_ticks(np.arange(-1, len(categories) - 1), labels=categories)
+    unreachable = int(images.mask.sum()) if np.ndim(images.mask) else 0
+    note = f" (grey: {unreachable} unreachable)" if unreachable else ""
+    fig.suptitle(textwrap.fill(f"{title}{note}", 40 + 50 * panels_across), fontsize=10)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _categorical(count: int) -> ListedColormap:
+    """White for the value -1 (none, tie), then one tab10 colour per category 0 .. count - 1."""
+    return ListedColormap(["#ffffff"] + [plt.get_cmap("tab10")(i % 10) for i in range(count)])
+
+
+def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) -> list[Path]:
+    """``map_RP_l.png`` and ``map_dominant_joint.png`` (reference scenario); with scenarios, per other
+    scenario its RP_l, ratio and difference to the reference, and ``map_winner.png`` (which scenario
+    has the smallest RP_l)."""
+    grid, reference = workspace_map.grid, workspace_map.reference
+    paths = []
+
+    def save(name, values, label, title, **options):
+        paths.append(folder / name)
+        save_grid_image(grid, values, paths[-1], label, f"{study_name}: {title}", **options)
+
+    compared = f", {reference.name}" if len(workspace_map.scenarios) > 1 else ""
+    save("map_RP_l.png", reference.figure("RP_l_um"), "RP_l [µm]",
+         f"position repeatability RP_l, {reference.cycles} cycles per target{compared}")
+    joints = workspace_map.joint_names
+    save("map_dominant_joint.png", np.where(workspace_map.reachable, reference.dominant_joint, np.nan),
+         "joint with the largest share of the position variance", f"dominant joint{compared}",
+         cmap=_categorical(len(joints)), norm=BoundaryNorm(np.arange(-1.5, len(joints)), len(joints) + 1),
+         categories=["none"] + joints)
+    for scenario in workspace_map.scenarios[1:]:
+        save(f"map_RP_l_{scenario.name}.png", scenario.figure("RP_l_um"), "RP_l [µm]",
+             f"RP_l, {scenario.name}")
+        ratio = workspace_map.ratio_RP_l(scenario)
+        save(f"map_RP_l_ratio_{scenario.name}.png", ratio, f"RP_l {scenario.name} / {reference.name} [-]",
+             f"RP_l ratio {scenario.name} / {reference.name}", cmap="RdBu_r", norm=value_norm(ratio, 1.0))
+        diff = workspace_map.diff_RP_l_um(scenario)
+        save(f"map_RP_l_diff_{scenario.name}.png", diff, f"RP_l {scenario.name} − {reference.name} [µm]",
+             f"RP_l difference {scenario.name} − {reference.name}", cmap="RdBu_r", norm=value_norm(diff, 0.0))
+    if len(workspace_map.scenarios) > 1:
+        names = [s.name for s in workspace_map.scenarios]
+        winners = np.where(workspace_map.reachable, workspace_map.winners(), np.nan)
+        save("map_winner.png", winners, "scenario with the smallest RP_l", "which scenario has the smallest RP_l",
+             cmap=_categorical(len(names)), norm=BoundaryNorm(np.arange(-1.5, len(names)), len(names) + 1),
+             categories=["tie"] + names)
+    return paths

@@ -1,0 +1,163 @@
+"""Maps give the same bytes whatever the chunk size, the workers, the executor, or an interruption."""
+
+import json
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from conftest import ROOT
+from tribokin import InputError, run_study
+from tribokin.output import map_table_name, write_map_table, write_results, write_summary
+
+UR5_MAP = {
+    "study": {"name": "ur5-map", "cycles": 60, "seed": 5},
+    "robot": {"name": "ur5", "payload_kg": 2.0},
+    "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5, "bearing_span_m": 0.08},
+    # reaches out of the workspace at large u: some targets are unreachable
+    "map": {"kind": "plane", "origin_m": [0.0, -0.5, 0.1], "axis_u": [0, -1, 0], "axis_v": [0, 0, 1],
+            "extent_u_m": [-0.2, 0.45], "extent_v_m": [0.0, 0.3], "resolution": [7, 5], "chunk_rows": 1},
+    "scenarios": [{"name": "raw"}, {"name": "treated-shoulder",
+                                    "joints": {"shoulder_lift_joint": {"friction": {"preset": "42CD4-treated"}}}}],
+}
+MAP_FILES = ("map.csv", "map_treated-shoulder.csv", "summary.json")
+
+
+def written(result, folder):
+    """The map tables and summary.json as write_results writes them (figures left out, for speed)."""
+    folder.mkdir()
+    write_summary(result, folder)
+    for scenario in result.map.scenarios:
+        write_map_table(result.map, scenario, folder / map_table_name(result.map, scenario))
+    return {name: (folder / name).read_bytes() for name in MAP_FILES}
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    return written(run_study(UR5_MAP), tmp_path_factory.mktemp("reference") / "out")
+
+
+def with_chunk_rows(rows):
+    return {**UR5_MAP, "map": {**UR5_MAP["map"], "chunk_rows": rows}}
+
+
+def test_reference_map_has_unreachable_targets_and_both_scenarios(reference):
+    summary = json.loads(reference["summary.json"])["map"]
+    assert 0 < summary["unreachable"] < summary["count"] == 35
+    assert [s["name"] for s in summary["scenarios"]] == ["raw", "treated-shoulder"]
+    assert summary["wins"]["raw"] + summary["wins"]["treated-shoulder"] + summary["ties"] == summary["reachable"]
+
+
+@pytest.mark.parametrize("rows", [2, 5])
+def test_chunk_size_changes_nothing(reference, tmp_path, rows):
+    assert written(run_study(with_chunk_rows(rows)), tmp_path / "out") == reference
+
+
+def test_two_local_workers_change_nothing(reference, tmp_path):
+    assert written(run_study(with_chunk_rows(2), workers=2), tmp_path / "out") == reference
+
+
+def test_dask_cluster_changes_nothing(reference, tmp_path):
+    from dask.distributed import LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=2, processes=True, dashboard_address=None) as cluster:
+        result = run_study(UR5_MAP, scheduler=cluster.scheduler_address)
+    assert written(result, tmp_path / "out") == reference
+
+
+def test_unreachable_scheduler_is_an_input_error(monkeypatch):
+    monkeypatch.setattr("tribokin.executors.SCHEDULER_TIMEOUT_S", 0.5)
+    with pytest.raises(InputError) as error:
+        run_study(UR5_MAP, scheduler="tcp://127.0.0.1:9")
+    assert error.value.key == "--scheduler"
+
+
+GANTRY_STUDY = f"""
+[study]
+name = "gantry-resume"
+cycles = 400
+seed = 8
+
+[robot]
+urdf = "{ROOT / 'urdf' / 'cartesian_xyz.urdf'}"
+tool_frame = "tool"
+payload_kg = 5.0
+
+[joints]
+friction = {{ preset = "42CD4-raw" }}
+stiffness = 2.0e7
+bearing_span_m = 0.2
+
+[map]
+kind = "plane"
+origin_m = [0.2, 0.0, 0.4]
+axis_u = [1, 0, 0]
+axis_v = [0, 1, 0]
+extent_u_m = [0.0, 0.6]
+extent_v_m = [0.0, 0.6]
+resolution = [25, 40]
+chunk_rows = 1
+"""
+
+
+def test_chunks_are_reused_on_resume_and_checked_against_the_settings(tmp_path):
+    study = tmp_path / "study.toml"
+    study.write_text(GANTRY_STUDY.replace("cycles = 400", "cycles = 5"))
+    folder = tmp_path / "chunks"
+    first = run_study(study, checkpoint=folder)
+    chunk = np.load(folder / "chunk_000003.npz")
+    tampered = {name: chunk[name] for name in chunk.files}
+    tampered["0/figures"][:, 0] = 42.0
+    np.savez(folder / "chunk_000003.npz", **tampered)
+    resumed = run_study(study, checkpoint=folder, resume=True)
+    rp_first, rp_resumed = first.map.reference.figure("RP_l_um"), resumed.map.reference.figure("RP_l_um")
+    row_3 = slice(3 * 25, 4 * 25)
+    assert np.all(rp_resumed[row_3] == 42.0)  # taken from the saved chunk, not recomputed
+    np.testing.assert_array_equal(np.delete(rp_resumed, row_3), np.delete(rp_first, row_3))
+    with pytest.raises(InputError, match="other settings"):
+        run_study(study, seed=9, checkpoint=folder, resume=True)
+    with pytest.raises(InputError, match="--resume"):
+        run_study(study, checkpoint=folder)
+
+
+def test_killed_run_resumes_to_the_same_bytes(tmp_path):
+    study = tmp_path / "study.toml"
+    study.write_text(GANTRY_STUDY)
+    out, chunks = tmp_path / "out", tmp_path / "out.chunks"
+    command = [sys.executable, "-m", "tribokin", "run", study, "--out", out]
+    run = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 60
+    while len(list(chunks.glob("chunk_*.npz"))) < 3 and run.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    run.send_signal(signal.SIGKILL)
+    run.wait()
+    saved = len(list(chunks.glob("chunk_*.npz")))
+    assert run.returncode == -signal.SIGKILL and 3 <= saved < 40 and not out.exists()
+
+    refused = subprocess.run(command, capture_output=True, text=True)
+    assert refused.returncode == 2 and "--resume" in refused.stderr
+    resumed = subprocess.run(command + ["--resume"], capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    assert "1000 of 1000 targets reachable" in resumed.stdout
+    assert not chunks.exists()
+
+    write_results(run_study(study), tmp_path / "uninterrupted")
+    for name in ("map.csv", "summary.json", "map_RP_l.png"):
+        assert (out / name).read_bytes() == (tmp_path / "uninterrupted" / name).read_bytes(), name
+
+
+@pytest.mark.parametrize("edit, arguments, key", [
+    (str, ["--workers", "0"], "--workers"),
+    (str, ["--workers", "2", "--scheduler", "tcp://127.0.0.1:9"], "--scheduler"),
+    (lambda text: text.replace("axis_u = [1, 0, 0]", "axis_u = [1, 1, 0]"), [], "map.axis_u"),
+])
+def test_bad_map_input_is_one_line_and_writes_nothing(tmp_path, edit, arguments, key):
+    study = tmp_path / "study.toml"
+    study.write_text(edit(GANTRY_STUDY))
+    done = subprocess.run([sys.executable, "-m", "tribokin", "run", study, "--out", tmp_path / "out", *arguments],
+                          capture_output=True, text=True)
+    assert done.returncode == 2 and key in done.stderr and len(done.stderr.strip().splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]
