@@ -10,6 +10,7 @@ import multiprocessing
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
+from tribokin.config import positive_int
 from tribokin.errors import InputError
 
 #: How long to try reaching a dask scheduler [s].
@@ -18,8 +19,7 @@ SCHEDULER_TIMEOUT_S = 10.0
 
 def check_executor(workers: int, scheduler: str | None) -> None:
     """An :class:`InputError` for a bad ``--workers`` count or ``--workers`` with ``--scheduler``."""
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise InputError(f"must be a whole number >= 1 (got {workers!r})", "command line", "--workers")
+    positive_int(workers, "command line", "--workers")
     if scheduler is not None and workers != 1:
         raise InputError("give --workers (local processes) or --scheduler (a dask cluster), not both",
                          "command line", "--scheduler")

@@ -44,7 +44,6 @@ from itertools import combinations_with_replacement, product
 from typing import NamedTuple
 
 import numpy as np
-import pinocchio as pin
 
 from tribokin.robot import Robot
 
@@ -92,10 +91,7 @@ def tool_twists(robot: Robot, q: np.ndarray) -> np.ndarray:
         angular velocity [rad/rad or rad/m] per unit speed of joint i (the tool frame's
         ``LOCAL_WORLD_ALIGNED`` Jacobian).
     """
-    q = np.asarray(q, dtype=float)
-    pin.computeJointJacobians(robot.model, robot.data, q)
-    jacobian = pin.getFrameJacobian(robot.model, robot.data, robot.tool_frame_id, pin.LOCAL_WORLD_ALIGNED)
-    return jacobian.reshape(6, robot.model.nv).copy()  # eigenpy gives a 6x1 Jacobian as a (6,) vector
+    return robot.tool_jacobian(q)
 
 
 # --- truncation bounds --------------------------------------------------------------------------
@@ -333,5 +329,5 @@ def tool_deviations_fast(robot: Robot, q: np.ndarray, dq: np.ndarray, order: int
     for start in range(0, len(dq), CHUNK_SAMPLES):
         chunk = np.ascontiguousarray(dq[start:start + CHUNK_SAMPLES].T)
         deviations[:, start:start + chunk.shape[1]] = coefficients @ monomial_features(chunk, bound.order, buffer)
-    positions = deviations[:3].T + robot.data.oMf[robot.tool_frame_id].translation
+    positions = deviations[:3].T + robot.tool_placement(q).translation
     return FastDeviations(np.ascontiguousarray(positions), np.ascontiguousarray(deviations[3:].T), bound)

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tribokin.config import Study, parse_study
+from tribokin.config import Study, parse_study, positive_int, seed_int
 
 #: Replicate tests simulated for the 95 % interval of RP_l (fewer when they would exceed
 #: REPLICATE_SAMPLES cycles in all, never fewer than 20).
@@ -60,13 +60,9 @@ def load_study(study, cycles: int | None = None, seed: int | None = None) -> Stu
     else:
         study = read_study_file(study)
     if cycles is not None:
-        if isinstance(cycles, bool) or not isinstance(cycles, int) or cycles < 1:
-            raise InputError(f"must be a whole number >= 1 (got {cycles!r})", "command line", "--cycles")
-        study.cycles = cycles
+        study.cycles = positive_int(cycles, "command line", "--cycles")
     if seed is not None:
-        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-            raise InputError(f"must be a whole number >= 0 (got {seed!r})", "command line", "--seed")
-        study.seed = seed
+        study.seed = seed_int(seed, "command line", "--seed")
     study.scenarios = [replace(s, study=_with_run_overrides(s.study, s.overrides.get("study", {}), study))
                        for s in study.scenarios]
     return study
