@@ -5,8 +5,9 @@ Run from the repository root: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src python ben
 a summary. Figures:
 
 * target-cycles/s of a whole map (IK, bearing loads, sampling, FK, metrics), 1 worker and 2 workers;
-* the same rate over a bare per-sample Pinocchio FK loop (the floor of the exact engine), and over
-  drawing the same random numbers alone (a fresh generator per target, every joint's friction law);
+* the same rate over per-sample Pinocchio FK loops: the exact engine's (position and orientation, what
+  the map would run without the fast engine) and a bare position-only one; and over drawing the same
+  random numbers alone (the map's own draws: a fresh generator per target, every joint's friction law);
 * how far the resident memory of a child process rises while it computes a 10^4 and a 10^5 target
   map (few cycles; sampled every 10 ms, Linux): only per-target scalars are kept, so it grows
   with targets (tens of bytes each), not with cycles.
@@ -34,12 +35,19 @@ RESULTS = Path(__file__).resolve().parent / "results" / "map.json"
 MEMORY_CYCLES = 10
 
 
+SHIPPED_STUDY = Path(__file__).resolve().parents[1] / "studies" / "ur5-map-horizontal.toml"
+
+
 def ur5_plane(side_u: int, side_v: int, cycles: int, engine: str = "fast") -> dict:
-    """A UR5 map on a horizontal plane in front of the base, tool down, every target reachable."""
+    """A UR5 map on a horizontal plane in front of the base, tool down, every target reachable;
+    robot, payload and joint model those of the shipped ``studies/ur5-map-horizontal.toml``."""
+    from tribokin.study import read_study_file
+
+    shipped = read_study_file(SHIPPED_STUDY).mapping
     return {
         "study": {"name": "bench", "cycles": cycles, "seed": 1, "engine": engine},
-        "robot": {"name": "ur5", "payload_kg": 3.0},
-        "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5, "bearing_span_m": 0.08},
+        "robot": shipped["robot"],
+        "joints": shipped["joints"],
         "map": {"kind": "plane", "origin_m": [0.0, -0.55, 0.1], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
                 "extent_u_m": [-0.4, 0.4], "extent_v_m": [0.0, 0.3], "resolution": [side_u, side_v],
                 "rpy_deg": [180, 0, 90]},
@@ -54,34 +62,45 @@ def timed_map(study: dict, workers: int) -> tuple[float, object]:
     return time.perf_counter() - start, result.map
 
 
-def fk_loop_rate(samples: int) -> float:
-    """Samples/s of the bare per-sample loop: configuration, forward kinematics, tool frame, copy."""
+def fk_loop_rates(samples: int) -> dict:
+    """Samples/s of per-sample Pinocchio loops at one UR5 configuration:
+
+    * ``exact_engine``: tribokin's reference engine (forward kinematics, tool frame, rotation vector),
+      i.e. what the map would run without the fast engine;
+    * ``position_only``: the bare minimum, forward kinematics and the tool frame's translation.
+    """
+    from tribokin.propagate import tool_deviations_exact
     from tribokin.robot import load_example_robot
 
     robot = load_example_robot("ur5")
     model, data, frame = robot.model, robot.data, robot.tool_frame_id
-    q = robot.reference_q + 1e-5 * np.random.default_rng(0).standard_normal((samples, model.nv))
+    dq = 1e-5 * np.random.default_rng(0).standard_normal((samples, model.nv))
+    start = time.perf_counter()
+    tool_deviations_exact(robot, robot.reference_q, dq)
+    exact_rate = samples / (time.perf_counter() - start)
     out = np.empty((samples, 3))
     start = time.perf_counter()
-    for j in range(samples):
-        pin.forwardKinematics(model, data, q[j])
+    for j, q in enumerate(robot.reference_q + dq):
+        pin.forwardKinematics(model, data, q)
         out[j] = pin.updateFramePlacement(model, data, frame).translation
-    return samples / (time.perf_counter() - start)
+    return {"exact_engine_samples_per_s": exact_rate, "position_only_samples_per_s": samples / (time.perf_counter() - start)}
 
 
-def draw_rate(targets: int, cycles: int) -> float:
-    """Target-cycles/s of drawing a map's random numbers alone: per target a fresh stream and one
-    friction draw of ``cycles`` values per joint, as the map does."""
-    from tribokin.study import pose_rng
-    from tribokin.tribology.spec import law_from_spec
+def draw_rate(study: dict, targets: int) -> float:
+    """Target-cycles/s of drawing a map's random numbers alone, as the map draws them: per target its
+    own stream, the approach signs and every joint's friction coefficients, turned into deviations."""
+    from tribokin.mapping import MAP_STREAM
+    from tribokin.study import PoseRunner, joint_models, joint_space_task, load_robot, load_study, pose_rng
 
-    law, joints = law_from_spec({"preset": "42CD4-raw"}), 6
+    loaded = load_study(study)
+    robot = load_robot(loaded)
+    runner = PoseRunner(loaded, robot, joint_models(loaded, robot))
+    task = joint_space_task("target", robot.reference_q)
+    forces = np.full(robot.model.nv, 100.0)
     start = time.perf_counter()
     for index in range(targets):
-        rng = pose_rng(1, index, 2)
-        for _ in range(joints):
-            law.rvs(size=cycles, random_state=rng)
-    return targets * cycles / (time.perf_counter() - start)
+        runner.draw(task, forces, loaded.cycles, loaded.approach, pose_rng(loaded.seed, index, MAP_STREAM))
+    return targets * loaded.cycles / (time.perf_counter() - start)
 
 
 def resident_mib() -> float:
@@ -139,8 +158,8 @@ def main() -> None:
     two_s, two = timed_map(study, workers=2)
     assert np.array_equal(serial.reference.figures, two.reference.figures, equal_nan=True)
     map_rate = target_cycles / serial_s
-    fk_rate = fk_loop_rate(50_000)
-    random_rate = draw_rate(min(targets, 2000), args.cycles)
+    fk_rates = fk_loop_rates(50_000)
+    random_rate = draw_rate(study, min(targets, 2000))
     results = {
         "machine": {"python": platform.python_version(), "cpus": os.cpu_count(), "platform": platform.platform(),
                     "OPENBLAS_NUM_THREADS": os.environ.get("OPENBLAS_NUM_THREADS")},
@@ -149,7 +168,8 @@ def main() -> None:
         "serial": {"seconds": serial_s, "target_cycles_per_s": map_rate, "targets_per_s": targets / serial_s},
         "two_workers": {"seconds": two_s, "target_cycles_per_s": target_cycles / two_s, "speed_up": serial_s / two_s,
                         "identical_to_serial": True},
-        "fk_loop": {"samples_per_s": fk_rate, "map_rate_over_fk_loop": map_rate / fk_rate},
+        "fk_loop": {**fk_rates, "map_rate_over_exact_engine_loop": map_rate / fk_rates["exact_engine_samples_per_s"],
+                    "map_rate_over_position_only_loop": map_rate / fk_rates["position_only_samples_per_s"]},
         "random_draws_alone": {"target_cycles_per_s": random_rate, "map_rate_over_draws": map_rate / random_rate},
         "memory": [memory_run(10), memory_run(100)],
     }

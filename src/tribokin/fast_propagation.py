@@ -52,11 +52,12 @@ MAX_ORDER = 3
 #: Default truncation tolerance on the tool position [m] and on the orientation [rad].
 DEFAULT_TOLERANCE = 1e-10
 #: Samples evaluated together: features of a chunk stay in cache.
-CHUNK_SAMPLES = 8192
+CHUNK_SAMPLES = 4096
 
 
 class TruncationBound(NamedTuple):
-    """Worst-case truncation error of the fast engine over a batch of samples.
+    """Worst-case truncation error of the fast engine over a batch of samples (arrays over the
+    poses when several poses are bounded at once).
 
     Attributes:
         order: total degree K of the polynomial in ``dq`` used.
@@ -117,68 +118,84 @@ def _log_majorant_coefficients() -> np.ndarray:
 _LOG_COEFFICIENTS = _log_majorant_coefficients()
 
 
-def _series_tail(coefficients: np.ndarray, closed_form, s: float, start: int) -> float:
-    """Σ_{m >= start} c_m s^m of a series with non-negative coefficients, without cancellation."""
-    if s <= 0.1:  # the first _TERMS terms hold the tail to double precision
-        return float(coefficients[start:] @ s ** np.arange(start, _TERMS))
-    return float(closed_form(s) - coefficients[:start] @ s ** np.arange(start))
+def _series_tail(coefficients: np.ndarray, closed_form, s, start: int) -> np.ndarray:
+    """Σ_{m >= start} c_m s^m of a series with non-negative coefficients, without cancellation
+    (``s``: any array shape, element-wise)."""
+    s = np.asarray(s, dtype=float)
+    small = np.minimum(s, 0.1)[..., None] ** np.arange(start, _TERMS) @ coefficients[start:]
+    if np.all(s <= 0.1):  # the first _TERMS terms hold the tail to double precision
+        return small
+    with np.errstate(over="ignore"):
+        large = closed_form(s) - np.maximum(s, 0.1)[..., None] ** np.arange(start) @ coefficients[:start]
+    return np.where(s <= 0.1, small, large)
 
 
-def _exp_tail(s: float, start: int) -> float:
+def _exp_tail(s, start: int) -> np.ndarray:
     """Σ_{m >= start} s^m / m!."""
-    return _series_tail(_EXP_COEFFICIENTS, math.exp, s, start)
+    return _series_tail(_EXP_COEFFICIENTS, np.exp, s, start)
 
 
-def _log_tail(w: float, start: int) -> float:
+def _log_tail(w, start: int) -> np.ndarray:
     """Σ_{m >= start} of the series of -log(2 - e^w); ``inf`` for w >= ln 2 (no convergence)."""
-    if w >= math.log(2.0):
-        return math.inf
-    return _series_tail(_LOG_COEFFICIENTS, lambda x: -math.log(2.0 - math.exp(x)), w, start)
+    w = np.asarray(w, dtype=float)
+    converging = w < math.log(2.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tail = _series_tail(_LOG_COEFFICIENTS, lambda x: -np.log(2.0 - np.exp(x)), np.where(converging, w, 0.0),
+                            start)
+    return np.where(converging, tail, np.inf)
 
 
 class _BatchNorms(NamedTuple):
-    """Batch maxima of the weighted deviation sums that the bounds need."""
+    """Maxima over the samples of each pose of the weighted deviation sums that the bounds need."""
 
-    full: float  # s = max Σ sqrt(|ω_i|² + |v_i|²) |dq_i|
-    linear: float  # b = max Σ |v_i| |dq_i| [m]
-    angular: float  # w = max Σ |ω_i| |dq_i| [rad]
+    full: np.ndarray  # s = max Σ sqrt(|ω_i|² + |v_i|²) |dq_i|
+    linear: np.ndarray  # b = max Σ |v_i| |dq_i| [m]
+    angular: np.ndarray  # w = max Σ |ω_i| |dq_i| [rad]
 
 
 def _batch_norms(twists: np.ndarray, dq: np.ndarray) -> _BatchNorms:
-    linear = np.linalg.norm(twists[:3], axis=0)
-    angular = np.linalg.norm(twists[3:], axis=0)
-    weights = np.stack([np.hypot(linear, angular), linear, angular])
-    sums = weights @ np.abs(dq).T if len(dq) else np.zeros((3, 1))  # (3, n): row reductions are fast
-    return _BatchNorms(*sums.max(axis=1))
+    """Norms of (..., 6, nv) twists and (..., n, nv) deviations, one value per pose (shape ...)."""
+    linear = np.linalg.norm(twists[..., :3, :], axis=-2)
+    angular = np.linalg.norm(twists[..., 3:, :], axis=-2)
+    weights = np.stack([np.hypot(linear, angular), linear, angular], axis=-2)  # (..., 3, nv)
+    if not dq.shape[-2]:
+        return _BatchNorms(*np.zeros((3,) + dq.shape[:-2]))
+    sums = weights @ np.swapaxes(np.abs(dq), -1, -2)  # (..., 3, n): row reductions are fast
+    return _BatchNorms(*np.moveaxis(sums.max(axis=-1), -1, 0))
 
 
 def _bound(norms: _BatchNorms, order: int) -> TruncationBound:
-    position = min(_exp_tail(norms.full, order + 1), norms.linear * _exp_tail(norms.angular, order))
-    return TruncationBound(order, float(position), _log_tail(norms.angular, order + 1))
+    position = np.minimum(_exp_tail(norms.full, order + 1), norms.linear * _exp_tail(norms.angular, order))
+    return TruncationBound(np.full(np.shape(position), order), position, _log_tail(norms.angular, order + 1))
 
 
 def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = None,
                      tolerance_m: float = DEFAULT_TOLERANCE, tolerance_rad: float = DEFAULT_TOLERANCE
                      ) -> TruncationBound:
-    """Truncation order and error bounds of the fast engine for a batch of deviations.
+    """Truncation order and error bounds of the fast engine for a batch of deviations at one pose,
+    or for batches at several poses (then each field is an array over the poses).
 
     Args:
-        twists: (6, nv) joint twists about the tool origin (:func:`tool_twists`).
-        dq: (n, nv) joint deviations [m or rad].
+        twists: (6, nv) joint twists about the tool origin (:func:`tool_twists`), or (poses, 6, nv).
+        dq: (n, nv) joint deviations [m or rad], or (poses, n, nv).
         order: force this order (1 to ``MAX_ORDER``); by default the lowest order whose bounds
             meet both tolerances, or ``MAX_ORDER`` when none does (check the returned bound).
         tolerance_m: tolerated position error [m].
         tolerance_rad: tolerated orientation error [rad].
     """
-    norms = _batch_norms(twists, np.asarray(dq, dtype=float))
+    norms = _batch_norms(np.asarray(twists, dtype=float), np.asarray(dq, dtype=float))
     if order is not None:
         if not 1 <= order <= MAX_ORDER:
             raise ValueError(f"order must be 1 to {MAX_ORDER}, got {order}")
-        return _bound(norms, order)
-    for candidate in range(1, MAX_ORDER + 1):
-        bound = _bound(norms, candidate)
-        if bound.position_m <= tolerance_m and bound.angle_rad <= tolerance_rad:
-            return bound
+        bound = _bound(norms, order)
+    else:
+        bound = _bound(norms, MAX_ORDER)
+        for candidate in range(MAX_ORDER - 1, 0, -1):  # lowest order meeting both tolerances wins
+            lower = _bound(norms, candidate)
+            met = (lower.position_m <= tolerance_m) & (lower.angle_rad <= tolerance_rad)
+            bound = TruncationBound(*(np.where(met, a, b) for a, b in zip(lower, bound)))
+    if np.ndim(bound.order) == 0:
+        return TruncationBound(int(bound.order), float(bound.position_m), float(bound.angle_rad))
     return bound
 
 
@@ -233,31 +250,32 @@ def tool_polynomial(twists: np.ndarray, order: int) -> np.ndarray:
     """Coefficients of the tool deviation polynomial of total degree ``order``.
 
     Args:
-        twists: (6, nv) joint twists about the tool origin (:func:`tool_twists`).
+        twists: (6, nv) joint twists about the tool origin (:func:`tool_twists`), or (..., 6, nv)
+            for several poses at once.
         order: total degree K (1 to ``MAX_ORDER``).
 
     Returns:
-        (number of monomials, 6) array: for each monomial ``dq^α`` (degree-major, then
+        (..., number of monomials, 6) array: for each monomial ``dq^α`` (degree-major, then
         lexicographic, as :func:`monomial_features` orders them) the coefficient of the position
         deviation [m / unit^|α|] and of the rotation vector [rad / unit^|α|].
     """
-    nv = twists.shape[1]
-    generators = np.zeros((nv, 4, 4))
-    generators[:, :3, 3] = twists[:3].T
-    wx, wy, wz = twists[3:]
-    generators[:, 0, 1], generators[:, 0, 2], generators[:, 1, 2] = -wz, wy, -wx  # ω̂ = [ω]×
-    generators[:, 1, 0], generators[:, 2, 0], generators[:, 2, 1] = wz, -wy, wx
+    nv, batch = twists.shape[-1], twists.shape[:-2]
+    generators = np.zeros(batch + (nv, 4, 4))
+    generators[..., :3, 3] = np.swapaxes(twists[..., :3, :], -1, -2)
+    wx, wy, wz = twists[..., 3, :], twists[..., 4, :], twists[..., 5, :]
+    generators[..., 0, 1], generators[..., 0, 2], generators[..., 1, 2] = -wz, wy, -wx  # ω̂ = [ω]×
+    generators[..., 1, 0], generators[..., 2, 0], generators[..., 2, 1] = wz, -wy, wx
     words = generators  # X_w for every word w of the current degree, row-major
     blocks = []
     for degree in range(1, order + 1):
         if degree > 1:
-            words = (words[:, None] @ generators[None]).reshape(-1, 4, 4)
+            words = (words[..., :, None, :, :] @ generators[..., None, :, :, :]).reshape(batch + (-1, 4, 4))
         pose, logarithm = _summations(nv, degree)
-        rotations = words[:, :3, :3]  # [[A, a], [0, 0]] [[B, b], [0, 0]] = [[AB, Ab], [0, 0]]
-        skew = 0.5 * np.stack([rotations[:, 2, 1] - rotations[:, 1, 2], rotations[:, 0, 2] - rotations[:, 2, 0],
-                               rotations[:, 1, 0] - rotations[:, 0, 1]], axis=1)  # the log's parts are skew
-        blocks.append(np.hstack([pose @ words[:, :3, 3], logarithm @ skew]))
-    return np.concatenate(blocks)
+        rotations = words[..., :3, :3]  # [[A, a], [0, 0]] [[B, b], [0, 0]] = [[AB, Ab], [0, 0]]
+        skew = 0.5 * np.stack([rotations[..., 2, 1] - rotations[..., 1, 2], rotations[..., 0, 2] - rotations[..., 2, 0],
+                               rotations[..., 1, 0] - rotations[..., 0, 1]], axis=-1)  # the log's parts are skew
+        blocks.append(np.concatenate([pose @ words[..., :3, 3], logarithm @ skew], axis=-1))
+    return np.concatenate(blocks, axis=-2)
 
 
 @lru_cache(maxsize=None)
@@ -282,20 +300,53 @@ def monomial_features(dq_transposed: np.ndarray, order: int, out: np.ndarray | N
     """The monomials ``dq^α``, 1 <= |α| <= ``order``, of each sample, one sample per column.
 
     Args:
-        dq_transposed: (nv, n) joint deviations, one sample per column [m or rad].
+        dq_transposed: (..., nv, n) joint deviations, one sample per column [m or rad].
         order: total degree K.
-        out: optional (number of monomials, n) buffer.
+        out: optional (..., number of monomials, n) buffer.
 
     Returns:
-        (number of monomials, n) array, rows degree-major then lexicographic.
+        (..., number of monomials, n) array, rows degree-major then lexicographic.
     """
-    nv, n = dq_transposed.shape
+    nv, n = dq_transposed.shape[-2:]
     rows = sum(len(_monomials(nv, d)) for d in range(1, order + 1))
-    out = np.empty((rows, n)) if out is None else out[:rows, :n]
-    out[:nv] = dq_transposed
+    out = np.empty(dq_transposed.shape[:-2] + (rows, n)) if out is None else out
+    out[..., :nv, :] = dq_transposed
     for prefix_row, first_index, row in _feature_plan(nv, order):
-        np.multiply(out[prefix_row], dq_transposed[first_index:], out=out[row:row + nv - first_index])
+        np.multiply(out[..., prefix_row:prefix_row + 1, :], dq_transposed[..., first_index:, :],
+                    out=out[..., row:row + nv - first_index, :])
     return out
+
+
+def evaluate_polynomial(twists: np.ndarray, translations: np.ndarray, dq: np.ndarray, orders: np.ndarray
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """Tool positions [m] and rotation vectors [rad] of samples at several poses, each pose's polynomial
+    truncated at its own order.
+
+    Args:
+        twists: (poses, 6, nv) joint twists about the tool origin.
+        translations: (poses, 3) commanded tool positions [m].
+        dq: (poses, n, nv) joint deviations [m or rad].
+        orders: (poses,) truncation order of each pose.
+
+    Returns:
+        positions and angles, each (poses, n, 3), views of (poses, 3, n) arrays. Each pose's values
+        depend on its own inputs only. Fastest when ``dq`` is itself such a view of (poses, nv, n) memory.
+    """
+    poses, n, nv = dq.shape
+    per_joint = np.swapaxes(dq, -1, -2)  # (poses, nv, n)
+    deviations = np.empty((poses, 6, n))
+    block = max(1, CHUNK_SAMPLES // max(n, 1))  # poses evaluated together; their features stay in cache
+    for order in np.unique(orders):
+        members = np.flatnonzero(orders == order)
+        for first in range(0, len(members), block):
+            group = members[first:first + block]
+            coefficients = np.swapaxes(tool_polynomial(twists[group], int(order)), -1, -2)  # (g, 6, M)
+            for start in range(0, n, CHUNK_SAMPLES):
+                samples = np.ascontiguousarray(per_joint[group, :, start:start + CHUNK_SAMPLES])  # (g, nv, c)
+                deviations[group, :, start:start + samples.shape[-1]] = coefficients @ monomial_features(
+                    samples, int(order))
+    positions = np.swapaxes(deviations[:, :3], 1, 2) + translations[:, None, :]
+    return positions, np.swapaxes(deviations[:, 3:], 1, 2)
 
 
 def tool_deviations_fast(robot: Robot, q: np.ndarray, dq: np.ndarray, order: int | None = None,
@@ -323,11 +374,6 @@ def tool_deviations_fast(robot: Robot, q: np.ndarray, dq: np.ndarray, order: int
     if dq.ndim != 2 or dq.shape[1] != twists.shape[1]:
         raise ValueError(f"dq must be (n, {twists.shape[1]}), got {dq.shape}")
     bound = truncation_bound(twists, dq, order, tolerance_m, tolerance_rad)
-    coefficients = np.ascontiguousarray(tool_polynomial(twists, bound.order).T)
-    deviations = np.empty((6, len(dq)))
-    buffer = np.empty((coefficients.shape[1], min(CHUNK_SAMPLES, len(dq))))
-    for start in range(0, len(dq), CHUNK_SAMPLES):
-        chunk = np.ascontiguousarray(dq[start:start + CHUNK_SAMPLES].T)
-        deviations[:, start:start + chunk.shape[1]] = coefficients @ monomial_features(chunk, bound.order, buffer)
-    positions = deviations[:3].T + robot.tool_placement(q).translation
-    return FastDeviations(np.ascontiguousarray(positions), np.ascontiguousarray(deviations[3:].T), bound)
+    positions, angles = evaluate_polynomial(twists[None], robot.tool_placement(q).translation[None], dq[None],
+                                            np.array([bound.order]))
+    return FastDeviations(positions[0], angles[0], bound)

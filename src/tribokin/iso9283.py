@@ -36,36 +36,58 @@ class PoseMetrics:
     distances_m: np.ndarray
 
 
+def _coordinates(points: np.ndarray) -> np.ndarray:
+    """(..., 3, n) view of (..., n, 3) points: reductions over the samples run along the last axis
+    (contiguous for the fast engine's output, so the batched map figures stay cheap)."""
+    return np.swapaxes(points, -1, -2)
+
+
 def barycenter(positions: np.ndarray) -> np.ndarray:
-    """Mean of (n, 3) positions [m], summed relative to the first so identical points give it exactly."""
-    return positions[0] + (positions - positions[0]).mean(axis=0)
+    """Mean of (..., n, 3) positions [m], summed relative to the first so identical points give it exactly."""
+    coordinates = _coordinates(positions)
+    first = coordinates[..., :1]
+    return (first + (coordinates - first).mean(axis=-1, keepdims=True))[..., 0]
 
 
-def position_repeatability(positions: np.ndarray) -> tuple[float, np.ndarray]:
-    """RP_l = l_bar + 3 S_l [m] and the distances l_j [m] of (n, 3) positions (S_l with n - 1)."""
-    distances = np.linalg.norm(positions - barycenter(positions), axis=1)
-    spread = distances.std(ddof=1) if len(distances) > 1 else 0.0
-    return float(distances.mean() + 3 * spread), distances
+def position_repeatability(positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """RP_l = l_bar + 3 S_l [m] and the distances l_j [m] of (..., n, 3) positions (S_l with n - 1)."""
+    offsets = _coordinates(positions) - barycenter(positions)[..., None]
+    distances = np.sqrt(np.sum(offsets * offsets, axis=-2))
+    spread = distances.std(axis=-1, ddof=1) if distances.shape[-1] > 1 else 0.0
+    return distances.mean(axis=-1) + 3 * spread, distances
+
+
+def orientation_repeatability(angles: np.ndarray) -> np.ndarray:
+    """RP_a, RP_b, RP_c = 3 S_a, 3 S_b, 3 S_c [rad] of (..., n, 3) orientation deviations (S with n - 1)."""
+    coordinates = _coordinates(angles)
+    ddof = 1 if coordinates.shape[-1] > 1 else 0
+    return 3 * (coordinates - coordinates[..., :1]).std(axis=-1, ddof=ddof)
 
 
 def covariance_semi_axes(positions: np.ndarray) -> np.ndarray:
-    """1-sigma semi-axes [m] of the covariance ellipsoid of (n, 3) positions, largest first."""
-    if len(positions) < 2:
-        return np.zeros(3)
-    eigenvalues = np.linalg.eigvalsh(np.cov(positions.T))
-    return np.sqrt(np.clip(eigenvalues, 0, None))[::-1]
+    """1-sigma semi-axes [m] of the covariance ellipsoid of (..., n, 3) positions, largest first."""
+    coordinates = _coordinates(positions)
+    n = coordinates.shape[-1]
+    if n < 2:
+        return np.zeros(coordinates.shape[:-1])
+    centred = coordinates - coordinates.mean(axis=-1, keepdims=True)
+    covariance = centred @ np.swapaxes(centred, -1, -2) / (n - 1)
+    return np.sqrt(np.clip(np.linalg.eigvalsh(covariance), 0, None))[..., ::-1]
 
 
 def variance_contributions(position_jacobian: np.ndarray, dq: np.ndarray) -> np.ndarray:
     """Share of the tool-position variance due to each joint (sums to 1; NaN without variance).
 
     Linearised: joint i adds var(dq_i) |J_i|^2 to the trace of the position
-    covariance, J_i the (3,) column of the position Jacobian [m/unit].
+    covariance, J_i the (3,) column of the (..., 3, nv) position Jacobian [m/unit];
+    ``dq`` (..., n, nv).
     """
-    variances = dq.var(axis=0, ddof=1) if len(dq) > 1 else np.zeros(dq.shape[1])
-    parts = variances * np.sum(position_jacobian ** 2, axis=0)
-    total = parts.sum()
-    return parts / total if total > 0 else np.full(len(parts), np.nan)
+    per_joint = np.swapaxes(dq, -1, -2)  # (..., nv, n): contiguous rows for the map's deviations
+    variances = per_joint.var(axis=-1, ddof=1) if dq.shape[-2] > 1 else np.zeros(per_joint.shape[:-1])
+    parts = variances * np.sum(position_jacobian ** 2, axis=-2)
+    total = parts.sum(axis=-1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(total > 0, parts / np.where(total > 0, total, 1.0), np.nan)
 
 
 def multidirectional_variation(positions: np.ndarray, approach: np.ndarray) -> float | None:
@@ -93,13 +115,12 @@ def pose_metrics(positions: np.ndarray, angles: np.ndarray, commanded_position: 
     """
     centre = barycenter(positions)
     rp_l, distances = position_repeatability(positions)
-    ddof = 1 if len(angles) > 1 else 0
     return PoseMetrics(
         barycenter_m=centre,
         AP_p_m=float(np.linalg.norm(centre - commanded_position)),
-        RP_l_m=rp_l,
+        RP_l_m=float(rp_l),
         AP_abc_rad=angles.mean(axis=0),
-        RP_abc_rad=3 * (angles - angles[0]).std(axis=0, ddof=ddof),
+        RP_abc_rad=orientation_repeatability(angles),
         vAP_p_m=None if approach is None else multidirectional_variation(positions, approach),
         distances_m=distances,
     )

@@ -68,13 +68,23 @@ def approach_signs(mode: str, cycles: int, directions: np.ndarray, rng: np.rando
     """
     if mode == "unidirectional":
         group = np.zeros(cycles, dtype=int)
-    elif mode == "bidirectional":
+        return np.broadcast_to(directions[0].astype(float), (cycles, directions.shape[1])), group
+    if mode == "bidirectional":
         group = np.arange(cycles) % len(directions)
     elif mode == "random":
         group = rng.integers(len(directions), size=cycles)
     else:
         raise ValueError(f"unknown approach mode {mode!r}; valid: {APPROACH_MODES}")
     return directions[group].astype(float), group
+
+
+def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Generator) -> np.ndarray:
+    """Friction coefficients mu (cycles, nv) [-]: one draw of every joint's value per cycle when
+    all joints share one law (the usual case), else joint by joint."""
+    laws = [m.friction for m in models]
+    if all(law is laws[0] or law == laws[0] for law in laws):
+        return laws[0].rvs(size=(cycles, len(laws)), random_state=rng)
+    return np.column_stack([law.rvs(size=cycles, random_state=rng) for law in laws])
 
 
 def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray, normal_forces_N: np.ndarray,
@@ -86,16 +96,21 @@ def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray
         prismatic: (nv,) True for prismatic joints.
         normal_forces_N: (nv,) load on each joint's bearing [N].
         signs: (n, nv) direction of travel of each joint in each cycle.
-        rng: random generator; draws mu joint by joint, then the noise.
+        rng: random generator; draws mu (:func:`draw_friction`), then the noise.
 
     Returns:
         dq (n, nv) [m or rad] and the friction coefficients mu (n, nv) [-].
     """
-    cycles = signs.shape[0]
-    mu = np.column_stack([m.friction.rvs(size=cycles, random_state=rng) for m in models])
-    lost = mu * (np.asarray(normal_forces_N, dtype=float) * friction_lever(models, prismatic))
+    mu = draw_friction(models, signs.shape[0], rng)
+    dq = mu * (np.asarray(normal_forces_N, dtype=float) * friction_lever(models, prismatic))
     half_backlash = np.array([m.backlash / 2 for m in models])
-    dq = np.array([m.offset for m in models]) + signs * (lost + half_backlash)
+    if np.any(half_backlash):
+        dq += half_backlash
+    if not np.all(signs == 1):
+        dq *= signs
+    offsets = np.array([m.offset for m in models])
+    if np.any(offsets):
+        dq += offsets
     noise_std = np.array([m.noise_std for m in models])
     if np.any(noise_std > 0):
         dq += rng.standard_normal(dq.shape) * noise_std

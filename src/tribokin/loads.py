@@ -49,20 +49,17 @@ class BearingLoads:
         self.prismatic = robot.joint_is_prismatic
         self.axes = robot.motion_axes
 
-    def wrenches(self, q) -> list[pin.Force]:
-        """Static wrench transmitted by each active joint, in its joint frame [N, N·m]."""
+    def wrenches(self, q) -> np.ndarray:
+        """(nv, 6) static wrench (force [N], moment [N·m]) transmitted by each active joint, in its joint frame."""
         zero = np.zeros(self.model.nv)
         pin.rnea(self.model, self.data, np.asarray(q, dtype=float), zero, zero)
-        return [self.data.f[i].copy() for i in range(1, self.model.njoints)]
+        return np.array([self.data.f[i].vector for i in range(1, self.model.njoints)])
 
     def __call__(self, q) -> np.ndarray:
         """Bearing load N_i [N] of every active joint at configuration ``q``."""
-        loads = np.empty(self.model.nv)
-        for i, (wrench, axis, prismatic) in enumerate(zip(self.wrenches(q), self.axes, self.prismatic)):
-            force, moment = wrench.linear, wrench.angular
-            if prismatic:
-                carried_force, carried_moment = force - force.dot(axis) * axis, moment
-            else:
-                carried_force, carried_moment = force, moment - moment.dot(axis) * axis
-            loads[i] = np.linalg.norm(carried_force) + np.linalg.norm(carried_moment) / self.span_m[i]
-        return loads
+        wrenches = self.wrenches(q)
+        force, moment = wrenches[:, :3], wrenches[:, 3:]
+        along = np.sum(np.where(self.prismatic[:, None], force, moment) * self.axes, axis=1, keepdims=True)
+        carried_force = force - np.where(self.prismatic[:, None], along * self.axes, 0.0)
+        carried_moment = moment - np.where(self.prismatic[:, None], 0.0, along * self.axes)
+        return np.linalg.norm(carried_force, axis=1) + np.linalg.norm(carried_moment, axis=1) / self.span_m

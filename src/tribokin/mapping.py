@@ -22,7 +22,9 @@ from tribokin.checkpoint import ChunkStore, fingerprint
 from tribokin.config import Study
 from tribokin.errors import InputError
 from tribokin.executors import run_chunks
-from tribokin.iso9283 import covariance_semi_axes, variance_contributions
+from tribokin.iso9283 import barycenter, covariance_semi_axes, orientation_repeatability, position_repeatability, \
+    variance_contributions
+from tribokin.propagate import tool_deviations_at_poses, tool_frames
 from tribokin.results import MAP_FIGURES, MDEG_PER_RAD, UM_PER_M, MapResult, ScenarioMap
 from tribokin.robot import Robot
 from tribokin.study import PoseRunner, joint_models, joint_space_task, load_robot, pose_rng
@@ -33,6 +35,8 @@ from tribokin.targets import make_grid, solve_row, solve_row_heads
 MAP_STREAM = 2
 #: Default chunk size: this many targets, rounded up to whole grid rows.
 CHUNK_TARGETS = 256
+#: Targets are drawn, propagated and measured together in blocks of about this many cycles.
+TARGET_BLOCK_SAMPLES = 32768
 
 
 @dataclass(frozen=True)
@@ -62,20 +66,49 @@ def _job_context(job: MapJob):
     return _local.cache[1:]
 
 
-def measure_target(runner: PoseRunner, position_jacobian: np.ndarray, q: np.ndarray, index: int):
-    """Figures (``MAP_FIGURES``), bearing loads [N] and dominant joint (-1: none) of target ``index`` at ``q``."""
+def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twists: np.ndarray,
+                    translations: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Figures (targets, ``MAP_FIGURES``), bearing loads [N] (targets, nv) and dominant joint (-1: none)
+    of the targets ``indices`` at configurations ``qs`` (targets, nv), each drawn from its own stream
+    and measured like a single pose (joint-space approach); ``twists``, ``translations``: their
+    :func:`~tribokin.propagate.tool_frames`. Targets go through in blocks of about
+    ``TARGET_BLOCK_SAMPLES`` cycles: few enough for the arrays to stay small, enough to share the
+    per-call costs."""
     study = runner.study
-    pose = runner.measure(joint_space_task(f"target {index}", q), pose_rng(study.seed, index, MAP_STREAM))
-    metrics = pose.metrics
-    shares = variance_contributions(position_jacobian, pose.dq)
-    dominant = -1 if np.all(np.isnan(shares)) else int(np.argmax(shares))
-    figures = [metrics.RP_l_m * UM_PER_M, metrics.AP_p_m * UM_PER_M, *(metrics.RP_abc_rad * MDEG_PER_RAD),
-               covariance_semi_axes(pose.positions_m)[0] * UM_PER_M, np.nan if dominant < 0 else shares[dominant]]
-    return figures, pose.normal_forces_N, dominant
+    tasks = [joint_space_task(f"target {index}", q) for index, q in zip(indices, qs)]
+    forces = np.array([runner.normal_forces(task) for task in tasks]).reshape(qs.shape)
+    figures = np.empty((len(qs), len(MAP_FIGURES)))
+    dominant = np.empty(len(qs), dtype=int)
+    block = max(1, TARGET_BLOCK_SAMPLES // study.cycles)
+    for first in range(0, len(qs), block):
+        members = slice(first, first + block)
+        per_joint = np.array([runner.draw(task, load, study.cycles, study.approach,
+                                          pose_rng(study.seed, int(index), MAP_STREAM))[0].T
+                              for task, load, index in zip(tasks[members], forces[members], indices[members])])
+        dq = np.swapaxes(per_joint, 1, 2)  # (targets, n, nv) over (targets, nv, n) memory: cycles contiguous
+        figures[members], dominant[members] = block_figures(runner, qs[members], dq, twists[members],
+                                                            translations[members])
+    return figures, forces, dominant
+
+
+def block_figures(runner: PoseRunner, qs: np.ndarray, dq: np.ndarray, twists: np.ndarray, translations: np.ndarray):
+    """``MAP_FIGURES`` (targets, 7) and dominant joint (targets,) of deviations ``dq`` (targets, n, nv)."""
+    positions, angles = tool_deviations_at_poses(runner.robot, qs, dq, runner.study.engine, twists, translations)
+    shares = variance_contributions(twists[:, :3], dq)
+    dominant = np.where(np.isnan(shares).all(axis=1), -1, np.argmax(np.nan_to_num(shares, nan=-1.0), axis=1))
+    rp_l_m, _ = position_repeatability(positions)
+    figures = np.column_stack([
+        rp_l_m * UM_PER_M,
+        np.linalg.norm(barycenter(positions) - translations, axis=1) * UM_PER_M,
+        orientation_repeatability(angles) * MDEG_PER_RAD,
+        covariance_semi_axes(positions)[:, 0] * UM_PER_M,
+        np.where(dominant < 0, np.nan, np.take_along_axis(shares, np.maximum(dominant, 0)[:, None], axis=1)[:, 0]),
+    ])
+    return figures, dominant
 
 
 def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, np.ndarray]:
-    """Solve and measure grid rows ``rows`` from their ``heads`` (rows, nv).
+    """Solve and measure grid rows ``rows`` from their ``heads`` (rows, nv), row by row (each row one batch).
 
     Returns:
         arrays over the chunk's targets, in index order: ``q`` (n, nv), ``reachable``, ``reason``,
@@ -95,16 +128,14 @@ def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, 
         span = slice(k * grid.row_length, (k + 1) * grid.row_length)
         arrays["q"][span], arrays["reachable"][span] = q, reachable
         reasons += why
-        for j, index in enumerate(grid.row_indices(row)):
-            if not reachable[j]:
-                continue
-            jacobian = robot.tool_jacobian(q[j])[:3]
-            for s, runner in enumerate(runners):
-                figures, forces, dominant = measure_target(runner, jacobian, q[j], int(index))
-                target = span.start + j
-                arrays[f"{s}/figures"][target] = figures
-                arrays[f"{s}/normal_forces_N"][target] = forces
-                arrays[f"{s}/dominant_joint"][target] = dominant
+        targets = span.start + np.flatnonzero(reachable)
+        qs, indices = q[reachable], grid.row_indices(row)[reachable]
+        twists, translations = tool_frames(robot, qs)
+        for s, runner in enumerate(runners):
+            figures, forces, dominant = measure_targets(runner, qs, indices, twists, translations)
+            arrays[f"{s}/figures"][targets] = figures
+            arrays[f"{s}/normal_forces_N"][targets] = forces
+            arrays[f"{s}/dominant_joint"][targets] = dominant
     arrays["reason"] = np.array(reasons, dtype=str)
     return arrays
 

@@ -7,8 +7,8 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
-from tribokin.fast_propagation import DEFAULT_TOLERANCE, tool_deviations_fast, truncation_bound, \
-    tool_twists
+from tribokin.fast_propagation import DEFAULT_TOLERANCE, evaluate_polynomial, tool_deviations_fast, \
+    tool_twists, truncation_bound
 from tribokin.robot import Robot
 
 
@@ -39,18 +39,48 @@ def tool_deviations_exact(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[
 
 
 def tool_deviations(robot: Robot, q: np.ndarray, dq: np.ndarray, engine: str = "fast"):
-    """Tool positions [m] and orientation deviations [rad] of each cycle.
+    """Tool positions [m] and orientation deviations [rad] of each cycle, (n, 3) each.
 
     ``engine = "fast"``: the truncated product of exponentials
     (:mod:`tribokin.fast_propagation`), unless its truncation bound exceeds
     ``DEFAULT_TOLERANCE`` (deviations far beyond friction's), then the exact engine.
     ``engine = "exact"``: one Pinocchio forward-kinematics call per cycle.
     """
+    q = np.asarray(q, dtype=float)
+    twists, translations = tool_frames(robot, q[None])
+    positions, angles = tool_deviations_at_poses(robot, q[None], np.asarray(dq, dtype=float)[None], engine,
+                                                 twists, translations)
+    return positions[0], angles[0]
+
+
+def tool_frames(robot: Robot, qs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Joint twists about the tool origin (poses, 6, nv) and tool positions (poses, 3) [m] at configurations (poses, nq)."""
+    return (np.array([tool_twists(robot, q) for q in qs]).reshape(len(qs), 6, robot.model.nv),
+            np.array([robot.tool_placement(q).translation for q in qs]).reshape(len(qs), 3))
+
+
+def tool_deviations_at_poses(robot: Robot, qs: np.ndarray, dq: np.ndarray, engine: str, twists: np.ndarray,
+                             translations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`tool_deviations` at several poses at once; each pose's values depend on its own inputs only.
+
+    Args:
+        qs: (poses, nq) commanded configurations; dq: (poses, n, nv) deviations [m or rad].
+        twists, translations: the poses' :func:`tool_frames`.
+
+    Returns:
+        positions [m] and angles [rad], (poses, n, 3) each.
+    """
+    positions, angles = np.empty(dq.shape[:2] + (3,)), np.empty(dq.shape[:2] + (3,))
+    exact = np.ones(len(qs), dtype=bool)
     if engine == "fast":
-        fast = tool_deviations_fast(robot, q, dq)
-        if fast.bound.position_m <= DEFAULT_TOLERANCE and fast.bound.angle_rad <= DEFAULT_TOLERANCE:
-            return fast.positions, fast.angles
-    return tool_deviations_exact(robot, q, dq)
+        bound = truncation_bound(twists, dq)
+        exact = (bound.position_m > DEFAULT_TOLERANCE) | (bound.angle_rad > DEFAULT_TOLERANCE)
+        fast = ~exact
+        positions[fast], angles[fast] = evaluate_polynomial(twists[fast], translations[fast], dq[fast],
+                                                            np.atleast_1d(bound.order)[fast])
+    for p in np.flatnonzero(exact):
+        positions[p], angles[p] = tool_deviations_exact(robot, qs[p], dq[p])
+    return positions, angles
 
 
 class ExactDiscrepancy(NamedTuple):

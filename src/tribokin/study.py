@@ -176,10 +176,15 @@ class PoseRunner:
         """The joint error models at a pose: the study's, with the pose's friction law if it has one."""
         return self.models if task.friction is None else [replace(m, friction=task.friction) for m in self.models]
 
-    def sample(self, task: PoseTask, forces_N, cycles: int, mode: str, rng):
-        """Cycles at one pose: (positions [m], angles [rad], approach index, dq, mu)."""
+    def draw(self, task: PoseTask, forces_N, cycles: int, mode: str, rng):
+        """Joint deviations of the cycles at one pose: (dq (n, nv) [m or rad], mu (n, nv), approach index (n,))."""
         signs, group = approach_signs(mode, cycles, task.directions, rng)
         dq, mu = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs, rng)
+        return dq, mu, group
+
+    def sample(self, task: PoseTask, forces_N, cycles: int, mode: str, rng):
+        """Cycles at one pose: (positions [m], angles [rad], approach index, dq, mu)."""
+        dq, mu, group = self.draw(task, forces_N, cycles, mode, rng)
         positions, angles = tool_deviations(self.robot, task.q, dq, self.study.engine)
         return positions, angles, group, dq, mu
 

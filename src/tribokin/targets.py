@@ -17,7 +17,7 @@ import pinocchio as pin
 
 from tribokin.cube import candidate_postures, holds_orientation
 from tribokin.errors import InputError, closest_hint
-from tribokin.ik import IKResult, solve_ik_with_restarts
+from tribokin.ik import IKResult, solve_ik, solve_ik_with_restarts
 from tribokin.robot import Robot
 
 #: Random restarts of the IK after a warm start fails (each costs up to 200 iterations).
@@ -154,10 +154,13 @@ def _joint_grid(robot: Robot, spec: dict, start: np.ndarray, source) -> TargetGr
     return TargetGrid("joint", tuple(axes), positions, None, start, joint_q=q)
 
 
+def _target(grid: TargetGrid, index: int) -> pin.SE3:
+    return pin.SE3(np.eye(3) if grid.rotation is None else grid.rotation, grid.positions_m[index])
+
+
 def _solve(robot: Robot, grid: TargetGrid, index: int, q_start) -> IKResult:
-    target = pin.SE3(np.eye(3) if grid.rotation is None else grid.rotation, grid.positions_m[index])
-    return solve_ik_with_restarts(robot, target, q_start, np.random.default_rng([IK_SEED, index]), IK_RESTARTS,
-                                  position_only=grid.rotation is None)
+    return solve_ik_with_restarts(robot, _target(grid, index), q_start, lambda: np.random.default_rng([IK_SEED, index]),
+                                  IK_RESTARTS, position_only=grid.rotation is None)
 
 
 def head_order(grid: TargetGrid) -> list[int]:
@@ -186,7 +189,8 @@ def solve_row_heads(robot: Robot, grid: TargetGrid) -> np.ndarray:
 
 
 def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndarray, np.ndarray, list[str]]:
-    """Configurations of grid row ``row``, each target warm-started from the last reachable one (``head_q`` first).
+    """Configurations of grid row ``row``, each target warm-started from the last reachable one (``head_q`` first),
+    extrapolated along the row when the two targets before it were reached.
 
     Returns:
         q (columns, nv) [m or rad] (NaN where unreachable), reachable (columns,) and the reason
@@ -200,7 +204,11 @@ def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndar
     reasons = []
     q_start = np.asarray(head_q, dtype=float)
     for k, index in enumerate(indices):
-        result = _solve(robot, grid, index, q_start)
+        result = None
+        if k >= 2 and reachable[k - 2] and reachable[k - 1]:
+            result = solve_ik(robot, _target(grid, index), 2 * q[k - 1] - q[k - 2], position_only=grid.rotation is None)
+        if result is None or not result.success:
+            result = _solve(robot, grid, index, q_start)
         reachable[k] = result.success
         reasons.append("" if result.success else unreachable_reason(result, grid.rotation is None))
         if result.success:

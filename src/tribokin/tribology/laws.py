@@ -75,6 +75,12 @@ class FrictionLaw:
             "provenance": self.provenance,
         }
 
+    def __eq__(self, other) -> bool:
+        """Same law with the same parameters (provenance aside)."""
+        return type(other) is type(self) and other.params == self.params
+
+    __hash__ = None  # parameters may hold lists
+
     def __repr__(self) -> str:
         args = ", ".join(f"{k}={v!r}" for k, v in self.params.items() if k != "values")
         return f"{type(self).__name__}({args})"
@@ -117,6 +123,9 @@ class Uniform(FrictionLaw):
             raise InputError(f"low ({low}) is above high ({high}): swap them", key="low")
         super().__init__(stats.uniform(loc=low, scale=high - low), {"low": float(low), "high": float(high)}, provenance)
 
+    def rvs(self, size=None, random_state=None) -> np.ndarray:
+        return np.random.default_rng(random_state).uniform(self.params["low"], self.params["high"], size)
+
 
 class Gaussian(FrictionLaw):
     """mu Gaussian with ``mean`` and ``std``, truncated at mu = 0.
@@ -138,6 +147,18 @@ class Gaussian(FrictionLaw):
             dist = stats.truncnorm(a=-mean / std, b=np.inf, loc=mean, scale=std)
         super().__init__(dist, params, provenance)
 
+    def rvs(self, size=None, random_state=None) -> np.ndarray:
+        """Normal draws, each negative one drawn again: exactly the truncated law, and since
+        ``mean >= 0`` at least half of the draws are kept (far faster than inverting its cdf)."""
+        rng = np.random.default_rng(random_state)
+        mean, std = self.params["mean"], self.params["std"]
+        mu = np.asarray(rng.normal(mean, std, size), dtype=float)
+        rejected = np.flatnonzero(mu < 0)
+        while rejected.size:
+            mu.flat[rejected] = rng.normal(mean, std, rejected.size)
+            rejected = rejected[mu.flat[rejected] < 0]
+        return mu
+
 
 class Lognormal(FrictionLaw):
     """mu lognormal with the given ``mean`` and ``std`` of mu itself (not of log mu)."""
@@ -151,6 +172,10 @@ class Lognormal(FrictionLaw):
         sigma_log = math.sqrt(math.log1p((std / mean) ** 2))
         median = mean / math.sqrt(1 + (std / mean) ** 2)
         super().__init__(stats.lognorm(s=sigma_log, scale=median), {"mean": float(mean), "std": float(std)}, provenance)
+        self._log_median, self._sigma_log = math.log(median), sigma_log
+
+    def rvs(self, size=None, random_state=None) -> np.ndarray:
+        return np.random.default_rng(random_state).lognormal(self._log_median, self._sigma_log, size)
 
 
 class Empirical(FrictionLaw):
