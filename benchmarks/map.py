@@ -8,9 +8,10 @@ a summary. Figures:
 * the same rate over per-sample Pinocchio FK loops: the exact engine's (position and orientation, what
   the map would run without the fast engine) and a bare position-only one; and over drawing the same
   random numbers alone (the map's own draws: a fresh generator per target, every joint's friction law);
-* how far the resident memory of a child process rises while it computes a 10^4 and a 10^5 target
-  map (few cycles; sampled every 10 ms, Linux): only per-target scalars are kept, so it grows
-  with targets (tens of bytes each), not with cycles.
+* how far the resident memory of a child process rises while it computes a 10^4, 10^5 and 10^6
+  target map (few cycles; sampled every 10 ms, Linux): cycles are streamed, only per-target
+  scalars are kept, so it grows with targets (about 0.2 kB each), not with cycles;
+* which of the issue's goals this run meets (``goals``).
 
 Timings are wall clock on whatever machine runs this, which may be shared: read them as orders
 of magnitude, and compare ratios measured in the same run.
@@ -171,7 +172,16 @@ def main() -> None:
         "fk_loop": {**fk_rates, "map_rate_over_exact_engine_loop": map_rate / fk_rates["exact_engine_samples_per_s"],
                     "map_rate_over_position_only_loop": map_rate / fk_rates["position_only_samples_per_s"]},
         "random_draws_alone": {"target_cycles_per_s": random_rate, "map_rate_over_draws": map_rate / random_rate},
-        "memory": [memory_run(10), memory_run(100)],
+        "memory": [memory_run(targets_v) for targets_v in (10, 100, 1000)],
+    }
+    memory = results["memory"]
+    results["memory_growth_per_target_B"] = ((memory[-1]["peak_rss_growth_MiB"] - memory[0]["peak_rss_growth_MiB"])
+                                             * 2**20 / (memory[-1]["targets"] - memory[0]["targets"]))
+    results["goals"] = {
+        "30x_exact_engine_loop": results["fk_loop"]["map_rate_over_exact_engine_loop"] >= 30,
+        "half_of_random_draws": results["random_draws_alone"]["map_rate_over_draws"] >= 0.5,
+        "1.6x_with_two_workers": results["two_workers"]["speed_up"] >= 1.6,
+        "memory_independent_of_targets": results["memory_growth_per_target_B"] < 1,
     }
     RESULTS.parent.mkdir(exist_ok=True)
     RESULTS.write_text(json.dumps(results, indent=2) + "\n")

@@ -57,3 +57,12 @@ def test_loads_change_with_the_y_position_not_with_x(gantry):
     assert far[0] > near[0] + 100  # the carriage's moment on the X guide grows with its reach
     assert loads([0.0, 0.6, 0.2]) == pytest.approx(far)  # moving along X changes nothing
     assert near[2] == pytest.approx(0.0, abs=1e-9)  # the vertical ram's weight goes to its drive
+
+
+def test_loads_of_several_configurations_match_hand_statics_each(gantry):
+    configurations = np.array([(0.0, 0.0, 0.0), (0.3, 0.5, 0.2), (0.6, 0.1, 0.5)])
+    loads = BearingLoads(gantry, 5.0, SPAN)(configurations)
+    assert loads.shape == (3, 3)
+    for q, row in zip(configurations, loads):
+        assert row == pytest.approx(hand_loads(*q, 5.0), rel=1e-9, abs=1e-9)
+    assert BearingLoads(gantry, 5.0, SPAN)(np.zeros((0, 3))).shape == (0, 3)

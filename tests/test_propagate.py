@@ -190,3 +190,38 @@ def test_max_deviation_from_exact_checks_the_first_samples(robots):
 def test_dq_of_the_wrong_width_is_refused(robots):
     with pytest.raises(ValueError, match=r"\(n, 6\)"):
         tool_deviations_fast(robots["ur5"], np.zeros(6), np.zeros((3, 7)))
+
+
+@pytest.mark.parametrize("engine", ["fast", "exact"])
+def test_poses_propagated_together_match_each_alone(robots, engine):
+    """A batch mixing orders (and, for "fast", one pose past the bound, sent to exact FK) gives
+    every pose what it gets on its own."""
+    from tribokin.propagate import tool_deviations, tool_deviations_at_poses, tool_frames
+
+    robot = robots["ur5"]
+    rng = np.random.default_rng(4)
+    qs = np.array(random_configurations(robot, 4, rng))
+    dq = np.stack([scale * rng.standard_normal((50, robot.model.nv)) for scale in (1e-7, 1e-5, 1e-4, 0.2)])
+    twists, translations = tool_frames(robot, qs)
+    positions, angles = tool_deviations_at_poses(robot, qs, dq, engine, twists, translations)
+    for q, samples, p, a in zip(qs, dq, positions, angles):
+        alone_p, alone_a = tool_deviations(robot, q, samples, engine)
+        np.testing.assert_allclose(p, alone_p, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(a, alone_a, rtol=0, atol=1e-15)
+
+
+def test_bounds_of_several_poses_are_each_poses_bound(robots):
+    from tribokin.fast_propagation import truncation_bound
+
+    robot = robots["panda"]
+    rng = np.random.default_rng(5)
+    qs = random_configurations(robot, 3, rng)
+    twists = np.array([tool_twists(robot, q) for q in qs])
+    dq = np.stack([scale * rng.standard_normal((40, robot.model.nv)) for scale in (1e-6, 1e-4, 0.5)])
+    together = truncation_bound(twists, dq)
+    for k in range(3):
+        alone = truncation_bound(twists[k], dq[k])
+        assert together.order[k] == alone.order
+        assert together.position_m[k] == pytest.approx(alone.position_m, rel=1e-12)
+        assert together.angle_rad[k] == pytest.approx(alone.angle_rad, rel=1e-12)
+    assert list(together.order) == [2, 3, 3] and np.isinf(together.angle_rad[2])

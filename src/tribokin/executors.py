@@ -7,6 +7,7 @@ where it runs changes nothing but the time taken. Results come back as chunks fi
 from __future__ import annotations
 
 import multiprocessing
+import threading
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
@@ -28,6 +29,10 @@ def check_executor(workers: int, scheduler: str | None) -> None:
 def run_chunks(function: Callable, chunks: dict, workers: int = 1, scheduler: str | None = None) -> Iterator:
     """Yield ``(key, function(*arguments))`` for every ``key: arguments`` of ``chunks``, as they finish.
 
+    Local worker processes start here, before the first result is asked for: forked from this
+    process when it runs no other thread (fast, and they inherit what it has loaded), else
+    spawned clean (forking a process with threads can deadlock).
+
     Args:
         workers: local processes (1: run here, in key order).
         scheduler: address of a dask.distributed scheduler (``"tcp://host:8786"``); its workers
@@ -35,19 +40,21 @@ def run_chunks(function: Callable, chunks: dict, workers: int = 1, scheduler: st
     """
     check_executor(workers, scheduler)
     if scheduler is not None:
-        yield from _run_on_dask(function, chunks, scheduler)
-    elif workers == 1:
-        for key, arguments in chunks.items():
-            yield key, function(*arguments)
-    else:
-        # spawn: workers start clean, whatever threads this process runs (dask, BLAS)
-        pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
-        try:
-            futures = {pool.submit(function, *arguments): key for key, arguments in chunks.items()}
-            for future in as_completed(futures):
-                yield futures[future], future.result()
-        finally:
-            pool.shutdown(wait=True, cancel_futures=True)
+        return _run_on_dask(function, chunks, scheduler)
+    if workers == 1:
+        return ((key, function(*arguments)) for key, arguments in chunks.items())
+    start = "fork" if "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1 else "spawn"
+    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(start))
+    futures = {pool.submit(function, *arguments): key for key, arguments in chunks.items()}
+    return _as_finished(pool, futures)
+
+
+def _as_finished(pool: ProcessPoolExecutor, futures: dict) -> Iterator:
+    try:
+        for future in as_completed(futures):
+            yield futures[future], future.result()
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _run_on_dask(function: Callable, chunks: dict, scheduler: str) -> Iterator:

@@ -79,12 +79,14 @@ def approach_signs(mode: str, cycles: int, directions: np.ndarray, rng: np.rando
 
 
 def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Generator) -> np.ndarray:
-    """Friction coefficients mu (cycles, nv) [-]: one draw of every joint's value per cycle when
-    all joints share one law (the usual case), else joint by joint."""
+    """Friction coefficients mu (cycles, nv) [-], drawn joint by joint (all cycles of the first joint,
+    then of the second...): in one call when all joints share one law, the usual case.
+
+    Returns a view of (nv, cycles) memory, so each joint's cycles are contiguous."""
     laws = [m.friction for m in models]
     if all(law is laws[0] or law == laws[0] for law in laws):
-        return laws[0].rvs(size=(cycles, len(laws)), random_state=rng)
-    return np.column_stack([law.rvs(size=cycles, random_state=rng) for law in laws])
+        return laws[0].rvs(size=(len(laws), cycles), random_state=rng).T
+    return np.array([law.rvs(size=cycles, random_state=rng) for law in laws]).T
 
 
 def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray, normal_forces_N: np.ndarray,

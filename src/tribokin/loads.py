@@ -56,10 +56,14 @@ class BearingLoads:
         return np.array([self.data.f[i].vector for i in range(1, self.model.njoints)])
 
     def __call__(self, q) -> np.ndarray:
-        """Bearing load N_i [N] of every active joint at configuration ``q``."""
-        wrenches = self.wrenches(q)
-        force, moment = wrenches[:, :3], wrenches[:, 3:]
-        along = np.sum(np.where(self.prismatic[:, None], force, moment) * self.axes, axis=1, keepdims=True)
-        carried_force = force - np.where(self.prismatic[:, None], along * self.axes, 0.0)
-        carried_moment = moment - np.where(self.prismatic[:, None], 0.0, along * self.axes)
-        return np.linalg.norm(carried_force, axis=1) + np.linalg.norm(carried_moment, axis=1) / self.span_m
+        """Bearing load N_i [N] of every active joint at configuration ``q`` (nq,), or (poses, nv) at
+        configurations (poses, nq)."""
+        q = np.asarray(q, dtype=float)
+        wrenches = np.array([self.wrenches(qi) for qi in q.reshape(-1, q.shape[-1])]).reshape(-1, self.model.nv, 6)
+        force, moment = wrenches[..., :3], wrenches[..., 3:]
+        prismatic = self.prismatic[:, None]
+        along = np.sum(np.where(prismatic, force, moment) * self.axes, axis=-1, keepdims=True) * self.axes
+        carried_force = force - np.where(prismatic, along, 0.0)
+        carried_moment = moment - np.where(prismatic, 0.0, along)
+        loads = np.linalg.norm(carried_force, axis=-1) + np.linalg.norm(carried_moment, axis=-1) / self.span_m
+        return loads.reshape(q.shape[:-1] + (self.model.nv,))

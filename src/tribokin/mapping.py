@@ -39,6 +39,12 @@ CHUNK_TARGETS = 256
 TARGET_BLOCK_SAMPLES = 32768
 
 
+class ProgressBar(tqdm):
+    """tqdm without its monitor thread, which would outlive the bar and keep later runs from forking workers."""
+
+    monitor_interval = 0
+
+
 @dataclass(frozen=True)
 class MapJob:
     """What a chunk needs besides its rows: the study (robot, ``[map]``) and each scenario's study.
@@ -76,7 +82,7 @@ def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twi
     per-call costs."""
     study = runner.study
     tasks = [joint_space_task(f"target {index}", q) for index, q in zip(indices, qs)]
-    forces = np.array([runner.normal_forces(task) for task in tasks]).reshape(qs.shape)
+    forces = runner.normal_forces_at(qs)
     figures = np.empty((len(qs), len(MAP_FIGURES)))
     dominant = np.empty(len(qs), dtype=int)
     block = max(1, TARGET_BLOCK_SAMPLES // study.cycles)
@@ -85,7 +91,7 @@ def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twi
         per_joint = np.array([runner.draw(task, load, study.cycles, study.approach,
                                           pose_rng(study.seed, int(index), MAP_STREAM))[0].T
                               for task, load, index in zip(tasks[members], forces[members], indices[members])])
-        dq = np.swapaxes(per_joint, 1, 2)  # (targets, n, nv) over (targets, nv, n) memory: cycles contiguous
+        dq = np.swapaxes(per_joint, 1, 2)  # (targets, n, nv) view of (targets, nv, n): cycles contiguous
         figures[members], dominant[members] = block_figures(runner, qs[members], dq, twists[members],
                                                             translations[members])
     return figures, forces, dominant
@@ -196,9 +202,10 @@ def run_map(study: Study, robot: Robot, workers: int = 1, scheduler: str | None 
     todo = {k: (job, rows, heads[rows]) for k, rows in enumerate(chunks) if k not in finished}
     done_targets = sum(len(chunks[k]) for k in finished) * grid.row_length
     try:
-        with tqdm(total=n, initial=done_targets, unit="target", desc=f"map {study.name}",
+        results = run_chunks(compute_chunk, todo, workers, scheduler)
+        with ProgressBar(total=n, initial=done_targets, unit="target", desc=f"map {study.name}",
                   disable=not progress or len(chunks) <= 1) as bar:
-            for chunk, arrays in run_chunks(compute_chunk, todo, workers, scheduler):
+            for chunk, arrays in results:
                 if store:
                     store.save(chunk, arrays)
                 keep(chunk, arrays)

@@ -68,9 +68,10 @@ def tool_deviations_at_poses(robot: Robot, qs: np.ndarray, dq: np.ndarray, engin
         twists, translations: the poses' :func:`tool_frames`.
 
     Returns:
-        positions [m] and angles [rad], (poses, n, 3) each.
+        positions [m] and angles [rad], (poses, n, 3) each (views of (poses, 3, n) arrays).
     """
-    positions, angles = np.empty(dq.shape[:2] + (3,)), np.empty(dq.shape[:2] + (3,))
+    poses, n = dq.shape[:2]  # outputs: (poses, n, 3) views of (poses, 3, n) memory, as the fast engine gives
+    positions, angles = np.swapaxes(np.empty((poses, 3, n)), 1, 2), np.swapaxes(np.empty((poses, 3, n)), 1, 2)
     exact = np.ones(len(qs), dtype=bool)
     if engine == "fast":
         bound = truncation_bound(twists, dq)

@@ -169,8 +169,15 @@ class PoseRunner:
         """Bearing loads [N]: the pose's value, else each joint's fixed value, else statics at the pose."""
         if task.normal_force_N is not None:
             return np.full(len(self.models), task.normal_force_N)
+        return self.normal_forces_at(task.q)
+
+    def normal_forces_at(self, q: np.ndarray) -> np.ndarray:
+        """Bearing loads [N] at configuration ``q`` (nq,) or configurations (poses, nq): each joint's
+        fixed value, else statics."""
         fixed = np.array([np.nan if m.normal_force_N is None else m.normal_force_N for m in self.models])
-        return fixed if self.loads is None else np.where(np.isnan(fixed), self.loads(task.q), fixed)
+        if self.loads is None:
+            return np.broadcast_to(fixed, np.shape(q)[:-1] + fixed.shape).copy()
+        return np.where(np.isnan(fixed), self.loads(q), fixed)
 
     def models_at(self, task: PoseTask) -> list[JointErrorModel]:
         """The joint error models at a pose: the study's, with the pose's friction law if it has one."""

@@ -113,3 +113,15 @@ def test_spec_errors_point_inside_the_mapping():
     assert error.value.key == "joints.friction.low"
     with pytest.raises(InputError, match="unknown key 'sigma'"):
         law_from_spec({"law": "gaussian", "mean": 0.1, "sigma": 0.1}, "s.toml")
+
+
+@pytest.mark.parametrize("mean, std", [(0.0, 0.05), (0.02, 0.05), (0.1375, 0.0075)])
+def test_gaussian_sampler_follows_the_truncated_law(mean, std):
+    """The sampler redraws negative values: its samples must follow scipy's truncated normal."""
+    from scipy import stats
+
+    law = Gaussian(mean, std)
+    x = law.rvs(size=(400, 50), random_state=np.random.default_rng(11))
+    assert x.shape == (400, 50) and x.min() >= 0
+    truncated = stats.truncnorm(a=-mean / std, b=np.inf, loc=mean, scale=std)
+    assert stats.kstest(x.ravel(), truncated.cdf).pvalue > 1e-3
