@@ -11,7 +11,7 @@ import pinocchio as pin
 from tribokin.robot import Robot
 
 #: Iterations in a row without progress after which an IK solve gives up.
-STALL_ITERATIONS = 10
+STALL_ITERATIONS = 20
 
 
 @dataclass(frozen=True)
@@ -26,13 +26,13 @@ class IKResult:
 
 def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-10, angle_tol_rad: float = 1e-9,
              position_only: bool = False, iterations: int = 200, damping: float = 1e-6,
-             patience: int = STALL_ITERATIONS) -> IKResult:
+             patience: int | None = None) -> IKResult:
     """Configuration that puts the tool frame at ``target``, from ``q_start``.
 
     Damped least squares on the frame error ``log6(M^-1 M_target)`` (tool frame),
     each step clipped to the joint limits. ``position_only`` ignores orientation. Gives up
-    after ``iterations``, or once ``patience`` iterations in a row have not cut the error
-    [m + rad] by 0.1 % (stuck at a joint limit or in a local minimum).
+    after ``iterations``, or, given a ``patience``, once that many iterations in a row have not
+    cut the error [m + rad] by 0.1 % (stuck at a joint limit or in a local minimum).
     """
     model, data, frame = robot.model, robot.data, robot.tool_frame_id
     lower, upper = robot.lower_limits, robot.upper_limits
@@ -55,7 +55,7 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
             converged = position_error < position_tol_m and angle_error < angle_tol_rad
         stalled = 0 if position_error + angle_error < 0.999 * best else stalled + 1
         best = min(best, position_error + angle_error)
-        if converged or iteration == iterations or stalled >= patience:
+        if converged or iteration == iterations or (patience is not None and stalled >= patience):
             break
         jacobian = pin.getFrameJacobian(model, data, frame, pin.LOCAL)
         if position_only:  # translation error in the tool frame, d(position)/dq in the tool frame
@@ -71,7 +71,8 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
 
 def solve_ik_with_restarts(robot: Robot, target: pin.SE3, q_start, rng, restarts: int = 8,
                            **options) -> IKResult:
-    """:func:`solve_ik` from ``q_start``, then from random configurations within limits until one succeeds.
+    """:func:`solve_ik` from ``q_start``, then from random configurations within limits until one succeeds
+    (each restart given up once it stalls for ``STALL_ITERATIONS``).
 
     ``rng``: a :class:`numpy.random.Generator`, or a function making one (called only if a restart is needed).
     """
@@ -81,7 +82,7 @@ def solve_ik_with_restarts(robot: Robot, target: pin.SE3, q_start, rng, restarts
         if best.success:
             break
         rng = rng() if callable(rng) else rng
-        attempt = solve_ik(robot, target, rng.uniform(lower, upper), **options)
+        attempt = solve_ik(robot, target, rng.uniform(lower, upper), patience=STALL_ITERATIONS, **options)
         if attempt.success or attempt.position_error_m < best.position_error_m:
             best = attempt
     return best
