@@ -11,6 +11,54 @@ ROOT = Path(__file__).resolve().parents[1]
 AXIS_URDF = ROOT / "urdf" / "prismatic_axis.urdf"
 STUDIES = ROOT / "studies"
 
+#: A study file of the prismatic axis: one pose, 12 cycles.
+AXIS_STUDY_TOML = f"""[study]
+name = "cli"
+cycles = 12
+seed = 3
+
+[robot]
+urdf = "{AXIS_URDF}"
+tool_frame = "tool"
+
+[joints]
+friction = {{ preset = "42CD4-raw" }}
+normal_force_N = 150.0
+stiffness = 2.0e6
+
+[[poses]]
+name = "P1"
+q = [0.25]
+"""
+
+#: A study file of a 25 x 40 plane map of the gantry, in 40 chunks of one row.
+GANTRY_MAP_TOML = f"""
+[study]
+name = "gantry-resume"
+cycles = 400
+seed = 8
+
+[robot]
+urdf = "{ROOT / 'urdf' / 'cartesian_xyz.urdf'}"
+tool_frame = "tool"
+payload_kg = 5.0
+
+[joints]
+friction = {{ preset = "42CD4-raw" }}
+stiffness = 2.0e7
+bearing_span_m = 0.2
+
+[map]
+kind = "plane"
+origin_m = [0.2, 0.0, 0.4]
+axis_u = [1, 0, 0]
+axis_v = [0, 1, 0]
+extent_u_m = [0.0, 0.6]
+extent_v_m = [0.0, 0.6]
+resolution = [25, 40]
+chunk_rows = 1
+"""
+
 
 def axis_study(**joints) -> dict:
     """A one-pose study of the prismatic axis; ``joints`` overrides the [joints] table."""

@@ -51,7 +51,15 @@ def _from_law(spec: dict, base_dir: Path) -> FrictionLaw:
     missing = [k for k in keys if k not in spec]
     if missing:
         raise InputError(f"law '{name}' needs {', '.join(missing)}", key=missing[0])
+    if name == "empirical":
+        _check_values(spec["values"])
     return cls(*(spec[k] for k in keys))
+
+
+def _check_values(values) -> None:
+    """Measured values must be a list of numbers (the law checks they are finite and >= 0)."""
+    if not isinstance(values, list) or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in values):
+        raise InputError(f"must be a list of numbers (got {values!r})", key="values")
 
 
 def _from_file(spec: dict, base_dir: Path) -> FrictionLaw:
