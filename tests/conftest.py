@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import copy
+import os
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 ROOT = Path(__file__).resolve().parents[1]
 AXIS_URDF = ROOT / "urdf" / "prismatic_axis.urdf"
@@ -74,3 +76,12 @@ def axis_study(**joints) -> dict:
 @pytest.fixture
 def axis_mapping():
     return copy.deepcopy(axis_study())
+
+
+# Property tests (hypothesis): derandomized, so a run is reproducible on CI; no deadline (the first
+# example pays for imports and robot loading); modest example counts keep the suite fast.
+# HYPOTHESIS_PROFILE=thorough explores far more, randomly.
+settings.register_profile("tribokin", derandomize=True, deadline=None, max_examples=25, database=None,
+                          print_blob=True)
+settings.register_profile("thorough", deadline=None, max_examples=1000)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "tribokin"))
