@@ -3,13 +3,63 @@
 from __future__ import annotations
 
 import copy
+import os
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 ROOT = Path(__file__).resolve().parents[1]
 AXIS_URDF = ROOT / "urdf" / "prismatic_axis.urdf"
 STUDIES = ROOT / "studies"
+
+#: A study file of the prismatic axis: one pose, 12 cycles.
+AXIS_STUDY_TOML = f"""[study]
+name = "cli"
+cycles = 12
+seed = 3
+
+[robot]
+urdf = "{AXIS_URDF}"
+tool_frame = "tool"
+
+[joints]
+friction = {{ preset = "42CD4-raw" }}
+normal_force_N = 150.0
+stiffness = 2.0e6
+
+[[poses]]
+name = "P1"
+q = [0.25]
+"""
+
+#: A study file of a 25 x 40 plane map of the gantry, in 40 chunks of one row.
+GANTRY_MAP_TOML = f"""
+[study]
+name = "gantry-resume"
+cycles = 400
+seed = 8
+
+[robot]
+urdf = "{ROOT / 'urdf' / 'cartesian_xyz.urdf'}"
+tool_frame = "tool"
+payload_kg = 5.0
+
+[joints]
+friction = {{ preset = "42CD4-raw" }}
+stiffness = 2.0e7
+bearing_span_m = 0.2
+
+[map]
+kind = "plane"
+origin_m = [0.2, 0.0, 0.4]
+axis_u = [1, 0, 0]
+axis_v = [0, 1, 0]
+extent_u_m = [0.0, 0.6]
+extent_v_m = [0.0, 0.6]
+resolution = [25, 40]
+chunk_rows = 1
+"""
 
 
 def axis_study(**joints) -> dict:
@@ -26,3 +76,12 @@ def axis_study(**joints) -> dict:
 @pytest.fixture
 def axis_mapping():
     return copy.deepcopy(axis_study())
+
+
+# Property tests (hypothesis): derandomized, so a run is reproducible on CI; no deadline (the first
+# example pays for imports and robot loading); modest example counts keep the suite fast.
+# HYPOTHESIS_PROFILE=thorough explores far more, randomly.
+settings.register_profile("tribokin", derandomize=True, deadline=None, max_examples=25, database=None,
+                          print_blob=True)
+settings.register_profile("thorough", deadline=None, max_examples=1000)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "tribokin"))

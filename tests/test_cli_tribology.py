@@ -1,8 +1,7 @@
-"""`tribokin fit-friction` and `tribokin surface`: outputs, and one-line errors with nothing written."""
+"""`tribokin fit-friction` and `tribokin surface`: outputs (bad input: test_bad_input.py)."""
 
 import json
 
-import numpy as np
 import pytest
 
 from conftest import ROOT
@@ -49,35 +48,3 @@ def test_surface_writes_summary_and_figures(tmp_path):
     assert 0 < report["asperity_count"]["count"] < report["summit_density_m2"] * 1e-6
     for png in ("profile.png", "p_z_R.png"):
         assert (out / png).stat().st_size > 10_000
-
-
-def write(path, text):
-    path.write_text(text)
-    return path
-
-
-GOOD_PROFILE = "x_m,z_m\n" + "\n".join(f"{i * 1e-6},{1e-6 * np.sin(i / 3)}" for i in range(200)) + "\n"
-
-
-@pytest.mark.parametrize("command, content, expected", [
-    ("surface", "x_m,height\n1,2\n", "x_m, z_m"),
-    ("surface", GOOD_PROFILE.replace("\n2e-06,", "\n2e-06,abc,"), "z_m: data row 3"),
-    ("surface", GOOD_PROFILE.replace("x_m,z_m\n", "x_m,z_m\nfoo,1\n"), "x_m: data row 1"),
-    ("surface", "x_m,z_m\n0,1\n1,2\n", "x_m: has 2 data rows; at least 50"),
-    ("surface", GOOD_PROFILE.replace("\n3e-06,", "\n1e-06,"), "x_m: must increase strictly"),
-    ("fit-friction", "cycle,friction\n1,0.1\n", "mu"),
-    ("fit-friction", "cycle,mu\n" + "\n".join(f"{i},0.1" for i in range(5)) + "\n", "at least 20"),
-    ("fit-friction", "cycle,mu\n" + "\n".join(f"{i},{'x' if i == 7 else 0.1}" for i in range(30)) + "\n",
-     "mu: data row 8"),
-    ("fit-friction", None, "file not found"),
-])
-def test_bad_files_one_line_exit_2_nothing_written(tmp_path, command, content, expected):
-    path = tmp_path / "in.csv"
-    if content is not None:
-        write(path, content)
-    out = tmp_path / "out"
-    done = tribokin(command, path, "--out", out)
-    assert done.returncode == 2
-    assert len(done.stderr.strip().splitlines()) == 1
-    assert str(path) in done.stderr and expected in done.stderr, done.stderr
-    assert sorted(p.name for p in tmp_path.iterdir()) == (["in.csv"] if content is not None else [])

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from contextlib import contextmanager
 
 from tribokin.errors import InputError
 
@@ -19,22 +20,25 @@ class _Parser(argparse.ArgumentParser):
         raise InputError(message, "command line")
 
 
+@contextmanager
+def _claimed(out, force: bool):
+    """Check the output folder, hold its lock (``<out>.lock``) while the block runs, and first delete the
+    temporary folders a killed run left beside it."""
+    from tribokin.lock import output_lock
+    from tribokin.output import check_output_folder, remove_leftovers
+
+    check_output_folder(out, force)
+    with output_lock(out):
+        remove_leftovers(out)
+        yield
+
+
 def _run(args) -> None:
-    from tribokin.checkpoint import check_chunk_folder, chunk_folder, discard
     from tribokin.executors import check_executor
-    from tribokin.output import check_output_folder, write_results
-    from tribokin.study import run_study
 
     check_executor(args.workers, args.scheduler)
-    check_output_folder(args.out, args.force)
-    chunks = chunk_folder(args.out)
-    if args.force and not args.resume:
-        discard(chunks)
-    check_chunk_folder(chunks, args.resume)
-    result = run_study(args.study, cycles=args.cycles, seed=args.seed, workers=args.workers,
-                       scheduler=args.scheduler, checkpoint=chunks, resume=args.resume, progress=True)
-    out = write_results(result, args.out, args.force, report=args.report)
-    discard(chunks)
+    with _claimed(args.out, args.force):
+        result, out = _compute_and_write(args)
     files = []
     if result.poses:
         _print_poses(result)
@@ -50,6 +54,24 @@ def _run(args) -> None:
         size_mb = (out / "report.html").stat().st_size / 1e6
         print(f"report: {out / 'report.html'} ({size_mb:.1f} MB, {args.report} meshes, clouds ×{magnification:g}); "
               f"live viewer: tribokin view {out}")
+
+
+def _compute_and_write(args):
+    """Run the study (resuming from ``<out>.chunks`` if asked) and write its output folder."""
+    from tribokin.checkpoint import check_chunk_folder, chunk_folder, discard
+    from tribokin.output import write_results
+    from tribokin.study import run_study
+
+    chunks = chunk_folder(args.out)
+    if args.force and not args.resume:
+        discard(chunks)
+    check_chunk_folder(chunks, args.resume)
+    result = run_study(args.study, cycles=args.cycles, seed=args.seed, workers=args.workers,
+                       scheduler=args.scheduler, checkpoint=chunks, resume=args.resume, progress=True)
+    result.reproduce["command"] = ["tribokin", *args.argv]
+    out = write_results(result, args.out, args.force, report=args.report)
+    discard(chunks)
+    return result, out
 
 
 def _print_poses(result) -> None:
@@ -102,7 +124,8 @@ def _robots(args) -> None:
 def _fit_friction(args) -> None:
     from tribokin.measurements import fit_friction
 
-    report = fit_friction(args.log, args.out, args.running_in, args.force)
+    with _claimed(args.out, args.force):
+        report = fit_friction(args.log, args.out, args.running_in, args.force)
     print(f"{report['cycles']} cycles, {report['running_in_cycles']} running-in ({report['running_in']}), "
           f"{report['steady_cycles']} fitted")
     print(f"{'law':<10} {'AIC':>12} {'KS p':>8}")
@@ -115,7 +138,9 @@ def _fit_friction(args) -> None:
 def _surface(args) -> None:
     from tribokin.measurements import surface_report
 
-    report = surface_report(args.profile, args.out, args.area_m2, args.z_range_m, args.radius_range_m, args.force)
+    with _claimed(args.out, args.force):
+        report = surface_report(args.profile, args.out, args.area_m2, args.z_range_m, args.radius_range_m,
+                                args.force)
     print(f"{report['peaks']} peaks, AR = {report['AR_m'] * 1e6:.2f} µm, D_s = 1.2/AR² = "
           f"{report['summit_density_m2'] * 1e-6:.1f} per mm²")
     print(f"Alt = {report['Alt_m'] * 1e6:.3f} µm, SAlt = {report['SAlt_m'] * 1e6:.3f} µm, "
@@ -175,7 +200,9 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     """Entry point of the ``tribokin`` command; returns the exit status."""
     try:
+        argv = sys.argv[1:] if argv is None else [str(arg) for arg in argv]
         args = build_parser().parse_args(argv)
+        args.argv = argv
         args.handler(args)
     except InputError as error:
         print(f"tribokin: error: {error.one_line()}", file=sys.stderr)

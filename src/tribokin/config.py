@@ -246,7 +246,8 @@ class Study:
     ``joints`` holds the defaults for every joint; ``joint_overrides`` the
     per-joint tables ``[joints.<name>]``, checked against the robot's joint
     names when it is loaded. ``source`` is the file (for messages) and
-    ``base_dir`` what relative paths in it are resolved against.
+    ``base_dir`` what relative paths in it are resolved against. ``sha256`` is the hash of the
+    file's bytes (``None`` for a study given as a mapping).
     """
 
     name: str
@@ -264,6 +265,7 @@ class Study:
     mapping: dict = field(repr=False, default_factory=dict)
     map: dict | None = None
     scenarios: list[Scenario] = field(default_factory=list)
+    sha256: str | None = None
 
 
 def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(".")) -> Study:

@@ -7,10 +7,13 @@ once with :func:`tribokin.output.atomic_folder` (nothing is written on error).
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
 
+from tribokin.config import positive
+from tribokin.errors import InputError
 from tribokin.output import atomic_folder, check_output_folder
 from tribokin.tribology.fitting import Fit, fit_laws
 from tribokin.tribology.surfaces import find_peaks, level, profile_statistics, read_profile
@@ -70,6 +73,27 @@ def fit_friction(log_path, out, running_in: int | None = None, force: bool = Fal
     return report
 
 
+def _check_surface_options(area_m2, z_range_m, radius_range_m):
+    """The options of ``tribokin surface``, checked: A_a > 0, each range [low, high] with low <= high, radii >= 0
+    (either end of a range may be infinite)."""
+    area_m2 = positive(area_m2, "command line", "--area-m2")
+    ranges = []
+    for key, bounds in (("--z-range-m", z_range_m), ("--radius-range-m", radius_range_m)):
+        low, high = (_bound(value, f"{key}[{i}]") for i, value in enumerate(bounds))
+        if not low <= high:
+            raise InputError(f"must be low high with low <= high (got {low:g} {high:g})", "command line", key)
+        ranges.append((low, high))
+    if ranges[1][0] < 0:
+        raise InputError(f"radii must be >= 0 (got {ranges[1][0]:g})", "command line", "--radius-range-m")
+    return area_m2, ranges[0], ranges[1]
+
+
+def _bound(value, key: str) -> float:
+    if isinstance(value, float) and math.isnan(value):
+        raise InputError("must be a number or an infinity, not nan", "command line", key)
+    return float(value)
+
+
 def surface_report(profile_path, out, area_m2: float = 1e-6, z_range_m=(-np.inf, np.inf),
                    radius_range_m=(0.0, np.inf), force: bool = False) -> dict:
     """Asperity statistics of a profile and eq. (6)'s count; writes surface.json, profile.png, p_z_R.png.
@@ -79,6 +103,7 @@ def surface_report(profile_path, out, area_m2: float = 1e-6, z_range_m=(-np.inf,
     from tribokin.viz.tribology import save_asperity_density, save_profile
 
     check_output_folder(out, force)
+    area_m2, z_range_m, radius_range_m = _check_surface_options(area_m2, z_range_m, radius_range_m)
     surface = profile_statistics(profile_path)
     x, z = read_profile(profile_path)
     levelled = level(x, z)

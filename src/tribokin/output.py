@@ -31,31 +31,51 @@ def check_output_folder(out, force: bool = False) -> Path:
     parent = out.absolute().parent
     if not parent.is_dir():
         raise InputError(f"parent folder '{parent}' does not exist; create it first", out, "--out")
-    if not os.access(parent, os.W_OK):
-        raise InputError(f"parent folder '{parent}' is not writable", out, "--out")
+    os.rmdir(_temporary_folder(out, "probe"))  # can we write there? (asking os.access is wrong for root)
     return out
+
+
+def _temporary_folder(out: Path, kind: str) -> Path:
+    """A new empty folder ``.<out>.<kind>-XXXX`` beside ``out``, or an :class:`InputError` if none can be made."""
+    parent = out.absolute().parent
+    try:
+        return Path(tempfile.mkdtemp(prefix=f".{out.name}.{kind}-", dir=parent))
+    except OSError as error:
+        raise InputError(f"cannot write into parent folder '{parent}' ({error.strerror}); choose another --out",
+                         out, "--out") from None
+
+
+def remove_leftovers(out) -> None:
+    """Delete the temporary folders a killed run left beside ``out`` (call it while holding ``out``'s lock)."""
+    out = Path(out)
+    for kind in ("partial", "probe"):
+        for leftover in out.absolute().parent.glob(f".{out.name}.{kind}-*"):
+            shutil.rmtree(leftover, ignore_errors=True)
 
 
 @contextmanager
 def atomic_folder(out, force: bool = False):
     """Yield a temporary folder; on success it replaces ``out``, on failure it is removed."""
     out = check_output_folder(out, force)
-    temporary = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.absolute().parent))
+    temporary = _temporary_folder(out, "partial")
     umask = os.umask(0)
     os.umask(umask)
     temporary.chmod(0o777 & ~umask)  # mkdtemp makes it private; the result is an ordinary folder
     try:
         yield temporary
+        if out.exists() and not force:
+            raise InputError("output folder appeared while this run was computing; choose another --out or pass "
+                             "--force to replace it", out, "--out")
+        if out.exists():
+            retired = _temporary_folder(out, "old")
+            os.replace(out, retired / out.name)
+            os.replace(temporary, out)
+            shutil.rmtree(retired, ignore_errors=True)
+        else:
+            os.replace(temporary, out)
     except BaseException:
         shutil.rmtree(temporary, ignore_errors=True)
         raise
-    if out.exists():
-        retired = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.absolute().parent))
-        os.replace(out, retired / out.name)
-        os.replace(temporary, out)
-        shutil.rmtree(retired, ignore_errors=True)
-    else:
-        os.replace(temporary, out)
 
 
 def write_summary(result: StudyResult, folder: Path) -> None:

@@ -176,16 +176,39 @@ class MapResult:
         return block
 
 
+#: What ``summary.json`` records the versions of (``reproduce.versions``), besides Python and tribokin:
+#: name in the summary -> distribution.
+RECORDED_DISTRIBUTIONS = {"numpy": "numpy", "scipy": "scipy", "pinocchio": "pin",
+                          "example-robot-data": "example-robot-data"}
+
+
+def software_versions() -> dict[str, str | None]:
+    """Versions of Python, tribokin and ``RECORDED_DISTRIBUTIONS`` (``None``: not installed)."""
+    import platform
+    from importlib import metadata
+
+    from tribokin import __version__
+
+    versions = {"tribokin": __version__, "python": platform.python_version()}
+    for name, distribution in RECORDED_DISTRIBUTIONS.items():
+        try:
+            versions[name] = metadata.version(distribution)
+        except metadata.PackageNotFoundError:
+            versions[name] = None
+    return versions
+
+
 @dataclass
 class StudyResult:
     """Results of a whole study: ``poses`` in file order, the workspace ``map`` (if any), and what
-    produced them (``robot``, for views)."""
+    produced them (``robot``, for views; ``reproduce``: seed, study file hash, versions, command line)."""
 
     name: str
     poses: list[PoseResult]
     settings: dict
     robot: Robot | None = field(default=None, repr=False)
     map: MapResult | None = None
+    reproduce: dict = field(default_factory=dict)
 
     def display_configuration(self) -> np.ndarray:
         """Where to draw the robot [m or rad]: the first pose, else the first reachable map target,
@@ -210,7 +233,7 @@ class StudyResult:
 
     def summary(self) -> dict:
         """The content of ``summary.json``."""
-        summary = {"study": self.settings, "poses": [p.report_row() for p in self.poses]}
+        summary = {"study": self.settings, "reproduce": self.reproduce, "poses": [p.report_row() for p in self.poses]}
         if self.map is not None:
             summary["map"] = self.map.summary()
         return summary

@@ -8,6 +8,7 @@ output folder atomically (a temporary folder renamed into place).
 from __future__ import annotations
 
 import copy
+import hashlib
 import sys
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -28,7 +29,8 @@ from tribokin.iso9283 import covariance_semi_axes, multidirectional_variation, p
 from tribokin.joints import JointErrorModel, approach_signs, sample_joint_deviations
 from tribokin.loads import BearingLoads
 from tribokin.propagate import max_deviation_from_exact, tool_deviations
-from tribokin.results import UM_PER_M, PoseResult, StudyResult
+from tribokin.memory import check_memory
+from tribokin.results import UM_PER_M, PoseResult, StudyResult, software_versions
 from tribokin.robot import Robot, load_example_robot, load_urdf
 from tribokin.tribology.laws import FrictionLaw
 from tribokin.tribology.spec import law_from_spec
@@ -44,11 +46,14 @@ def read_study_file(path) -> Study:
     path = Path(path)
     if not path.is_file():
         raise InputError("study file not found", path)
+    content = path.read_bytes()
     try:
-        mapping = tomllib.loads(path.read_text(encoding="utf-8"))
+        mapping = tomllib.loads(content.decode("utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
         raise InputError(f"not valid TOML: {error}", path) from None
-    return parse_study(mapping, str(path), path.parent)
+    study = parse_study(mapping, str(path), path.parent)
+    study.sha256 = hashlib.sha256(content).hexdigest()
+    return study
 
 
 def load_study(study, cycles: int | None = None, seed: int | None = None) -> Study:
@@ -268,9 +273,14 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, work
 
     check_executor(workers, scheduler)
     study = load_study(study, cycles, seed)
+    if resume and study.map is None and checkpoint is not None and Path(checkpoint).exists():
+        raise InputError("this study has no [map], so these chunks are another run's; run that study with "
+                         "--resume, or pass --force without --resume to start over", checkpoint, "--resume")
     robot = load_robot(study)
     models = joint_models(study, robot)
     tasks, cube = pose_tasks(study, robot)
+    check_memory(study, robot.model.nv, [len(t.directions) if t.cartesian_approach else 1 for t in tasks], workers,
+                 cycles_from_command_line=cycles is not None)
     runner = PoseRunner(study, robot, models)
     poses = [runner.run(task, index) for index, task in enumerate(tasks)]
     workspace_map = None
@@ -291,4 +301,5 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, work
         "iso_cube": cube,
         "friction": {name: m.friction.describe() for name, m in zip(robot.joint_names, models)},
     }
-    return StudyResult(study.name, poses, settings, robot, workspace_map)
+    reproduce = {"seed": study.seed, "study_sha256": study.sha256, "versions": software_versions(), "command": None}
+    return StudyResult(study.name, poses, settings, robot, workspace_map, reproduce)

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from tribokin.errors import InputError
+from tribokin.study import run_study
 from tribokin.tribology import Empirical, Gaussian, law_from_spec
 
 from conftest import ROOT, axis_study
@@ -57,8 +58,18 @@ def test_surface_kind_errors_name_the_key(edit, key):
 
 
 def test_surface_study_runs(tmp_path):
-    from tribokin.study import run_study
-
     study = axis_study(friction={"surface": str(PROFILES / "turned.csv"), **SURFACE})
     result = run_study(study)
     assert 0.09 <= result.poses[0].mu.min() and result.poses[0].mu.max() <= 0.16
+
+
+@pytest.mark.parametrize("spec", [{"law": "uniform", "low": 0.12, "high": 0.12},
+                                  {"law": "gaussian", "mean": 0.12, "std": 0.0},
+                                  {"law": "lognormal", "mean": 0.12, "std": 0.0}], ids=lambda spec: spec["law"])
+def test_zero_width_laws_are_constants_and_give_no_dispersion(spec):
+    law = law_from_spec(spec)
+    assert law.support() == (0.12, 0.12) and law.std() == 0.0
+    pose = run_study(axis_study(friction=spec)).poses[0]
+    assert np.all(pose.mu == 0.12)
+    # constant mu, one approach direction: every cycle stops mu N / k short, RP_l = 0 and AP = mu N / k
+    assert pose.metrics.RP_l_m == 0.0 and pose.metrics.AP_p_m == pytest.approx(0.12 * 100.0 / 1.0e6, rel=1e-9)

@@ -1,7 +1,5 @@
-"""Mesh safety: a URDF whose mesh resolves outside its package folders is refused, nothing written."""
+"""Mesh safety: a URDF whose mesh resolves outside its package folders is refused (command line: test_bad_input.py)."""
 
-import subprocess
-import sys
 
 import pytest
 
@@ -76,17 +74,3 @@ def test_mesh_outside_the_package_is_refused_naming_it(tmp_path, mesh):
     with pytest.raises(InputError, match="evil.stl"):
         write_report(run_study(study(urdf)), robot, tmp_path)
     assert not (tmp_path / "report.html").exists()
-
-
-def test_cli_refuses_escaping_mesh_with_one_line_and_writes_nothing(tmp_path):
-    urdf = meshy_robot(tmp_path, "package://pkg/../../outside/evil.stl")
-    study_file = tmp_path / "study.toml"
-    study_file.write_text(f"""[robot]\nurdf = "{urdf}"\ntool_frame = "tool"\npackage_dirs = ["share"]\n
-[joints]\nfriction = {{ preset = "42CD4-raw" }}\nstiffness = 1e6\nnormal_force_N = 50.0\n
-[[poses]]\nq = [0.2]\n""")
-    out = tmp_path / "out"
-    done = subprocess.run([sys.executable, "-m", "tribokin", "run", study_file, "--out", out],
-                          capture_output=True, text=True)
-    assert done.returncode == 2
-    assert len(done.stderr.strip().splitlines()) == 1 and "evil.stl" in done.stderr
-    assert not out.exists() and not [p for p in tmp_path.iterdir() if p.name.startswith(".out")]

@@ -51,7 +51,19 @@ def _from_law(spec: dict, base_dir: Path) -> FrictionLaw:
     missing = [k for k in keys if k not in spec]
     if missing:
         raise InputError(f"law '{name}' needs {', '.join(missing)}", key=missing[0])
-    return cls(*(spec[k] for k in keys))
+    if name == "empirical":
+        _check_values(spec["values"])
+    law = cls(*(spec[k] for k in keys))  # checks the parameters
+    if name == "uniform" and spec["low"] == spec["high"] or name in ("gaussian", "lognormal") and spec["std"] == 0:
+        # the law is then a constant; scipy's zero-width distributions would give NaN
+        return Constant(spec["low"] if name == "uniform" else spec["mean"], provenance=f"{name} law of zero width")
+    return law
+
+
+def _check_values(values) -> None:
+    """Measured values must be a list of numbers (the law checks they are finite and >= 0)."""
+    if not isinstance(values, list) or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in values):
+        raise InputError(f"must be a list of numbers (got {values!r})", key="values")
 
 
 def _from_file(spec: dict, base_dir: Path) -> FrictionLaw:

@@ -1,0 +1,74 @@
+"""One run at a time per output folder: an exclusive lock on ``<out>.lock`` beside the folder.
+
+The lock is a ``flock`` on that file, held for the whole run (computation, chunks, writing) and
+removed when the run ends. The kernel releases a ``flock`` when its process ends, however it ends,
+so a file left behind by a killed run locks nothing: the next run takes it over. ``flock`` is
+local to one machine: on a network file system, do not run two machines into one folder.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import os
+from contextlib import contextmanager, suppress
+from pathlib import Path
+
+from tribokin.errors import InputError
+
+
+def lock_path(out) -> Path:
+    """The lock file of output folder ``out``: ``<out>.lock`` beside it."""
+    out = Path(out)
+    return out.with_name(out.name + ".lock")
+
+
+def _holder(fd: int) -> str:
+    """`` (pid 1234 on host)`` as the holder wrote it in the lock file, or ``""``."""
+    os.lseek(fd, 0, os.SEEK_SET)
+    words = os.read(fd, 200).decode(errors="replace").split()
+    return f" (pid {words[0]} on {words[1]})" if len(words) >= 2 else ""
+
+
+def _is_the_file_at(fd: int, path: Path) -> bool:
+    """Whether ``fd`` is still the file at ``path`` (a finishing run may have removed it meanwhile)."""
+    try:
+        return os.stat(path).st_ino == os.fstat(fd).st_ino
+    except FileNotFoundError:
+        return False
+
+
+def _acquire(out: Path) -> int:
+    """Open and lock ``<out>.lock``; an :class:`InputError` if another process holds it."""
+    path = lock_path(out)
+    while True:
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as error:
+            raise InputError(f"cannot create the lock file '{path}' ({error.strerror}); choose another --out",
+                             out, "--out") from None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = _holder(fd)
+            os.close(fd)
+            raise InputError(f"another tribokin run{holder} is writing this output folder (lock file '{path}'); "
+                             "wait until it ends or choose another --out (a lock left by a killed run is taken "
+                             "over by the next run)", out, "--out") from None
+        if _is_the_file_at(fd, path):
+            return fd
+        os.close(fd)  # locked a file its holder had just removed: lock the one at the path now
+
+
+@contextmanager
+def output_lock(out):
+    """Hold ``<out>.lock`` while the block runs; refuse (``InputError``, ``--out``) if another run holds it."""
+    out = Path(out)
+    fd = _acquire(out)
+    try:
+        os.ftruncate(fd, 0)
+        os.write(fd, f"{os.getpid()} {os.uname().nodename}\n".encode())
+        yield lock_path(out)
+    finally:
+        with suppress(FileNotFoundError):
+            os.unlink(lock_path(out))  # still locked: no other run can have taken it meanwhile
+        os.close(fd)

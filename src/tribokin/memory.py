@@ -1,0 +1,134 @@
+"""The memory a run needs, estimated from the study before anything runs, against what the machine has.
+
+A run keeps every cycle of every pose in memory (``samples.npz`` holds them all) and a few hundred
+bytes per map target (configuration, figures, loads, why unreachable); a map computes its targets one
+at a time, so its cycles only pass through memory. A study that would not fit is refused up front
+with the estimate, rather than killed by the operating system half-way. The byte counts below were
+measured (``tracemalloc``, UR5 and gantry) and rounded up about twofold.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+from tribokin.config import Study
+from tribokin.errors import InputError
+
+FLOAT = 8
+#: Bytes per cycle of a pose while the results are written (figures, the report's clouds).
+WRITTEN_PER_CYCLE = 800
+#: Bytes per map target of the reason it is unreachable (up to about 100 characters of 4 bytes).
+REASON_BYTES = 400
+
+
+def kept_per_cycle(nv: int) -> int:
+    """Bytes per cycle of a pose kept until written: positions (3), angles (3), approach (1), mu and dq (2 nv)."""
+    return FLOAT * (7 + 2 * nv)
+
+
+def computed_per_cycle(nv: int) -> int:
+    """Bytes per cycle and approach direction while a pose is computed (draws, signs, engine intermediates)."""
+    return FLOAT * 8 * nv
+
+
+def map_bytes_per_target(nv: int, scenarios: int) -> int:
+    """Bytes per map target: position and grid coordinates (6), q (nv), reachable, why not, and per scenario
+    the figures (7), loads (nv) and dominant joint; twice that, for writing the tables, figures and report."""
+    return 2 * (FLOAT * (7 + nv) + REASON_BYTES + scenarios * FLOAT * (8 + nv))
+
+
+#: (limit, usage) files of a cgroup v2, then v1: a container's memory limit.
+CGROUP_FILES = (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
+                ("/sys/fs/cgroup/memory/memory.limit_in_bytes", "/sys/fs/cgroup/memory/memory.usage_in_bytes"))
+
+
+def available_bytes() -> int | None:
+    """Memory this process may still take [bytes]: ``MemAvailable``, capped by a cgroup (container)
+    limit; ``None`` when the system does not say."""
+    candidates = []
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                candidates.append(int(line.split()[1]) * 1024)
+    except (OSError, ValueError, IndexError):
+        pass
+    for limit, usage in CGROUP_FILES:
+        try:
+            candidates.append(int(Path(limit).read_text()) - int(Path(usage).read_text()))
+        except (OSError, ValueError):
+            continue  # no such cgroup, or no limit ("max")
+    if not candidates:
+        try:
+            candidates.append(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+        except (OSError, ValueError, AttributeError):
+            return None
+    return max(0, min(candidates))
+
+
+def map_target_count(spec: dict) -> int:
+    """Targets of a validated ``[map]`` table (every grid point, reachable or not)."""
+    counts = spec["counts"] if spec["kind"] == "joint" else spec["resolution"]
+    return math.prod(counts)
+
+
+def gib(size: float) -> str:
+    """``size`` [bytes] for people: ``"48 GiB"``, ``"310 MiB"``."""
+    for unit, scale in (("TiB", 2 ** 40), ("GiB", 2 ** 30), ("MiB", 2 ** 20)):
+        if size >= scale:
+            value = size / scale
+            return f"{value:.0f} {unit}" if value >= 100 else f"{value:.3g} {unit}"
+    return f"{size / 2 ** 20:.2g} MiB"
+
+
+def _count(number: int, word: str) -> str:
+    """``"1,000 cycles"``, ``"1 pose"``."""
+    return f"{number:,} {word}{'' if number == 1 else 's'}"
+
+
+def estimate(study: Study, nv: int, directions: list[int], workers: int = 1) -> list[tuple[float, str, str]]:
+    """The bytes a run needs, in parts: ``(bytes, key, what)``, ``key`` the study key to lower.
+
+    Args:
+        study: the validated study (poses, ``[map]``, scenarios).
+        nv: active joints.
+        directions: per pose to run, the approach directions sampled (1, or those of an ISO cube pose).
+        workers: local processes computing map chunks at once.
+    """
+    cycles = study.cycles
+    parts = []
+    if directions:
+        kept = len(directions) * cycles * (kept_per_cycle(nv) + WRITTEN_PER_CYCLE)
+        computed = max(directions) * cycles * computed_per_cycle(nv)
+        parts.append((kept + computed, "study.cycles",
+                      f"{_count(cycles, 'cycle')} × {_count(len(directions), 'pose')} × {_count(nv, 'joint')}"))
+    if study.map is not None:
+        targets = map_target_count(study.map)
+        scenarios = max(1, len(study.scenarios))
+        cycles = max([s.study.cycles for s in study.scenarios] or [study.cycles])
+        key = "map.counts" if study.map["kind"] == "joint" else "map.resolution"
+        parts.append((targets * map_bytes_per_target(nv, scenarios), key,
+                      f"{_count(targets, 'map target')} × {_count(scenarios, 'scenario')} × {_count(nv, 'joint')}"))
+        parts.append((max(1, workers) * cycles * (kept_per_cycle(nv) + computed_per_cycle(nv)), "study.cycles",
+                      f"{_count(cycles, 'cycle')} per map target × {_count(max(1, workers), 'worker')}"))
+    return parts
+
+
+def check_memory(study: Study, nv: int, directions: list[int], workers: int = 1,
+                 cycles_from_command_line: bool = False, available: int | None = None) -> None:
+    """An :class:`InputError` naming the key to lower if the run needs more memory than is available.
+
+    ``available`` [bytes] defaults to :func:`available_bytes` (no check when unknown).
+    """
+    parts = estimate(study, nv, directions, workers)
+    needed = sum(size for size, _, _ in parts)
+    available = available_bytes() if available is None else available
+    if available is None or needed <= available:
+        return
+    size, key, what = max(parts)
+    source = study.source
+    if key == "study.cycles" and cycles_from_command_line:
+        source, key = "command line", "--cycles"
+    raise InputError(f"this run needs about {gib(needed)} of memory (mostly {gib(size)} for {what}), and "
+                     f"{gib(available)} is available: lower {key}, or split the study into several", source, key)
