@@ -24,6 +24,7 @@ from tribokin.errors import InputError
 from tribokin.executors import run_chunks
 from tribokin.iso9283 import barycenter, covariance_semi_axes, orientation_repeatability, position_repeatability, \
     variance_contributions
+from tribokin.memory import TARGET_BLOCK_SAMPLES
 from tribokin.propagate import tool_deviations_at_poses, tool_frames
 from tribokin.results import MAP_FIGURES, MDEG_PER_RAD, UM_PER_M, MapResult, ScenarioMap
 from tribokin.robot import Robot
@@ -35,8 +36,6 @@ from tribokin.targets import make_grid, solve_row, solve_row_heads
 MAP_STREAM = 2
 #: Default chunk size: this many targets, rounded up to whole grid rows.
 CHUNK_TARGETS = 256
-#: Targets are drawn, propagated and measured together in blocks of about this many cycles.
-TARGET_BLOCK_SAMPLES = 32768
 
 
 class ProgressBar(tqdm):

@@ -1,8 +1,8 @@
 """The memory a run needs, estimated from the study before anything runs, against what the machine has.
 
 A run keeps every cycle of every pose in memory (``samples.npz`` holds them all) and a few hundred
-bytes per map target (configuration, figures, loads, why unreachable); a map computes its targets one
-at a time, so its cycles only pass through memory. A study that would not fit is refused up front
+bytes per map target (configuration, figures, loads, why unreachable); a map computes its targets in
+blocks of about ``TARGET_BLOCK_SAMPLES`` cycles, so its cycles only pass through memory. A study that would not fit is refused up front
 with the estimate, rather than killed by the operating system half-way. The byte counts below were
 measured (``tracemalloc``, UR5 and gantry) and rounded up about twofold.
 """
@@ -17,6 +17,9 @@ from tribokin.config import Study
 from tribokin.errors import InputError
 
 FLOAT = 8
+#: A map draws, propagates and measures its targets in blocks of about this many cycles: enough to
+#: share the per-call costs, few enough for the block's arrays (a few MiB) to stay small.
+TARGET_BLOCK_SAMPLES = 32768
 #: Bytes per cycle of a pose while the results are written (figures, the report's clouds).
 WRITTEN_PER_CYCLE = 800
 #: Bytes per map target of the reason it is unreachable (up to about 100 characters of 4 bytes).
@@ -110,7 +113,8 @@ def estimate(study: Study, nv: int, directions: list[int], workers: int = 1) -> 
         key = "map.counts" if study.map["kind"] == "joint" else "map.resolution"
         parts.append((targets * map_bytes_per_target(nv, scenarios), key,
                       f"{_count(targets, 'map target')} × {_count(scenarios, 'scenario')} × {_count(nv, 'joint')}"))
-        parts.append((max(1, workers) * cycles * (kept_per_cycle(nv) + computed_per_cycle(nv)), "study.cycles",
+        block = max(cycles, TARGET_BLOCK_SAMPLES)  # cycles of the targets measured together
+        parts.append((max(1, workers) * block * (kept_per_cycle(nv) + computed_per_cycle(nv)), "study.cycles",
                       f"{_count(cycles, 'cycle')} per map target × {_count(max(1, workers), 'worker')}"))
     return parts
 

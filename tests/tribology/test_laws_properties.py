@@ -76,15 +76,13 @@ def test_inverted_bounds_are_refused(a, b):
         Uniform(max(a, b), min(a, b))
 
 
-@pytest.mark.xfail(strict=True, reason="laws.py (not changed on this branch): a zero-width Uniform or Gaussian is "
-                   "scipy.stats.uniform(scale=0), whose support and draws are NaN; spec.py makes them Constant")
-@pytest.mark.parametrize("law", [Uniform(0.12, 0.12), Gaussian(0.12, 0.0)], ids=["uniform", "gaussian"])
+@pytest.mark.parametrize("law", [Uniform(0.12, 0.12), Gaussian(0.12, 0.0), Lognormal(0.12, 0.0)],
+                         ids=["uniform", "gaussian", "lognormal"])
 def test_zero_width_laws_are_constant(law):
-    assert law.support() == (0.12, 0.12) and law.std() == 0.0
+    assert law.support() == (0.12, 0.12) and law.std() == 0.0 and law.mean() == 0.12
     assert np.all(law.rvs(size=10, random_state=np.random.default_rng(0)) == 0.12)
+    assert law.pdf(0.12) == np.inf and law.pdf(0.13) == 0.0
 
 
-@pytest.mark.xfail(strict=True, reason="laws.py (not changed on this branch): truncnorm's support is mean + "
-                   "(-mean/std) * std, which rounds to -5.6e-17 here; Gaussian.support should clamp it at 0")
 def test_truncated_gaussian_support_starts_at_zero():
     assert Gaussian(0.466796875, 0.1796875).support()[0] >= 0.0

@@ -32,8 +32,8 @@ def _check_non_negative(**values: float) -> None:
 class FrictionLaw:
     """Base class: a law of the friction coefficient mu [-].
 
-    Subclasses set ``self._dist`` (a frozen scipy distribution) and
-    ``self.params``; ``provenance`` says where the numbers come from.
+    Subclasses set ``self._dist`` (a frozen scipy distribution, or ``None`` for a law of zero
+    width: every draw is the mean) and ``self.params``; ``provenance`` says where the numbers come from.
     """
 
     law: str = ""
@@ -45,6 +45,8 @@ class FrictionLaw:
 
     def rvs(self, size=None, random_state: np.random.Generator | None = None) -> np.ndarray:
         """Draw friction coefficients [-] with a NumPy generator."""
+        if self._dist is None:
+            return np.full(size if size is not None else (), self.mean())
         return self._dist.rvs(size=size, random_state=random_state)
 
     def mean(self) -> float:
@@ -53,15 +55,19 @@ class FrictionLaw:
 
     def std(self) -> float:
         """Standard deviation of the friction coefficient [-]."""
-        return float(self._dist.std())
+        return 0.0 if self._dist is None else float(self._dist.std())
 
     def support(self) -> tuple[float, float]:
         """Smallest and largest possible friction coefficient [-]."""
+        if self._dist is None:
+            return self.mean(), self.mean()
         low, high = self._dist.support()
-        return float(low), float(high)
+        return max(float(low), 0.0), float(high)
 
     def pdf(self, x) -> np.ndarray:
-        """Probability density at ``x`` [1/-]."""
+        """Probability density at ``x`` [1/-] (a law of zero width: infinite at its value, zero elsewhere)."""
+        if self._dist is None:
+            return np.where(np.asarray(x) == self.mean(), np.inf, 0.0)
         return self._dist.pdf(x)
 
     def describe(self) -> dict:
@@ -95,21 +101,8 @@ class Constant(FrictionLaw):
         _check_non_negative(mu=mu)
         super().__init__(None, {"mu": float(mu)}, provenance)
 
-    def rvs(self, size=None, random_state=None) -> np.ndarray:
-        return np.full(size if size is not None else (), self.params["mu"])
-
     def mean(self) -> float:
         return self.params["mu"]
-
-    def std(self) -> float:
-        return 0.0
-
-    def support(self) -> tuple[float, float]:
-        return self.params["mu"], self.params["mu"]
-
-    def pdf(self, x) -> np.ndarray:
-        """A point mass: infinite at mu, zero elsewhere."""
-        return np.where(np.asarray(x) == self.params["mu"], np.inf, 0.0)
 
 
 class Uniform(FrictionLaw):
@@ -121,7 +114,11 @@ class Uniform(FrictionLaw):
         _check_non_negative(low=low, high=high)
         if low > high:
             raise InputError(f"low ({low}) is above high ({high}): swap them", key="low")
-        super().__init__(stats.uniform(loc=low, scale=high - low), {"low": float(low), "high": float(high)}, provenance)
+        super().__init__(stats.uniform(loc=low, scale=high - low) if high > low else None,
+                         {"low": float(low), "high": float(high)}, provenance)
+
+    def mean(self) -> float:
+        return 0.5 * (self.params["low"] + self.params["high"])
 
     def rvs(self, size=None, random_state=None) -> np.ndarray:
         return np.random.default_rng(random_state).uniform(self.params["low"], self.params["high"], size)
@@ -140,16 +137,17 @@ class Gaussian(FrictionLaw):
 
     def __init__(self, mean: float, std: float, provenance: str | None = None):
         _check_non_negative(mean=mean, std=std)
-        params = {"mean": float(mean), "std": float(std)}
-        if std == 0:
-            dist = stats.uniform(loc=mean, scale=0.0)
-        else:
-            dist = stats.truncnorm(a=-mean / std, b=np.inf, loc=mean, scale=std)
-        super().__init__(dist, params, provenance)
+        dist = stats.truncnorm(a=-mean / std, b=np.inf, loc=mean, scale=std) if std > 0 else None
+        super().__init__(dist, {"mean": float(mean), "std": float(std)}, provenance)
+
+    def mean(self) -> float:
+        return self.params["mean"] if self._dist is None else float(self._dist.mean())
 
     def rvs(self, size=None, random_state=None) -> np.ndarray:
         """Normal draws, each negative one drawn again: exactly the truncated law, and since
         ``mean >= 0`` at least half of the draws are kept (far faster than inverting its cdf)."""
+        if self._dist is None:
+            return super().rvs(size, random_state)
         rng = np.random.default_rng(random_state)
         mean, std = self.params["mean"], self.params["std"]
         mu = np.asarray(rng.normal(mean, std, size), dtype=float)
@@ -171,10 +169,16 @@ class Lognormal(FrictionLaw):
             raise InputError(f"must be > 0 for a lognormal law (got {mean})", key="mean")
         sigma_log = math.sqrt(math.log1p((std / mean) ** 2))
         median = mean / math.sqrt(1 + (std / mean) ** 2)
-        super().__init__(stats.lognorm(s=sigma_log, scale=median), {"mean": float(mean), "std": float(std)}, provenance)
+        super().__init__(stats.lognorm(s=sigma_log, scale=median) if std > 0 else None,
+                         {"mean": float(mean), "std": float(std)}, provenance)
         self._log_median, self._sigma_log = math.log(median), sigma_log
 
+    def mean(self) -> float:
+        return self.params["mean"] if self._dist is None else float(self._dist.mean())
+
     def rvs(self, size=None, random_state=None) -> np.ndarray:
+        if self._dist is None:
+            return super().rvs(size, random_state)
         return np.random.default_rng(random_state).lognormal(self._log_median, self._sigma_log, size)
 
 
@@ -188,7 +192,10 @@ class Empirical(FrictionLaw):
     law = "empirical"
 
     def __init__(self, values, provenance: str | None = None):
-        values = np.asarray(values, dtype=float).ravel()
+        try:
+            values = np.asarray(values, dtype=float).ravel()
+        except (TypeError, ValueError):
+            raise InputError("must be a list of numbers", key="values") from None
         if values.size < 2:
             raise InputError(f"needs at least 2 measured values (got {values.size})", key="values")
         if not np.all(np.isfinite(values)):

@@ -53,11 +53,7 @@ def _from_law(spec: dict, base_dir: Path) -> FrictionLaw:
         raise InputError(f"law '{name}' needs {', '.join(missing)}", key=missing[0])
     if name == "empirical":
         _check_values(spec["values"])
-    law = cls(*(spec[k] for k in keys))  # checks the parameters
-    if name == "uniform" and spec["low"] == spec["high"] or name in ("gaussian", "lognormal") and spec["std"] == 0:
-        # the law is then a constant; scipy's zero-width distributions would give NaN
-        return Constant(spec["low"] if name == "uniform" else spec["mean"], provenance=f"{name} law of zero width")
-    return law
+    return cls(*(spec[k] for k in keys))  # checks the parameters
 
 
 def _check_values(values) -> None:
