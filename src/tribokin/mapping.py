@@ -213,4 +213,4 @@ def run_map(study: Study, robot: Robot, workers: int = 1, scheduler: str | None 
         _local.cache = None
     maps = [ScenarioMap(name, s.cycles, totals[f"{i}/figures"], totals[f"{i}/normal_forces_N"],
                         totals[f"{i}/dominant_joint"]) for i, (name, s) in enumerate(zip(names, studies))]
-    return MapResult(grid, robot.joint_names, totals["q"], totals["reachable"], totals["reason"].astype(str), maps)
+    return MapResult(grid, robot.joint_names, totals["q"], totals["reachable"], totals["reason"], maps)

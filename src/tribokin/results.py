@@ -116,7 +116,8 @@ class MapResult:
         grid: the targets (positions [m], axes, held orientation).
         joint_names: active joints, in the order of ``q``.
         q: (N, nv) configurations [m or rad]; NaN where unreachable.
-        reachable: (N,) whether IK reached the target. reasons: (N,) why not ("" when reachable).
+        reachable: (N,) whether IK reached the target. reasons: (N,) why not ("" when reachable; Python
+            strings, so a long reason does not widen every row).
         scenarios: one :class:`ScenarioMap` per scenario; the first is the reference of comparisons.
     """
 
