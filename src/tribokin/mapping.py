@@ -29,7 +29,7 @@ from tribokin.propagate import tool_deviations_at_poses, tool_frames
 from tribokin.results import MAP_FIGURES, MDEG_PER_RAD, UM_PER_M, MapResult, ScenarioMap
 from tribokin.robot import Robot
 from tribokin.study import PoseRunner, joint_models, joint_space_task, load_robot, pose_rng
-from tribokin.targets import make_grid, solve_row, solve_row_heads
+from tribokin.targets import fill_from_neighbours, make_grid, solve_row, solve_row_heads
 
 #: Random stream of map targets: target i draws from ``pose_rng(seed, i, MAP_STREAM)``
 #: (poses use streams 0 and 1).
@@ -121,28 +121,47 @@ def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, 
         ``<s>/dominant_joint`` (n,).
     """
     robot, grid, runners = _job_context(job)
-    n, nv = len(rows) * grid.row_length, robot.model.nv
-    arrays = {"q": np.full((n, nv), np.nan), "reachable": np.zeros(n, dtype=bool)}
-    for s in range(len(runners)):
-        arrays[f"{s}/figures"] = np.full((n, len(MAP_FIGURES)), np.nan)
-        arrays[f"{s}/normal_forces_N"] = np.full((n, nv), np.nan)
-        arrays[f"{s}/dominant_joint"] = np.full(n, -1)
+    arrays = empty_arrays(len(rows) * grid.row_length, robot.model.nv, len(runners))
     reasons = []
     for k, (row, head) in enumerate(zip(rows, heads)):
         q, reachable, why = solve_row(robot, grid, row, head)
         span = slice(k * grid.row_length, (k + 1) * grid.row_length)
         arrays["q"][span], arrays["reachable"][span] = q, reachable
         reasons += why
-        targets = span.start + np.flatnonzero(reachable)
-        qs, indices = q[reachable], grid.row_indices(row)[reachable]
-        twists, translations = tool_frames(robot, qs)
-        for s, runner in enumerate(runners):
-            figures, forces, dominant = measure_targets(runner, qs, indices, twists, translations)
-            arrays[f"{s}/figures"][targets] = figures
-            arrays[f"{s}/normal_forces_N"][targets] = forces
-            arrays[f"{s}/dominant_joint"][targets] = dominant
+        measure_into(arrays, span.start + np.flatnonzero(reachable), robot, runners, q[reachable],
+                     grid.row_indices(row)[reachable])
     arrays["reason"] = np.array(reasons, dtype=str)
     return arrays
+
+
+def empty_arrays(n: int, nv: int, scenarios: int) -> dict[str, np.ndarray]:
+    """The arrays of ``n`` targets (:func:`compute_chunk`), all unreachable, before any is measured."""
+    arrays = {"q": np.full((n, nv), np.nan), "reachable": np.zeros(n, dtype=bool)}
+    for s in range(scenarios):
+        arrays[f"{s}/figures"] = np.full((n, len(MAP_FIGURES)), np.nan)
+        arrays[f"{s}/normal_forces_N"] = np.full((n, nv), np.nan)
+        arrays[f"{s}/dominant_joint"] = np.full(n, -1)
+    return arrays
+
+
+def measure_into(arrays: dict, slots: np.ndarray, robot: Robot, runners: list[PoseRunner], qs: np.ndarray,
+                 indices: np.ndarray) -> None:
+    """Measure targets ``indices`` at configurations ``qs`` for every scenario, into ``slots`` of ``arrays``."""
+    twists, translations = tool_frames(robot, qs)
+    for s, runner in enumerate(runners):
+        figures, forces, dominant = measure_targets(runner, qs, indices, twists, translations)
+        arrays[f"{s}/figures"][slots] = figures
+        arrays[f"{s}/normal_forces_N"][slots] = forces
+        arrays[f"{s}/dominant_joint"][slots] = dominant
+
+
+def fill_holes(robot: Robot, grid, runners: list[PoseRunner], totals: dict) -> None:
+    """Reach and measure, in ``totals``, the targets that IK reaches from a neighbour's configuration
+    (:func:`~tribokin.targets.fill_from_neighbours`) though not along their own row."""
+    filled = np.array(fill_from_neighbours(robot, grid, totals["q"], totals["reachable"]), dtype=int)
+    if filled.size:
+        measure_into(totals, filled, robot, runners, totals["q"][filled], filled)
+        totals["reason"][filled] = ""
 
 
 def chunk_rows(study: Study, row_length: int, row_count: int) -> list[list[int]]:
@@ -181,12 +200,8 @@ def run_map(study: Study, robot: Robot, workers: int = 1, scheduler: str | None 
                     "scenarios": [[s.cycles, s.seed] for s in studies]}
         store = ChunkStore(checkpoint, fingerprint(settings), resume)
     heads = solve_row_heads(robot, grid)
-    n, nv = grid.size, robot.model.nv
-    totals = {"q": np.full((n, nv), np.nan), "reachable": np.zeros(n, dtype=bool), "reason": np.full(n, "", object)}
-    for s in range(len(studies)):
-        totals[f"{s}/figures"] = np.full((n, len(MAP_FIGURES)), np.nan)
-        totals[f"{s}/normal_forces_N"] = np.full((n, nv), np.nan)
-        totals[f"{s}/dominant_joint"] = np.full(n, -1)
+    n = grid.size
+    totals = {**empty_arrays(n, robot.model.nv, len(studies)), "reason": np.full(n, "", object)}
 
     def keep(chunk: int, arrays: dict) -> None:
         first = chunks[chunk][0] * grid.row_length
@@ -211,6 +226,7 @@ def run_map(study: Study, robot: Robot, workers: int = 1, scheduler: str | None 
                 bar.update(len(chunks[chunk]) * grid.row_length)
     finally:
         _local.cache = None
+    fill_holes(robot, grid, runners, totals)
     maps = [ScenarioMap(name, s.cycles, totals[f"{i}/figures"], totals[f"{i}/normal_forces_N"],
                         totals[f"{i}/dominant_joint"]) for i, (name, s) in enumerate(zip(names, studies))]
     return MapResult(grid, robot.joint_names, totals["q"], totals["reachable"], totals["reason"], maps)

@@ -216,6 +216,58 @@ def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndar
     return q, reachable, reasons
 
 
+def grid_neighbours(grid: TargetGrid, index: int) -> list[int]:
+    """Indices of the targets next to ``index`` along each grid axis (up to 6), in increasing order."""
+    layers, rows, columns = grid.shape
+    layer, rest = divmod(index, rows * columns)
+    row, column = divmod(rest, columns)
+    neighbours = []
+    for position, size, step in ((layer, layers, rows * columns), (row, rows, columns), (column, columns, 1)):
+        for offset in (-1, 1):
+            if 0 <= position + offset < size:
+                neighbours.append(index + offset * step)
+    return sorted(neighbours)
+
+
+def fill_from_neighbours(robot: Robot, grid: TargetGrid, q: np.ndarray, reachable: np.ndarray) -> list[int]:
+    """Retry unreachable targets from the configurations of their reached neighbours, in place.
+
+    Rows are solved independently, so a target missed along its row (the IK left for another
+    branch, or a joint limit cut the way) may still be reachable from the row beside it. Targets
+    are retried in index order, again whenever a neighbour is newly reached, until none changes:
+    the outcome depends on the grid only (not on how rows were split into chunks).
+
+    Args:
+        q: (N, nv) configurations [m or rad], NaN where unreachable; filled in where solved.
+        reachable: (N,) flags, set where solved.
+
+    Returns:
+        the indices newly reached, in increasing order.
+    """
+    if grid.joint_q is not None:
+        return []
+    pending = sorted(i for i in np.flatnonzero(~reachable) if any(reachable[grid_neighbours(grid, i)]))
+    tried = {i: set() for i in pending}
+    filled = []
+    while pending:
+        index = pending.pop(0)
+        for neighbour in grid_neighbours(grid, index):
+            if not reachable[neighbour] or neighbour in tried[index]:
+                continue
+            tried[index].add(neighbour)
+            result = solve_ik(robot, _target(grid, index), q[neighbour], position_only=grid.rotation is None)
+            if result.success:
+                q[index], reachable[index] = result.q, True
+                filled.append(index)
+                for other in grid_neighbours(grid, index):
+                    if not reachable[other] and other not in pending:
+                        tried.setdefault(other, set())
+                        pending.append(other)
+                pending.sort()
+                break
+    return sorted(filled)
+
+
 def unreachable_reason(result: IKResult, position_only: bool) -> str:
     """Why IK failed, for the map's ``reason`` column."""
     closest = f"closest {result.position_error_m * 1e3:.3g} mm"

@@ -1,0 +1,62 @@
+"""Map targets: grid neighbours and IK holes filled from neighbouring rows."""
+
+import numpy as np
+import pytest
+
+from tribokin.study import load_robot, load_study
+from tribokin.targets import fill_from_neighbours, grid_neighbours, make_grid, solve_row, solve_row_heads
+
+
+def ur5_plane(resolution):
+    return load_study({
+        "study": {"cycles": 10},
+        "robot": {"name": "ur5"},
+        "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5},
+        "map": {"kind": "plane", "origin_m": [0.0, -0.5, 0.2], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
+                "extent_u_m": [-0.1, 0.1], "extent_v_m": [0.0, 0.1], "resolution": resolution, "rpy_deg": [180, 0, 90]},
+    })
+
+
+@pytest.fixture(scope="module")
+def solved():
+    study = ur5_plane([5, 4])
+    robot = load_robot(study)
+    grid = make_grid(robot, study.map, study.source)
+    heads = solve_row_heads(robot, grid)
+    rows = [solve_row(robot, grid, row, heads[row]) for row in range(grid.row_count)]
+    q = np.vstack([r[0] for r in rows])
+    reachable = np.concatenate([r[1] for r in rows])
+    assert reachable.all()
+    return robot, grid, q, reachable
+
+
+def test_neighbours_along_each_axis():
+    class Box:  # only the shape matters: 2 layers x 3 rows x 4 columns
+        shape = (2, 3, 4)
+
+    assert grid_neighbours(Box, 0) == [1, 4, 12]
+    assert grid_neighbours(Box, 17) == [5, 13, 16, 18, 21]
+    assert grid_neighbours(Box, 23) == [11, 19, 22]
+
+
+def test_a_missed_row_and_a_hole_are_reached_from_their_neighbours(solved):
+    robot, grid, q_solved, _ = solved
+    q, reachable = q_solved.copy(), np.ones(grid.size, dtype=bool)
+    missed = [5, 6, 7, 8, 9, 13]  # all of row 1, and one target of row 2
+    q[missed], reachable[missed] = np.nan, False
+    assert fill_from_neighbours(robot, grid, q, reachable) == missed
+    assert reachable.all()
+    for index in missed:
+        reached = robot.tool_placement(q[index])
+        np.testing.assert_allclose(reached.translation, grid.positions_m[index], atol=1e-9)
+        np.testing.assert_allclose(reached.rotation, grid.rotation, atol=1e-8)
+
+
+def test_targets_out_of_reach_stay_unreachable(solved):
+    robot, grid, q_solved, _ = solved
+    far = make_grid(robot, ur5_plane([5, 4]).map, None)
+    far.positions_m[7] = [3.0, 0.0, 0.2]  # 3 m away: beyond the UR5's reach
+    q, reachable = q_solved.copy(), np.ones(grid.size, dtype=bool)
+    q[7], reachable[7] = np.nan, False
+    assert fill_from_neighbours(robot, far, q, reachable) == []
+    assert not reachable[7] and np.isnan(q[7]).all()
