@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
+from scipy.linalg.lapack import dposv
 
 from tribokin.robot import Robot
 
@@ -62,7 +63,8 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
             error, jacobian = current.rotation.T @ gap, jacobian[:3]
         else:
             jacobian = pin.Jlog6(error_motion) @ jacobian
-        step = jacobian.T @ np.linalg.solve(jacobian @ jacobian.T + regularisation, error)
+        _, step, _ = dposv(jacobian @ jacobian.T + regularisation, error)  # SPD: Cholesky, without numpy's checks
+        step = jacobian.T @ step
         q = np.clip(q + step, lower, upper)
     success = converged or (position_error < position_tol_m * 10
                             and (position_only or angle_error < angle_tol_rad * 10))

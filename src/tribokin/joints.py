@@ -105,15 +105,11 @@ def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray
     """
     mu = draw_friction(models, signs.shape[0], rng)
     dq = mu * (np.asarray(normal_forces_N, dtype=float) * friction_lever(models, prismatic))
-    half_backlash = np.array([m.backlash / 2 for m in models])
-    if np.any(half_backlash):
-        dq += half_backlash
-    if not np.all(signs == 1):
-        dq *= signs
-    offsets = np.array([m.offset for m in models])
-    if np.any(offsets):
-        dq += offsets
-    noise_std = np.array([m.noise_std for m in models])
-    if np.any(noise_std > 0):
-        dq += rng.standard_normal(dq.shape) * noise_std
+    if any(m.backlash for m in models):
+        dq += np.array([m.backlash / 2 for m in models])
+    dq *= signs
+    if any(m.offset for m in models):
+        dq += np.array([m.offset for m in models])
+    if any(m.noise_std > 0 for m in models):
+        dq += rng.standard_normal(dq.shape) * np.array([m.noise_std for m in models])
     return dq, mu
