@@ -9,6 +9,7 @@ joints (revolute, prismatic) may be active.
 from __future__ import annotations
 
 import contextlib
+import functools
 import io
 import warnings
 from collections import Counter
@@ -192,11 +193,19 @@ def load_example_robot(name: str, tool_frame: str | None = None, source=None) ->
     if name not in names:
         raise InputError(f"unknown robot '{name}'{closest_hint(name, names)}; valid names: {', '.join(names)}",
                          source, "robot.name")
+    model, visual, collision, reference_q, urdf = _example_robot(name)
+    package_dirs = [next((p for p in urdf.parents if p.name == "robots"), urdf.parent)]
+    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name, source,
+                            package_dirs)
+
+
+@functools.lru_cache(maxsize=None)
+def _example_robot(name: str):
+    """(model, visual model, collision model, reference posture, URDF path) of an example-robot-data
+    robot, read once per process (reading its meshes takes a third of a second); callers copy the model."""
     import example_robot_data
 
     wrapper = _quiet(example_robot_data.load, name)
     reference_q = wrapper.q0 if wrapper.q0 is not None else pin.neutral(wrapper.model)
-    urdf = Path(wrapper.urdf).resolve()
-    package_dirs = [next((p for p in urdf.parents if p.name == "robots"), urdf.parent)]
-    return _reduce_to_chain(wrapper.model, wrapper.visual_model, wrapper.collision_model, reference_q, tool_frame,
-                            name, source, package_dirs)
+    return wrapper.model, wrapper.visual_model, wrapper.collision_model, np.asarray(reference_q), \
+        Path(wrapper.urdf).resolve()
