@@ -14,7 +14,8 @@ a summary. Figures:
 * which of the issue's goals this run meets (``goals``).
 
 Timings are wall clock on whatever machine runs this, which may be shared: read them as orders
-of magnitude, and compare ratios measured in the same run.
+of magnitude, and compare ratios measured in the same run. A small map runs first, so one-off costs
+(imports, reading the robot's meshes) stay out of the timings.
 """
 
 from __future__ import annotations
@@ -153,6 +154,7 @@ def main() -> None:
         return memory_child(args.memory_child)
 
     study = ur5_plane(args.side, args.side, args.cycles, args.engine)
+    timed_map(ur5_plane(3, 3, 10, args.engine), workers=1)  # warm-up: imports, the robot read once per process
     serial_s, serial = timed_map(study, workers=1)
     targets = serial.grid.size
     target_cycles = int(serial.reachable.sum()) * args.cycles
