@@ -19,7 +19,7 @@ from tribokin.errors import InputError
 FLOAT = 8
 #: A map draws, propagates and measures its targets in blocks of about this many cycles: enough to
 #: share the per-call costs, few enough for the block's arrays (a few MiB) to stay small.
-TARGET_BLOCK_SAMPLES = 32768
+TARGET_BLOCK_SAMPLES = 16384
 #: Bytes per cycle of a pose while the results are written (figures, the report's clouds).
 WRITTEN_PER_CYCLE = 800
 #: Bytes per map target of the reason it is unreachable (up to about 100 characters of 4 bytes).
