@@ -56,8 +56,37 @@ def test_chunk_size_changes_nothing(reference, tmp_path, rows):
     assert written(run_study(with_chunk_rows(rows)), tmp_path / "out") == reference
 
 
-def test_two_local_workers_change_nothing(reference, tmp_path):
+def test_two_local_workers_change_nothing(reference, tmp_path, monkeypatch):
+    import multiprocessing
+    import threading
+
+    alone = threading.active_count() == 1  # the whole suite runs in one thread unless a test left one behind
+    started = []
+    real_context = multiprocessing.get_context
+    monkeypatch.setattr(multiprocessing, "get_context", lambda method=None: started.append(method) or
+                        real_context(method))
     assert written(run_study(with_chunk_rows(2), workers=2), tmp_path / "out") == reference
+    assert started == ["fork" if alone else "spawn"]  # forked when this process runs no other thread
+
+
+def test_workers_are_spawned_when_another_thread_runs(reference, tmp_path, monkeypatch):
+    """Forking a process that runs threads can deadlock: the workers start clean instead."""
+    import multiprocessing
+    import threading
+
+    started = []
+    real_context = multiprocessing.get_context
+    monkeypatch.setattr(multiprocessing, "get_context", lambda method=None: started.append(method) or
+                        real_context(method))
+    stop = threading.Event()
+    other = threading.Thread(target=stop.wait)
+    other.start()
+    try:
+        assert written(run_study(with_chunk_rows(2), workers=2), tmp_path / "out") == reference
+    finally:
+        stop.set()
+        other.join()
+    assert started == ["spawn"]
 
 
 def test_dask_cluster_changes_nothing(reference, tmp_path):
