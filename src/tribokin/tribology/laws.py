@@ -32,26 +32,31 @@ def _check_non_negative(**values: float) -> None:
 class FrictionLaw:
     """Base class: a law of the friction coefficient mu [-].
 
-    Subclasses set ``self._dist`` (a frozen scipy distribution, or ``None`` for a law of zero
-    width: every draw is the mean) and ``self.params``; ``provenance`` says where the numbers come from.
+    Subclasses pass ``dist`` (a frozen scipy distribution, or ``None`` for a law of zero width:
+    every draw is ``value``) and ``params``, and may draw faster than scipy in :meth:`_draw`;
+    ``provenance`` says where the numbers come from.
     """
 
     law: str = ""
 
-    def __init__(self, dist, params: dict, provenance: str | None = None):
+    def __init__(self, dist, params: dict, provenance: str | None = None, value: float | None = None):
         self._dist = dist
+        self._value = value
         self.params = params
         self.provenance = provenance
 
     def rvs(self, size=None, random_state: np.random.Generator | None = None) -> np.ndarray:
         """Draw friction coefficients [-] with a NumPy generator."""
         if self._dist is None:
-            return np.full(size if size is not None else (), self.mean())
-        return self._dist.rvs(size=size, random_state=random_state)
+            return np.full(size if size is not None else (), self._value)
+        return self._draw(size, np.random.default_rng(random_state))
+
+    def _draw(self, size, rng: np.random.Generator) -> np.ndarray:
+        return self._dist.rvs(size=size, random_state=rng)
 
     def mean(self) -> float:
         """Mean friction coefficient [-]."""
-        return float(self._dist.mean())
+        return self._value if self._dist is None else float(self._dist.mean())
 
     def std(self) -> float:
         """Standard deviation of the friction coefficient [-]."""
@@ -99,10 +104,7 @@ class Constant(FrictionLaw):
 
     def __init__(self, mu: float, provenance: str | None = None):
         _check_non_negative(mu=mu)
-        super().__init__(None, {"mu": float(mu)}, provenance)
-
-    def mean(self) -> float:
-        return self.params["mu"]
+        super().__init__(None, {"mu": float(mu)}, provenance, value=float(mu))
 
 
 class Uniform(FrictionLaw):
@@ -115,13 +117,10 @@ class Uniform(FrictionLaw):
         if low > high:
             raise InputError(f"low ({low}) is above high ({high}): swap them", key="low")
         super().__init__(stats.uniform(loc=low, scale=high - low) if high > low else None,
-                         {"low": float(low), "high": float(high)}, provenance)
+                         {"low": float(low), "high": float(high)}, provenance, value=float(low))
 
-    def mean(self) -> float:
-        return 0.5 * (self.params["low"] + self.params["high"])
-
-    def rvs(self, size=None, random_state=None) -> np.ndarray:
-        return np.random.default_rng(random_state).uniform(self.params["low"], self.params["high"], size)
+    def _draw(self, size, rng: np.random.Generator) -> np.ndarray:
+        return rng.uniform(self.params["low"], self.params["high"], size)
 
 
 class Gaussian(FrictionLaw):
@@ -138,17 +137,11 @@ class Gaussian(FrictionLaw):
     def __init__(self, mean: float, std: float, provenance: str | None = None):
         _check_non_negative(mean=mean, std=std)
         dist = stats.truncnorm(a=-mean / std, b=np.inf, loc=mean, scale=std) if std > 0 else None
-        super().__init__(dist, {"mean": float(mean), "std": float(std)}, provenance)
+        super().__init__(dist, {"mean": float(mean), "std": float(std)}, provenance, value=float(mean))
 
-    def mean(self) -> float:
-        return self.params["mean"] if self._dist is None else float(self._dist.mean())
-
-    def rvs(self, size=None, random_state=None) -> np.ndarray:
+    def _draw(self, size, rng: np.random.Generator) -> np.ndarray:
         """Normal draws, each negative one drawn again: exactly the truncated law, and since
         ``mean >= 0`` at least half of the draws are kept (far faster than inverting its cdf)."""
-        if self._dist is None:
-            return super().rvs(size, random_state)
-        rng = np.random.default_rng(random_state)
         mean, std = self.params["mean"], self.params["std"]
         mu = np.asarray(rng.normal(mean, std, size), dtype=float)
         rejected = np.flatnonzero(mu < 0)
@@ -170,16 +163,11 @@ class Lognormal(FrictionLaw):
         sigma_log = math.sqrt(math.log1p((std / mean) ** 2))
         median = mean / math.sqrt(1 + (std / mean) ** 2)
         super().__init__(stats.lognorm(s=sigma_log, scale=median) if std > 0 else None,
-                         {"mean": float(mean), "std": float(std)}, provenance)
+                         {"mean": float(mean), "std": float(std)}, provenance, value=float(mean))
         self._log_median, self._sigma_log = math.log(median), sigma_log
 
-    def mean(self) -> float:
-        return self.params["mean"] if self._dist is None else float(self._dist.mean())
-
-    def rvs(self, size=None, random_state=None) -> np.ndarray:
-        if self._dist is None:
-            return super().rvs(size, random_state)
-        return np.random.default_rng(random_state).lognormal(self._log_median, self._sigma_log, size)
+    def _draw(self, size, rng: np.random.Generator) -> np.ndarray:
+        return rng.lognormal(self._log_median, self._sigma_log, size)
 
 
 class Empirical(FrictionLaw):
@@ -206,8 +194,8 @@ class Empirical(FrictionLaw):
         super().__init__(stats.rv_histogram(np.histogram(values, bins="auto"), density=True),
                          {"values": values.tolist()}, provenance)
 
-    def rvs(self, size=None, random_state=None) -> np.ndarray:
-        return np.random.default_rng(random_state).choice(self.values, size=size, replace=True)
+    def _draw(self, size, rng: np.random.Generator) -> np.ndarray:
+        return rng.choice(self.values, size=size, replace=True)
 
     def mean(self) -> float:
         return float(self.values.mean())
