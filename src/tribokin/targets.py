@@ -10,6 +10,7 @@ from its head (:func:`solve_row`). So a row's configurations depend on the grid 
 
 from __future__ import annotations
 
+from collections import defaultdict
 from dataclasses import dataclass
 
 import numpy as np
@@ -158,7 +159,13 @@ def _target(grid: TargetGrid, index: int) -> pin.SE3:
     return pin.SE3(np.eye(3) if grid.rotation is None else grid.rotation, grid.positions_m[index])
 
 
+def _solve_from(robot: Robot, grid: TargetGrid, index: int, q_start) -> IKResult:
+    """One IK solve of target ``index`` from ``q_start``, without restarts."""
+    return solve_ik(robot, _target(grid, index), q_start, position_only=grid.rotation is None)
+
+
 def _solve(robot: Robot, grid: TargetGrid, index: int, q_start) -> IKResult:
+    """IK of target ``index`` from ``q_start``, then from seeded random restarts."""
     return solve_ik_with_restarts(robot, _target(grid, index), q_start, lambda: np.random.default_rng([IK_SEED, index]),
                                   IK_RESTARTS, position_only=grid.rotation is None)
 
@@ -206,7 +213,7 @@ def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndar
     for k, index in enumerate(indices):
         result = None
         if k >= 2 and reachable[k - 2] and reachable[k - 1]:
-            result = solve_ik(robot, _target(grid, index), 2 * q[k - 1] - q[k - 2], position_only=grid.rotation is None)
+            result = _solve_from(robot, grid, index, 2 * q[k - 1] - q[k - 2])
         if result is None or not result.success:
             result = _solve(robot, grid, index, q_start)
         reachable[k] = result.success
@@ -247,7 +254,7 @@ def fill_from_neighbours(robot: Robot, grid: TargetGrid, q: np.ndarray, reachabl
     if grid.joint_q is not None:
         return []
     pending = sorted(i for i in np.flatnonzero(~reachable) if any(reachable[grid_neighbours(grid, i)]))
-    tried = {i: set() for i in pending}
+    tried = defaultdict(set)  # target -> neighbours it was tried from
     filled = []
     while pending:
         index = pending.pop(0)
@@ -255,13 +262,12 @@ def fill_from_neighbours(robot: Robot, grid: TargetGrid, q: np.ndarray, reachabl
             if not reachable[neighbour] or neighbour in tried[index]:
                 continue
             tried[index].add(neighbour)
-            result = solve_ik(robot, _target(grid, index), q[neighbour], position_only=grid.rotation is None)
+            result = _solve_from(robot, grid, index, q[neighbour])
             if result.success:
                 q[index], reachable[index] = result.q, True
                 filled.append(index)
                 for other in grid_neighbours(grid, index):
                     if not reachable[other] and other not in pending:
-                        tried.setdefault(other, set())
                         pending.append(other)
                 pending.sort()
                 break
