@@ -296,20 +296,19 @@ def _feature_plan(nv: int, order: int) -> tuple[tuple[int, int, int], ...]:
     return tuple(plan)
 
 
-def monomial_features(dq_transposed: np.ndarray, order: int, out: np.ndarray | None = None) -> np.ndarray:
+def monomial_features(dq_transposed: np.ndarray, order: int) -> np.ndarray:
     """The monomials ``dq^α``, 1 <= |α| <= ``order``, of each sample, one sample per column.
 
     Args:
         dq_transposed: (..., nv, n) joint deviations, one sample per column [m or rad].
         order: total degree K.
-        out: optional (..., number of monomials, n) buffer.
 
     Returns:
         (..., number of monomials, n) array, rows degree-major then lexicographic.
     """
     nv, n = dq_transposed.shape[-2:]
     rows = sum(len(_monomials(nv, d)) for d in range(1, order + 1))
-    out = np.empty(dq_transposed.shape[:-2] + (rows, n)) if out is None else out
+    out = np.empty(dq_transposed.shape[:-2] + (rows, n))
     out[..., :nv, :] = dq_transposed
     for prefix_row, first_index, row in _feature_plan(nv, order):
         np.multiply(out[..., prefix_row:prefix_row + 1, :], dq_transposed[..., first_index:, :],

@@ -113,7 +113,8 @@ def block_figures(runner: PoseRunner, qs: np.ndarray, dq: np.ndarray, twists: np
 
 
 def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, np.ndarray]:
-    """Solve and measure grid rows ``rows`` from their ``heads`` (rows, nv), row by row (each row one batch).
+    """Solve and measure grid rows ``rows`` from their ``heads`` (rows, nv), row by row (a row's reached targets
+    measured together, in blocks: :func:`measure_targets`).
 
     Returns:
         arrays over the chunk's targets, in index order: ``q`` (n, nv), ``reachable``, ``reason``,
