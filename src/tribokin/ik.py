@@ -38,8 +38,7 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
     model, data, frame = robot.model, robot.data, robot.tool_frame_id
     lower, upper = robot.lower_limits, robot.upper_limits
     q = np.clip(np.asarray(q_start, dtype=float), lower, upper)
-    rows = slice(0, 3) if position_only else slice(0, 6)
-    regularisation = damping * np.eye(rows.stop)
+    regularisation = damping * np.eye(3 if position_only else 6)  # rows of the error: position (and angle)
     best, stalled = math.inf, 0
     for iteration in range(iterations + 1):
         pin.computeJointJacobians(model, data, q)  # forward kinematics and joint Jacobians in one pass
