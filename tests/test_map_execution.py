@@ -56,6 +56,16 @@ def test_chunk_size_changes_nothing(reference, tmp_path, rows):
     assert written(run_study(with_chunk_rows(rows)), tmp_path / "out") == reference
 
 
+def test_reading_results_in_small_blocks_changes_nothing(reference, tmp_path, monkeypatch):
+    """Tables and summary (exact medians) are built block by block from the store: the block size is invisible."""
+    result = run_study(UR5_MAP)
+    monkeypatch.setattr("tribokin.streaming.BLOCK_TARGETS", 4)
+    monkeypatch.setattr("tribokin.streaming.BINS", 3)
+    assert written(result, tmp_path / "out") == reference
+    rp = result.map.reference.figure("RP_l_um")
+    assert json.loads(reference["summary.json"])["map"]["RP_l_um"]["median"] == np.nanmedian(rp)
+
+
 def test_two_local_workers_change_nothing(reference, tmp_path, monkeypatch):
     import multiprocessing
     import threading
@@ -104,36 +114,43 @@ def test_unreachable_scheduler_is_an_input_error(monkeypatch):
     assert error.value.key == "--scheduler"
 
 
-def test_chunks_are_reused_on_resume_and_checked_against_the_settings(tmp_path):
+def test_finished_chunks_are_reused_on_resume_others_recomputed_and_settings_checked(tmp_path):
     study = tmp_path / "study.toml"
     study.write_text(GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 5"))
     folder = tmp_path / "chunks"
     first = run_study(study, checkpoint=folder)
-    chunk = np.load(folder / "chunk_000003.npz")
-    tampered = {name: chunk[name] for name in chunk.files}
-    tampered["0/figures"][:, 0] = 42.0
-    np.savez(folder / "chunk_000003.npz", **tampered)
+    rp_first = first.map.reference.figure("RP_l_um")
+    column = folder / "scenario0_figures.npy"
+    figures = np.load(column)
+    row_3, row_5 = slice(3 * 25, 4 * 25), slice(5 * 25, 6 * 25)
+    figures[row_3, 0] = figures[row_5, 0] = 42.0
+    np.save(column, figures)
+    (folder / "done" / "5").unlink()  # chunk 5 (one row each) as if the run died while writing it
     resumed = run_study(study, checkpoint=folder, resume=True)
-    rp_first, rp_resumed = first.map.reference.figure("RP_l_um"), resumed.map.reference.figure("RP_l_um")
-    row_3 = slice(3 * 25, 4 * 25)
-    assert np.all(rp_resumed[row_3] == 42.0)  # taken from the saved chunk, not recomputed
-    np.testing.assert_array_equal(np.delete(rp_resumed, row_3), np.delete(rp_first, row_3))
+    rp_resumed = resumed.map.reference.figure("RP_l_um")
+    assert np.all(rp_resumed[row_3] == 42.0)  # taken from the finished chunk, not recomputed
+    np.testing.assert_array_equal(np.delete(rp_resumed, row_3), np.delete(rp_first, row_3))  # row 5 recomputed
     with pytest.raises(InputError, match="other settings"):
         run_study(study, seed=9, checkpoint=folder, resume=True)
     with pytest.raises(InputError, match="--resume"):
         run_study(study, checkpoint=folder)
 
 
+def finished(chunks) -> int:
+    """Chunks a run has marked finished in its store."""
+    return len(list((chunks / "done").glob("*"))) if (chunks / "done").is_dir() else 0
+
+
 def killed_after(command, chunks, count: int) -> int:
-    """Start ``command``, SIGKILL it once ``chunks`` holds ``count`` chunk files; the number saved then."""
+    """Start ``command``, SIGKILL it once the store ``chunks`` has ``count`` finished chunks; the number finished then."""
     run = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 60
-    while len(list(chunks.glob("chunk_*.npz"))) < count and run.poll() is None and time.monotonic() < deadline:
+    while finished(chunks) < count and run.poll() is None and time.monotonic() < deadline:
         time.sleep(0.005)
     run.send_signal(signal.SIGKILL)
     run.wait()
     assert run.returncode == -signal.SIGKILL  # killed, not finished
-    return len(list(chunks.glob("chunk_*.npz")))
+    return finished(chunks)
 
 
 def without_command(summary: bytes) -> dict:

@@ -36,8 +36,28 @@ def test_estimate_counts_every_cycle_of_every_pose_and_every_map_target():
     assert map_target_count(gantry.map) == 24
     parts = {key: size for size, key, _ in estimate(gantry, 3, [])}
     assert set(parts) == {"map.resolution", "study.cycles"}
-    doubled = load_study({**GANTRY_MAP, "map": {**GANTRY_MAP["map"], "resolution": [8, 3, 2]}})
-    assert {key: size for size, key, _ in estimate(doubled, 3, [])}["map.resolution"] == 2 * parts["map.resolution"]
+    # the map's results are on disk: memory holds a chunk and a warm start per grid row, whatever the row length
+    longer_rows = load_study({**GANTRY_MAP, "map": {**GANTRY_MAP["map"], "resolution": [40, 3, 2], "chunk_rows": 1}})
+    more_rows = load_study({**GANTRY_MAP, "map": {**GANTRY_MAP["map"], "resolution": [40, 300, 200], "chunk_rows": 1}})
+    held = [{key: size for size, key, _ in estimate(s, 3, [])}["map.resolution"] for s in (longer_rows, more_rows)]
+    assert held[1] - held[0] == 3 * 8 * 3 * (300 * 200 - 3 * 2)  # 3 copies of 3 joint values per extra row
+
+
+def test_a_map_whose_results_would_not_fit_on_disk_is_refused(tmp_path, monkeypatch):
+    from collections import namedtuple
+
+    from tribokin.memory import check_disk, map_bytes_per_target
+
+    gantry = load_study(GANTRY_MAP)
+    needed = 24 * map_bytes_per_target(3, 1)
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr("shutil.disk_usage", lambda path: usage(needed, 0, needed))
+    check_disk(gantry, 3, tmp_path / "not" / "yet" / "made")
+    monkeypatch.setattr("shutil.disk_usage", lambda path: usage(needed, 1, needed - 1))
+    with pytest.raises(InputError) as error:
+        check_disk(gantry, 3, tmp_path / "not" / "yet" / "made")
+    assert error.value.key == "map.resolution" and "24 map targets" in error.value.message
+    assert str(tmp_path) in error.value.message  # the folder whose disk is full
 
 
 @pytest.mark.parametrize("size, text", [(48 * 2 ** 30, "48 GiB"), (310 * 2 ** 20, "310 MiB"), (3 * 2 ** 40, "3 TiB"),

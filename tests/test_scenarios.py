@@ -37,7 +37,7 @@ def test_payload_and_joint_overrides_change_only_what_they_name():
     workspace_map = run_study(study, cycles=6).map
     base, heavy, constant_x, _ = workspace_map.scenarios
     ok = workspace_map.reachable
-    y = workspace_map.grid.positions_m[:, 1]
+    y = workspace_map.positions_m[:, 1]
     extra_x = heavy_payload - 5.0  # the base payload of gantry_map_study
     # hand statics with 20 kg more at the tool: weight, and moment arms 0.2 m in x and y in y
     weight = (40 + 15 + 8 + heavy_payload) * G

@@ -1,10 +1,13 @@
 """Map targets: grid neighbours and IK holes filled from neighbouring rows."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from tribokin.study import load_robot, load_study
-from tribokin.targets import fill_from_neighbours, grid_neighbours, make_grid, solve_row, solve_row_heads
+from tribokin.targets import fill_from_neighbours, grid_neighbours, holes_beside_reached, make_grid, solve_row, \
+    solve_row_heads
 
 
 def ur5_plane(resolution):
@@ -39,24 +42,52 @@ def test_neighbours_along_each_axis():
     assert grid_neighbours(Box, 23) == [11, 19, 22]
 
 
+def reader(q, reachable):
+    """``read(column, index)`` over in-memory columns, as fill_from_neighbours reads a map's store."""
+    return lambda name, index: {"q": q, "reachable": reachable}[name][index]
+
+
 def test_a_missed_row_and_a_hole_are_reached_from_their_neighbours(solved):
     robot, grid, q_solved, _ = solved
     q, reachable = q_solved.copy(), np.ones(grid.size, dtype=bool)
     missed = [5, 6, 7, 8, 9, 13]  # all of row 1, and one target of row 2
     q[missed], reachable[missed] = np.nan, False
-    assert fill_from_neighbours(robot, grid, q, reachable) == missed
-    assert reachable.all()
-    for index in missed:
-        reached = robot.tool_placement(q[index])
-        np.testing.assert_allclose(reached.translation, grid.positions_m[index], atol=1e-9)
+    filled = fill_from_neighbours(robot, grid, reader(q, reachable))
+    assert list(filled) == missed
+    for index, q_index in filled.items():
+        reached = robot.tool_placement(q_index)
+        np.testing.assert_allclose(reached.translation, grid.positions_m([index])[0], atol=1e-9)
         np.testing.assert_allclose(reached.rotation, grid.rotation, atol=1e-8)
+
+
+def test_holes_beside_reached_targets_are_found_block_by_block(monkeypatch):
+    class Box:  # 3 layers x 4 rows x 5 columns
+        shape, size = (3, 4, 5), 60
+
+    reachable = np.ones(60, dtype=bool)
+    reachable[[0, 1, 5, 20, 21, 22, 23, 24, 25, 59]] = False
+    expected = [i for i in np.flatnonzero(~reachable) if reachable[grid_neighbours(Box, i)].any()]
+    for block in (7, 60):  # the scan's blocks do not change what it finds
+        monkeypatch.setattr("tribokin.targets.SCAN_TARGETS", block)
+        assert holes_beside_reached(Box, lambda name, index: reachable[index]) == expected
+    assert 0 not in expected and 59 in expected  # 0's neighbours 1, 5, 20 are all unreachable
 
 
 def test_targets_out_of_reach_stay_unreachable(solved):
     robot, grid, q_solved, _ = solved
-    far = make_grid(robot, ur5_plane([5, 4]).map, None)
-    far.positions_m[7] = [3.0, 0.0, 0.2]  # 3 m away: beyond the UR5's reach
+    far = dataclasses.replace(grid, origin_m=grid.origin_m + [3.0, 0.0, 0.0])  # 3 m further: beyond the UR5's reach
     q, reachable = q_solved.copy(), np.ones(grid.size, dtype=bool)
     q[7], reachable[7] = np.nan, False
-    assert fill_from_neighbours(robot, far, q, reachable) == []
-    assert not reachable[7] and np.isnan(q[7]).all()
+    assert fill_from_neighbours(robot, far, reader(q, reachable)) == {}
+
+
+def test_grid_positions_coordinates_and_thinning(solved):
+    _, grid, _, _ = solved  # 4 rows (v) x 5 columns (u), origin (0, -0.5, 0.2), u along x, v along y
+    np.testing.assert_allclose(grid.positions_m([0, 7]), [[-0.1, -0.5, 0.2], [0.0, -0.5 + 0.1 / 3, 0.2]])
+    coordinates = grid.coordinates([7])
+    np.testing.assert_allclose([coordinates["u_m"][0], coordinates["v_m"][0]], [0.0, 0.1 / 3])
+    np.testing.assert_array_equal(grid.every((1, 2, 3)), [[[0, 3], [10, 13]]])
+    shown, stride = grid.thinned(6)
+    assert stride == 2 and shown.size <= 6
+    np.testing.assert_array_equal(shown, grid.every((2, 2, 2)))
+    assert grid.thinned(20) == (pytest.approx(np.arange(20).reshape(1, 4, 5)), 1)

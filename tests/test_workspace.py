@@ -34,9 +34,9 @@ def test_gantry_with_fixed_loads_gives_a_flat_map_and_flags_unreachable_targets(
     result = run_study(gantry_map_study(normal_force_N=500.0))
     workspace_map = result.map
     assert result.poses == [] and workspace_map.grid.shape == (1, 4, 8)
-    u = workspace_map.grid.coordinates["u_m"]
+    u = workspace_map.grid.coordinates(np.arange(workspace_map.grid.size))["u_m"]
     np.testing.assert_array_equal(workspace_map.reachable, u < 0.65)
-    assert all("no IK solution" in r for r in workspace_map.reasons[u > 0.65])
+    assert all("no IK solution" in r for r in workspace_map.reasons()[u > 0.65])
     rp = workspace_map.reference.figure("RP_l_um")
     assert np.all(np.isnan(rp[u > 0.65]))
     # every axis lost mu N / k each way: cycles at x_c +/- delta (1, 1, 1), so RP_l = sqrt(3) delta everywhere
@@ -64,7 +64,7 @@ def test_gantry_map_with_loads_from_statics_follows_hand_statics():
     result = run_study(gantry_map_study())
     workspace_map, scenario = result.map, result.map.reference
     ok = workspace_map.reachable
-    y = workspace_map.grid.positions_m[:, 1]
+    y = workspace_map.positions_m[:, 1]
     n_x, n_y, n_z = gantry_loads_by_hand(y)
     np.testing.assert_allclose(scenario.normal_forces_N[ok, 0], n_x[ok], rtol=1e-9)
     np.testing.assert_allclose(scenario.normal_forces_N[ok, 1], n_y, rtol=1e-9)
@@ -81,16 +81,16 @@ def test_box_map_layers_and_joint_map_configurations():
     study["map"] = {"kind": "box", "min_m": [0.3, 0.1, 0.25], "max_m": [0.5, 0.5, 0.45], "resolution": [2, 3, 2]}
     box = run_study(study).map
     assert box.grid.shape == (2, 3, 2) and box.reachable.all()
-    np.testing.assert_allclose(box.grid.positions_m[7], [0.5, 0.1, 0.45])  # index (layer 1, row 0, column 1)
+    np.testing.assert_allclose(box.positions_m[7], [0.5, 0.1, 0.45])  # index (layer 1, row 0, column 1)
     np.testing.assert_allclose(box.q[7], [0.3, 0.1, 0.25], atol=1e-9)  # tool = (0.2 + q_x, q_y, 0.2 + q_z)
-    n_x = gantry_loads_by_hand(box.grid.positions_m[:, 1])[0]
+    n_x = gantry_loads_by_hand(box.positions_m[:, 1])[0]
     np.testing.assert_allclose(box.reference.normal_forces_N[:, 0], n_x, rtol=1e-9)
 
     study["map"] = {"kind": "joint", "joints": ["z", "y"], "ranges": [[0.0, 0.4], [0.1, 0.3]], "counts": [3, 2]}
     joint = run_study(study).map
     assert joint.grid.shape == (1, 2, 3) and joint.reachable.all()
     np.testing.assert_allclose(joint.q[4], [0.3, 0.3, 0.2])  # x at the reference posture (mid-range)
-    np.testing.assert_allclose(joint.grid.positions_m[4], [0.5, 0.3, 0.4], atol=1e-12)
+    np.testing.assert_allclose(joint.positions_m[4], [0.5, 0.3, 0.4], atol=1e-12)
 
 
 def ur5_map_study(cycles=30):
@@ -112,7 +112,7 @@ def test_arm_map_targets_equal_single_pose_runs():
     robot = load_robot(load_study(ur5_map_study()))
     for index, q in enumerate(workspace_map.q):
         reached = robot.tool_placement(q)
-        np.testing.assert_allclose(reached.translation, workspace_map.grid.positions_m[index], atol=1e-9)
+        np.testing.assert_allclose(reached.translation, workspace_map.grid.positions_m([index])[0], atol=1e-9)
         np.testing.assert_allclose(reached.rotation, workspace_map.grid.rotation, atol=1e-8)
 
     study = load_study(ur5_map_study(cycles))

@@ -1,8 +1,13 @@
-"""Finished chunks of a long run kept on disk, so an interrupted run can resume (``--resume``).
+"""A map's per-target results on disk: written as chunks finish, read back block by block.
 
-The folder holds ``manifest.json`` (a fingerprint of the settings that determine the
-numbers) and one ``chunk_<k>.npz`` per finished chunk; each file is written under a
-temporary name and renamed, so it is either complete or absent.
+The store is a folder holding ``manifest.json`` (a fingerprint of the settings that determine the
+numbers), one ``<column>.npy`` per result column over all targets, a marker ``done/<k>`` per finished
+chunk (written once the chunk's rows are flushed to disk), and records of later steps
+(``<name>.npz``, each written under a temporary name and renamed, so complete or absent). A run
+killed at any point leaves only finished work marked, which ``--resume`` keeps.
+
+Columns are read through a memory map opened for each read and closed after it, so reading a
+large map never holds more of it in memory than the block asked for.
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ import shutil
 from pathlib import Path
 
 import numpy as np
+from numpy.lib.format import open_memmap
 
 from tribokin.errors import InputError
 
@@ -42,17 +48,21 @@ def fingerprint(settings: dict) -> str:
 
 
 class ChunkStore:
-    """Chunk results saved as they finish, in ``folder``.
+    """Per-target result columns of a map, in ``folder``.
 
     Args:
-        folder: the chunk folder.
-        key: fingerprint of the settings the chunks were computed with.
+        folder: the store's folder.
+        key: fingerprint of the settings the results are computed with.
+        columns: ``name -> (shape of one target's value, dtype)``, e.g. ``{"q": ((6,), "f8")}``.
+        size: number of targets.
         resume: keep the chunks of an earlier, interrupted run with the same ``key``; without it an
             existing folder is an error.
     """
 
-    def __init__(self, folder, key: str, resume: bool = False):
+    def __init__(self, folder, key: str, columns: dict[str, tuple[tuple, str]], size: int, resume: bool = False):
         self.folder = Path(folder)
+        self.size = size
+        self.columns = columns
         manifest = self.folder / "manifest.json"
         check_chunk_folder(self.folder, resume)
         if self.folder.exists():
@@ -61,23 +71,49 @@ class ChunkStore:
                 raise InputError("these chunks were computed with other settings (study file, cycles, seed or "
                                  "chunk size); rerun with the same ones, or pass --force without --resume to "
                                  "start over", self.folder, "--resume")
-        else:
-            self.folder.mkdir()
-            manifest.write_text(json.dumps({"key": key}) + "\n")
+            return
+        (self.folder / "done").mkdir(parents=True)
+        for name, (shape, dtype) in columns.items():
+            open_memmap(self._path(name), mode="w+", dtype=dtype, shape=(size, *shape))  # sparse until written
+        manifest.write_text(json.dumps({"key": key}) + "\n")
 
-    def _path(self, chunk: int) -> Path:
-        return self.folder / f"chunk_{chunk:06d}.npz"
+    def _path(self, name: str) -> Path:
+        return self.folder / f"{name}.npy"
 
     def finished(self) -> list[int]:
         """Indices of the chunks already saved."""
-        return sorted(int(p.stem.split("_")[1]) for p in self.folder.glob("chunk_*.npz"))
+        return sorted(int(p.name) for p in (self.folder / "done").iterdir())
 
-    def save(self, chunk: int, arrays: dict[str, np.ndarray]) -> None:
-        """Save chunk ``chunk``'s arrays, atomically."""
-        temporary = self.folder / f".chunk_{chunk:06d}.tmp.npz"
+    def write(self, index, arrays: dict[str, np.ndarray]) -> None:
+        """Write ``arrays`` (column name -> values) at targets ``index`` (a slice or indices), flushed to disk."""
+        for name, values in arrays.items():
+            column = open_memmap(self._path(name), mode="r+")
+            column[index] = values
+            column.flush()
+            del column
+
+    def save(self, chunk: int, first: int, arrays: dict[str, np.ndarray]) -> None:
+        """Write chunk ``chunk``'s arrays (targets ``first`` on), then mark it finished."""
+        self.write(slice(first, first + len(next(iter(arrays.values())))), arrays)
+        (self.folder / "done" / str(chunk)).touch()
+
+    def read(self, name: str, index=slice(None)) -> np.ndarray:
+        """Column ``name`` at targets ``index`` (a slice or indices), in memory."""
+        column = np.load(self._path(name), mmap_mode="r")
+        values = np.array(column[index])
+        del column
+        return values
+
+    def save_record(self, name: str, arrays: dict[str, np.ndarray]) -> None:
+        """Keep ``arrays`` as record ``name``, atomically."""
+        temporary = self.folder / f".{name}.tmp.npz"
         np.savez(temporary, **arrays)
-        os.replace(temporary, self._path(chunk))
+        os.replace(temporary, self.folder / f"{name}.npz")
 
-    def load(self, chunk: int) -> dict[str, np.ndarray]:
-        with np.load(self._path(chunk)) as saved:
-            return {name: saved[name] for name in saved.files}
+    def load_record(self, name: str) -> dict[str, np.ndarray] | None:
+        """Record ``name``, or ``None`` if it was never saved."""
+        path = self.folder / f"{name}.npz"
+        if not path.is_file():
+            return None
+        with np.load(path) as saved:
+            return {key: saved[key] for key in saved.files}

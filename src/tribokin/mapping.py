@@ -2,7 +2,8 @@
 
 Each target is measured like a single pose (:meth:`~tribokin.study.PoseRunner.measure`,
 joint-space approach) from its own random stream ``pose_rng(seed, index, MAP_STREAM)``,
-and only its scalar figures are kept. A chunk solves and measures whole grid rows from
+and only its scalar figures are kept, on disk (:class:`~tribokin.checkpoint.ChunkStore`): memory
+holds a chunk's targets and a block's cycles, whatever the grid's size. A chunk solves and measures whole grid rows from
 their heads (:mod:`tribokin.targets`), so the numbers depend on neither the chunk size,
 nor the number of workers, nor where the chunks run, nor on a resume. Every scenario is
 measured at the same configurations with the same streams.
@@ -11,9 +12,13 @@ measured at the same configurations with the same streams.
 from __future__ import annotations
 
 import math
+import shutil
+import tempfile
 import threading
 import uuid
+import weakref
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
@@ -24,18 +29,16 @@ from tribokin.errors import InputError
 from tribokin.executors import run_chunks
 from tribokin.iso9283 import barycenter, covariance_semi_axes, orientation_repeatability, position_repeatability, \
     variance_contributions
-from tribokin.memory import TARGET_BLOCK_SAMPLES
+from tribokin.memory import TARGET_BLOCK_SAMPLES, rows_per_chunk
 from tribokin.propagate import tool_deviations_at_poses, tool_frames
-from tribokin.results import MAP_FIGURES, MDEG_PER_RAD, UM_PER_M, MapResult, ScenarioMap
+from tribokin.results import MAP_FIGURES, MDEG_PER_RAD, UM_PER_M, MapResult, ScenarioMap, scenario_column
 from tribokin.robot import Robot
 from tribokin.study import PoseRunner, joint_models, joint_space_task, load_robot, pose_rng
-from tribokin.targets import fill_from_neighbours, make_grid, solve_row, solve_row_heads
+from tribokin.targets import fill_from_neighbours, make_grid, solve_row, solve_row_heads, target_positions_m
 
 #: Random stream of map targets: target i draws from ``pose_rng(seed, i, MAP_STREAM)``
 #: (poses use streams 0 and 1).
 MAP_STREAM = 2
-#: Default chunk size: this many targets, rounded up to whole grid rows.
-CHUNK_TARGETS = 256
 
 
 class ProgressBar(tqdm):
@@ -117,31 +120,38 @@ def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, 
     measured together, in blocks: :func:`measure_targets`).
 
     Returns:
-        arrays over the chunk's targets, in index order: ``q`` (n, nv), ``reachable``, ``reason``,
-        and for scenario s ``<s>/figures`` (n, len(MAP_FIGURES)), ``<s>/normal_forces_N`` (n, nv),
-        ``<s>/dominant_joint`` (n,).
+        the chunk's targets' values of every column of :func:`map_columns`, in index order.
     """
     robot, grid, runners = _job_context(job)
     arrays = empty_arrays(len(rows) * grid.row_length, robot.model.nv, len(runners))
-    reasons = []
     for k, (row, head) in enumerate(zip(rows, heads)):
-        q, reachable, why = solve_row(robot, grid, row, head)
+        q, reachable, closest = solve_row(robot, grid, row, head)
         span = slice(k * grid.row_length, (k + 1) * grid.row_length)
-        arrays["q"][span], arrays["reachable"][span] = q, reachable
-        reasons += why
-        measure_into(arrays, span.start + np.flatnonzero(reachable), robot, runners, q[reachable],
-                     grid.row_indices(row)[reachable])
-    arrays["reason"] = np.array(reasons, dtype=str)
+        indices = grid.row_indices(row)
+        arrays["q"][span], arrays["reachable"][span], arrays["closest"][span] = q, reachable, closest
+        arrays["position_m"][span] = target_positions_m(robot, grid, indices, q)
+        measure_into(arrays, span.start + np.flatnonzero(reachable), robot, runners, q[reachable], indices[reachable])
     return arrays
 
 
-def empty_arrays(n: int, nv: int, scenarios: int) -> dict[str, np.ndarray]:
-    """The arrays of ``n`` targets (:func:`compute_chunk`), all unreachable, before any is measured."""
-    arrays = {"q": np.full((n, nv), np.nan), "reachable": np.zeros(n, dtype=bool)}
+def map_columns(nv: int, scenarios: int) -> dict[str, tuple[tuple, str]]:
+    """The per-target columns of a map (``name -> (shape of one target's value, dtype)``): ``position_m``,
+    ``q``, ``reachable``, ``closest`` (see :class:`~tribokin.results.MapResult`), and per scenario its
+    ``figures``, ``normal_forces_N`` and ``dominant_joint`` (:class:`~tribokin.results.ScenarioMap`)."""
+    columns = {"position_m": ((3,), "f8"), "q": ((nv,), "f8"), "reachable": ((), "?"), "closest": ((2,), "f8")}
     for s in range(scenarios):
-        arrays[f"{s}/figures"] = np.full((n, len(MAP_FIGURES)), np.nan)
-        arrays[f"{s}/normal_forces_N"] = np.full((n, nv), np.nan)
-        arrays[f"{s}/dominant_joint"] = np.full(n, -1)
+        columns[scenario_column(s, "figures")] = ((len(MAP_FIGURES),), "f8")
+        columns[scenario_column(s, "normal_forces_N")] = ((nv,), "f8")
+        columns[scenario_column(s, "dominant_joint")] = ((), "i8")
+    return columns
+
+
+def empty_arrays(n: int, nv: int, scenarios: int) -> dict[str, np.ndarray]:
+    """The columns of ``n`` targets, all unreachable, before any is solved or measured."""
+    arrays = {name: np.full((n, *shape), np.nan if dtype == "f8" else 0, dtype=dtype)
+              for name, (shape, dtype) in map_columns(nv, scenarios).items()}
+    for s in range(scenarios):
+        arrays[scenario_column(s, "dominant_joint")][:] = -1
     return arrays
 
 
@@ -151,24 +161,53 @@ def measure_into(arrays: dict, slots: np.ndarray, robot: Robot, runners: list[Po
     twists, translations = tool_frames(robot, qs)
     for s, runner in enumerate(runners):
         figures, forces, dominant = measure_targets(runner, qs, indices, twists, translations)
-        arrays[f"{s}/figures"][slots] = figures
-        arrays[f"{s}/normal_forces_N"][slots] = forces
-        arrays[f"{s}/dominant_joint"][slots] = dominant
+        arrays[scenario_column(s, "figures")][slots] = figures
+        arrays[scenario_column(s, "normal_forces_N")][slots] = forces
+        arrays[scenario_column(s, "dominant_joint")][slots] = dominant
 
 
-def fill_holes(robot: Robot, grid, runners: list[PoseRunner], totals: dict) -> None:
-    """Reach and measure, in ``totals``, the targets that IK reaches from a neighbour's configuration
-    (:func:`~tribokin.targets.fill_from_neighbours`) though not along their own row."""
-    filled = np.array(fill_from_neighbours(robot, grid, totals["q"], totals["reachable"]), dtype=int)
-    if filled.size:
-        measure_into(totals, filled, robot, runners, totals["q"][filled], filled)
-        totals["reason"][filled] = ""
+def fill_holes(robot: Robot, grid, runners: list[PoseRunner], store: ChunkStore) -> None:
+    """Reach and measure, in ``store``, the targets that IK reaches from a neighbour's configuration
+    (:func:`~tribokin.targets.fill_from_neighbours`) though not along their own row.
+
+    The outcome is kept as the record ``filled`` before the store is changed, so a run killed while
+    changing it writes the same values again on resume instead of searching anew from a changed store.
+    """
+    filled = store.load_record("filled")
+    if filled is None:
+        reached = fill_from_neighbours(robot, grid, store.read)
+        indices = np.fromiter(reached, dtype=int, count=len(reached))
+        filled = {"index": indices, **empty_arrays(len(indices), robot.model.nv, len(runners))}
+        if len(indices):
+            q = np.array(list(reached.values()))
+            filled["q"], filled["reachable"][:] = q, True
+            filled["position_m"] = target_positions_m(robot, grid, indices, q)
+            measure_into(filled, np.arange(len(indices)), robot, runners, q, indices)
+        store.save_record("filled", filled)
+    indices = filled.pop("index")
+    if len(indices):
+        store.write(indices, filled)
 
 
 def chunk_rows(study: Study, row_length: int, row_count: int) -> list[list[int]]:
-    """The grid rows of each chunk: ``map.chunk_rows`` rows (default: about ``CHUNK_TARGETS`` targets)."""
-    size = study.map["chunk_rows"] or math.ceil(CHUNK_TARGETS / row_length)
+    """The grid rows of each chunk (:func:`~tribokin.memory.rows_per_chunk`)."""
+    size = rows_per_chunk(study.map, row_length)
     return [list(range(start, min(start + size, row_count))) for start in range(0, row_count, size)]
+
+
+def open_store(study: Study, studies: tuple[Study, ...], chunks: list[list[int]], size: int, nv: int, checkpoint,
+               resume: bool) -> ChunkStore:
+    """The map's store: in ``checkpoint`` (kept, for ``--resume``), else in a new temporary folder that
+    is deleted with the store."""
+    settings = {"study": study.mapping, "source": study.source, "chunks": chunks,
+                "scenarios": [[s.cycles, s.seed] for s in studies]}
+    columns = map_columns(nv, len(studies))
+    if checkpoint is not None:
+        return ChunkStore(checkpoint, fingerprint(settings), columns, size, resume)
+    folder = Path(tempfile.mkdtemp(prefix="tribokin-map-"))
+    store = ChunkStore(folder / "store", fingerprint(settings), columns, size)
+    weakref.finalize(store, shutil.rmtree, folder, True)
+    return store
 
 
 def run_map(study: Study, robot: Robot, workers: int = 1, scheduler: str | None = None, checkpoint=None,
@@ -179,7 +218,8 @@ def run_map(study: Study, robot: Robot, workers: int = 1, scheduler: str | None 
         study: a study with a ``map`` (its ``scenarios``, if any, are measured instead of it).
         robot: the study's robot.
         workers, scheduler: where chunks run (see :func:`~tribokin.executors.run_chunks`).
-        checkpoint: folder where finished chunks are saved as they complete (``None``: kept in memory only).
+        checkpoint: folder where the results are kept as chunks finish (``None``: a temporary folder,
+            deleted with the result).
         resume: reuse the chunks an interrupted run saved in ``checkpoint``.
         progress: show a progress bar (when there is more than one chunk).
     """
@@ -195,39 +235,22 @@ def run_map(study: Study, robot: Robot, workers: int = 1, scheduler: str | None 
             raise InputError(error.message, error.source, key) from None
     grid = make_grid(robot, study.map, study.source)
     chunks = chunk_rows(study, grid.row_length, grid.row_count)
-    store = None
-    if checkpoint is not None:
-        settings = {"study": study.mapping, "source": study.source, "chunks": chunks,
-                    "scenarios": [[s.cycles, s.seed] for s in studies]}
-        store = ChunkStore(checkpoint, fingerprint(settings), resume)
+    store = open_store(study, studies, chunks, grid.size, robot.model.nv, checkpoint, resume)
     heads = solve_row_heads(robot, grid)
-    n = grid.size
-    totals = {**empty_arrays(n, robot.model.nv, len(studies)), "reason": np.full(n, "", object)}
-
-    def keep(chunk: int, arrays: dict) -> None:
-        first = chunks[chunk][0] * grid.row_length
-        for name, values in arrays.items():
-            totals[name][first:first + len(values)] = values
-
-    finished = store.finished() if store else []
-    for chunk in finished:
-        keep(chunk, store.load(chunk))
+    finished = set(store.finished())
     job = MapJob(uuid.uuid4().hex, study, studies)
     _local.cache = (job.token, robot, grid, runners)  # chunks run in this thread need not rebuild them
     todo = {k: (job, rows, heads[rows]) for k, rows in enumerate(chunks) if k not in finished}
     done_targets = sum(len(chunks[k]) for k in finished) * grid.row_length
     try:
         results = run_chunks(compute_chunk, todo, workers, scheduler)
-        with ProgressBar(total=n, initial=done_targets, unit="target", desc=f"map {study.name}",
-                  disable=not progress or len(chunks) <= 1) as bar:
+        with ProgressBar(total=grid.size, initial=done_targets, unit="target", desc=f"map {study.name}",
+                         disable=not progress or len(chunks) <= 1) as bar:
             for chunk, arrays in results:
-                if store:
-                    store.save(chunk, arrays)
-                keep(chunk, arrays)
+                store.save(chunk, chunks[chunk][0] * grid.row_length, arrays)
                 bar.update(len(chunks[chunk]) * grid.row_length)
     finally:
         _local.cache = None
-    fill_holes(robot, grid, runners, totals)
-    maps = [ScenarioMap(name, s.cycles, totals[f"{i}/figures"], totals[f"{i}/normal_forces_N"],
-                        totals[f"{i}/dominant_joint"]) for i, (name, s) in enumerate(zip(names, studies))]
-    return MapResult(grid, robot.joint_names, totals["q"], totals["reachable"], totals["reason"], maps)
+    fill_holes(robot, grid, runners, store)
+    maps = [ScenarioMap(name, s.cycles, i, store) for i, (name, s) in enumerate(zip(names, studies))]
+    return MapResult(grid, robot.joint_names, store, maps)

@@ -1,9 +1,10 @@
-"""The memory a run needs, estimated from the study before anything runs, against what the machine has.
+"""The memory and disk a run needs, estimated from the study before anything runs, against what the machine has.
 
-A run keeps every cycle of every pose in memory (``samples.npz`` holds them all) and a few hundred
-bytes per map target (configuration, figures, loads, why unreachable); a map computes its targets in
-blocks of about ``TARGET_BLOCK_SAMPLES`` cycles, so its cycles only pass through memory. A study that would not fit is refused up front
-with the estimate, rather than killed by the operating system half-way. The byte counts below were
+A run keeps every cycle of every pose in memory (``samples.npz`` holds them all). A map keeps its
+per-target results on disk (:class:`~tribokin.checkpoint.ChunkStore`, a few hundred bytes per
+target); in memory it holds the chunks being computed, one warm start per grid row, and blocks of
+about ``TARGET_BLOCK_SAMPLES`` cycles. A study that would not fit is refused up front with the
+estimate, rather than killed by the operating system half-way. The byte counts below were
 measured (``tracemalloc``, UR5 and gantry) and rounded up about twofold.
 """
 
@@ -11,6 +12,7 @@ from __future__ import annotations
 
 import math
 import os
+import shutil
 from pathlib import Path
 
 from tribokin.config import Study
@@ -20,10 +22,10 @@ FLOAT = 8
 #: A map draws, propagates and measures its targets in blocks of about this many cycles: enough to
 #: share the per-call costs, few enough for the block's arrays (a few MiB) to stay small.
 TARGET_BLOCK_SAMPLES = 16384
+#: A map chunk holds about this many targets, rounded up to whole grid rows (``map.chunk_rows`` overrides).
+CHUNK_TARGETS = 256
 #: Bytes per cycle of a pose while the results are written (figures, the report's clouds).
 WRITTEN_PER_CYCLE = 800
-#: Bytes per map target of the reason it is unreachable (up to about 100 characters of 4 bytes).
-REASON_BYTES = 400
 
 
 def kept_per_cycle(nv: int) -> int:
@@ -37,9 +39,25 @@ def computed_per_cycle(nv: int) -> int:
 
 
 def map_bytes_per_target(nv: int, scenarios: int) -> int:
-    """Bytes per map target: position and grid coordinates (6), q (nv), reachable, why not, and per scenario
-    the figures (7), loads (nv) and dominant joint; twice that, for writing the tables, figures and report."""
-    return 2 * (FLOAT * (7 + nv) + REASON_BYTES + scenarios * FLOAT * (8 + nv))
+    """Bytes per map target in its store: position (3), q (nv), reachable, closest IK errors (2), and per
+    scenario the figures (7), loads (nv) and dominant joint."""
+    return FLOAT * (5 + nv) + 1 + scenarios * FLOAT * (8 + nv)
+
+
+def rows_per_chunk(spec: dict, row_length: int) -> int:
+    """Grid rows a map chunk computes: ``map.chunk_rows``, default about ``CHUNK_TARGETS`` targets."""
+    return spec["chunk_rows"] or math.ceil(CHUNK_TARGETS / row_length)
+
+
+def chunk_targets(spec: dict) -> int:
+    """Targets of the largest chunk of a validated ``[map]``."""
+    row_length = (spec["counts"] if spec["kind"] == "joint" else spec["resolution"])[0]
+    return min(rows_per_chunk(spec, row_length) * row_length, map_target_count(spec))
+
+
+def grid_rows(spec: dict) -> int:
+    """Grid rows of a validated ``[map]`` (all layers)."""
+    return map_target_count(spec) // (spec["counts"] if spec["kind"] == "joint" else spec["resolution"])[0]
 
 
 #: (limit, usage) files of a cgroup v2, then v1: a container's memory limit.
@@ -90,6 +108,24 @@ def _count(number: int, word: str) -> str:
     return f"{number:,} {word}{'' if number == 1 else 's'}"
 
 
+def check_disk(study: Study, nv: int, folder) -> None:
+    """An :class:`InputError` naming the map's size key if its store would not fit on the disk holding ``folder``."""
+    if study.map is None:
+        return
+    targets = map_target_count(study.map)
+    scenarios = max(1, len(study.scenarios))
+    needed = targets * map_bytes_per_target(nv, scenarios)
+    existing = Path(folder).absolute()
+    while not existing.exists():
+        existing = existing.parent
+    free = shutil.disk_usage(existing).free
+    if needed > free:
+        key = "map.counts" if study.map["kind"] == "joint" else "map.resolution"
+        raise InputError(f"this map needs about {gib(needed)} of disk space for its results ({_count(targets, 'map target')}"
+                         f" × {_count(scenarios, 'scenario')} × {_count(nv, 'joint')}), and {gib(free)} is available in "
+                         f"'{existing}': lower {key}, or split the map into several", study.source, key)
+
+
 def estimate(study: Study, nv: int, directions: list[int], workers: int = 1) -> list[tuple[float, str, str]]:
     """The bytes a run needs, in parts: ``(bytes, key, what)``, ``key`` the study key to lower.
 
@@ -111,8 +147,11 @@ def estimate(study: Study, nv: int, directions: list[int], workers: int = 1) -> 
         scenarios = max(1, len(study.scenarios))
         cycles = max([s.study.cycles for s in study.scenarios] or [study.cycles])
         key = "map.counts" if study.map["kind"] == "joint" else "map.resolution"
-        parts.append((targets * map_bytes_per_target(nv, scenarios), key,
-                      f"{_count(targets, 'map target')} × {_count(scenarios, 'scenario')} × {_count(nv, 'joint')}"))
+        chunk = chunk_targets(study.map)
+        held = 2 * (max(1, workers) + 1) * chunk * map_bytes_per_target(nv, scenarios) + 3 * FLOAT * nv * grid_rows(
+            study.map)  # chunks computed, in transit and written; a warm start per row (kept, sent, solved)
+        parts.append((held, key, f"{_count(chunk, 'map target')} per chunk × {_count(scenarios, 'scenario')} × "
+                                 f"{_count(nv, 'joint')}, and {_count(grid_rows(study.map), 'grid row')}"))
         block = max(cycles, TARGET_BLOCK_SAMPLES)  # cycles of the targets measured together
         parts.append((max(1, workers) * block * (kept_per_cycle(nv) + computed_per_cycle(nv)), "study.cycles",
                       f"{_count(cycles, 'cycle')} per map target × {_count(max(1, workers), 'worker')}"))

@@ -124,33 +124,61 @@ def _csv_value(value) -> str:
     return str(value)
 
 
+def map_table_columns(workspace_map: MapResult, scenario: ScenarioMap, targets: slice) -> dict[str, np.ndarray]:
+    """The columns of :func:`write_map_table` at ``targets``, by header."""
+    names = workspace_map.joint_names
+    positions = workspace_map.read("position_m", targets)
+    figures = scenario.read("figures", targets)
+    columns = {"x_m": positions[:, 0], "y_m": positions[:, 1], "z_m": positions[:, 2],
+               "reachable": workspace_map.read("reachable", targets)}
+    columns.update({name: figures[:, i] for i, name in enumerate(MAP_FIGURES) if name != "dominant_share"})
+    columns["dominant_joint"] = np.array([names[i] if i >= 0 else "" for i in scenario.read("dominant_joint", targets)],
+                                         dtype=object)
+    columns["dominant_share"] = figures[:, MAP_FIGURES.index("dominant_share")]
+    if scenario is not workspace_map.reference:
+        columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
+        columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario, targets)
+    columns.update(workspace_map.grid.coordinates(np.arange(targets.start, targets.stop)))
+    q, forces = workspace_map.read("q", targets), scenario.read("normal_forces_N", targets)
+    columns.update({f"q_{name}": q[:, i] for i, name in enumerate(names)})
+    columns.update({f"normal_force_{name}_N": forces[:, i] for i, name in enumerate(names)})
+    columns["reason"] = workspace_map.reasons(targets)
+    return columns
+
+
 def write_map_table(workspace_map: MapResult, scenario: ScenarioMap, path: Path) -> None:
     """One scenario's map as CSV, one row per target in index order: position [m], reachable, the
     figures (µm, mdeg), ratio and difference of RP_l to the reference scenario (other scenarios),
-    grid coordinates, q_<joint> [m or rad], normal_force_<joint>_N [N], and the reason a target is unreachable."""
-    names = workspace_map.joint_names
-    columns = {"x_m": workspace_map.grid.positions_m[:, 0], "y_m": workspace_map.grid.positions_m[:, 1],
-               "z_m": workspace_map.grid.positions_m[:, 2], "reachable": workspace_map.reachable}
-    columns.update({name: scenario.figures[:, i] for i, name in enumerate(MAP_FIGURES) if name != "dominant_share"})
-    columns["dominant_joint"] = np.array([names[i] if i >= 0 else "" for i in scenario.dominant_joint], dtype=object)
-    columns["dominant_share"] = scenario.figure("dominant_share")
-    if scenario is not workspace_map.reference:
-        columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario)
-        columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario)
-    columns.update(workspace_map.grid.coordinates or {})
-    columns.update({f"q_{name}": workspace_map.q[:, i] for i, name in enumerate(names)})
-    columns.update({f"normal_force_{name}_N": scenario.normal_forces_N[:, i] for i, name in enumerate(names)})
-    columns["reason"] = workspace_map.reasons
+    grid coordinates, q_<joint> [m or rad], normal_force_<joint>_N [N], and the reason a target is
+    unreachable; written block by block."""
     with open(path, "w", newline="", encoding="utf-8") as handle:
         writer = csv.writer(handle)
-        writer.writerow(columns)
-        for row in zip(*columns.values()):
-            writer.writerow([_csv_value(v) for v in row])
+        for part in workspace_map.blocks():
+            columns = map_table_columns(workspace_map, scenario, part)
+            if part.start == 0:
+                writer.writerow(columns)
+            for row in zip(*columns.values()):
+                writer.writerow([_csv_value(v) for v in row])
 
 
 def map_table_name(workspace_map: MapResult, scenario: ScenarioMap) -> str:
     """``map.csv`` for the reference scenario, ``map_<scenario>.csv`` for the others."""
     return "map.csv" if scenario is workspace_map.reference else f"map_{scenario.name}.csv"
+
+
+#: Most map targets the 3-D scene draws per scenario (larger maps draw every k-th target along each axis).
+SCENE_TARGETS = 50_000
+
+
+def map_scene_layers(workspace_map: MapResult) -> dict:
+    """The map's RP_l per scenario as scene layers (:class:`~tribokin.viz.scene.MapLayer`), at most
+    ``SCENE_TARGETS`` targets each, spread over the grid."""
+    from tribokin.viz.scene import MapLayer
+
+    shown, stride = workspace_map.grid.thinned(SCENE_TARGETS)
+    shown = shown.ravel()
+    points = workspace_map.read("position_m", shown)
+    return {s.name: MapLayer(points, s.figure("RP_l_um", shown), s.name, stride) for s in workspace_map.scenarios}
 
 
 def write_results(result: StudyResult, out, force: bool = False, report: str = "full", map_layers=None,
@@ -166,15 +194,14 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
     from tribokin.viz.figures import save_repeatability_field
     from tribokin.viz.maps import save_map_figures
     from tribokin.viz.report import write_report
-    from tribokin.viz.scene import Cube, MapLayer
+    from tribokin.viz.scene import Cube
     from tribokin.viz.scene_file import save_scene_inputs
 
     iso_cube = result.settings.get("iso_cube")
     if cube is None and iso_cube is not None:
         cube = Cube(tuple(iso_cube["center_m"]), iso_cube["side_m"])
     if map_layers is None and result.map is not None:
-        map_layers = {s.name: MapLayer(result.map.grid.positions_m, s.figure("RP_l_um"), s.name)
-                      for s in result.map.scenarios}
+        map_layers = map_scene_layers(result.map)
 
     with atomic_folder(out, force) as folder:
         write_summary(result, folder)

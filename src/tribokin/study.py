@@ -10,6 +10,7 @@ from __future__ import annotations
 import copy
 import hashlib
 import sys
+import tempfile
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -29,7 +30,7 @@ from tribokin.iso9283 import covariance_semi_axes, multidirectional_variation, p
 from tribokin.joints import JointErrorModel, approach_signs, sample_joint_deviations
 from tribokin.loads import BearingLoads
 from tribokin.propagate import max_deviation_from_exact, tool_deviations
-from tribokin.memory import check_memory
+from tribokin.memory import check_disk, check_memory
 from tribokin.results import UM_PER_M, PoseResult, StudyResult, software_versions
 from tribokin.robot import Robot, load_example_robot, load_urdf
 from tribokin.tribology.laws import FrictionLaw
@@ -281,6 +282,7 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, work
     tasks, cube = pose_tasks(study, robot)
     check_memory(study, robot.model.nv, [len(t.directions) if t.cartesian_approach else 1 for t in tasks], workers,
                  cycles_from_command_line=cycles is not None)
+    check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None else checkpoint)
     runner = PoseRunner(study, robot, models)
     poses = [runner.run(task, index) for index, task in enumerate(tasks)]
     workspace_map = None

@@ -10,6 +10,7 @@ from its head (:func:`solve_row`). So a row's configurations depend on the grid 
 
 from __future__ import annotations
 
+import math
 from collections import defaultdict
 from dataclasses import dataclass
 
@@ -42,26 +43,28 @@ class GridAxis:
 
 @dataclass
 class TargetGrid:
-    """The targets of a map.
+    """The targets of a map. Per-target values are computed for the indices asked, never for the whole
+    grid at once, so a grid of any size costs nothing until its targets are solved.
 
     Attributes:
         kind: ``"plane"``, ``"box"`` or ``"joint"``.
         axes: (columns, rows, layers) axes; ``None`` for a missing dimension (size 1).
-        positions_m: (N, 3) commanded tool positions in the base frame [m].
         rotation: (3, 3) tool orientation held at every Cartesian target; ``None`` when the robot
             cannot hold it (position-only IK) and for joint grids.
         start_q: (nv,) start posture of the IK (Cartesian) or posture of the other joints (joint grids).
-        joint_q: (N, nv) configurations of a joint grid [m or rad]; ``None`` for Cartesian grids.
-        coordinates: per-target grid coordinates for reports, e.g. ``{"u_m": (N,), "v_m": (N,)}``.
+        origin_m: (3,) position of the target at axis values 0 [m] (Cartesian grids).
+        directions: (3, 3) base-frame direction of the column, row and layer axes, one per row
+            (Cartesian grids): a target's position is ``origin_m + (column, row, layer values) @ directions``.
+        joint_columns: index in ``q`` of the joint of each axis present (joint grids).
     """
 
     kind: str
     axes: tuple[GridAxis, GridAxis | None, GridAxis | None]
-    positions_m: np.ndarray
     rotation: np.ndarray | None
     start_q: np.ndarray
-    joint_q: np.ndarray | None = None
-    coordinates: dict | None = None
+    origin_m: np.ndarray | None = None
+    directions: np.ndarray | None = None
+    joint_columns: tuple[int, ...] = ()
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -81,11 +84,49 @@ class TargetGrid:
 
     @property
     def size(self) -> int:
-        return len(self.positions_m)
+        layers, rows, columns = self.shape
+        return layers * rows * columns
 
     def row_indices(self, row: int) -> np.ndarray:
         """Target indices of grid row ``row``."""
         return np.arange(row * self.row_length, (row + 1) * self.row_length)
+
+    def axis_values(self, indices) -> np.ndarray:
+        """(k, 3) values of the column, row and layer axes at targets ``indices`` (0 for a missing axis)."""
+        layer, row, column = np.unravel_index(np.asarray(indices, dtype=int), self.shape)
+        return np.column_stack([np.zeros(len(k)) if axis is None else axis.values[k]
+                                for axis, k in zip(self.axes, (column, row, layer))])
+
+    def positions_m(self, indices) -> np.ndarray:
+        """(k, 3) commanded tool positions of Cartesian targets ``indices`` in the base frame [m]."""
+        return self.origin_m + self.axis_values(indices) @ self.directions
+
+    def joint_q(self, indices) -> np.ndarray:
+        """(k, nv) configurations of joint-grid targets ``indices`` [m or rad]."""
+        q = np.tile(self.start_q, (len(indices), 1))
+        q[:, list(self.joint_columns)] = self.axis_values(indices)[:, :len(self.joint_columns)]
+        return q
+
+    def coordinates(self, indices) -> dict[str, np.ndarray]:
+        """Grid coordinates of targets ``indices`` for reports: ``u_m``, ``v_m`` on a plane, else none."""
+        if self.kind != "plane":
+            return {}
+        values = self.axis_values(indices)
+        return {"u_m": values[:, 0], "v_m": values[:, 1]}
+
+    def every(self, strides: tuple[int, int, int]) -> np.ndarray:
+        """(layers', rows', columns') indices of every ``strides``-th target along (layers, rows, columns),
+        from the first."""
+        kept = [np.arange(0, size, stride) for size, stride in zip(self.shape, strides)]
+        return np.ravel_multi_index(np.ix_(*kept), self.shape)
+
+    def thinned(self, most: int) -> tuple[np.ndarray, int]:
+        """Indices (layers', rows', columns') of at most about ``most`` targets spread over the grid, every
+        k-th along each axis, and k (1: all of them)."""
+        stride = 1
+        while math.prod(math.ceil(size / stride) for size in self.shape) > most:
+            stride += 1
+        return self.every((stride, stride, stride)), stride
 
     def describe(self) -> dict:
         """The grid for ``summary.json``: kind, shape, axes (name, unit, first, last) and orientation."""
@@ -120,16 +161,12 @@ def make_grid(robot: Robot, spec: dict, source=None) -> TargetGrid:
     if spec["kind"] == "plane":
         u = GridAxis("u", "m", _grid_values(spec["extent_u_m"], spec["resolution"][0]))
         v = GridAxis("v", "m", _grid_values(spec["extent_v_m"], spec["resolution"][1]))
-        vv, uu = np.meshgrid(v.values, u.values, indexing="ij")
-        positions = (np.asarray(spec["origin_m"]) + uu.reshape(-1, 1) * np.asarray(spec["axis_u"])
-                     + vv.reshape(-1, 1) * np.asarray(spec["axis_v"]))
-        return TargetGrid("plane", (u, v, None), positions, rotation, start,
-                          coordinates={"u_m": uu.ravel(), "v_m": vv.ravel()})
+        directions = np.array([spec["axis_u"], spec["axis_v"], [0.0, 0.0, 0.0]], dtype=float)
+        return TargetGrid("plane", (u, v, None), rotation, start, np.asarray(spec["origin_m"], dtype=float),
+                          directions)
     x, y, z = (GridAxis(name, "m", _grid_values([low, high], count)) for name, low, high, count
                in zip("xyz", spec["min_m"], spec["max_m"], spec["resolution"]))
-    zz, yy, xx = np.meshgrid(z.values, y.values, x.values, indexing="ij")
-    positions = np.column_stack([xx.ravel(), yy.ravel(), zz.ravel()])
-    return TargetGrid("box", (x, y, z), positions, rotation, start)
+    return TargetGrid("box", (x, y, z), rotation, start, np.zeros(3), np.eye(3))
 
 
 def _joint_grid(robot: Robot, spec: dict, start: np.ndarray, source) -> TargetGrid:
@@ -145,18 +182,20 @@ def _joint_grid(robot: Robot, spec: dict, start: np.ndarray, source) -> TargetGr
             raise InputError(f"[{bounds[0]:g}, {bounds[1]:g}] leaves the limits of joint '{joint}' "
                              f"[{low:g}, {high:g}]", source, f"map.ranges[{i}]")
         axes.append(GridAxis(joint, "m" if robot.joint_is_prismatic[k] else "rad", _grid_values(bounds, count)))
-    axes += [None] * (3 - len(axes))
-    present = [a for a in axes if a is not None]
-    mesh = np.meshgrid(*[a.values for a in reversed(present)], indexing="ij")
-    q = np.tile(start, (mesh[0].size, 1))
-    for axis, values in zip(reversed(present), mesh):
-        q[:, names.index(axis.name)] = values.ravel()
-    positions = np.array([robot.tool_placement(qi).translation for qi in q])
-    return TargetGrid("joint", tuple(axes), positions, None, start, joint_q=q)
+    columns = tuple(names.index(axis.name) for axis in axes)
+    return TargetGrid("joint", tuple(axes + [None] * (3 - len(axes))), None, start, joint_columns=columns)
+
+
+def target_positions_m(robot: Robot, grid: TargetGrid, indices, q: np.ndarray) -> np.ndarray:
+    """(k, 3) positions of targets ``indices`` [m]: commanded (Cartesian grids), or reached at their
+    configurations ``q`` (k, nv) (joint grids)."""
+    if grid.kind == "joint":
+        return np.array([robot.tool_placement(qi).translation for qi in q]).reshape(len(q), 3)
+    return grid.positions_m(indices)
 
 
 def _target(grid: TargetGrid, index: int) -> pin.SE3:
-    return pin.SE3(np.eye(3) if grid.rotation is None else grid.rotation, grid.positions_m[index])
+    return pin.SE3(np.eye(3) if grid.rotation is None else grid.rotation, grid.positions_m([index])[0])
 
 
 def _solve_from(robot: Robot, grid: TargetGrid, index: int, q_start) -> IKResult:
@@ -183,8 +222,8 @@ def head_order(grid: TargetGrid) -> list[int]:
 def solve_row_heads(robot: Robot, grid: TargetGrid) -> np.ndarray:
     """(rows, nv) warm start of every grid row: its first target solved from the previous head
     (the start posture for the first; the last reachable head after an unreachable one)."""
-    if grid.joint_q is not None:
-        return grid.joint_q[::grid.row_length].copy()
+    if grid.kind == "joint":
+        return grid.joint_q(np.arange(0, grid.size, grid.row_length))
     heads = np.empty((grid.row_count, robot.model.nv))
     q_start = grid.start_q
     for row in head_order(grid):
@@ -195,20 +234,21 @@ def solve_row_heads(robot: Robot, grid: TargetGrid) -> np.ndarray:
     return heads
 
 
-def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndarray, np.ndarray, list[str]]:
+def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Configurations of grid row ``row``, each target warm-started from the last reachable one (``head_q`` first),
     extrapolated along the row when the two targets before it were reached.
 
     Returns:
-        q (columns, nv) [m or rad] (NaN where unreachable), reachable (columns,) and the reason
-        each unreachable target failed (``""`` for reachable ones).
+        q (columns, nv) [m or rad] (NaN where unreachable), reachable (columns,), and for unreachable
+        targets how close the IK came (columns, 2): position error [m], orientation error [rad] (NaN
+        for reachable targets, and the orientation when it is not held).
     """
     indices = grid.row_indices(row)
-    if grid.joint_q is not None:
-        return grid.joint_q[indices].copy(), np.ones(len(indices), dtype=bool), [""] * len(indices)
+    closest = np.full((len(indices), 2), np.nan)
+    if grid.kind == "joint":
+        return grid.joint_q(indices), np.ones(len(indices), dtype=bool), closest
     q = np.full((len(indices), robot.model.nv), np.nan)
     reachable = np.zeros(len(indices), dtype=bool)
-    reasons = []
     q_start = np.asarray(head_q, dtype=float)
     for k, index in enumerate(indices):
         result = None
@@ -217,10 +257,11 @@ def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndar
         if result is None or not result.success:
             result = _solve(robot, grid, index, q_start)
         reachable[k] = result.success
-        reasons.append("" if result.success else unreachable_reason(result, grid.rotation is None))
         if result.success:
             q[k] = q_start = result.q
-    return q, reachable, reasons
+        else:
+            closest[k] = result.position_error_m, np.nan if grid.rotation is None else result.angle_error_rad
+    return q, reachable, closest
 
 
 def grid_neighbours(grid: TargetGrid, index: int) -> list[int]:
@@ -236,8 +277,32 @@ def grid_neighbours(grid: TargetGrid, index: int) -> list[int]:
     return sorted(neighbours)
 
 
-def fill_from_neighbours(robot: Robot, grid: TargetGrid, q: np.ndarray, reachable: np.ndarray) -> list[int]:
-    """Retry unreachable targets from the configurations of their reached neighbours, in place.
+#: Targets whose reachable flags are scanned at once when looking for holes beside reached targets.
+SCAN_TARGETS = 1 << 16
+
+
+def holes_beside_reached(grid: TargetGrid, read) -> list[int]:
+    """Unreachable targets with a reached neighbour, in increasing order; ``read("reachable", slice)``
+    gives the flags, read in blocks of ``SCAN_TARGETS`` (and the neighbours either side)."""
+    layers, rows, columns = grid.shape
+    strides = ((layers, rows * columns), (rows, columns), (columns, 1))
+    reach = max(step for size, step in strides if size > 1) if grid.size > 1 else 0
+    holes = []
+    for first in range(0, grid.size, SCAN_TARGETS):
+        indices = np.arange(first, min(first + SCAN_TARGETS, grid.size))
+        low = max(0, first - reach)
+        window = read("reachable", slice(low, min(grid.size, indices[-1] + 1 + reach)))
+        beside = np.zeros(len(indices), dtype=bool)
+        for position, (size, step) in zip(np.unravel_index(indices, grid.shape), strides):
+            for offset in (-1, 1):
+                inside = (position + offset >= 0) & (position + offset < size)
+                beside[inside] |= window[indices[inside] + offset * step - low]
+        holes += indices[beside & ~window[indices - low]].tolist()
+    return holes
+
+
+def fill_from_neighbours(robot: Robot, grid: TargetGrid, read) -> dict[int, np.ndarray]:
+    """Retry unreachable targets from the configurations of their reached neighbours.
 
     Rows are solved independently, so a target missed along its row (the IK left for another
     branch, or a joint limit cut the way) may still be reachable from the row beside it. Targets
@@ -245,38 +310,44 @@ def fill_from_neighbours(robot: Robot, grid: TargetGrid, q: np.ndarray, reachabl
     the outcome depends on the grid only (not on how rows were split into chunks).
 
     Args:
-        q: (N, nv) configurations [m or rad], NaN where unreachable; filled in where solved.
-        reachable: (N,) flags, set where solved.
+        read: ``read(column, index)`` of the rows' results: ``"reachable"`` (N,) flags and ``"q"``
+            (N, nv) configurations [m or rad] (e.g. :meth:`~tribokin.checkpoint.ChunkStore.read`).
 
     Returns:
-        the indices newly reached, in increasing order.
+        the configurations of the targets newly reached, by index in increasing order.
     """
-    if grid.joint_q is not None:
-        return []
-    pending = sorted(i for i in np.flatnonzero(~reachable) if any(reachable[grid_neighbours(grid, i)]))
+    if grid.kind == "joint":
+        return {}
+    filled = {}
+
+    def reached(indices: list[int]) -> np.ndarray:
+        return read("reachable", indices) | np.isin(indices, list(filled))
+
+    pending = holes_beside_reached(grid, read)
     tried = defaultdict(set)  # target -> neighbours it was tried from
-    filled = []
     while pending:
         index = pending.pop(0)
-        for neighbour in grid_neighbours(grid, index):
-            if not reachable[neighbour] or neighbour in tried[index]:
+        neighbours = grid_neighbours(grid, index)
+        for neighbour, was_reached in zip(neighbours, reached(neighbours)):
+            if not was_reached or neighbour in tried[index]:
                 continue
             tried[index].add(neighbour)
-            result = _solve_from(robot, grid, index, q[neighbour])
+            result = _solve_from(robot, grid, index, filled[neighbour] if neighbour in filled else read("q", neighbour))
             if result.success:
-                q[index], reachable[index] = result.q, True
-                filled.append(index)
-                for other in grid_neighbours(grid, index):
-                    if not reachable[other] and other not in pending:
-                        pending.append(other)
+                filled[index] = result.q
+                around = grid_neighbours(grid, index)
+                pending += [other for other, done in zip(around, reached(around)) if not done and other not in pending]
                 pending.sort()
                 break
-    return sorted(filled)
+    return dict(sorted(filled.items()))
 
 
-def unreachable_reason(result: IKResult, position_only: bool) -> str:
-    """Why IK failed, for the map's ``reason`` column."""
-    closest = f"closest {result.position_error_m * 1e3:.3g} mm"
-    if not position_only:
-        closest += f", {np.degrees(result.angle_error_rad):.3g} deg"
+def unreachable_reason(position_error_m: float, angle_error_rad: float) -> str:
+    """Why IK failed, for the map's ``reason`` column: how close it came [m, rad] (angle NaN when
+    the orientation is not held; position NaN: the target was reached, no reason)."""
+    if np.isnan(position_error_m):
+        return ""
+    closest = f"closest {position_error_m * 1e3:.3g} mm"
+    if not np.isnan(angle_error_rad):
+        closest += f", {np.degrees(angle_error_rad):.3g} deg"
     return f"no IK solution within the joint limits from the warm start and {IK_RESTARTS} restarts ({closest})"

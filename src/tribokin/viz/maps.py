@@ -39,20 +39,41 @@ def value_norm(values: np.ndarray, centre: float | None = None) -> Normalize:
     return Normalize(low, high if high > low else low + max(abs(low), 1.0) * 1e-9)
 
 
-def save_grid_image(grid: TargetGrid, values: np.ndarray, path: Path, label: str, title: str, cmap="viridis",
-                    norm: Normalize | None = None, categories: list[str] | None = None) -> None:
-    """``values`` (one per target) as images over the grid's columns and rows, one panel per layer.
+#: Most targets a heat map shows along a row or column of a panel (more are finer than its pixels),
+#: and most panels (layers) per figure; larger grids show every k-th target.
+PANEL_TARGETS = 400
+PANELS = 16
+
+
+def shown_targets(grid: TargetGrid) -> tuple[np.ndarray, tuple[int, int, int]]:
+    """The targets a heat map of ``grid`` shows, (layers', rows', columns') indices, and the strides
+    along (layers, rows, columns): every target up to ``PANEL_TARGETS`` per axis and ``PANELS`` layers."""
+    layers, rows, columns = grid.shape
+    step = max(math.ceil(rows / PANEL_TARGETS), math.ceil(columns / PANEL_TARGETS))
+    strides = (math.ceil(layers / PANELS), step, step)
+    return grid.every(strides), strides
+
+
+def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str, cmap="viridis",
+                    norm: Normalize | None = None, centre: float | None = None,
+                    categories: list[str] | None = None) -> None:
+    """``values`` as images over the grid's columns and rows, one panel per layer, for the targets
+    :func:`shown_targets` picks.
 
     Args:
+        values: ``values(indices)`` of the targets ``indices`` (an integer array of any shape).
         label: colour-bar label with its unit, e.g. ``"RP_l [µm]"``.
-        norm: colour scale (default: the finite values' range).
+        norm: colour scale (default: the shown finite values' range, centred on ``centre`` when they straddle it).
         categories: names of the integer values -1, 0, 1, ... (a categorical colour bar).
     """
-    columns, rows, layers = grid.axes
-    n_layers, n_rows, n_columns = grid.shape
-    images = np.ma.masked_invalid(np.asarray(values, dtype=float).reshape(n_layers, n_rows, n_columns))
+    shown, strides = shown_targets(grid)
+    columns, rows, layers = (None if axis is None else GridAxis(axis.name, axis.unit, axis.values[::stride])
+                             for axis, stride in zip(grid.axes, strides[::-1]))
+    n_layers = shown.shape[0]
+    data = np.asarray(values(shown.ravel()), dtype=float).reshape(shown.shape)
+    images = np.ma.masked_invalid(data)
     cmap = plt.get_cmap(cmap).with_extremes(bad=UNREACHABLE_GREY)
-    norm = norm or value_norm(np.asarray(values, dtype=float))
+    norm = norm or value_norm(data, centre)
     panels_across = math.ceil(math.sqrt(n_layers))
     panels_down = math.ceil(n_layers / panels_across)
     fig, axes = plt.subplots(panels_down, panels_across, figsize=(1.5 + 4.6 * panels_across, 0.8 + 3.9 * panels_down),
@@ -75,8 +96,12 @@ def save_grid_image(grid: TargetGrid, values: np.ndarray, path: Path, label: str
     bar = fig.colorbar(mesh, ax=axes, label=label, shrink=0.9)
     if categories:
         bar.set_ticks(np.arange(-1, len(categories) - 1), labels=categories)
+    thinned = shown.size < grid.size
     unreachable = int(images.mask.sum()) if np.ndim(images.mask) else 0
-    note = f" (grey: {unreachable} unreachable)" if unreachable else ""
+    note = f" (grey: {unreachable} unreachable{' of those shown' if thinned else ''})" if unreachable else ""
+    if thinned:
+        note += (f"; shown: {shown.size:,} of {grid.size:,} targets, 1 in {strides[2]} along rows and columns"
+                 + (f", 1 in {strides[0]} layers" if strides[0] > 1 else "") + "; map.csv has them all")
     fig.suptitle(textwrap.fill(f"{title}{note}", 40 + 50 * panels_across), fontsize=10)
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -99,26 +124,28 @@ def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) ->
         save_grid_image(grid, values, paths[-1], label, f"{study_name}: {title}", **options)
 
     compared = f", {reference.name}" if len(workspace_map.scenarios) > 1 else ""
-    save("map_RP_l.png", reference.figure("RP_l_um"), "RP_l [µm]",
+    save("map_RP_l.png", lambda shown: reference.figure("RP_l_um", shown), "RP_l [µm]",
          f"position repeatability RP_l, {reference.cycles} cycles per target{compared}")
     joints = workspace_map.joint_names
-    save("map_dominant_joint.png", np.where(workspace_map.reachable, reference.dominant_joint, np.nan),
+    save("map_dominant_joint.png",
+         lambda shown: np.where(workspace_map.read("reachable", shown), reference.read("dominant_joint", shown), np.nan),
          "joint with the largest share of the position variance", f"dominant joint{compared}",
          cmap=_categorical(len(joints)), norm=BoundaryNorm(np.arange(-1.5, len(joints)), len(joints) + 1),
          categories=["none"] + joints)
     for scenario in workspace_map.scenarios[1:]:
-        save(f"map_RP_l_{scenario.name}.png", scenario.figure("RP_l_um"), "RP_l [µm]",
+        save(f"map_RP_l_{scenario.name}.png", lambda shown, s=scenario: s.figure("RP_l_um", shown), "RP_l [µm]",
              f"RP_l, {scenario.name}")
-        ratio = workspace_map.ratio_RP_l(scenario)
-        save(f"map_RP_l_ratio_{scenario.name}.png", ratio, f"RP_l {scenario.name} / {reference.name} [-]",
-             f"RP_l ratio {scenario.name} / {reference.name}", cmap="RdBu_r", norm=value_norm(ratio, 1.0))
-        diff = workspace_map.diff_RP_l_um(scenario)
-        save(f"map_RP_l_diff_{scenario.name}.png", diff, f"RP_l {scenario.name} − {reference.name} [µm]",
-             f"RP_l difference {scenario.name} − {reference.name}", cmap="RdBu_r", norm=value_norm(diff, 0.0))
+        save(f"map_RP_l_ratio_{scenario.name}.png", lambda shown, s=scenario: workspace_map.ratio_RP_l(s, shown),
+             f"RP_l {scenario.name} / {reference.name} [-]", f"RP_l ratio {scenario.name} / {reference.name}",
+             cmap="RdBu_r", centre=1.0)
+        save(f"map_RP_l_diff_{scenario.name}.png", lambda shown, s=scenario: workspace_map.diff_RP_l_um(s, shown),
+             f"RP_l {scenario.name} − {reference.name} [µm]",
+             f"RP_l difference {scenario.name} − {reference.name}", cmap="RdBu_r", centre=0.0)
     if len(workspace_map.scenarios) > 1:
         names = [s.name for s in workspace_map.scenarios]
-        winners = np.where(workspace_map.reachable, workspace_map.winners(), np.nan)
-        save("map_winner.png", winners, "scenario with the smallest RP_l", "which scenario has the smallest RP_l",
+        save("map_winner.png",
+             lambda shown: np.where(workspace_map.read("reachable", shown), workspace_map.winners(shown), np.nan),
+             "scenario with the smallest RP_l", "which scenario has the smallest RP_l",
              cmap=_categorical(len(names)), norm=BoundaryNorm(np.arange(-1.5, len(names)), len(names) + 1),
              categories=["tie"] + names)
     return paths

@@ -82,6 +82,15 @@ def map_statistics(layers: dict[str, MapLayer]) -> str:
     return _table(headers, rows)
 
 
+def thinning_note(layers: dict[str, MapLayer]) -> str:
+    """Says so when the scene and the statistics cover every k-th target of a map only."""
+    stride = max(layer.stride for layer in layers.values())
+    if stride == 1:
+        return ""
+    return (f"<p>The map is large: the scene and this table cover 1 in {stride} targets along each grid axis. "
+            "summary.json and map.csv cover all of them.</p>")
+
+
 def colour_bar(scale: ColourScale) -> str:
     """The map colour bar, labelled with its range in µm, and the grey of unreachable targets."""
     return (f'<div><b>RP_l [µm]</b> ({scale.name})</div><div class="colourbar" '
@@ -104,8 +113,8 @@ def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: d
                 folder: Path, variant: str) -> str:
     """The report page around ``scene_page`` (a full meshcat static page)."""
     srcdoc = scene_page.replace("&", "&amp;").replace('"', "&quot;")
-    maps = (f"<h2>RP_l maps</h2>{colour_bar(info.colour_scale)}<h3>Map statistics</h3>{map_statistics(layers)}"
-            if layers else "")
+    maps = (f"<h2>RP_l maps</h2>{colour_bar(info.colour_scale)}<h3>Map statistics</h3>{thinning_note(layers)}"
+            f"{map_statistics(layers)}" if layers else "")
     notes = "".join(f"<p><b>Note:</b> {html.escape(n)}</p>" for n in info.notes)
     title = html.escape(f"tribokin — {result.name}")
     return f"""<!DOCTYPE html>

@@ -42,11 +42,13 @@ class MapLayer:
         points_m: (N, 3) target positions in the base frame [m].
         values_um: (N,) RP_l at each target [µm]; NaN where the target is unreachable (drawn grey).
         label: scenario name, shown in the GUI and the report.
+        stride: 1 when the layer holds every target of its map, k when every k-th along each grid axis.
     """
 
     points_m: np.ndarray
     values_um: np.ndarray
     label: str
+    stride: int = 1
 
     def __post_init__(self):
         self.points_m = np.asarray(self.points_m, dtype=float)

@@ -1,0 +1,77 @@
+"""Statistics of per-target columns read block by block, so a map of any size is summarised in
+bounded memory: minimum, exact median and maximum of a column that is never held whole."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+
+import numpy as np
+
+#: Targets read at once.
+BLOCK_TARGETS = 1 << 16
+#: Bins of a counting pass when narrowing down an order statistic.
+BINS = 4096
+
+
+def blocks(size: int, block: int | None = None) -> Iterator[slice]:
+    """Consecutive slices covering ``range(size)``, ``block`` (default ``BLOCK_TARGETS``) targets each (the last
+    may be shorter)."""
+    block = block or BLOCK_TARGETS
+    return (slice(first, min(first + block, size)) for first in range(0, size, block))
+
+
+def _finite(read: Callable[[slice], np.ndarray], size: int) -> Iterator[np.ndarray]:
+    for part in blocks(size):
+        values = np.asarray(read(part), dtype=float)
+        yield values[np.isfinite(values)]
+
+
+def order_statistic(read: Callable[[slice], np.ndarray], size: int, rank: int) -> float:
+    """The ``rank``-th smallest finite value (0-based) of a column of ``size`` values that ``read(slice)``
+    returns block by block, exactly.
+
+    While more than ``BLOCK_TARGETS`` candidates remain, a pass counts them in ``BINS`` bins between
+    their extremes and keeps the bin holding the rank; the extremes fall in different bins, so every
+    pass drops some, and typically all but a ``BINS``-th. The last pass gathers and sorts the rest.
+    """
+    low, high, below = -np.inf, np.inf, 0  # candidates: low <= value <= high; ``below`` values under low
+
+    def candidates():
+        for values in _finite(read, size):
+            yield values[(values >= low) & (values <= high)]
+
+    while True:
+        count, low_seen, high_seen = 0, np.inf, -np.inf
+        for values in candidates():
+            if values.size:
+                count, low_seen, high_seen = count + values.size, min(low_seen, values.min()), max(high_seen, values.max())
+        low, high = low_seen, high_seen
+        if count <= BLOCK_TARGETS or low == high:
+            break
+        edges = np.linspace(low, high, BINS + 1)
+        counts = np.zeros(BINS, dtype=np.int64)
+        for values in candidates():
+            counts += np.bincount(np.clip(np.searchsorted(edges, values, side="right") - 1, 0, BINS - 1),
+                                  minlength=BINS)
+        cumulative = below + np.cumsum(counts)
+        chosen = int(np.searchsorted(cumulative, rank, side="right"))
+        below = int(cumulative[chosen - 1]) if chosen else below
+        upper = edges[chosen + 1] if chosen + 1 < BINS else high
+        low, high = edges[chosen], np.nextafter(upper, -np.inf) if chosen + 1 < BINS else upper
+    if low == high:
+        return float(low)
+    gathered = np.sort(np.concatenate(list(candidates())))
+    return float(gathered[rank - below])
+
+
+def spread(read: Callable[[slice], np.ndarray], size: int) -> dict:
+    """``{min, median, max}`` of the finite values of a column read block by block (``None`` each when
+    there are none); the median as :func:`numpy.median` gives it (the mean of the middle two of an even count)."""
+    count, low, high = 0, np.inf, -np.inf
+    for values in _finite(read, size):
+        if values.size:
+            count, low, high = count + values.size, min(low, values.min()), max(high, values.max())
+    if not count:
+        return {"min": None, "median": None, "max": None}
+    middle = [order_statistic(read, size, rank) for rank in sorted({(count - 1) // 2, count // 2})]
+    return {"min": float(low), "median": float(np.mean(middle)), "max": float(high)}
