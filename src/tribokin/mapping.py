@@ -75,7 +75,7 @@ def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twi
     """Figures (targets, ``MAP_FIGURES``), bearing loads [N] (targets, nv) and dominant joint (-1: none)
     of the targets ``indices`` at configurations ``qs`` (targets, nv), each drawn from its own stream
     and measured like a single pose (joint-space approach); ``twists``, ``translations``: their
-    :func:`~tribokin.propagate.tool_frames`. Targets go through in blocks of about
+    :func:`~tribokin.propagate.tool_frames`. Targets go through in blocks of even sizes, of at most about
     ``TARGET_BLOCK_SAMPLES`` cycles: few enough for the arrays to stay small, enough to share the
     per-call costs."""
     study = runner.study
@@ -83,9 +83,9 @@ def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twi
     forces = runner.normal_forces_at(qs)
     figures = np.empty((len(qs), len(MAP_FIGURES)))
     dominant = np.empty(len(qs), dtype=int)
-    block = max(1, TARGET_BLOCK_SAMPLES // study.cycles)
-    for first in range(0, len(qs), block):
-        members = slice(first, first + block)
+    blocks = math.ceil(len(qs) / max(1, TARGET_BLOCK_SAMPLES // study.cycles))
+    for b in range(blocks):  # blocks of even sizes: no small last one paying the per-call costs alone
+        members = slice(len(qs) * b // blocks, len(qs) * (b + 1) // blocks)
         per_joint = np.empty((len(indices[members]), qs.shape[1], study.cycles))  # cycles contiguous
         for k, (load, index) in enumerate(zip(forces[members], indices[members])):
             per_joint[k] = runner.draw(task, load, study.cycles, study.approach,
