@@ -35,3 +35,19 @@ def test_orientation_accuracy_and_repeatability():
 def test_vap_is_largest_distance_between_direction_barycenters():
     pts = np.array([[0, 0, 0], [0, 0, 0], [3, 0, 0], [3, 0, 0], [0, 4, 0], [0, 4, 0]], dtype=float)
     assert multidirectional_variation(pts, np.array([0, 0, 1, 1, 2, 2])) == pytest.approx(5.0)
+
+
+def test_position_spread_of_a_batch_matches_each_cloud_alone():
+    """Barycenter, RP_l and largest semi-axis of several clouds at once against NumPy's mean, the
+    per-cloud RP_l and the square root of the largest eigenvalue of ``np.cov``."""
+    from tribokin.iso9283 import position_spread
+
+    rng = np.random.default_rng(3)
+    shapes = np.diag([3.0, 1.0, 0.1]) @ np.linalg.qr(rng.standard_normal((3, 3)))[0]
+    clouds = 0.5 + 1e-6 * rng.standard_normal((4, 200, 3)) @ shapes
+    spread = position_spread(clouds)
+    for k, cloud in enumerate(clouds):
+        assert spread.barycenter_m[k] == pytest.approx(cloud.mean(axis=0), rel=1e-15)
+        assert spread.RP_l_m[k] == pytest.approx(position_repeatability(cloud)[0], rel=1e-12)
+        largest = np.sqrt(np.linalg.eigvalsh(np.cov(cloud.T)).max())
+        assert spread.largest_semi_axis_m[k] == pytest.approx(largest, rel=1e-9)

@@ -152,6 +152,24 @@ def test_bound_series_tails_match_their_closed_forms(s):
     assert _log_tail(s, 4) == pytest.approx(-np.log(2.0 - np.exp(s)) - s - s**2 - s**3, rel=1e-6)
 
 
+def test_bound_series_tails_of_several_orders_at_once_are_each_orders_sum():
+    """Tails for an array of starts (a last axis) against the series summed term by term, for each start."""
+    import math
+
+    s = np.array([[0.01, 0.3], [0.05, 2.0]])
+    starts = np.array([2, 3, 4])
+    tails = _exp_tail(s, starts)
+    for k, start in enumerate(starts):
+        for index, value in np.ndenumerate(s):
+            expected = math.fsum(value ** m / math.factorial(m) for m in range(start, 120))
+            assert tails[index + (k,)] == pytest.approx(expected, rel=1e-12)
+    logs = _log_tail(s, starts)
+    assert np.isinf(logs[1, 1]).all() and not np.isinf(logs[0]).any()
+    for k, start in enumerate(starts):
+        assert logs[..., k][np.isfinite(logs[..., k])] == pytest.approx(
+            [float(_log_tail(value, int(start))) for value in s.ravel() if value < math.log(2.0)], rel=1e-12)
+
+
 def test_angle_bound_is_infinite_past_the_log_series_radius(robots):
     robot = robots["ur5"]
     dq = np.full((1, robot.model.nv), 0.2)  # Σ|ω_i||dq_i| = 1.2 rad > ln 2

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from tribokin.study import load_robot, load_study
-from tribokin.targets import fill_from_neighbours, grid_neighbours, holes_beside_reached, make_grid, solve_row, \
-    solve_row_heads
+from tribokin.targets import (extrapolate_row, fill_from_neighbours, grid_neighbours, holes_beside_reached, make_grid,
+                              solve_row, solve_row_heads)
 
 
 def ur5_plane(resolution):
@@ -91,3 +91,16 @@ def test_grid_positions_coordinates_and_thinning(solved):
     assert stride == 2 and shown.size <= 6
     np.testing.assert_array_equal(shown, grid.every((2, 2, 2)))
     assert grid.thinned(20) == (pytest.approx(np.arange(20).reshape(1, 4, 5)), 1)
+
+
+def test_row_extrapolation_continues_a_polynomial_through_the_last_reached_targets():
+    steps = np.arange(6.0)[:, None]
+    cubic = 0.3 - 0.2 * steps + 0.05 * steps**2 + 0.01 * steps**3 + np.zeros((1, 2))
+    line = 0.3 - 0.2 * steps + np.zeros((1, 2))
+    reached = np.ones(5, dtype=bool)
+    assert extrapolate_row(cubic[:5], reached) == pytest.approx(cubic[5], abs=1e-12)  # four points: exact to degree 3
+    partly = reached.copy()
+    partly[2] = False  # only the last two before the next target count: a straight line
+    assert extrapolate_row(line[:5], partly) == pytest.approx(line[5], abs=1e-12)
+    assert extrapolate_row(cubic[:5], np.array([True, True, True, False, True])) is None
+    assert extrapolate_row(cubic[:1], reached[:1]) is None

@@ -118,31 +118,35 @@ def _log_majorant_coefficients() -> np.ndarray:
 _LOG_COEFFICIENTS = _log_majorant_coefficients()
 
 
-def _series_tail(coefficients: np.ndarray, closed_form, s, start: int) -> np.ndarray:
+def _series_tail(coefficients: np.ndarray, closed_form, s, start) -> np.ndarray:
     """Σ_{m >= start} c_m s^m of a series with non-negative coefficients, without cancellation
-    (``s``: any array shape, element-wise)."""
+    (``s``: any array shape, element-wise; ``start``: an int, or a 1-D array of them, giving a last axis)."""
     s = np.asarray(s, dtype=float)
-    small = np.minimum(s, 0.1)[..., None] ** np.arange(start, _TERMS) @ coefficients[start:]
+    terms = np.arange(_TERMS)
+    kept = np.where(terms[:, None] >= np.atleast_1d(start), coefficients[:, None], 0.0)  # (_TERMS, starts)
+    small = np.minimum(s, 0.1)[..., None] ** terms @ kept
     if np.all(s <= 0.1):  # the first _TERMS terms hold the tail to double precision
-        return small
-    with np.errstate(over="ignore"):
-        large = closed_form(s) - np.maximum(s, 0.1)[..., None] ** np.arange(start) @ coefficients[:start]
-    return np.where(s <= 0.1, small, large)
+        tail = small
+    else:
+        with np.errstate(over="ignore"):
+            head = np.maximum(s, 0.1)[..., None] ** terms @ (coefficients[:, None] - kept)
+            tail = np.where(s[..., None] <= 0.1, small, closed_form(s)[..., None] - head)
+    return tail if np.ndim(start) else tail[..., 0]
 
 
-def _exp_tail(s, start: int) -> np.ndarray:
+def _exp_tail(s, start) -> np.ndarray:
     """Σ_{m >= start} s^m / m!."""
     return _series_tail(_EXP_COEFFICIENTS, np.exp, s, start)
 
 
-def _log_tail(w, start: int) -> np.ndarray:
+def _log_tail(w, start) -> np.ndarray:
     """Σ_{m >= start} of the series of -log(2 - e^w); ``inf`` for w >= ln 2 (no convergence)."""
     w = np.asarray(w, dtype=float)
     converging = w < math.log(2.0)
     with np.errstate(divide="ignore", invalid="ignore"):
         tail = _series_tail(_LOG_COEFFICIENTS, lambda x: -np.log(2.0 - np.exp(x)), np.where(converging, w, 0.0),
                             start)
-    return np.where(converging, tail, np.inf)
+    return np.where(converging if np.ndim(start) == 0 else converging[..., None], tail, np.inf)
 
 
 class _BatchNorms(NamedTuple):
@@ -164,11 +168,6 @@ def _batch_norms(twists: np.ndarray, dq: np.ndarray) -> _BatchNorms:
     return _BatchNorms(*np.moveaxis(sums.max(axis=-1), -1, 0))
 
 
-def _bound(norms: _BatchNorms, order: int) -> TruncationBound:
-    position = np.minimum(_exp_tail(norms.full, order + 1), norms.linear * _exp_tail(norms.angular, order))
-    return TruncationBound(np.full(np.shape(position), order), position, _log_tail(norms.angular, order + 1))
-
-
 def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = None,
                      tolerance_m: float = DEFAULT_TOLERANCE, tolerance_rad: float = DEFAULT_TOLERANCE
                      ) -> TruncationBound:
@@ -183,17 +182,19 @@ def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = Non
         tolerance_m: tolerated position error [m].
         tolerance_rad: tolerated orientation error [rad].
     """
+    if order is not None and not 1 <= order <= MAX_ORDER:
+        raise ValueError(f"order must be 1 to {MAX_ORDER}, got {order}")
     norms = _batch_norms(np.asarray(twists, dtype=float), np.asarray(dq, dtype=float))
-    if order is not None:
-        if not 1 <= order <= MAX_ORDER:
-            raise ValueError(f"order must be 1 to {MAX_ORDER}, got {order}")
-        bound = _bound(norms, order)
+    orders = np.arange(1, MAX_ORDER + 1)  # every order at once, along a last axis
+    position = np.minimum(_exp_tail(norms.full, orders + 1), norms.linear[..., None] * _exp_tail(norms.angular, orders))
+    angle = _log_tail(norms.angular, orders + 1)
+    if order is None:  # the lowest order meeting both tolerances, else the highest
+        met = (position <= tolerance_m) & (angle <= tolerance_rad)
+        chosen = np.where(met.any(axis=-1), met.argmax(axis=-1), MAX_ORDER - 1)
     else:
-        bound = _bound(norms, MAX_ORDER)
-        for candidate in range(MAX_ORDER - 1, 0, -1):  # lowest order meeting both tolerances wins
-            lower = _bound(norms, candidate)
-            met = (lower.position_m <= tolerance_m) & (lower.angle_rad <= tolerance_rad)
-            bound = TruncationBound(*(np.where(met, a, b) for a, b in zip(lower, bound)))
+        chosen = np.full(norms.full.shape, order - 1)
+    bound = TruncationBound(chosen + 1, *(np.take_along_axis(a, chosen[..., None], axis=-1)[..., 0]
+                                          for a in (position, angle)))
     if np.ndim(bound.order) == 0:
         return TruncationBound(int(bound.order), float(bound.position_m), float(bound.angle_rad))
     return bound
@@ -336,16 +337,23 @@ def evaluate_polynomial(twists: np.ndarray, translations: np.ndarray, dq: np.nda
     deviations = np.empty((poses, 6, n))
     block = max(1, CHUNK_SAMPLES // max(n, 1))  # poses evaluated together; their features stay in cache
     for order in np.unique(orders):
-        members = np.flatnonzero(orders == order)
-        for first in range(0, len(members), block):
-            group = members[first:first + block]
-            coefficients = np.swapaxes(tool_polynomial(twists[group], int(order)), -1, -2)  # (g, 6, M)
-            for start in range(0, n, CHUNK_SAMPLES):
-                samples = np.ascontiguousarray(per_joint[group, :, start:start + CHUNK_SAMPLES])  # (g, nv, c)
-                deviations[group, :, start:start + samples.shape[-1]] = coefficients @ monomial_features(
-                    samples, int(order))
-    positions = np.swapaxes(deviations[:, :3], 1, 2) + translations[:, None, :]
-    return positions, np.swapaxes(deviations[:, 3:], 1, 2)
+        for run in _runs(np.flatnonzero(orders == order)):
+            coefficients = np.swapaxes(tool_polynomial(twists[run], int(order)), -1, -2)  # (run, 6, M)
+            for first in range(run.start, run.stop, block):
+                group = slice(first, min(first + block, run.stop))
+                for start in range(0, n, CHUNK_SAMPLES):
+                    samples = np.ascontiguousarray(per_joint[group, :, start:start + CHUNK_SAMPLES])  # (g, nv, c)
+                    np.matmul(coefficients[group.start - run.start:group.stop - run.start],
+                              monomial_features(samples, int(order)),
+                              out=deviations[group, :, start:start + samples.shape[-1]])
+    deviations[:, :3] += translations[:, :, None]
+    return np.swapaxes(deviations[:, :3], 1, 2), np.swapaxes(deviations[:, 3:], 1, 2)
+
+
+def _runs(indices: np.ndarray) -> list[slice]:
+    """Sorted ``indices`` as slices of consecutive ones (so poses are taken as views, not copies)."""
+    breaks = np.flatnonzero(np.diff(indices) != 1) + 1
+    return [slice(run[0], run[-1] + 1) for run in np.split(indices, breaks)]
 
 
 def tool_deviations_fast(robot: Robot, q: np.ndarray, dq: np.ndarray, order: int | None = None,

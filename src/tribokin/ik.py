@@ -37,13 +37,14 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
     """
     model, data, frame = robot.model, robot.data, robot.tool_frame_id
     lower, upper = robot.lower_limits, robot.upper_limits
-    q = np.clip(np.asarray(q_start, dtype=float), lower, upper)
+    q = np.minimum(np.maximum(np.asarray(q_start, dtype=float), lower), upper)  # np.clip, without its overhead
+    goal = target.translation
     regularisation = damping * np.eye(3 if position_only else 6)  # rows of the error: position (and angle)
     best, stalled = math.inf, 0
     for iteration in range(iterations + 1):
         pin.computeJointJacobians(model, data, q)  # forward kinematics and joint Jacobians in one pass
         current = pin.updateFramePlacement(model, data, frame)
-        gap = target.translation - current.translation
+        gap = goal - current.translation
         position_error = math.sqrt(gap @ gap)
         if position_only:
             angle_error = 0.0
@@ -64,7 +65,7 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
             jacobian = pin.Jlog6(error_motion) @ jacobian
         _, step, _ = dposv(jacobian @ jacobian.T + regularisation, error)  # SPD: Cholesky, without numpy's checks
         step = jacobian.T @ step
-        q = np.clip(q + step, lower, upper)
+        q = np.minimum(np.maximum(q + step, lower), upper)
     success = converged or (position_error < position_tol_m * 10
                             and (position_only or angle_error < angle_tol_rad * 10))
     return IKResult(q, position_error, angle_error, success)

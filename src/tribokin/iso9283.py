@@ -9,6 +9,7 @@ deviations at stake they equal the standard's angle differences.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -49,12 +50,27 @@ def barycenter(positions: np.ndarray) -> np.ndarray:
     return (first + (coordinates - first).mean(axis=-1, keepdims=True))[..., 0]
 
 
-def position_repeatability(positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """RP_l = l_bar + 3 S_l [m] and the distances l_j [m] of (..., n, 3) positions (S_l with n - 1)."""
-    offsets = _coordinates(positions) - barycenter(positions)[..., None]
-    distances = np.sqrt(np.sum(offsets * offsets, axis=-2))
+def _offsets(positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Barycenter (..., 3) [m] of (..., n, 3) positions and their offsets x_j - barycenter (..., 3, n) [m]."""
+    centre = barycenter(positions)
+    return centre, _coordinates(positions) - centre[..., None]
+
+
+def _repeatability(offsets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """RP_l = l_bar + 3 S_l [m] and the distances l_j [m] of offsets (..., 3, n) from the barycenter."""
+    distances = np.sqrt(np.einsum("...kn,...kn->...n", offsets, offsets))
     spread = distances.std(axis=-1, ddof=1) if distances.shape[-1] > 1 else 0.0
     return distances.mean(axis=-1) + 3 * spread, distances
+
+
+def _covariance(offsets: np.ndarray) -> np.ndarray:
+    """(..., 3, 3) covariance [m²] of offsets (..., 3, n) from the barycenter (n - 1; zero for one sample)."""
+    return np.einsum("...kn,...ln->...kl", offsets, offsets) / max(offsets.shape[-1] - 1, 1)
+
+
+def position_repeatability(positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """RP_l = l_bar + 3 S_l [m] and the distances l_j [m] of (..., n, 3) positions (S_l with n - 1)."""
+    return _repeatability(_offsets(positions)[1])
 
 
 def orientation_repeatability(angles: np.ndarray) -> np.ndarray:
@@ -66,13 +82,32 @@ def orientation_repeatability(angles: np.ndarray) -> np.ndarray:
 
 def covariance_semi_axes(positions: np.ndarray) -> np.ndarray:
     """1-sigma semi-axes [m] of the covariance ellipsoid of (..., n, 3) positions, largest first."""
-    coordinates = _coordinates(positions)
-    n = coordinates.shape[-1]
-    if n < 2:
-        return np.zeros(coordinates.shape[:-1])
-    centred = coordinates - coordinates.mean(axis=-1, keepdims=True)
-    covariance = centred @ np.swapaxes(centred, -1, -2) / (n - 1)
+    return _semi_axes(_covariance(_offsets(positions)[1]))
+
+
+def _semi_axes(covariance: np.ndarray) -> np.ndarray:
+    """1-sigma semi-axes [m], largest first, of (..., 3, 3) covariances [m²]."""
     return np.sqrt(np.clip(np.linalg.eigvalsh(covariance), 0, None))[..., ::-1]
+
+
+class PositionSpread(NamedTuple):
+    """Position figures of batches of cycles (arrays over the batch axes).
+
+    Attributes:
+        barycenter_m: (..., 3) barycenter [m].
+        RP_l_m: position repeatability l_bar + 3 S_l [m].
+        largest_semi_axis_m: largest 1-sigma semi-axis of the covariance ellipsoid [m].
+    """
+
+    barycenter_m: np.ndarray
+    RP_l_m: np.ndarray
+    largest_semi_axis_m: np.ndarray
+
+
+def position_spread(positions: np.ndarray) -> PositionSpread:
+    """Barycenter, RP_l and largest covariance semi-axis of (..., n, 3) positions, from one set of offsets."""
+    centre, offsets = _offsets(positions)
+    return PositionSpread(centre, _repeatability(offsets)[0], _semi_axes(_covariance(offsets))[..., 0])
 
 
 def variance_contributions(position_jacobian: np.ndarray, dq: np.ndarray) -> np.ndarray:

@@ -27,8 +27,7 @@ from tribokin.checkpoint import ChunkStore, fingerprint
 from tribokin.config import Study
 from tribokin.errors import InputError
 from tribokin.executors import run_chunks
-from tribokin.iso9283 import barycenter, covariance_semi_axes, orientation_repeatability, position_repeatability, \
-    variance_contributions
+from tribokin.iso9283 import orientation_repeatability, position_spread, variance_contributions
 from tribokin.memory import TARGET_BLOCK_SAMPLES, rows_per_chunk
 from tribokin.propagate import tool_deviations_at_poses, tool_frames
 from tribokin.results import MAP_FIGURES, MDEG_PER_RAD, UM_PER_M, MapResult, ScenarioMap, scenario_column
@@ -79,23 +78,23 @@ def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twi
     """Figures (targets, ``MAP_FIGURES``), bearing loads [N] (targets, nv) and dominant joint (-1: none)
     of the targets ``indices`` at configurations ``qs`` (targets, nv), each drawn from its own stream
     and measured like a single pose (joint-space approach); ``twists``, ``translations``: their
-    :func:`~tribokin.propagate.tool_frames`. Targets go through in blocks of about
+    :func:`~tribokin.propagate.tool_frames`. Targets go through in blocks of even sizes, of at most about
     ``TARGET_BLOCK_SAMPLES`` cycles: few enough for the arrays to stay small, enough to share the
     per-call costs."""
     study = runner.study
-    tasks = [joint_space_task(f"target {index}", q) for index, q in zip(indices, qs)]
+    task = joint_space_task("map target", np.zeros(qs.shape[1]))  # the draws use its approach directions only
     forces = runner.normal_forces_at(qs)
     figures = np.empty((len(qs), len(MAP_FIGURES)))
     dominant = np.empty(len(qs), dtype=int)
-    block = max(1, TARGET_BLOCK_SAMPLES // study.cycles)
-    for first in range(0, len(qs), block):
-        members = slice(first, first + block)
-        per_joint = np.array([runner.draw(task, load, study.cycles, study.approach,
-                                          pose_rng(study.seed, int(index), MAP_STREAM))[0].T
-                              for task, load, index in zip(tasks[members], forces[members], indices[members])])
-        dq = np.swapaxes(per_joint, 1, 2)  # (targets, n, nv) view of (targets, nv, n): cycles contiguous
-        figures[members], dominant[members] = block_figures(runner, qs[members], dq, twists[members],
-                                                            translations[members])
+    blocks = math.ceil(len(qs) / max(1, TARGET_BLOCK_SAMPLES // study.cycles))
+    for b in range(blocks):  # blocks of even sizes: no small last one paying the per-call costs alone
+        members = slice(len(qs) * b // blocks, len(qs) * (b + 1) // blocks)
+        per_joint = np.empty((len(indices[members]), qs.shape[1], study.cycles))  # cycles contiguous
+        for k, (load, index) in enumerate(zip(forces[members], indices[members])):
+            per_joint[k] = runner.draw(task, load, study.cycles, study.approach,
+                                       pose_rng(study.seed, int(index), MAP_STREAM))[0].T
+        figures[members], dominant[members] = block_figures(runner, qs[members], np.swapaxes(per_joint, 1, 2),
+                                                            twists[members], translations[members])
     return figures, forces, dominant
 
 
@@ -104,12 +103,12 @@ def block_figures(runner: PoseRunner, qs: np.ndarray, dq: np.ndarray, twists: np
     positions, angles = tool_deviations_at_poses(runner.robot, qs, dq, runner.study.engine, twists, translations)
     shares = variance_contributions(twists[:, :3], dq)
     dominant = np.where(np.isnan(shares).all(axis=1), -1, np.argmax(np.nan_to_num(shares, nan=-1.0), axis=1))
-    rp_l_m, _ = position_repeatability(positions)
+    spread = position_spread(positions)
     figures = np.column_stack([
-        rp_l_m * UM_PER_M,
-        np.linalg.norm(barycenter(positions) - translations, axis=1) * UM_PER_M,
+        spread.RP_l_m * UM_PER_M,
+        np.linalg.norm(spread.barycenter_m - translations, axis=1) * UM_PER_M,
         orientation_repeatability(angles) * MDEG_PER_RAD,
-        covariance_semi_axes(positions)[:, 0] * UM_PER_M,
+        spread.largest_semi_axis_m * UM_PER_M,
         np.where(dominant < 0, np.nan, np.take_along_axis(shares, np.maximum(dominant, 0)[:, None], axis=1)[:, 0]),
     ])
     return figures, dominant

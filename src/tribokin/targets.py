@@ -24,6 +24,9 @@ from tribokin.robot import Robot
 
 #: Random restarts of the IK after a warm start fails (each costs up to 200 iterations).
 IK_RESTARTS = 4
+#: Reached targets a row's warm start extrapolates from (a polynomial of one degree less): an error of the
+#: order of the step to the fourth power, so one iteration usually converges on fine grids.
+EXTRAPOLATION_POINTS = 4
 #: Seed of the IK restarts: target ``index`` restarts from ``default_rng([IK_SEED, index])``.
 IK_SEED = 9283
 
@@ -234,9 +237,21 @@ def solve_row_heads(robot: Robot, grid: TargetGrid) -> np.ndarray:
     return heads
 
 
+def extrapolate_row(q: np.ndarray, reachable: np.ndarray) -> np.ndarray | None:
+    """Warm start [m or rad] for the next target of a row: the polynomial through the configurations ``q``
+    (k, nv) of the last reached targets in a row (up to ``EXTRAPOLATION_POINTS``), one step further;
+    ``None`` when fewer than two targets right before the next one were reached."""
+    count = 0
+    while count < min(EXTRAPOLATION_POINTS, len(q)) and reachable[len(q) - 1 - count]:
+        count += 1
+    if count < 2:
+        return None
+    return sum((-1) ** (j + 1) * math.comb(count, j) * q[len(q) - j] for j in range(1, count + 1))
+
+
 def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Configurations of grid row ``row``, each target warm-started from the last reachable one (``head_q`` first),
-    extrapolated along the row when the two targets before it were reached.
+    extrapolated along the row when two or more targets right before it were reached (:func:`extrapolate_row`).
 
     Returns:
         q (columns, nv) [m or rad] (NaN where unreachable), reachable (columns,), and for unreachable
@@ -252,8 +267,9 @@ def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndar
     q_start = np.asarray(head_q, dtype=float)
     for k, index in enumerate(indices):
         result = None
-        if k >= 2 and reachable[k - 2] and reachable[k - 1]:
-            result = _solve_from(robot, grid, index, 2 * q[k - 1] - q[k - 2])
+        predicted = extrapolate_row(q[:k], reachable[:k])
+        if predicted is not None:
+            result = _solve_from(robot, grid, index, predicted)
         if result is None or not result.success:
             result = _solve(robot, grid, index, q_start)
         reachable[k] = result.success
