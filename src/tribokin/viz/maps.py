@@ -20,14 +20,13 @@ from tribokin.targets import GridAxis, TargetGrid  # noqa: E402
 UNREACHABLE_GREY = "#c8c8c8"
 
 
-def _edges(axis: GridAxis | None) -> np.ndarray:
-    """Cell edges around an axis' values (a single value gets a cell of width 1)."""
+def _span(axis: GridAxis | None) -> tuple[float, float]:
+    """Outer edges of the cells around an axis' evenly spaced values (a single value gets a cell of width 1)."""
     if axis is None or len(axis.values) == 1:
         centre = 0.0 if axis is None else axis.values[0]
-        return np.array([centre - 0.5, centre + 0.5])
-    values = axis.values
-    middle = (values[1:] + values[:-1]) / 2
-    return np.concatenate([[2 * values[0] - middle[0]], middle, [2 * values[-1] - middle[-1]]])
+        return centre - 0.5, centre + 0.5
+    half = (axis.values[1] - axis.values[0]) / 2
+    return axis.values[0] - half, axis.values[-1] + half
 
 
 def value_norm(values: np.ndarray, centre: float | None = None) -> Normalize:
@@ -83,14 +82,13 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
         if layer >= n_layers:
             ax.set_visible(False)
             continue
-        mesh = ax.pcolormesh(_edges(columns), _edges(rows), images[layer], cmap=cmap, norm=norm)
+        mesh = ax.imshow(images[layer], extent=(*_span(columns), *_span(rows)), origin="lower", cmap=cmap, norm=norm,
+                         interpolation="nearest", aspect="equal" if grid.kind != "joint" and rows is not None else "auto")
         ax.set_xlabel(columns.label)
         if rows is not None:
             ax.set_ylabel(rows.label)
         else:
             ax.set_yticks([])
-        if grid.kind != "joint" and rows is not None:
-            ax.set_aspect("equal")
         if layers is not None:
             ax.set_title(f"{layers.name} = {layers.values[layer]:.4g} {layers.unit}", fontsize=9)
     bar = fig.colorbar(mesh, ax=axes, label=label, shrink=0.9)
