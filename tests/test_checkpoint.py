@@ -40,3 +40,14 @@ def test_records_are_kept_whole(tmp_path):
     store.save_record("filled", {"index": np.array([2])})
     assert store.load_record("filled")["index"].tolist() == [2]
     assert sorted(p.name for p in (tmp_path / "store").glob("*filled*")) == ["filled.npz"]
+
+
+def test_scattered_reads_in_file_pieces_return_values_in_the_order_asked(tmp_path, monkeypatch):
+    monkeypatch.setattr("tribokin.checkpoint.READ_ROWS", 3)
+    store = ChunkStore(tmp_path / "store", "key", COLUMNS, size=10)
+    q = np.arange(20.0).reshape(10, 2)
+    store.save(0, 0, {"q": q, "reachable": np.arange(10) % 3 == 0})
+    for index in ([9, 0, 4, 4, 8, 1], [7], [], np.arange(10)[::-1]):
+        np.testing.assert_array_equal(store.read("q", index), q[index])
+    np.testing.assert_array_equal(store.read("reachable", [3, 1, 0]), [True, False, True])
+    assert store.read("q", []).shape == (0, 2)

@@ -23,6 +23,9 @@ from numpy.lib.format import open_memmap
 
 from tribokin.errors import InputError
 
+#: Rows of a column file a scattered read maps at once.
+READ_ROWS = 1 << 16
+
 
 def chunk_folder(out) -> Path:
     """The chunk folder of output folder ``out``: ``<out>.chunks`` beside it."""
@@ -97,11 +100,32 @@ class ChunkStore:
         self.write(slice(first, first + len(next(iter(arrays.values())))), arrays)
         (self.folder / "done" / str(chunk)).touch()
 
-    def read(self, name: str, index=slice(None)) -> np.ndarray:
-        """Column ``name`` at targets ``index`` (a slice or indices), in memory."""
+    def _mapped(self, name: str, take) -> np.ndarray:
+        """``take(column)`` of column ``name``, copied out of a memory map closed before returning, so
+        the column's pages it touched do not stay in this process's memory."""
         column = np.load(self._path(name), mmap_mode="r")
-        values = np.array(column[index])
+        values = np.array(take(column))
         del column
+        return values
+
+    def read(self, name: str, index=slice(None)) -> np.ndarray:
+        """Column ``name`` at targets ``index`` (a slice, an index, or indices), in memory. Scattered
+        indices are read ``READ_ROWS`` rows of the file at a time, so the pages a read touches stay bounded."""
+        if isinstance(index, slice) or np.ndim(index) == 0:
+            return self._mapped(name, lambda column: column[index])
+        index = np.asarray(index, dtype=np.intp)
+        order = np.argsort(index, kind="stable")
+        ordered = index[order]
+        bounds = np.searchsorted(ordered, np.arange(0, self.size + READ_ROWS, READ_ROWS))
+        pieces = [(lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:]) if hi > lo]
+        if not pieces:
+            return self._mapped(name, lambda column: column[index])
+        values = None
+        for lo, hi in pieces:
+            part = self._mapped(name, lambda column: column[ordered[lo:hi]])
+            if values is None:
+                values = np.empty((len(index), *part.shape[1:]), dtype=part.dtype)
+            values[order[lo:hi]] = part
         return values
 
     def save_record(self, name: str, arrays: dict[str, np.ndarray]) -> None:
