@@ -42,6 +42,8 @@ def value_norm(values: np.ndarray, centre: float | None = None) -> Normalize:
 #: and most panels (layers) per figure; larger grids show every k-th target.
 PANEL_TARGETS = 400
 PANELS = 16
+#: Characters of a 10-point title line per inch of figure width.
+TITLE_CHARACTERS_PER_IN = 13
 
 
 def shown_targets(grid: TargetGrid) -> tuple[np.ndarray, tuple[int, int, int]]:
@@ -75,7 +77,8 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
     norm = norm or value_norm(data, centre)
     panels_across = math.ceil(math.sqrt(n_layers))
     panels_down = math.ceil(n_layers / panels_across)
-    fig, axes = plt.subplots(panels_down, panels_across, figsize=(1.5 + 4.6 * panels_across, 0.8 + 3.9 * panels_down),
+    width_in = 1.5 + 4.6 * panels_across
+    fig, axes = plt.subplots(panels_down, panels_across, figsize=(width_in, 0.8 + 3.9 * panels_down),
                              squeeze=False, constrained_layout=True)
     mesh = None
     for layer, ax in enumerate(axes.flat):
@@ -100,7 +103,7 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
     if thinned:
         note += (f"; shown: {shown.size:,} of {grid.size:,} targets, 1 in {strides[2]} along rows and columns"
                  + (f", 1 in {strides[0]} layers" if strides[0] > 1 else "") + "; map.csv has them all")
-    fig.suptitle(textwrap.fill(f"{title}{note}", 40 + 50 * panels_across), fontsize=10)
+    fig.suptitle(textwrap.fill(f"{title}{note}", int(TITLE_CHARACTERS_PER_IN * width_in)), fontsize=10)
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
