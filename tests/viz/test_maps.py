@@ -44,3 +44,15 @@ def test_report_of_a_thinned_map_says_so_and_its_table_keeps_every_target(gantry
     report = (out / "report.html").read_text()
     assert "1 in 3 targets along each grid axis" in report and "9 / 9" in report
     assert len((out / "map.csv").read_text().splitlines()) == 1 + 63
+
+
+def test_colour_scales_keep_the_centre_in_the_middle():
+    from tribokin.viz.maps import value_norm
+
+    straddling = value_norm(np.array([0.5, 1.0, 3.0, np.nan]), centre=1.0)
+    assert (straddling(0.5), straddling(1.0), straddling(3.0)) == pytest.approx((0.0, 0.5, 1.0))
+    below = value_norm(np.array([0.25, 0.65]), centre=1.0)  # all better than the reference: none white
+    assert (below(0.25), below(1.0), below(1.75)) == pytest.approx((0.0, 0.5, 1.0))
+    plain = value_norm(np.array([2.0, 4.0]))
+    assert (plain(2.0), plain(4.0)) == pytest.approx((0.0, 1.0))
+    assert value_norm(np.array([1.0, 1.0]), centre=1.0)(1.0) == pytest.approx(0.0, abs=1e-6)

@@ -30,11 +30,16 @@ def _span(axis: GridAxis | None) -> tuple[float, float]:
 
 
 def value_norm(values: np.ndarray, centre: float | None = None) -> Normalize:
-    """A colour scale over the finite values, centred on ``centre`` when they straddle it."""
+    """A colour scale over the finite values; with a ``centre``, the middle colour is the centre: when the
+    values straddle it each side spans its own range, else the scale reaches as far past the centre as
+    the values lie on their side (so a map of ratios all below 1 is not white where nothing changed)."""
     finite = values[np.isfinite(values)]
     low, high = (float(finite.min()), float(finite.max())) if len(finite) else (0.0, 1.0)
     if centre is not None and low < centre < high:
         return TwoSlopeNorm(centre, low, high)
+    if centre is not None:
+        reach = max(abs(low - centre), abs(high - centre))
+        low, high = centre - reach, centre + reach
     return Normalize(low, high if high > low else low + max(abs(low), 1.0) * 1e-9)
 
 
