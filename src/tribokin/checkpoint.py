@@ -65,7 +65,6 @@ class ChunkStore:
     def __init__(self, folder, key: str, columns: dict[str, tuple[tuple, str]], size: int, resume: bool = False):
         self.folder = Path(folder)
         self.size = size
-        self.columns = columns
         manifest = self.folder / "manifest.json"
         check_chunk_folder(self.folder, resume)
         if self.folder.exists():

@@ -44,6 +44,16 @@ def map_bytes_per_target(nv: int, scenarios: int) -> int:
     return FLOAT * (5 + nv) + 1 + scenarios * FLOAT * (8 + nv)
 
 
+def grid_counts(spec: dict) -> list[int]:
+    """Targets along each axis of a validated ``[map]``, columns first."""
+    return spec["counts"] if spec["kind"] == "joint" else spec["resolution"]
+
+
+def size_key(spec: dict) -> str:
+    """The ``[map]`` key that sets its number of targets."""
+    return "map.counts" if spec["kind"] == "joint" else "map.resolution"
+
+
 def rows_per_chunk(spec: dict, row_length: int) -> int:
     """Grid rows a map chunk computes: ``map.chunk_rows``, default about ``CHUNK_TARGETS`` targets."""
     return spec["chunk_rows"] or math.ceil(CHUNK_TARGETS / row_length)
@@ -51,13 +61,13 @@ def rows_per_chunk(spec: dict, row_length: int) -> int:
 
 def chunk_targets(spec: dict) -> int:
     """Targets of the largest chunk of a validated ``[map]``."""
-    row_length = (spec["counts"] if spec["kind"] == "joint" else spec["resolution"])[0]
+    row_length = grid_counts(spec)[0]
     return min(rows_per_chunk(spec, row_length) * row_length, map_target_count(spec))
 
 
 def grid_rows(spec: dict) -> int:
     """Grid rows of a validated ``[map]`` (all layers)."""
-    return map_target_count(spec) // (spec["counts"] if spec["kind"] == "joint" else spec["resolution"])[0]
+    return map_target_count(spec) // grid_counts(spec)[0]
 
 
 #: (limit, usage) files of a cgroup v2, then v1: a container's memory limit.
@@ -90,8 +100,7 @@ def available_bytes() -> int | None:
 
 def map_target_count(spec: dict) -> int:
     """Targets of a validated ``[map]`` table (every grid point, reachable or not)."""
-    counts = spec["counts"] if spec["kind"] == "joint" else spec["resolution"]
-    return math.prod(counts)
+    return math.prod(grid_counts(spec))
 
 
 def gib(size: float) -> str:
@@ -120,7 +129,7 @@ def check_disk(study: Study, nv: int, folder) -> None:
         existing = existing.parent
     free = shutil.disk_usage(existing).free
     if needed > free:
-        key = "map.counts" if study.map["kind"] == "joint" else "map.resolution"
+        key = size_key(study.map)
         raise InputError(f"this map needs about {gib(needed)} of disk space for its results ({_count(targets, 'map target')}"
                          f" × {_count(scenarios, 'scenario')} × {_count(nv, 'joint')}), and {gib(free)} is available in "
                          f"'{existing}': lower {key}, or split the map into several", study.source, key)
@@ -146,7 +155,7 @@ def estimate(study: Study, nv: int, directions: list[int], workers: int = 1) -> 
         targets = map_target_count(study.map)
         scenarios = max(1, len(study.scenarios))
         cycles = max([s.study.cycles for s in study.scenarios] or [study.cycles])
-        key = "map.counts" if study.map["kind"] == "joint" else "map.resolution"
+        key = size_key(study.map)
         chunk = chunk_targets(study.map)
         held = 2 * (max(1, workers) + 1) * chunk * map_bytes_per_target(nv, scenarios) + 3 * FLOAT * nv * grid_rows(
             study.map)  # chunks computed, in transit and written; a warm start per row (kept, sent, solved)

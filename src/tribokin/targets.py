@@ -280,13 +280,16 @@ def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndar
     return q, reachable, closest
 
 
+def axis_steps(shape: tuple[int, int, int]) -> tuple[tuple[int, int], ...]:
+    """(size, index step) of the layer, row and column axes of a grid of ``shape`` (layers, rows, columns)."""
+    layers, rows, columns = shape
+    return (layers, rows * columns), (rows, columns), (columns, 1)
+
+
 def grid_neighbours(grid: TargetGrid, index: int) -> list[int]:
     """Indices of the targets next to ``index`` along each grid axis (up to 6), in increasing order."""
-    layers, rows, columns = grid.shape
-    layer, rest = divmod(index, rows * columns)
-    row, column = divmod(rest, columns)
     neighbours = []
-    for position, size, step in ((layer, layers, rows * columns), (row, rows, columns), (column, columns, 1)):
+    for position, (size, step) in zip(np.unravel_index(index, grid.shape), axis_steps(grid.shape)):
         for offset in (-1, 1):
             if 0 <= position + offset < size:
                 neighbours.append(index + offset * step)
@@ -300,8 +303,7 @@ SCAN_TARGETS = 1 << 16
 def holes_beside_reached(grid: TargetGrid, read) -> list[int]:
     """Unreachable targets with a reached neighbour, in increasing order; ``read("reachable", slice)``
     gives the flags, read in blocks of ``SCAN_TARGETS`` (and the neighbours either side)."""
-    layers, rows, columns = grid.shape
-    strides = ((layers, rows * columns), (rows, columns), (columns, 1))
+    strides = axis_steps(grid.shape)
     reach = max(step for size, step in strides if size > 1) if grid.size > 1 else 0
     holes = []
     for first in range(0, grid.size, SCAN_TARGETS):
