@@ -102,16 +102,19 @@ def _print_map(summary: dict) -> None:
 
 
 def _view(args) -> None:
-    from tribokin.viz.live import start_live_scene, wait_until_interrupted
+    from tribokin.viz.live import live_scene, stop_signals_interrupt
 
-    vis, info = start_live_scene(args.folder, args.meshes)
-    for note in info.notes:
-        print(f"note: {note}")
-    print(f"clouds magnified ×{info.magnification:g}")
-    print(f"scene at {vis.url()} (meshcat-server pid {vis.window.server_proc.pid}; Ctrl-C to stop)", flush=True)
-    if not wait_until_interrupted(vis):
-        raise InputError("meshcat-server stopped unexpectedly; run `tribokin view` again", "meshcat-server")
-    print("viewer stopped")
+    try:
+        with stop_signals_interrupt(), live_scene(args.folder, args.meshes) as (server, info):
+            for note in info.notes:
+                print(f"note: {note}")
+            print(f"clouds magnified ×{info.magnification:g}")
+            print(f"scene at {server.web_url} (meshcat-server pid {server.process.pid}; Ctrl-C to stop)", flush=True)
+            server.process.wait()
+    except KeyboardInterrupt:  # Ctrl-C, SIGTERM or SIGHUP; live_scene has stopped the server
+        print("viewer stopped")
+        return
+    raise InputError("meshcat-server stopped unexpectedly; run `tribokin view` again", "meshcat-server")
 
 
 def _robots(args) -> None:

@@ -4,7 +4,7 @@
 anything: the robot from ``summary.json["study"]["robot_spec"]`` (absolute
 paths; its meshes are read again from disk), the pose names from
 ``summary.json``, the cycle positions from
-``samples.npz``, and from ``scene.npz`` the drawing configuration
+``samples.npz`` (absent when the study has no pose), and from ``scene.npz`` the drawing configuration
 ``robot_q``, the magnification, the map layers
 (``map/<label>/points_m`` (N, 3) [m], ``map/<label>/values_um`` (N,) [µm])
 in their order (``map_labels``), and the ISO cube (``cube_centre_m`` (3,) [m], ``cube_edge_m`` [m]).
@@ -65,17 +65,23 @@ def load_scene_inputs(folder) -> SceneInputs:
     from tribokin.study import load_robot_spec
 
     folder = Path(folder)
-    for name in ("summary.json", "samples.npz", SCENE_FILE):
-        if not (folder / name).is_file():
-            raise InputError(f"no {name} here; give a folder written by `tribokin run` (report not 'none')",
-                             folder, name)
+    for name in ("summary.json", SCENE_FILE):
+        _require_file(folder, name)
     summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
     robot = load_robot_spec(summary["study"]["robot_spec"], folder / "summary.json")
-    with np.load(folder / "samples.npz") as samples:
-        poses = [CycleCloud(row["name"], samples[f"{row['name']}/positions_m"]) for row in summary["poses"]]
+    poses = []
+    if summary["poses"]:  # a map-only run writes no samples.npz
+        _require_file(folder, "samples.npz")
+        with np.load(folder / "samples.npz") as samples:
+            poses = [CycleCloud(row["name"], samples[f"{row['name']}/positions_m"]) for row in summary["poses"]]
     with np.load(folder / SCENE_FILE) as scene:
         labels = [str(label) for label in scene["map_labels"]]
         layers = {label: MapLayer(scene[f"map/{label}/points_m"], scene[f"map/{label}/values_um"], label)
                   for label in labels}
         cube = Cube(tuple(scene["cube_centre_m"]), float(scene["cube_edge_m"])) if "cube_edge_m" in scene else None
         return SceneInputs(robot, scene["robot_q"], poses, layers, cube, float(scene["magnification"]))
+
+
+def _require_file(folder: Path, name: str) -> None:
+    if not (folder / name).is_file():
+        raise InputError(f"no {name} here; give a folder written by `tribokin run` (report not 'none')", folder, name)
