@@ -1,0 +1,123 @@
+"""Mesh safety: a URDF mesh outside the package folders is refused while loading, before Pinocchio
+reads any file (command line, FIFO and map study: test_bad_input.py)."""
+
+import os
+from pathlib import Path
+
+import pinocchio as pin
+import pytest
+
+from tribokin.errors import InputError
+from tribokin.robot import load_urdf
+from tribokin.urdf_meshes import resolve_mesh
+
+TETRAHEDRON_STL = """solid t
+facet normal 0 0 -1
+ outer loop
+  vertex 0 0 0
+  vertex 0.05 0 0
+  vertex 0 0.05 0
+ endloop
+endfacet
+facet normal 0 -1 0
+ outer loop
+  vertex 0 0 0
+  vertex 0 0 0.05
+  vertex 0.05 0 0
+ endloop
+endfacet
+endsolid t
+"""
+
+URDF = """<?xml version="1.0"?>
+<robot name="meshy">
+  <link name="base"><visual><geometry><mesh filename="{mesh}"/></geometry></visual>
+    <collision><geometry><mesh filename="{collision}"/></geometry></collision></link>
+  <joint name="x" type="prismatic"><parent link="base"/><child link="tool"/><axis xyz="1 0 0"/>
+    <limit lower="0" upper="0.4" effort="100" velocity="1"/></joint>
+  <link name="tool"><visual><geometry><box size="0.05 0.05 0.05"/></geometry></visual></link>
+</robot>
+"""
+
+INSIDE = "package://pkg/meshes/inside.stl"
+
+
+def meshy_urdf(tmp_path, mesh: str, collision: str = INSIDE) -> Path:
+    """``tmp_path/share/pkg/meshy.urdf`` whose base link shows ``mesh`` and collides as ``collision``
+    (``{tmp}`` stands for ``tmp_path``). ``share/pkg/meshes/inside.stl``, ``outside/evil.stl``,
+    ``outside/evil`` (no extension) and ``share/pkg/meshes/link.stl`` (a symlink to ``outside/evil.stl``)
+    exist. The package folder is ``tmp_path/share``."""
+    meshes, outside = tmp_path / "share" / "pkg" / "meshes", tmp_path / "outside"
+    meshes.mkdir(parents=True)
+    outside.mkdir()
+    for file in (meshes / "inside.stl", outside / "evil.stl", outside / "evil"):
+        file.write_text(TETRAHEDRON_STL)
+    (meshes / "link.stl").symlink_to(outside / "evil.stl")
+    urdf = tmp_path / "share" / "pkg" / "meshy.urdf"
+    urdf.write_text(URDF.format(mesh=mesh.format(tmp=tmp_path), collision=collision.format(tmp=tmp_path)))
+    return urdf
+
+
+def test_meshes_inside_the_package_load_from_their_real_paths(tmp_path):
+    urdf = meshy_urdf(tmp_path, "package://pkg/meshes/alias.stl", "package://pkg/meshes/../meshes/inside.stl")
+    (tmp_path / "share/pkg/meshes/alias.stl").symlink_to("inside.stl")  # a symlink inside is fine
+    robot = load_urdf(urdf, "tool", [tmp_path / "share"])
+    inside = str((tmp_path / "share/pkg/meshes/inside.stl").resolve())
+    assert [g.meshPath for g in robot.visual_model.geometryObjects] == [inside, "BOX"]
+    assert [g.meshPath for g in robot.collision_model.geometryObjects] == [inside]
+
+
+@pytest.mark.parametrize("mesh", ["{tmp}/outside/evil.stl", "file://{tmp}/outside/evil.stl",
+                                  "package://pkg/../../outside/evil.stl", "../outside/evil.stl",
+                                  "{tmp}/outside/evil", "package://pkg/../../outside/evil",
+                                  "package://pkg/meshes/link.stl", "{tmp}/outside/missing.stl"],
+                         ids=["absolute", "file-uri", "package-dotdot", "relative-dotdot", "no-extension",
+                              "package-no-extension", "symlink-out", "missing"])
+@pytest.mark.parametrize("element", ["visual", "collision"])
+def test_mesh_outside_the_package_is_refused_while_loading(tmp_path, monkeypatch, mesh, element):
+    urdf = meshy_urdf(tmp_path, mesh) if element == "visual" else meshy_urdf(tmp_path, INSIDE, mesh)
+    read = []
+    for loader in ("buildModelFromUrdf", "buildModelFromXML", "buildGeomFromUrdf", "buildGeomFromUrdfString"):
+        monkeypatch.setattr(pin, loader, lambda *args, name=loader: read.append(name))
+    with pytest.raises(InputError) as error:
+        load_urdf(urdf, "tool", [tmp_path / "share"], source="study.toml")
+    line = error.value.one_line()
+    assert line.startswith("study.toml: robot.package_dirs: mesh ") and mesh.split("/")[-1] in line
+    assert str(urdf) in line and str((tmp_path / "share").resolve()) in line
+    assert read == []  # refused before Pinocchio read the URDF or any mesh
+
+
+def test_default_package_folders_are_the_urdf_folder_and_its_parent(tmp_path):
+    urdf = meshy_urdf(tmp_path, "package://pkg/meshes/inside.stl")
+    assert load_urdf(urdf, "tool").visual_model.ngeoms == 2
+    with pytest.raises(InputError, match="evil.stl"):
+        load_urdf(meshy_urdf(tmp_path / "t", "package://pkg/../../outside/evil.stl"), "tool")
+
+
+def test_a_missing_mesh_inside_the_package_still_loads_the_kinematics(tmp_path):
+    robot = load_urdf(meshy_urdf(tmp_path, "package://pkg/meshes/none.stl"), "tool", [tmp_path / "share"])
+    assert robot.joint_names == ["x"] and robot.visual_model is None
+
+
+def test_ros_package_path_is_never_searched(tmp_path, monkeypatch):
+    """Pinocchio also searches ROS_PACKAGE_PATH for a package URI it does not find; tribokin hands it
+    the checked path only, so a mesh there is never read."""
+    (tmp_path / "ros" / "pkg" / "meshes").mkdir(parents=True)
+    (tmp_path / "ros" / "pkg" / "meshes" / "elsewhere.stl").write_text(TETRAHEDRON_STL)
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "ros"))
+    robot = load_urdf(meshy_urdf(tmp_path, "package://pkg/meshes/elsewhere.stl"), "tool", [tmp_path / "share"])
+    assert robot.visual_model is None
+
+
+def test_resolve_mesh_searches_the_package_folders_in_order(tmp_path):
+    for folder in ("a", "b"):
+        (tmp_path / folder / "pkg").mkdir(parents=True)
+    (tmp_path / "b" / "pkg" / "m.stl").write_text("")
+    dirs = [tmp_path / "a", tmp_path / "b"]
+    assert resolve_mesh("package://pkg/m.stl", dirs) == tmp_path.resolve() / "b/pkg/m.stl"
+    assert resolve_mesh("model://pkg/m.stl", dirs) == tmp_path.resolve() / "b/pkg/m.stl"
+    assert resolve_mesh("pkg/m.stl", dirs) == tmp_path.resolve() / "b/pkg/m.stl"
+    assert resolve_mesh("package://pkg/none.stl", dirs) == tmp_path.resolve() / "a/pkg/none.stl"
+    assert resolve_mesh("package:///pkg/m.stl", dirs) == tmp_path.resolve() / "b/pkg/m.stl"
+    assert resolve_mesh("file://m.stl", dirs) == Path(os.getcwd()).resolve() / "m.stl"
+    assert resolve_mesh("https://example.org/m.stl", dirs) is None  # Pinocchio refuses the scheme
