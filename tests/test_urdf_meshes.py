@@ -41,6 +41,24 @@ URDF = """<?xml version="1.0"?>
 
 INSIDE = "package://pkg/meshes/inside.stl"
 
+#: A one-triangle Collada mesh showing the image ``{image}``.
+TRIANGLE_DAE = """<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="meter" meter="1"/><up_axis>Z_UP</up_axis></asset>
+  <library_images><image id="texture"><init_from>{image}</init_from></image></library_images>
+  <library_geometries><geometry id="g"><mesh>
+    <source id="p"><float_array id="a" count="9">0 0 0 0.1 0 0 0 0.1 0</float_array><technique_common>
+      <accessor source="#a" count="3" stride="3"><param name="X" type="float"/><param name="Y" type="float"/>
+        <param name="Z" type="float"/></accessor></technique_common></source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+    <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#g"/></node></visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+"""
+
 
 def meshy_urdf(tmp_path, mesh: str, collision: str = INSIDE) -> Path:
     """``tmp_path/share/pkg/meshy.urdf`` whose base link shows ``mesh`` and collides as ``collision``
@@ -85,6 +103,24 @@ def test_mesh_outside_the_package_is_refused_while_loading(tmp_path, monkeypatch
     assert line.startswith("study.toml: robot.package_dirs: mesh ") and mesh.split("/")[-1] in line
     assert str(urdf) in line and str((tmp_path / "share").resolve()) in line
     assert read == []  # refused before Pinocchio read the URDF or any mesh
+
+
+@pytest.mark.parametrize("image", ["{tmp}/outside/evil.png", "../../../outside/evil.png"])
+def test_collada_mesh_whose_image_lies_outside_is_refused(tmp_path, image):
+    """The viewers read a Collada mesh's images and embed them in the report."""
+    urdf = meshy_urdf(tmp_path, "package://pkg/meshes/textured.dae")
+    (tmp_path / "outside" / "evil.png").write_bytes(b"secret")
+    (tmp_path / "share/pkg/meshes/textured.dae").write_text(TRIANGLE_DAE.format(image=image.format(tmp=tmp_path)))
+    with pytest.raises(InputError, match="textured.dae.* reads the image '.*/outside/evil.png', outside"):
+        load_urdf(urdf, "tool", [tmp_path / "share"])
+
+
+def test_collada_mesh_whose_image_lies_inside_loads(tmp_path):
+    urdf = meshy_urdf(tmp_path, "package://pkg/meshes/textured.dae")
+    (tmp_path / "share/pkg/meshes/texture.png").write_bytes(b"fine")
+    (tmp_path / "share/pkg/meshes/textured.dae").write_text(TRIANGLE_DAE.format(image="texture.png"))
+    robot = load_urdf(urdf, "tool", [tmp_path / "share"])
+    assert robot.visual_model.geometryObjects[0].meshPath.endswith("textured.dae")
 
 
 def test_default_package_folders_are_the_urdf_folder_and_its_parent(tmp_path):
