@@ -4,11 +4,15 @@ reads any file (command line, FIFO and map study: test_bad_input.py)."""
 import os
 from pathlib import Path
 
+import meshcat
 import pinocchio as pin
 import pytest
 
+from tribokin.cli import main
 from tribokin.errors import InputError
+from tribokin.output import write_results
 from tribokin.robot import load_urdf
+from tribokin.study import run_study
 from tribokin.urdf_meshes import resolve_mesh
 
 TETRAHEDRON_STL = """solid t
@@ -121,6 +125,20 @@ def test_collada_mesh_whose_image_lies_inside_loads(tmp_path):
     (tmp_path / "share/pkg/meshes/textured.dae").write_text(TRIANGLE_DAE.format(image="texture.png"))
     robot = load_urdf(urdf, "tool", [tmp_path / "share"])
     assert robot.visual_model.geometryObjects[0].meshPath.endswith("textured.dae")
+
+
+def test_view_refuses_a_mesh_moved_outside_before_starting_its_server(tmp_path, capsys, monkeypatch):
+    urdf = meshy_urdf(tmp_path, INSIDE)
+    study = {"study": {"cycles": 5}, "robot": {"urdf": str(urdf), "tool_frame": "tool", "package_dirs": ["share"]},
+             "joints": {"friction": {"law": "uniform", "low": 0.1, "high": 0.2}, "stiffness": 1e6,
+                        "normal_force_N": 50.0}, "poses": [{"q": [0.2]}]}
+    monkeypatch.chdir(tmp_path)
+    write_results(run_study(study), tmp_path / "out", report="light")
+    urdf.write_text(urdf.read_text().replace(INSIDE, str(tmp_path / "outside" / "evil")))
+    monkeypatch.setattr(meshcat, "Visualizer", lambda *args, **kwargs: pytest.fail("meshcat-server started"))
+    assert main(["view", str(tmp_path / "out")]) == 2
+    assert capsys.readouterr().err.startswith(f"tribokin: error: {tmp_path / 'out' / 'summary.json'}: "
+                                              f"robot.package_dirs: mesh '{tmp_path / 'outside' / 'evil'}'")
 
 
 def test_default_package_folders_are_the_urdf_folder_and_its_parent(tmp_path):
