@@ -1,5 +1,6 @@
 """Mesh safety: a URDF mesh outside the package folders is refused while loading, before Pinocchio
-reads any file (command line, FIFO and map study: test_bad_input.py)."""
+reads any file (through the command line, and a map study watched for any opening of the mesh:
+test_bad_input.py)."""
 
 import os
 from pathlib import Path
