@@ -8,6 +8,8 @@ folder, no temporary or chunk folder, no lock file, pre-existing files untouched
 
 from __future__ import annotations
 
+import ctypes
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -15,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import AXIS_STUDY_TOML, AXIS_URDF, GANTRY_MAP_TOML
+from conftest import AXIS_STUDY_TOML, AXIS_URDF, GANTRY_MAP_TOML, ROOT
 from tribokin.cli import main
 
 
@@ -36,6 +38,12 @@ MESHY_URDF = """<?xml version="1.0"?>
   <link name="tool"/>
 </robot>
 """
+#: The gantry whose base is drawn from the mesh ``{mesh}``.
+MESHY_GANTRY_URDF = _replace((ROOT / "urdf" / "cartesian_xyz.urdf").read_text(),
+                             '<geometry><box size="0.90 0.06 1.00"/></geometry>\n      <material',
+                             '<geometry><mesh filename="{mesh}"/></geometry>\n      <material')
+MESHY_GANTRY_MAP = _replace(GANTRY_MAP, f'urdf = "{ROOT / "urdf" / "cartesian_xyz.urdf"}"',
+                            'urdf = "share/pkg/gantry.urdf"\npackage_dirs = ["share"]')
 STL = ("solid t\nfacet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 0 1 0\n endloop\n"
        "endfacet\nendsolid t\n")
 
@@ -164,7 +172,13 @@ CASES = [
           expected=("robot.urdf", "cannot read URDF"), id="urdf-empty"),
     study(f'urdf = "{AXIS_URDF}"', 'urdf = "share/pkg/meshy.urdf"\npackage_dirs = ["share"]',
           "--report", "full", files={"share/pkg/meshy.urdf": MESHY_URDF, "evil.stl": STL},
-          at_fault="share/pkg/meshy.urdf", expected=("evil.stl", "robot.package_dirs"), id="mesh-outside-package"),
+          expected=("robot.package_dirs", "evil.stl", "{tmp}/share"), id="mesh-outside-package"),
+    study(f'urdf = "{AXIS_URDF}"', 'urdf = "share/pkg/meshy.urdf"\npackage_dirs = ["share"]',
+          files={"share/pkg/meshy.urdf": MESHY_URDF.replace("evil.stl", "evil"), "evil": STL},
+          expected=("robot.package_dirs", "evil'", "{tmp}/share"), id="mesh-outside-no-extension-report-none"),
+    study(None, base=MESHY_GANTRY_MAP, files={"share/pkg/gantry.urdf": MESHY_GANTRY_URDF.format(mesh="../evil.stl"),
+                                              "evil.stl": STL},
+          expected=("robot.package_dirs", "evil.stl", "{tmp}/share"), id="mesh-outside-map-study"),
     # -- poses, the ISO cube and maps that cannot be reached
     study("q = [0.25]", "q = [0.25, 0.1]", expected=("poses[0].q", "needs 1 values"), id="pose-q-wrong-length"),
     study("q = [0.25]", "q = [0.75]", expected=("poses[0].q", "outside its limits"), id="pose-unreachable"),
@@ -300,6 +314,41 @@ def test_bad_input_through_python_m_tribokin(tmp_path, files, argv, expected):
     done = subprocess.run([sys.executable, "-m", "tribokin", *(arg.format(tmp=tmp_path) for arg in argv)],
                           capture_output=True, text=True, cwd=tmp_path)
     _assert_refused(tmp_path, before, done.returncode, done.stdout, done.stderr, expected)
+
+
+def _watch_opens(path: Path) -> int:
+    """A non-blocking Linux inotify descriptor that records every opening of ``path``."""
+    libc = ctypes.CDLL(None, use_errno=True)
+    descriptor = libc.inotify_init1(os.O_NONBLOCK)
+    assert descriptor >= 0 and libc.inotify_add_watch(descriptor, bytes(path), 0x20) >= 0  # IN_OPEN
+    return descriptor
+
+
+def _opened(descriptor: int) -> bool:
+    try:
+        return len(os.read(descriptor, 4096)) > 0
+    except BlockingIOError:
+        return False
+
+
+def test_outside_mesh_is_refused_before_anything_opens_it(tmp_path):
+    """A map study through the command line, with no report: the outside mesh is never opened (the
+    watch sees every open, Pinocchio's included), and nothing is left behind."""
+    _create(tmp_path, {"study.toml": MESHY_GANTRY_MAP, "evil.stl": STL,
+                       "share/pkg/gantry.urdf": MESHY_GANTRY_URDF.format(mesh=tmp_path / "evil.stl")})
+    before = _tree(tmp_path)
+    opens = _watch_opens(tmp_path / "evil.stl")
+    try:
+        assert not _opened(opens)
+        done = subprocess.run([sys.executable, "-m", "tribokin", *(arg.format(tmp=tmp_path) for arg in RUN)],
+                              capture_output=True, text=True, cwd=tmp_path)
+        assert not _opened(opens)
+        (tmp_path / "evil.stl").read_bytes()
+        assert _opened(opens)  # the watch works
+    finally:
+        os.close(opens)
+    _assert_refused(tmp_path, before, done.returncode, done.stdout, done.stderr,
+                    ("{tmp}/study.toml: robot.package_dirs: mesh '{tmp}/evil.stl'", "{tmp}/share"))
 
 
 def test_output_parent_that_cannot_hold_folders(tmp_path, capsys):

@@ -12,14 +12,16 @@ import contextlib
 import functools
 import io
 import warnings
+import xml.etree.ElementTree as ET
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
 from tribokin.errors import InputError, closest_hint
+from tribokin.urdf_meshes import confine_meshes
 
 #: example-robot-data names tested with tribokin (any fixed-base arm it ships should load).
 TESTED_ROBOTS = ("ur3", "ur5", "ur10", "panda", "xarm7", "z1", "so100")
@@ -42,7 +44,6 @@ class Robot:
         label: robot name or URDF path, for reports.
         reference_q: (nq,) a typical working posture [m or rad] (example-robot-data's, else mid-range).
         visual_model, collision_model: geometry models (may be ``None``).
-        package_dirs: folders meshes are resolved against.
         joint_is_prismatic: (nv,) True for prismatic joints (deviations in [m]), False for revolute ([rad]).
         motion_axes: (nv, 3) unit motion axis of each joint in its own frame (linear or angular).
     """
@@ -53,7 +54,6 @@ class Robot:
     reference_q: np.ndarray
     visual_model: pin.GeometryModel | None = None
     collision_model: pin.GeometryModel | None = None
-    package_dirs: list[Path] = field(default_factory=list)
 
     def __post_init__(self):
         self.tool_frame_id = self.model.getFrameId(self.tool_frame)
@@ -129,7 +129,7 @@ def _make_frame_names_unique(model: pin.Model) -> None:
             model.frames[index] = frame
 
 
-def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, source, package_dirs) -> Robot:
+def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, source) -> Robot:
     """Lock every joint that does not move ``tool_frame``; check the rest are 1-DoF."""
     _make_frame_names_unique(model)
     frames = [f.name for f in model.frames]
@@ -153,38 +153,49 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, s
     if model.nq == 0:
         raise InputError(f"frame '{tool_frame}' is not moved by any joint", source, "robot.tool_frame")
     kept_q = np.array([reference_q[full.joints[full.getJointId(name)].idx_q] for name in list(model.names)[1:]])
-    return Robot(model, tool_frame, label, kept_q, visual, collision, [Path(p) for p in package_dirs])
+    return Robot(model, tool_frame, label, kept_q, visual, collision)
 
 
 def load_urdf(path, tool_frame: str | None = None, package_dirs=(), source=None) -> Robot:
-    """Load a robot from a URDF file.
+    """Load a robot from a URDF file, after checking its meshes lie inside ``package_dirs``.
 
     Args:
         path: the URDF file.
         tool_frame: frame whose pose is measured (default: the model's last frame).
-        package_dirs: folders that ``package://`` mesh URIs resolve against
-            (default: the URDF's folder and its parent).
+        package_dirs: folders that ``package://`` mesh URIs resolve against, and the only folders
+            meshes may be read from (default: the URDF's folder and its parent).
         source: file that named the URDF, for error messages.
+
+    Raises:
+        InputError: a missing or malformed URDF, or a mesh outside ``package_dirs``
+            (:func:`tribokin.urdf_meshes.confine_meshes`, before Pinocchio reads any file).
     """
     path = Path(path)
     if not path.is_file():
         raise InputError(f"URDF file '{path}' not found", source, "robot.urdf")
     dirs = [Path(p) for p in package_dirs] or [path.parent, path.parent.parent]
     try:
-        model = _quiet(pin.buildModelFromUrdf, str(path))
+        urdf = ET.fromstring(path.read_bytes())
+    except ET.ParseError as error:
+        raise InputError(f"cannot read URDF '{path}': {error}", source, "robot.urdf") from None
+    confine_meshes(urdf, path, dirs, source)
+    text = ET.tostring(urdf, encoding="unicode")
+    try:
+        model = _quiet(pin.buildModelFromXML, text)
     except (RuntimeError, ValueError) as error:
         first = str(error).strip().splitlines()[0] if str(error).strip() else "unreadable"
         raise InputError(f"cannot read URDF '{path}': {first}", source, "robot.urdf") from None
     visual = collision = None
     try:
-        visual = _quiet(pin.buildGeomFromUrdf, model, str(path), pin.GeometryType.VISUAL, [str(d) for d in dirs])
-        collision = _quiet(pin.buildGeomFromUrdf, model, str(path), pin.GeometryType.COLLISION, [str(d) for d in dirs])
+        visual = _quiet(pin.buildGeomFromUrdfString, model, text, pin.GeometryType.VISUAL, None, list(map(str, dirs)))
+        collision = _quiet(pin.buildGeomFromUrdfString, model, text, pin.GeometryType.COLLISION, None,
+                           list(map(str, dirs)))
     except (RuntimeError, ValueError):
         pass  # kinematics do not need meshes; the viewers say when meshes are missing
     lower, upper = model.lowerPositionLimit, model.upperPositionLimit
     mid_range = np.where(np.isfinite(lower) & np.isfinite(upper) & (upper - lower < 1e3), (lower + upper) / 2,
                          pin.neutral(model))
-    return _reduce_to_chain(model, visual, collision, mid_range, tool_frame, str(path), source, dirs)
+    return _reduce_to_chain(model, visual, collision, mid_range, tool_frame, str(path), source)
 
 
 def load_example_robot(name: str, tool_frame: str | None = None, source=None) -> Robot:
@@ -193,19 +204,23 @@ def load_example_robot(name: str, tool_frame: str | None = None, source=None) ->
     if name not in names:
         raise InputError(f"unknown robot '{name}'{closest_hint(name, names)}; valid names: {', '.join(names)}",
                          source, "robot.name")
-    model, visual, collision, reference_q, urdf = _example_robot(name)
-    package_dirs = [next((p for p in urdf.parents if p.name == "robots"), urdf.parent)]
-    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name, source,
-                            package_dirs)
+    model, visual, collision, reference_q = _example_robot(name)
+    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name, source)
 
 
 @functools.lru_cache(maxsize=None)
 def _example_robot(name: str):
-    """(model, visual model, collision model, reference posture, URDF path) of an example-robot-data
-    robot, read once per process (reading its meshes takes a third of a second); callers copy the model."""
+    """(model, visual model, collision model, reference posture) of an example-robot-data robot, read
+    once per process (reading its meshes takes a third of a second); callers copy the model.
+
+    Its meshes must lie inside example-robot-data's ``robots`` folder; they are checked after
+    example-robot-data has loaded them (its files, named by no user input).
+    """
     import example_robot_data
 
     wrapper = _quiet(example_robot_data.load, name)
+    urdf = Path(wrapper.urdf).resolve()
+    robots = next((p for p in urdf.parents if p.name == "robots"), urdf.parent)
+    confine_meshes(ET.parse(urdf).getroot(), urdf, [robots.parent.parent], allowed_dirs=[robots])
     reference_q = wrapper.q0 if wrapper.q0 is not None else pin.neutral(wrapper.model)
-    return wrapper.model, wrapper.visual_model, wrapper.collision_model, np.asarray(reference_q), \
-        Path(wrapper.urdf).resolve()
+    return wrapper.model, wrapper.visual_model, wrapper.collision_model, np.asarray(reference_q)

@@ -25,7 +25,6 @@ from tribokin.iso9283 import barycenter, position_repeatability
 from tribokin.results import UM_PER_M
 from tribokin.robot import Robot
 from tribokin.viz.colours import ColourScale
-from tribokin.viz.meshes import mesh_files
 
 #: on-screen size [m] of the largest magnified cycle cloud (its largest distance from the barycenter).
 CLOUD_SCREEN_SIZE_M = 0.03
@@ -156,7 +155,6 @@ def draw_robot(vis, robot: Robot, q, variant: str) -> list[str]:
     geometry = robot.visual_model if variant == "full" else robot.collision_model
     if geometry is None:
         return [f"no {'visual' if variant == 'full' else 'collision'} geometry for {robot.label}: robot not drawn"]
-    mesh_files(robot, geometry)
     viewer = MeshcatVisualizer(robot.model, None, geometry)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # pinocchio warns that a custom window has no image capture
