@@ -5,9 +5,11 @@ import math
 
 import numpy as np
 import pytest
+from matplotlib.figure import Figure
 
 from conftest import STUDIES, axis_study
 from tribokin import InputError, run_study
+from tribokin.output import write_results
 
 N, K = 150.0, 2.0e6
 
@@ -117,6 +119,8 @@ def test_results_expose_numpy_arrays():
     (lambda s: s["study"].update(cycles=0), "study.cycles"),
     (lambda s: s["robot"].update(tool_frame="tol"), "robot.tool_frame"),
     (lambda s: s["joints"].update(y={"stiffness": 1.0}), "joints.y"),
+    (lambda s: s["poses"][0].update(name="a/b"), "poses[0].name"),
+    (lambda s: s["study"].update(name="m\nline"), "study.name"),
 ])
 def test_bad_mappings_name_the_key(change, key):
     study = axis_study()
@@ -150,3 +154,23 @@ def test_every_shipped_study_runs(path):
         reachable = result.map.reachable
         assert reachable.any()
         assert np.all(np.isfinite(result.map.reference.figure("RP_l_um")[reachable]))
+
+
+def test_study_and_pose_names_are_shown_as_written_in_figure_titles(tmp_path, monkeypatch):
+    """'$' is no math text in a title: 'm$^^$' broke matplotlib's parser after the whole run, and '$x$'
+    would show an italic x."""
+    texts = []
+    save = Figure.savefig
+
+    def record(fig, *args, **kwargs):
+        texts.extend(text for text in fig.texts if text.get_text())
+        return save(fig, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", record)
+    study = axis_study()
+    study["study"]["name"] = "m$^^$"
+    study["poses"][0]["name"] = "$x$"
+    study["map"] = {"kind": "joint", "joints": ["x"], "ranges": [[0.0, 0.3]], "counts": [3]}
+    write_results(run_study(study), tmp_path / "out", report="none")
+    assert sorted(text.get_text().split(":")[0] for text in texts) == ["m$^^$", "m$^^$", "m$^^$ — $x$"]
+    assert not any(text.get_parse_math() for text in texts)

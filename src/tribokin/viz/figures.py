@@ -71,7 +71,7 @@ def save_repeatability_field(pose: PoseResult, path: Path, title: str = "") -> N
     series.set_ylim(0, reach)
     series.set_title("each cycle")
     series.grid(alpha=0.3)
-    fig.suptitle(title)
+    fig.suptitle(title, parse_math=False)  # user's names shown as written: '$' is no math
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

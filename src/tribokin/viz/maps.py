@@ -14,6 +14,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize, TwoSlopeNorm  # noqa: E402
 
+from tribokin.names import map_figure_file  # noqa: E402
 from tribokin.results import MapResult  # noqa: E402
 from tribokin.targets import GridAxis, TargetGrid  # noqa: E402
 
@@ -108,7 +109,8 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
     if thinned:
         note += (f"; shown: {shown.size:,} of {grid.size:,} targets, 1 in {strides[2]} along rows and columns"
                  + (f", 1 in {strides[0]} layers" if strides[0] > 1 else "") + "; map.csv has them all")
-    fig.suptitle(textwrap.fill(f"{title}{note}", int(TITLE_CHARACTERS_PER_IN * width_in)), fontsize=10)
+    fig.suptitle(textwrap.fill(f"{title}{note}", int(TITLE_CHARACTERS_PER_IN * width_in)), fontsize=10,
+                 parse_math=False)  # user's names shown as written: '$' is no math
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
@@ -139,12 +141,14 @@ def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) ->
          cmap=_categorical(len(joints)), norm=BoundaryNorm(np.arange(-1.5, len(joints)), len(joints) + 1),
          categories=["none"] + joints)
     for scenario in workspace_map.scenarios[1:]:
-        save(f"map_RP_l_{scenario.name}.png", lambda shown, s=scenario: s.figure("RP_l_um", shown), "RP_l [µm]",
-             f"RP_l, {scenario.name}")
-        save(f"map_RP_l_ratio_{scenario.name}.png", lambda shown, s=scenario: workspace_map.ratio_RP_l(s, shown),
+        save(map_figure_file("RP_l", scenario.name), lambda shown, s=scenario: s.figure("RP_l_um", shown),
+             "RP_l [µm]", f"RP_l, {scenario.name}")
+        save(map_figure_file("RP_l_ratio", scenario.name),
+             lambda shown, s=scenario: workspace_map.ratio_RP_l(s, shown),
              f"RP_l {scenario.name} / {reference.name} [-]", f"RP_l ratio {scenario.name} / {reference.name}",
              cmap="RdBu_r", centre=1.0)
-        save(f"map_RP_l_diff_{scenario.name}.png", lambda shown, s=scenario: workspace_map.diff_RP_l_um(s, shown),
+        save(map_figure_file("RP_l_diff", scenario.name),
+             lambda shown, s=scenario: workspace_map.diff_RP_l_um(s, shown),
              f"RP_l {scenario.name} − {reference.name} [µm]",
              f"RP_l difference {scenario.name} − {reference.name}", cmap="RdBu_r", centre=0.0)
     if len(workspace_map.scenarios) > 1:
