@@ -6,8 +6,9 @@ import math
 import numpy as np
 import pytest
 from matplotlib.figure import Figure
+from matplotlib.text import Text
 
-from conftest import STUDIES, axis_study
+from conftest import AXIS_URDF, STUDIES, axis_study
 from tribokin import InputError, run_study
 from tribokin.output import write_results
 
@@ -156,21 +157,27 @@ def test_every_shipped_study_runs(path):
         assert np.all(np.isfinite(result.map.reference.figure("RP_l_um")[reachable]))
 
 
-def test_study_and_pose_names_are_shown_as_written_in_figure_titles(tmp_path, monkeypatch):
-    """'$' is no math text in a title: 'm$^^$' broke matplotlib's parser after the whole run, and '$x$'
-    would show an italic x."""
+def test_names_are_shown_as_written_in_figures(tmp_path, monkeypatch):
+    """'$' is no math text in a figure: a study name 'm$^^$' (or a joint named so in the URDF) broke matplotlib's
+    parser after the whole run, and '$x$' would show an italic x."""
     texts = []
     save = Figure.savefig
 
     def record(fig, *args, **kwargs):
-        texts.extend(text for text in fig.texts if text.get_text())
-        return save(fig, *args, **kwargs)
+        result = save(fig, *args, **kwargs)
+        texts.extend(text for text in fig.findobj(Text) if text.get_text())
+        return result
 
     monkeypatch.setattr(Figure, "savefig", record)
+    urdf = tmp_path / "axis.urdf"
+    urdf.write_text(AXIS_URDF.read_text().replace('joint name="x"', 'joint name="x$^^$"'))
     study = axis_study()
+    study["robot"]["urdf"] = str(urdf)
     study["study"]["name"] = "m$^^$"
     study["poses"][0]["name"] = "$x$"
-    study["map"] = {"kind": "joint", "joints": ["x"], "ranges": [[0.0, 0.3]], "counts": [3]}
+    study["map"] = {"kind": "joint", "joints": ["x$^^$"], "ranges": [[0.0, 0.3]], "counts": [3]}
     write_results(run_study(study), tmp_path / "out", report="none")
-    assert sorted(text.get_text().split(":")[0] for text in texts) == ["m$^^$", "m$^^$", "m$^^$ — $x$"]
+    assert sorted(text.get_text().split(":")[0] for text in texts if text.get_text().startswith("m$")) == [
+        "m$^^$", "m$^^$", "m$^^$ — $x$"]
+    assert {"x$^^$ [m]", "x$^^$"} <= {text.get_text() for text in texts}  # the map's axis, the dominant joint
     assert not any(text.get_parse_math() for text in texts)

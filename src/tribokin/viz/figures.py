@@ -21,6 +21,7 @@ def _field_axes(deviations_um: np.ndarray) -> tuple[int, int]:
     return tuple(sorted(order[:2]))
 
 
+@matplotlib.rc_context({"text.parse_math": False})  # names (study, pose) as written: '$' is no math
 def save_repeatability_field(pose: PoseResult, path: Path, title: str = "") -> None:
     """The paper's "repeatability field" (Fig. 10-13) of one pose, in µm.
 
@@ -71,7 +72,7 @@ def save_repeatability_field(pose: PoseResult, path: Path, title: str = "") -> N
     series.set_ylim(0, reach)
     series.set_title("each cycle")
     series.grid(alpha=0.3)
-    fig.suptitle(title, parse_math=False)  # user's names shown as written: '$' is no math
+    fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

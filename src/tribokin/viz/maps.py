@@ -61,6 +61,7 @@ def shown_targets(grid: TargetGrid) -> tuple[np.ndarray, tuple[int, int, int]]:
     return grid.every(strides), strides
 
 
+@matplotlib.rc_context({"text.parse_math": False})  # names (study, joints, scenarios) as written: '$' is no math
 def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str, cmap="viridis",
                     norm: Normalize | None = None, centre: float | None = None,
                     categories: list[str] | None = None) -> None:
@@ -109,8 +110,7 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
     if thinned:
         note += (f"; shown: {shown.size:,} of {grid.size:,} targets, 1 in {strides[2]} along rows and columns"
                  + (f", 1 in {strides[0]} layers" if strides[0] > 1 else "") + "; map.csv has them all")
-    fig.suptitle(textwrap.fill(f"{title}{note}", int(TITLE_CHARACTERS_PER_IN * width_in)), fontsize=10,
-                 parse_math=False)  # user's names shown as written: '$' is no math
+    fig.suptitle(textwrap.fill(f"{title}{note}", int(TITLE_CHARACTERS_PER_IN * width_in)), fontsize=10)
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
