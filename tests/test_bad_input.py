@@ -19,6 +19,7 @@ import pytest
 
 from conftest import AXIS_STUDY_TOML, AXIS_URDF, GANTRY_MAP_TOML, ROOT
 from tribokin.cli import main
+from tribokin.study import PoseRunner
 
 
 def _replace(text: str, old: str, new: str) -> str:
@@ -29,6 +30,12 @@ def _replace(text: str, old: str, new: str) -> str:
 STUDY = AXIS_STUDY_TOML
 GANTRY_MAP = _replace(_replace(GANTRY_MAP_TOML, "cycles = 400", "cycles = 5"), "resolution = [25, 40]",
                       "resolution = [4, 3]")
+
+#: GANTRY_MAP with a pose, and a joint-space map of the axis after its pose: refusals of these must come before
+#: the pose runs.
+GANTRY_MAP_AND_POSE = GANTRY_MAP + '\n[[poses]]\nname = "P1"\nq = [0.3, 0.2, 0.1]\n'
+AXIS_JOINT_MAP = STUDY + '\n[map]\nkind = "joint"\njoints = ["x"]\nranges = [[0.0, 0.3]]\ncounts = [4]\n'
+SCENARIOS = '[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "b"\n\n[[scenarios]]\nname = "ratio_b"\n\n[map]'
 
 MESHY_URDF = """<?xml version="1.0"?>
 <robot name="meshy">
@@ -78,6 +85,44 @@ def command(argv, *, expected, id, files=None):
 
 
 RUN = ["run", "{tmp}/study.toml", "--out", "{tmp}/out", "--report", "none"]
+
+# issue 19: names and pre-checks: refused before any pose or map target is measured
+PRE_CHECKS = [
+    study('name = "gantry-resume"', 'name = "gantry/resume"', base=GANTRY_MAP_AND_POSE,
+          expected=("study.name", "'/'"), id="study-name-slash"),
+    study('name = "P1"', 'name = "a/b"', expected=("poses[0].name", "'/'"), id="pose-name-slash"),
+    study('name = "P1"', 'name = "a\\u0000b"', expected=("poses[0].name", "'a\\x00b'", "not printable"),
+          id="pose-name-nul"),
+    study('name = "P1"', 'name = "a\\tb"', expected=("poses[0].name", "not printable"), id="pose-name-tab"),
+    study('name = "P1"', 'name = "' + "p" * 300 + '"', expected=("poses[0].name", "300 characters", "at most 100"),
+          id="pose-name-300-characters"),
+    study('name = "P1"', 'name = "' + "€" * 90 + '"', expected=("poses[0].name", "280 bytes", "255"),
+          id="pose-name-too-many-bytes"),
+    study('name = "P1"', 'name = ".P1"', expected=("poses[0].name", "starts with '.'"), id="pose-name-hidden"),
+    study('[[poses]]\nname = "P1"', '[[poses]]\nname = "p1"\nq = [0.1]\n[[poses]]\nname = "P1"',
+          expected=("poses[1].name", "writes field_P1.png, as poses[0].name does (field_p1.png", "case"),
+          id="pose-names-differ-in-case"),
+    study('name = "P1"', 'name = "p1"',
+          base=_replace(GANTRY_MAP_AND_POSE, "[map]", "[iso_cube]\ncenter_m = [0.4, 0.3, 0.3]\nside_m = 0.1\n\n[map]"),
+          expected=("poses[0].name", "writes field_p1.png, as iso_cube does (field_P1.png"),
+          id="pose-name-clashes-with-iso-cube"),
+    study("[map]", SCENARIOS, base=GANTRY_MAP_AND_POSE,
+          expected=("scenarios[2].name", "writes map_RP_l_ratio_b.png, as scenarios[1].name does"),
+          id="scenario-files-collide"),
+    study('name = "ratio_b"', 'name = ".b"', base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
+          expected=("scenarios[2].name", "starts with '.'"), id="scenario-name-hidden"),
+    study('name = "ratio_b"', 'name = "c"\njoints = { w = { stiffness = 1.0 } }',
+          base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
+          expected=("scenarios[2].joints.w", "unknown joint 'w'"), id="scenario-joint-unknown"),
+    study('joints = ["x"]', 'joints = ["w"]', base=AXIS_JOINT_MAP, expected=("map.joints[0]", "unknown joint 'w'"),
+          id="map-joint-unknown"),
+    study("ranges = [[0.0, 0.3]]", "ranges = [[0.0, 0.5]]", base=AXIS_JOINT_MAP,
+          expected=("map.ranges[0]", "leaves the limits"), id="map-range-outside-limits"),
+    study("[map]", "[map]\nrpy_deg = [0, 0, 0]", base=GANTRY_MAP_AND_POSE,
+          expected=("map.rpy_deg", "cannot hold the tool's orientation"), id="map-rpy-without-orientation"),
+    study("[map]", "[map]\nstart_q = [0.1, 0.1]", base=GANTRY_MAP_AND_POSE, expected=("map.start_q",),
+          id="map-start-q-wrong-length"),
+]
 
 CASES = [
     # -- study files: syntax, sections and keys
@@ -198,6 +243,7 @@ CASES = [
           id="map-extent-inverted"),
     study("[map]", '[[scenarios]]\nname = "a"\njoints = { stifness = 1.0 }\n\n[map]', base=GANTRY_MAP,
           expected=("scenarios[0].joints.stifness", "did you mean 'stiffness'"), id="scenario-unknown-key"),
+    *PRE_CHECKS,  # issue 19: names and pre-checks
     # -- command-line options
     command([*RUN, "--cycles", "0"], expected=("command line", "--cycles", ">= 1"), id="option-cycles-zero"),
     command([*RUN, "--cycles", "many"], expected=("command line", "--cycles", "invalid int"),
@@ -296,14 +342,27 @@ def _assert_refused(tmp: Path, before: dict, status: int, out: str, err: str, ex
     assert not Path("/proc/tribokin-out").exists()
 
 
+def _run_refused(tmp: Path, capsys, monkeypatch, files, argv, expected) -> None:
+    monkeypatch.chdir(tmp)  # also where the default output folders of fit-friction and surface would go
+    _create(tmp, files)
+    before = _tree(tmp)
+    status = main([arg.format(tmp=tmp) for arg in argv])
+    captured = capsys.readouterr()
+    _assert_refused(tmp, before, status, captured.out, captured.err, expected)
+
+
 @pytest.mark.parametrize("files, argv, expected", CASES)
 def test_bad_input_is_one_line_exit_2_nothing_written(tmp_path, capsys, monkeypatch, files, argv, expected):
-    monkeypatch.chdir(tmp_path)  # also where the default output folders of fit-friction and surface would go
-    _create(tmp_path, files)
-    before = _tree(tmp_path)
-    status = main([arg.format(tmp=tmp_path) for arg in argv])
-    captured = capsys.readouterr()
-    _assert_refused(tmp_path, before, status, captured.out, captured.err, expected)
+    _run_refused(tmp_path, capsys, monkeypatch, files, argv, expected)
+
+
+@pytest.mark.parametrize("files, argv, expected", PRE_CHECKS)
+def test_refused_before_any_pose_or_target_is_measured(tmp_path, capsys, monkeypatch, files, argv, expected):
+    def measured(*args):
+        raise AssertionError("a pose or map target was measured before the refusal")
+
+    monkeypatch.setattr(PoseRunner, "draw", measured)
+    _run_refused(tmp_path, capsys, monkeypatch, files, argv, expected)
 
 
 @pytest.mark.parametrize("files, argv, expected", [case for case in CASES if case.id in (

@@ -5,6 +5,9 @@ import pytest
 
 from test_workspace import G, MU, gantry_loads_by_hand, gantry_map_study
 from tribokin import InputError, run_study
+from tribokin.names import pose_figure_file, scenario_files
+from tribokin.output import write_results
+from tribokin.study import PoseRunner
 
 
 def with_scenarios(*scenarios, **joints):
@@ -65,6 +68,32 @@ def test_bad_scenarios_name_the_key(scenario, key):
     with pytest.raises(InputError) as error:
         run_study(with_scenarios({"name": "base"}, scenario))
     assert error.value.key == key
+
+
+@pytest.mark.parametrize("first, second, file", [
+    ("b", "ratio_b", "map_RP_l_ratio_b.png"),
+    ("b", "diff_b", "map_RP_l_diff_b.png"),
+    ("treated", "Treated", "map_Treated.csv"),
+])
+def test_scenarios_writing_the_same_file_are_refused_before_any_work(monkeypatch, first, second, file):
+    def measured(*args):
+        raise AssertionError("a target was measured before the refusal")
+
+    monkeypatch.setattr(PoseRunner, "draw", measured)
+    with pytest.raises(InputError) as error:
+        run_study(with_scenarios({"name": "raw"}, {"name": first}, {"name": second}))
+    assert error.value.key == "scenarios[2].name"
+    assert f"writes {file}, as scenarios[1].name does" in error.value.message
+
+
+def test_files_named_by_poses_and_scenarios_are_the_files_written(tmp_path):
+    names = ["Raw", "Lighter", "Heavier"]
+    study = with_scenarios(*({"name": name} for name in names))
+    study["poses"] = [{"name": "Near", "q": [0.1, 0.1, 0.1]}]
+    write_results(run_study(study, cycles=4), tmp_path / "out", report="none")
+    named = {pose_figure_file("Near")} | {file for name in names[1:] for file in scenario_files(name)}
+    written = {path.name for path in (tmp_path / "out").iterdir()}
+    assert {file for file in written if any(name in file for name in ["Near", *names])} == named
 
 
 def test_scenarios_need_a_map():

@@ -5,9 +5,12 @@ import math
 
 import numpy as np
 import pytest
+from matplotlib.figure import Figure
+from matplotlib.text import Text
 
-from conftest import STUDIES, axis_study
+from conftest import AXIS_URDF, STUDIES, axis_study
 from tribokin import InputError, run_study
+from tribokin.output import write_results
 
 N, K = 150.0, 2.0e6
 
@@ -117,6 +120,8 @@ def test_results_expose_numpy_arrays():
     (lambda s: s["study"].update(cycles=0), "study.cycles"),
     (lambda s: s["robot"].update(tool_frame="tol"), "robot.tool_frame"),
     (lambda s: s["joints"].update(y={"stiffness": 1.0}), "joints.y"),
+    (lambda s: s["poses"][0].update(name="a/b"), "poses[0].name"),
+    (lambda s: s["study"].update(name="m\nline"), "study.name"),
 ])
 def test_bad_mappings_name_the_key(change, key):
     study = axis_study()
@@ -150,3 +155,29 @@ def test_every_shipped_study_runs(path):
         reachable = result.map.reachable
         assert reachable.any()
         assert np.all(np.isfinite(result.map.reference.figure("RP_l_um")[reachable]))
+
+
+def test_names_are_shown_as_written_in_figures(tmp_path, monkeypatch):
+    """'$' is no math text in a figure: a study name 'm$^^$' (or a joint named so in the URDF) broke matplotlib's
+    parser after the whole run, and '$x$' would show an italic x."""
+    texts = []
+    save = Figure.savefig
+
+    def record(fig, *args, **kwargs):
+        result = save(fig, *args, **kwargs)
+        texts.extend(text for text in fig.findobj(Text) if text.get_text())
+        return result
+
+    monkeypatch.setattr(Figure, "savefig", record)
+    urdf = tmp_path / "axis.urdf"
+    urdf.write_text(AXIS_URDF.read_text().replace('joint name="x"', 'joint name="x$^^$"'))
+    study = axis_study()
+    study["robot"]["urdf"] = str(urdf)
+    study["study"]["name"] = "m$^^$"
+    study["poses"][0]["name"] = "$x$"
+    study["map"] = {"kind": "joint", "joints": ["x$^^$"], "ranges": [[0.0, 0.3]], "counts": [3]}
+    write_results(run_study(study), tmp_path / "out", report="none")
+    assert sorted(text.get_text().split(":")[0] for text in texts if text.get_text().startswith("m$")) == [
+        "m$^^$", "m$^^$", "m$^^$ — $x$"]
+    assert {"x$^^$ [m]", "x$^^$"} <= {text.get_text() for text in texts}  # the map's axis, the dominant joint
+    assert not any(text.get_parse_math() for text in texts)

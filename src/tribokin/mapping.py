@@ -33,7 +33,8 @@ from tribokin.propagate import tool_deviations_at_poses, tool_frames
 from tribokin.results import MAP_FIGURES, MDEG_PER_RAD, UM_PER_M, MapResult, ScenarioMap, scenario_column
 from tribokin.robot import Robot
 from tribokin.study import PoseRunner, joint_models, joint_space_task, load_robot, pose_rng
-from tribokin.targets import fill_from_neighbours, make_grid, solve_row, solve_row_heads, target_positions_m
+from tribokin.targets import TargetGrid, fill_from_neighbours, make_grid, solve_row, solve_row_heads, \
+    target_positions_m
 
 #: Random stream of map targets: target i draws from ``pose_rng(seed, i, MAP_STREAM)``
 #: (poses use streams 0 and 1).
@@ -209,30 +210,36 @@ def open_store(study: Study, studies: tuple[Study, ...], chunks: list[list[int]]
     return store
 
 
-def run_map(study: Study, robot: Robot, workers: int = 1, scheduler: str | None = None, checkpoint=None,
-            resume: bool = False, progress: bool = False) -> MapResult:
+def prepare_map(study: Study, robot: Robot) -> tuple[TargetGrid, list[PoseRunner]]:
+    """The grid of the study's ``[map]`` and a runner per scenario (the study itself without scenarios), checked
+    against ``robot`` before any work: the map's joints, ranges, start posture and orientation, and each
+    scenario's joints and friction laws."""
+    runners = []
+    for i, scenario in enumerate(tuple(s.study for s in study.scenarios) or (study,)):
+        try:
+            runners.append(PoseRunner(scenario, robot, joint_models(scenario, robot)))
+        except InputError as error:
+            key = error.key if not study.scenarios else f"scenarios[{i}].{error.key}"
+            raise InputError(error.message, error.source, key) from None
+    return make_grid(robot, study.map, study.source), runners
+
+
+def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunner], workers: int = 1,
+            scheduler: str | None = None, checkpoint=None, resume: bool = False, progress: bool = False) -> MapResult:
     """Measure the study's ``[map]`` for each scenario.
 
     Args:
         study: a study with a ``map`` (its ``scenarios``, if any, are measured instead of it).
         robot: the study's robot.
+        grid, runners: the map's grid and its scenarios' runners (:func:`prepare_map`).
         workers, scheduler: where chunks run (see :func:`~tribokin.executors.run_chunks`).
         checkpoint: folder where the results are kept as chunks finish (``None``: a temporary folder,
             deleted with the result).
         resume: reuse the chunks an interrupted run saved in ``checkpoint``.
         progress: show a progress bar (when there is more than one chunk).
     """
-    scenarios = study.scenarios
-    studies = tuple(s.study for s in scenarios) or (study,)
-    names = [s.name for s in scenarios] or [study.name]
-    runners = []
-    for i, scenario in enumerate(studies):
-        try:
-            runners.append(PoseRunner(scenario, robot, joint_models(scenario, robot)))
-        except InputError as error:
-            key = error.key if not scenarios else f"scenarios[{i}].{error.key}"
-            raise InputError(error.message, error.source, key) from None
-    grid = make_grid(robot, study.map, study.source)
+    studies = tuple(runner.study for runner in runners)
+    names = [s.name for s in study.scenarios] or [study.name]
     chunks = chunk_rows(study, grid.row_length, grid.row_count)
     store = open_store(study, studies, chunks, grid.size, robot.model.nv, checkpoint, resume)
     heads = solve_row_heads(robot, grid)

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from tribokin.errors import InputError
+from tribokin.names import map_table_file, pose_figure_file
 from tribokin.results import MAP_FIGURES, MapResult, ScenarioMap, StudyResult
 
 
@@ -163,7 +164,7 @@ def write_map_table(workspace_map: MapResult, scenario: ScenarioMap, path: Path)
 
 def map_table_name(workspace_map: MapResult, scenario: ScenarioMap) -> str:
     """``map.csv`` for the reference scenario, ``map_<scenario>.csv`` for the others."""
-    return "map.csv" if scenario is workspace_map.reference else f"map_{scenario.name}.csv"
+    return map_table_file(None if scenario is workspace_map.reference else scenario.name)
 
 
 #: Most map targets the 3-D scene draws per scenario (larger maps draw every k-th target along each axis).
@@ -209,7 +210,7 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
             write_pose_table(result, folder)
             write_samples(result, folder)
         for pose in result.poses:
-            save_repeatability_field(pose, folder / f"field_{pose.name}.png", title=f"{result.name} — {pose.name}")
+            save_repeatability_field(pose, folder / pose_figure_file(pose.name), title=f"{result.name} — {pose.name}")
         if result.map is not None:
             for scenario in result.map.scenarios:
                 write_map_table(result.map, scenario, folder / map_table_name(result.map, scenario))

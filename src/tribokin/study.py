@@ -31,6 +31,7 @@ from tribokin.joints import JointErrorModel, approach_signs, sample_joint_deviat
 from tribokin.loads import BearingLoads
 from tribokin.propagate import max_deviation_from_exact, tool_deviations
 from tribokin.memory import check_disk, check_memory
+from tribokin.names import check_file_name_part, check_files_apart, check_name, pose_figure_file, scenario_files
 from tribokin.results import UM_PER_M, PoseResult, StudyResult, software_versions
 from tribokin.robot import Robot, load_example_robot, load_urdf
 from tribokin.tribology.laws import FrictionLaw
@@ -161,6 +162,21 @@ def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]
     return tasks, cube
 
 
+def check_names(study: Study, tasks: list[PoseTask]) -> None:
+    """Refuse names that cannot name what they name (:mod:`tribokin.names`), and poses (``tasks``: the study's
+    poses, then the ISO cube's) or scenarios whose files would be the same (a clash with an ISO cube pose
+    names the study's pose, the one to rename)."""
+    check_name(study.name, study.source, "study.name")
+    poses = [(f"poses[{i}].name", pose.name) for i, pose in enumerate(study.poses)]
+    scenarios = [(f"scenarios[{i}].name", scenario.name) for i, scenario in enumerate(study.scenarios)]
+    for key, name in poses + scenarios:
+        check_file_name_part(name, study.source, key)
+    cube = [("iso_cube", task.name) for task in tasks[len(study.poses):]]
+    files = [(key, pose_figure_file(name)) for key, name in cube + poses]
+    files += [(key, file) for key, name in scenarios[1:] for file in scenario_files(name)]  # [0]: the reference
+    check_files_apart(files, study.source)
+
+
 class PoseRunner:
     """Runs poses of one study: samples the cycles, propagates them, measures them."""
 
@@ -270,7 +286,7 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, work
     Returns:
         the per-pose samples and ISO 9283 figures, and the map's per-target figures.
     """
-    from tribokin.mapping import run_map  # mapping builds on this module
+    from tribokin.mapping import prepare_map, run_map  # mapping builds on this module
 
     check_executor(workers, scheduler)
     study = load_study(study, cycles, seed)
@@ -280,14 +296,16 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, work
     robot = load_robot(study)
     models = joint_models(study, robot)
     tasks, cube = pose_tasks(study, robot)
+    check_names(study, tasks)
+    prepared_map = None if study.map is None else prepare_map(study, robot)
     check_memory(study, robot.model.nv, [len(t.directions) if t.cartesian_approach else 1 for t in tasks], workers,
                  cycles_from_command_line=cycles is not None)
     check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None else checkpoint)
     runner = PoseRunner(study, robot, models)
     poses = [runner.run(task, index) for index, task in enumerate(tasks)]
     workspace_map = None
-    if study.map is not None:
-        workspace_map = run_map(study, robot, workers, scheduler, checkpoint, resume, progress)
+    if prepared_map is not None:
+        workspace_map = run_map(study, robot, *prepared_map, workers, scheduler, checkpoint, resume, progress)
     settings = {
         "name": study.name,
         "source": study.source,

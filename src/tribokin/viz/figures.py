@@ -21,6 +21,7 @@ def _field_axes(deviations_um: np.ndarray) -> tuple[int, int]:
     return tuple(sorted(order[:2]))
 
 
+@matplotlib.rc_context({"text.parse_math": False})  # names (study, pose) as written: '$' is no math
 def save_repeatability_field(pose: PoseResult, path: Path, title: str = "") -> None:
     """The paper's "repeatability field" (Fig. 10-13) of one pose, in µm.
 

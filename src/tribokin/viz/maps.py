@@ -14,6 +14,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize, TwoSlopeNorm  # noqa: E402
 
+from tribokin.names import map_figure_file  # noqa: E402
 from tribokin.results import MapResult  # noqa: E402
 from tribokin.targets import GridAxis, TargetGrid  # noqa: E402
 
@@ -60,6 +61,7 @@ def shown_targets(grid: TargetGrid) -> tuple[np.ndarray, tuple[int, int, int]]:
     return grid.every(strides), strides
 
 
+@matplotlib.rc_context({"text.parse_math": False})  # names (study, joints, scenarios) as written: '$' is no math
 def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str, cmap="viridis",
                     norm: Normalize | None = None, centre: float | None = None,
                     categories: list[str] | None = None) -> None:
@@ -139,12 +141,14 @@ def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) ->
          cmap=_categorical(len(joints)), norm=BoundaryNorm(np.arange(-1.5, len(joints)), len(joints) + 1),
          categories=["none"] + joints)
     for scenario in workspace_map.scenarios[1:]:
-        save(f"map_RP_l_{scenario.name}.png", lambda shown, s=scenario: s.figure("RP_l_um", shown), "RP_l [µm]",
-             f"RP_l, {scenario.name}")
-        save(f"map_RP_l_ratio_{scenario.name}.png", lambda shown, s=scenario: workspace_map.ratio_RP_l(s, shown),
+        save(map_figure_file("RP_l", scenario.name), lambda shown, s=scenario: s.figure("RP_l_um", shown),
+             "RP_l [µm]", f"RP_l, {scenario.name}")
+        save(map_figure_file("RP_l_ratio", scenario.name),
+             lambda shown, s=scenario: workspace_map.ratio_RP_l(s, shown),
              f"RP_l {scenario.name} / {reference.name} [-]", f"RP_l ratio {scenario.name} / {reference.name}",
              cmap="RdBu_r", centre=1.0)
-        save(f"map_RP_l_diff_{scenario.name}.png", lambda shown, s=scenario: workspace_map.diff_RP_l_um(s, shown),
+        save(map_figure_file("RP_l_diff", scenario.name),
+             lambda shown, s=scenario: workspace_map.diff_RP_l_um(s, shown),
              f"RP_l {scenario.name} − {reference.name} [µm]",
              f"RP_l difference {scenario.name} − {reference.name}", cmap="RdBu_r", centre=0.0)
     if len(workspace_map.scenarios) > 1:

@@ -1,0 +1,84 @@
+"""Names a study gives: the rules for study, pose and scenario names, and the files each pose and scenario
+writes (the writers take these file names from here, so the checks see exactly what will be written).
+
+Pose and scenario names become parts of file names (``field_<pose>.png``, ``map_RP_l_ratio_<scenario>.png``)
+and pose names folders in ``samples.npz`` (``<pose>/positions_m``); a study name names the map's layer
+in the 3-D scene (a path whose parts ``/`` separates) and the figures' titles.
+"""
+
+from __future__ import annotations
+
+from tribokin.errors import InputError
+
+#: Longest name [characters]: most file systems hold at most 255 bytes per file name, prefix included
+#: (``map_RP_l_ratio_``, ``.png``); 100 characters leave room for both even at two bytes a character
+#: (wider characters are caught by ``MAX_FILE_NAME_BYTES``).
+MAX_NAME_CHARACTERS = 100
+#: Longest file name [bytes of UTF-8] on Linux (ext4, tmpfs...) and macOS (APFS).
+MAX_FILE_NAME_BYTES = 255
+#: Figures of each scenario other than the reference: ``map_<kind>_<scenario>.png``.
+SCENARIO_FIGURES = ("RP_l", "RP_l_ratio", "RP_l_diff")
+
+
+def pose_figure_file(pose: str) -> str:
+    """``field_<pose>.png``: the repeatability field of a pose."""
+    return f"field_{pose}.png"
+
+
+def map_table_file(scenario: str | None) -> str:
+    """``map.csv`` for the reference scenario (``None``), ``map_<scenario>.csv`` for the others."""
+    return "map.csv" if scenario is None else f"map_{scenario}.csv"
+
+
+def map_figure_file(kind: str, scenario: str) -> str:
+    """``map_<kind>_<scenario>.png``: a figure of a scenario other than the reference (``SCENARIO_FIGURES``)."""
+    return f"map_{kind}_{scenario}.png"
+
+
+def scenario_files(scenario: str) -> list[str]:
+    """The files a scenario other than the reference writes (the reference's names hold no scenario name)."""
+    return [map_table_file(scenario)] + [map_figure_file(kind, scenario) for kind in SCENARIO_FIGURES]
+
+
+def _shown(name: str) -> str:
+    return repr(name if len(name) <= 40 else name[:40] + "…")
+
+
+def check_name(name: str, source, key: str) -> None:
+    """Refuse a name with ``/``, characters that are not printable (NUL, tab, line break...), or more than
+    ``MAX_NAME_CHARACTERS`` characters."""
+    if "/" in name:
+        problem = "contains '/', which separates folders and the parts of the 3-D scene"
+    elif not name.isprintable():
+        problem = "contains a character that is not printable (such as NUL, a tab or a line break)"
+    elif len(name) > MAX_NAME_CHARACTERS:
+        problem = (f"has {len(name)} characters; a name may have at most {MAX_NAME_CHARACTERS} (names become parts "
+                   f"of file names, which hold at most {MAX_FILE_NAME_BYTES} bytes)")
+    else:
+        return
+    raise InputError(f"{_shown(name)} {problem}; choose another name", source, key)
+
+
+def check_file_name_part(name: str, source, key: str) -> None:
+    """:func:`check_name`, and refuse a leading ``.`` (a hidden name; ``.`` and ``..`` are folders, and pose
+    names name folders in ``samples.npz``)."""
+    check_name(name, source, key)
+    if name.startswith("."):
+        raise InputError(f"{_shown(name)} starts with '.' (a hidden name, or the folders '.' and '..'); choose "
+                         "another name", source, key)
+
+
+def check_files_apart(files: list[tuple[str, str]], source) -> None:
+    """Refuse file names (``(key, file name)``, the key naming what writes it) longer than
+    ``MAX_FILE_NAME_BYTES`` or equal to another's, case aside (one file on macOS and Windows)."""
+    seen = {}
+    for key, file in files:
+        if len(file.encode()) > MAX_FILE_NAME_BYTES:
+            raise InputError(f"its file {_shown(file)} has {len(file.encode())} bytes, more than the "
+                             f"{MAX_FILE_NAME_BYTES} a file name may hold; choose a shorter name", source, key)
+        other_key, other_file = seen.setdefault(file.casefold(), (key, file))
+        if other_key != key:
+            case = "" if other_file == file else (f" ({other_file}; names that differ only in case are one file on "
+                                                  "macOS and Windows)")
+            raise InputError(f"writes {file}, as {other_key} does{case}, so one would overwrite the other; rename "
+                             "one of them", source, key)
