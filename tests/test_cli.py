@@ -31,11 +31,15 @@ def test_run_writes_every_output(study_file, tmp_path):
     out = tmp_path / "out"
     done = tribokin("run", study_file, "--out", out, "--cycles", 20, "--seed", 5)
     assert done.returncode == 0, done.stderr
+    table = done.stdout.splitlines()
+    assert table[0].split()[:2] == ["pose", "direction"] and table[1].split()[:2] == ["P1", "+"]
     summary = json.loads((out / "summary.json").read_text())
     pose = summary["poses"][0]
-    for key in ("name", "q", "cycles", "commanded_position_m", "barycenter_m", "AP_p_um", "RP_l_um", "AP_a_mdeg",
-                "AP_b_mdeg", "AP_c_mdeg", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg", "vAP_p_um"):
+    for key in ("name", "q", "cycles", "commanded_position_m", "vAP_p_um", "RP_l_all_directions_um"):
         assert key in pose
+    for key in ("cycles", "barycenter_m", "AP_p_um", "RP_l_um", "AP_a_mdeg", "AP_b_mdeg", "AP_c_mdeg", "RP_a_mdeg",
+                "RP_b_mdeg", "RP_c_mdeg"):
+        assert key in pose["directions"]["+"]
     assert pose["cycles"] == 20 and summary["study"]["seed"] == 5
     reproduce = summary["reproduce"]
     assert reproduce["seed"] == 5 and reproduce["study_sha256"] == hashlib.sha256(study_file.read_bytes()).hexdigest()
@@ -48,7 +52,7 @@ def test_run_writes_every_output(study_file, tmp_path):
     assert pose["vAP_p_um"] is None
     samples = np.load(out / "samples.npz")
     assert samples["P1/positions_m"].shape == (20, 3)
-    assert (out / "poses.csv").read_text().splitlines()[0].startswith("name,")
+    assert (out / "poses.csv").read_text().splitlines()[0].startswith("name,direction,")
     assert (out / "field_P1.png").stat().st_size > 10_000
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary folder left
 

@@ -5,7 +5,7 @@ import pinocchio as pin
 import pytest
 
 from conftest import ROOT
-from tribokin.cube import joint_approach_signs, place_cube
+from tribokin.cube import APPROACH_DIRECTIONS, joint_approach_signs, place_cube
 from tribokin.errors import InputError
 from tribokin.ik import solve_ik
 from tribokin.iso9283 import cube_test_positions
@@ -59,3 +59,12 @@ def test_gantry_approach_signs_follow_the_axes():
     gantry = load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf")
     signs = joint_approach_signs(gantry, [0.3, 0.3, 0.2], -np.eye(3))
     assert signs.tolist() == [[-1, 1, 1], [1, -1, 1], [1, 1, -1]]
+
+
+def test_cube_poses_carry_signs_for_each_labelled_direction_and_its_opposite():
+    """Rows in the order of APPROACH_DIRECTIONS: each axis both ways; a joint that does not move keeps +."""
+    gantry = load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf")
+    poses, _ = place_cube(gantry, [0.3, 0.3, 0.25], 0.1)
+    assert list(APPROACH_DIRECTIONS) == ["+x", "-x", "+y", "-y", "+z", "-z"]
+    for pose in poses:
+        assert pose.approach_signs.tolist() == [[1, 1, 1], [-1, 1, 1], [1, 1, 1], [1, -1, 1], [1, 1, 1], [1, 1, -1]]

@@ -32,6 +32,8 @@ def test_estimate_counts_every_cycle_of_every_pose_and_every_map_target():
     assert size_3000 == 100 * size  # linear in cycles
     (two_poses, _, _), = estimate(bigger, 1, [1, 1])
     assert size_3000 < two_poses < 2 * size_3000  # the second pose's samples are kept; the computing is not doubled
+    (two_directions, _, _), = estimate(bigger, 1, [2])
+    assert two_directions == 2 * size_3000  # every direction's cycles are kept and computed at once
     gantry = load_study(GANTRY_MAP)
     assert map_target_count(gantry.map) == 24
     parts = {key: size for size, key, _ in estimate(gantry, 3, [])}

@@ -16,13 +16,13 @@ N, K = 150.0, 2.0e6
 
 
 def rp_um(result):
-    return result.poses[0].report_row()["RP_l_um"]
+    return result.poses[0].direction_figures("+")["RP_l_um"]
 
 
 def test_frictionless_gives_zero_repeatability_and_offset_moves_accuracy():
     eps_t = 7.5e-6
     result = run_study(axis_study(offset=eps_t))
-    row = result.poses[0].report_row()
+    row = result.poses[0].direction_figures("+")
     assert row["RP_l_um"] == 0.0
     assert row["AP_p_um"] == pytest.approx(eps_t * 1e6, abs=1e-6)
     assert row["RP_a_mdeg"] == 0.0
@@ -56,6 +56,24 @@ def test_bidirectional_constant_friction_gives_two_clusters():
     assert pose.report_row()["vAP_p_um"] == pytest.approx(2 * mu * N / K * 1e6, rel=1e-9)
 
 
+def test_bidirectional_reports_each_direction_and_the_pooled_cloud():
+    """Constant friction: each direction's 30 cycles land on one point (RP_l = 0, AP_p = mu N / K), in
+    turn + and -; pooled, every cycle lies mu N / K from the common barycenter, so RP_l = mu N / K."""
+    mu = 0.12
+    study = axis_study(friction={"law": "constant", "mu": mu}, normal_force_N=N, stiffness=K)
+    study["study"]["approach"] = "bidirectional"
+    pose = run_study(study).poses[0]
+    assert pose.directions == ("+", "-") and list(pose.approach[:4]) == [0, 1, 0, 1]
+    row = pose.report_row()
+    assert list(row["directions"]) == ["+", "-"] and row["cycles"] == 60
+    for figures in row["directions"].values():
+        assert figures["cycles"] == 30 and figures["RP_l_um"] == 0.0
+        assert figures["AP_p_um"] == pytest.approx(mu * N / K * 1e6, rel=1e-9)
+    assert row["RP_l_all_directions_um"] == pytest.approx(mu * N / K * 1e6, rel=1e-9)
+    one_way = run_study(axis_study(friction={"law": "constant", "mu": mu}, normal_force_N=N, stiffness=K))
+    assert one_way.poses[0].directions == ("+",) and one_way.poses[0].report_row()["vAP_p_um"] is None
+
+
 def test_backlash_and_noise_enter_the_deviation():
     study = axis_study(backlash=4e-6)
     study["study"]["approach"] = "bidirectional"
@@ -69,8 +87,10 @@ def test_random_approach_mixes_both_directions():
     study = axis_study(friction={"law": "constant", "mu": 0.1})
     study["study"]["approach"] = "random"
     pose = run_study(study, cycles=200).poses[0]
-    assert 60 < (pose.approach == 1).sum() < 140
+    assert pose.cycles == 400 and 140 < (pose.approach == 1).sum() < 260  # 200 cycles per direction on average
     assert pose.report_row()["vAP_p_um"] == pytest.approx(2 * 0.1 * 100 / 1e6 * 1e6)
+    counts = [row["cycles"] for row in pose.direction_rows()]
+    assert counts == [np.count_nonzero(pose.approach == k) for k in (0, 1)]
 
 
 def test_repeatability_scales_with_load_over_stiffness():
@@ -98,14 +118,14 @@ def test_pose_load_overrides_joint_load():
     study["poses"] = [{"name": "light", "q": [0.1], "normal_force_N": 40.0},
                       {"name": "heavy", "q": [0.1], "normal_force_N": 150.0}]
     result = run_study(study)
-    assert result.pose("light").report_row()["AP_p_um"] == pytest.approx(0.1 * 40 / 1e6 * 1e6)
-    assert result.pose("heavy").report_row()["AP_p_um"] == pytest.approx(0.1 * 150 / 1e6 * 1e6)
+    assert result.pose("light").direction_figures("+")["AP_p_um"] == pytest.approx(0.1 * 40 / 1e6 * 1e6)
+    assert result.pose("heavy").direction_figures("+")["AP_p_um"] == pytest.approx(0.1 * 150 / 1e6 * 1e6)
 
 
 def test_results_expose_numpy_arrays():
     result = run_study(axis_study(friction={"preset": "42CD4-raw"}))
     table = result.table()
-    assert table["RP_l_um"].shape == (1,)
+    assert table["RP_l_um"].shape == (1,) and list(table["direction"]) == ["+"]
     assert result.poses[0].positions_m.shape == (30, 3)
 
 
@@ -141,8 +161,8 @@ def test_pose_friction_overrides_joint_friction():
     assert error.value.key == "poses[2].friction.low"
     study["poses"].pop()
     result = run_study(study)
-    assert result.pose("base").report_row()["AP_p_um"] == pytest.approx(0.1 * 100 / 1e6 * 1e6)
-    assert result.pose("grippy").report_row()["AP_p_um"] == pytest.approx(0.3 * 100 / 1e6 * 1e6)
+    assert result.pose("base").direction_figures("+")["AP_p_um"] == pytest.approx(0.1 * 100 / 1e6 * 1e6)
+    assert result.pose("grippy").direction_figures("+")["AP_p_um"] == pytest.approx(0.3 * 100 / 1e6 * 1e6)
     assert result.pose("grippy").report_row()["friction"]["mu"] == 0.3
 
 
@@ -150,7 +170,7 @@ def test_pose_friction_overrides_joint_friction():
 def test_every_shipped_study_runs(path):
     result = run_study(path, cycles=5)
     assert result.poses or result.map is not None
-    assert all(np.isfinite(p.report_row()["RP_l_um"]) for p in result.poses)
+    assert not result.poses or np.all(np.isfinite(result.table()["RP_l_um"]))
     if result.map is not None:
         reachable = result.map.reachable
         assert reachable.any()

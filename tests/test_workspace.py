@@ -119,11 +119,11 @@ def test_arm_map_targets_equal_single_pose_runs():
     runner = PoseRunner(study, robot, joint_models(study, robot))
     for index in (0, 5):
         pose = runner.measure(joint_space_task("P", workspace_map.q[index]), pose_rng(11, index, MAP_STREAM))
-        assert workspace_map.reference.figure("RP_l_um")[index] == pose.metrics.RP_l_m * 1e6
+        assert workspace_map.reference.figure("RP_l_um")[index] == pose.metrics.directions["+"].RP_l_m * 1e6
 
     poses = run_study(_poses_study(workspace_map.q, cycles))
     for index, pose in enumerate(poses.poses):
-        row = pose.report_row()
+        row = pose.direction_rows()[0]
         np.testing.assert_array_equal(workspace_map.reference.normal_forces_N[index], pose.normal_forces_N)
         assert workspace_map.reference.figure("RP_l_um")[index] == pytest.approx(row["RP_l_um"], rel=0.06)
         assert workspace_map.reference.figure("AP_p_um")[index] == pytest.approx(row["AP_p_um"], rel=0.03)

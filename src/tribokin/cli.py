@@ -76,11 +76,11 @@ def _compute_and_write(args):
 
 def _print_poses(result) -> None:
     width = max(10, *(len(pose.name) for pose in result.poses))
-    print(f"{'pose':<{width}} {'RP_l [µm]':>10} {'AP_p [µm]':>10} {'vAP_p [µm]':>11}")
-    for pose in result.poses:
-        row = pose.report_row()
+    print(f"{'pose':<{width}} {'direction':<9} {'RP_l [µm]':>10} {'AP_p [µm]':>10} {'vAP_p [µm]':>11}")
+    for row in (row for pose in result.poses for row in pose.direction_rows()):
         vap = "-" if row["vAP_p_um"] is None else f"{row['vAP_p_um']:.3f}"
-        print(f"{pose.name:<{width}} {row['RP_l_um']:>10.3f} {row['AP_p_um']:>10.3f} {vap:>11}")
+        print(f"{row['name']:<{width}} {row['direction']:<9} {row['RP_l_um']:>10.3f} {row['AP_p_um']:>10.3f} "
+              f"{vap:>11}")
 
 
 def _spread_um(spread: dict) -> str:

@@ -12,13 +12,17 @@ from tribokin.ik import solve_ik_with_restarts
 from tribokin.iso9283 import cube_test_positions
 from tribokin.robot import Robot
 
-#: Cartesian approach directions of the multi-directional test (vAP): moving along base +x, +y, +z.
-APPROACH_DIRECTIONS = np.eye(3)
+#: Cartesian approach directions of a cube pose, each followed by its opposite: label -> the tool's
+#: direction of travel along the base axes. Unidirectional tests use the + ones (ISO 9283's three
+#: directions for vAP), bidirectional and random tests all six.
+APPROACH_DIRECTIONS = {f"{sign}{axis}": sign_value * row for axis, row in zip("xyz", np.eye(3))
+                       for sign, sign_value in (("+", 1.0), ("-", -1.0))}
 
 
 @dataclass(frozen=True)
 class CubePose:
-    """One ISO test pose: name, target position [m], configuration ``q`` and joint approach signs (3, nv)."""
+    """One ISO test pose: name, target position [m], configuration ``q`` and the joints' approach signs
+    (6, nv), one row per :data:`APPROACH_DIRECTIONS`."""
 
     name: str
     position_m: np.ndarray
@@ -42,7 +46,7 @@ def candidate_postures(robot: Robot, samples: int = 256, keep: int = 4) -> list[
     return [candidates[i] for i in np.argsort(-scores, kind="stable")[:keep]]
 
 
-def joint_approach_signs(robot: Robot, q, directions=APPROACH_DIRECTIONS) -> np.ndarray:
+def joint_approach_signs(robot: Robot, q, directions=tuple(APPROACH_DIRECTIONS.values())) -> np.ndarray:
     """(m, nv) direction of travel of each joint when the tool approaches along each Cartesian direction.
 
     The joint velocities that move the tool along ``d`` (least-squares, ``pinv(J_position) d``)

@@ -1,5 +1,7 @@
-"""ISO 9283 pose accuracy and repeatability of n cycles at one commanded pose.
+"""ISO 9283 pose accuracy and repeatability of n cycles at one commanded pose, per approach direction.
 
+RP and AP are figures of one unidirectional series (:func:`pose_metrics`); a pose approached from
+several directions has them per direction, and vAP across directions (:func:`directional_metrics`).
 Positions in [m], angles in [rad]. Orientation deviations a, b, c are the
 components, about the base x, y, z axes, of the rotation vector taking the
 commanded orientation to the reached one (``log3(R_j R_c^T)``): for the small
@@ -12,11 +14,12 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
+from scipy.spatial.distance import pdist
 
 
 @dataclass(frozen=True)
 class PoseMetrics:
-    """ISO 9283 figures of one pose (SI units).
+    """ISO 9283 figures of the cycles of one pose from one approach direction (SI units).
 
     Attributes:
         barycenter_m: (3,) barycenter of the reached positions [m].
@@ -24,7 +27,6 @@ class PoseMetrics:
         RP_l_m: position repeatability l_bar + 3 S_l [m].
         AP_abc_rad: (3,) orientation accuracy a_bar - a_c, b_bar - b_c, c_bar - c_c [rad].
         RP_abc_rad: (3,) orientation repeatability 3 S_a, 3 S_b, 3 S_c [rad] (the standard's +/- value).
-        vAP_p_m: multi-directional position accuracy variation [m]; ``None`` with one approach direction.
         distances_m: (n,) l_j = |x_j - barycenter| [m].
     """
 
@@ -33,7 +35,6 @@ class PoseMetrics:
     RP_l_m: float
     AP_abc_rad: np.ndarray
     RP_abc_rad: np.ndarray
-    vAP_p_m: float | None
     distances_m: np.ndarray
 
 
@@ -125,28 +126,21 @@ def variance_contributions(position_jacobian: np.ndarray, dq: np.ndarray) -> np.
         return np.where(total > 0, parts / np.where(total > 0, total, 1.0), np.nan)
 
 
-def multidirectional_variation(positions: np.ndarray, approach: np.ndarray) -> float | None:
-    """vAP_p [m]: largest distance between the barycenters reached from each approach direction.
+def multidirectional_variation(barycenters_m: np.ndarray) -> float | None:
+    """vAP_p [m]: largest distance between the (k, 3) barycenters reached from k approach directions.
 
-    ``None`` when all cycles come from one direction.
+    ``None`` for fewer than two directions.
     """
-    groups = np.unique(approach)
-    if len(groups) < 2:
-        return None
-    centres = np.array([barycenter(positions[approach == g]) for g in groups])
-    gaps = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=2)
-    return float(gaps.max())
+    return float(pdist(barycenters_m).max()) if len(barycenters_m) > 1 else None
 
 
-def pose_metrics(positions: np.ndarray, angles: np.ndarray, commanded_position: np.ndarray,
-                 approach: np.ndarray | None = None) -> PoseMetrics:
-    """ISO 9283 metrics of n cycles.
+def pose_metrics(positions: np.ndarray, angles: np.ndarray, commanded_position: np.ndarray) -> PoseMetrics:
+    """ISO 9283 metrics of n cycles from one approach direction.
 
     Args:
         positions: (n, 3) reached tool positions [m].
         angles: (n, 3) orientation deviations a, b, c from the commanded orientation [rad].
         commanded_position: (3,) [m].
-        approach: (n,) approach-direction index of each cycle (default: all the same).
     """
     centre = barycenter(positions)
     rp_l, distances = position_repeatability(positions)
@@ -156,9 +150,40 @@ def pose_metrics(positions: np.ndarray, angles: np.ndarray, commanded_position: 
         RP_l_m=float(rp_l),
         AP_abc_rad=angles.mean(axis=0),
         RP_abc_rad=orientation_repeatability(angles),
-        vAP_p_m=None if approach is None else multidirectional_variation(positions, approach),
         distances_m=distances,
     )
+
+
+@dataclass(frozen=True)
+class DirectionalMetrics:
+    """ISO 9283 figures of a pose tested from one or more approach directions (SI units).
+
+    Attributes:
+        directions: label -> :class:`PoseMetrics` of that direction's cycles, in the order of the labels;
+            a direction with fewer than two cycles has none (S_l needs n - 1 >= 1).
+        vAP_p_m: largest distance between those directions' barycenters [m]; ``None`` with one direction.
+        RP_l_all_directions_m: l_bar + 3 S_l of every cycle pooled, about their common barycenter [m].
+    """
+
+    directions: dict[str, PoseMetrics]
+    vAP_p_m: float | None
+    RP_l_all_directions_m: float
+
+
+def directional_metrics(positions: np.ndarray, angles: np.ndarray, commanded_position: np.ndarray,
+                        approach: np.ndarray, labels) -> DirectionalMetrics:
+    """ISO 9283 metrics of n cycles at one pose, per approach direction and across them.
+
+    Args:
+        positions, angles, commanded_position: as for :func:`pose_metrics`.
+        approach: (n,) index into ``labels`` of each cycle's approach direction.
+        labels: name of each approach direction (``"+x"``...).
+    """
+    directions = {label: pose_metrics(positions[approach == k], angles[approach == k], commanded_position)
+                  for k, label in enumerate(labels) if np.count_nonzero(approach == k) > 1}
+    centres = np.array([m.barycenter_m for m in directions.values()]).reshape(-1, 3)
+    return DirectionalMetrics(directions, multidirectional_variation(centres),
+                              float(position_repeatability(positions)[0]))
 
 
 #: Corner signs of the cube's diagonal plane holding P2-P5 (ISO 9283 §6.2): the plane through the

@@ -141,13 +141,13 @@ def estimate(study: Study, nv: int, directions: list[int], workers: int = 1) -> 
     Args:
         study: the validated study (poses, ``[map]``, scenarios).
         nv: active joints.
-        directions: per pose to run, the approach directions sampled (1, or those of an ISO cube pose).
+        directions: per pose to run, the approach directions tested (``cycles`` kept from each).
         workers: local processes computing map chunks at once.
     """
     cycles = study.cycles
     parts = []
     if directions:
-        kept = len(directions) * cycles * (kept_per_cycle(nv) + WRITTEN_PER_CYCLE)
+        kept = sum(directions) * cycles * (kept_per_cycle(nv) + WRITTEN_PER_CYCLE)
         computed = max(directions) * cycles * computed_per_cycle(nv)
         parts.append((kept + computed, "study.cycles",
                       f"{_count(cycles, 'cycle')} × {_count(len(directions), 'pose')} × {_count(nv, 'joint')}"))

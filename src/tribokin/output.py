@@ -84,19 +84,35 @@ def write_summary(result: StudyResult, folder: Path) -> None:
     (folder / "summary.json").write_text(json.dumps(result.summary(), indent=2) + "\n", encoding="utf-8")
 
 
+#: poses.csv columns of the vector figures that are not per joint or per base axis: key -> element names.
+POSE_VECTOR_COLUMNS = {"ellipsoid_semi_axes_um": ("ellipsoid_semi_axis_1_um", "ellipsoid_semi_axis_2_um",
+                                                  "ellipsoid_semi_axis_3_um"),
+                       "RP_l_95_um": ("RP_l_95_low_um", "RP_l_95_high_um")}
+
+
+def _pose_table_row(row: dict, joints: list[str]) -> dict:
+    """A flat poses.csv row: positions split into ``_x_m, _y_m, _z_m``, ``q`` into ``q_<joint>``, bearing
+    loads into ``normal_force_<joint>_N``, the other vectors as in ``POSE_VECTOR_COLUMNS``."""
+    flat = {}
+    for key, value in row.items():
+        if key == "q":
+            flat.update({f"q_{joint}": v for joint, v in zip(joints, value)})
+        elif key == "normal_forces_N":
+            flat.update({f"normal_force_{joint}_N": v for joint, v in zip(joints, value)})
+        elif key in POSE_VECTOR_COLUMNS:
+            flat.update(zip(POSE_VECTOR_COLUMNS[key], value))
+        elif isinstance(value, list) and key.endswith("_m"):
+            flat.update({f"{key[:-2]}_{axis}_m": v for axis, v in zip("xyz", value)})
+        else:
+            flat[key] = "" if value is None else value
+    return flat
+
+
 def write_pose_table(result: StudyResult, folder: Path) -> None:
-    """``poses.csv``: one row per pose, the scalar figures (µm, mdeg) and positions (m) flattened."""
-    rows = []
-    for pose in result.poses:
-        row = {}
-        for key, value in pose.report_row().items():
-            if isinstance(value, list) and key.endswith("_m"):
-                row.update({f"{key[:-2]}_{axis}_m": v for axis, v in zip("xyz", value)})
-            elif isinstance(value, list):
-                row.update({f"{key}[{i}]": v for i, v in enumerate(value)})
-            else:
-                row[key] = "" if value is None else value
-        rows.append(row)
+    """``poses.csv``: one row per pose and approach direction (:meth:`~tribokin.results.PoseResult.direction_rows`),
+    the scalar figures (µm, mdeg) and positions (m) flattened."""
+    joints = result.settings["joints"]
+    rows = [_pose_table_row(row, joints) for pose in result.poses for row in pose.direction_rows()]
     columns = list(dict.fromkeys(key for row in rows for key in row))
     with open(folder / "poses.csv", "w", newline="", encoding="utf-8") as handle:
         writer = csv.DictWriter(handle, fieldnames=columns)
@@ -105,7 +121,8 @@ def write_pose_table(result: StudyResult, folder: Path) -> None:
 
 
 def write_samples(result: StudyResult, folder: Path) -> None:
-    """``samples.npz``: per pose ``<pose>/positions_m`` (n, 3), ``angles_rad``, ``dq``, ``mu``, ``approach``."""
+    """``samples.npz``: per pose ``<pose>/positions_m`` (n, 3), ``angles_rad``, ``dq``, ``mu`` (every direction's
+    cycles), ``approach`` (n,) each cycle's index into ``directions``, the approach directions' labels."""
     arrays = {}
     for pose in result.poses:
         arrays[f"{pose.name}/positions_m"] = pose.positions_m
@@ -113,6 +130,7 @@ def write_samples(result: StudyResult, folder: Path) -> None:
         arrays[f"{pose.name}/dq"] = pose.dq
         arrays[f"{pose.name}/mu"] = pose.mu
         arrays[f"{pose.name}/approach"] = pose.approach
+        arrays[f"{pose.name}/directions"] = np.array(pose.directions)
     np.savez_compressed(folder / "samples.npz", **arrays)
 
 

@@ -23,10 +23,9 @@ from tribokin.config import Study, parse_study, positive_int, seed_int
 RP_REPLICATES = 200
 REPLICATE_SAMPLES = 200_000
 from tribokin.errors import InputError, closest_hint
-from tribokin.cube import place_cube
+from tribokin.cube import APPROACH_DIRECTIONS, place_cube
 from tribokin.executors import check_executor
-from tribokin.iso9283 import covariance_semi_axes, multidirectional_variation, pose_metrics, position_repeatability, \
-    variance_contributions
+from tribokin.iso9283 import covariance_semi_axes, directional_metrics, position_repeatability, variance_contributions
 from tribokin.joints import JointErrorModel, approach_signs, sample_joint_deviations
 from tribokin.loads import BearingLoads
 from tribokin.propagate import max_deviation_from_exact, tool_deviations
@@ -127,24 +126,36 @@ def pose_rng(seed: int, index: int, stream: int = 0) -> np.random.Generator:
     return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, stream)))
 
 
+#: Approach directions of a joint-space pose: every joint travelling +, then every joint travelling -.
+JOINT_SPACE_DIRECTIONS = ("+", "-")
+
+
 @dataclass
 class PoseTask:
-    """A pose to run: configuration [m or rad], the joints' approach signs (m, nv), and whether
-    those come from Cartesian approach directions (ISO cube poses: vAP measured from each)."""
+    """A pose to run: configuration [m or rad] and its approach directions: the joints' signs of
+    travel (m, nv) and a label for each (``"+"``, ``"-"`` in joint space; ``"+x"``... for a cube pose)."""
 
     name: str
     q: np.ndarray
     directions: np.ndarray
-    cartesian_approach: bool = False
+    labels: tuple[str, ...]
     normal_force_N: float | None = None
     friction: FrictionLaw | None = None
+
+    def tested(self, mode: str) -> PoseTask:
+        """The task with the directions an ``approach`` mode tests: the + ones (unidirectional) or all
+        (bidirectional, random)."""
+        if mode != "unidirectional":
+            return self
+        keep = [k for k, label in enumerate(self.labels) if label.startswith("+")]
+        return replace(self, directions=self.directions[keep], labels=tuple(self.labels[k] for k in keep))
 
 
 def joint_space_task(name: str, q: np.ndarray, normal_force_N: float | None = None,
                      friction: FrictionLaw | None = None) -> PoseTask:
     """A pose approached in joint space: every joint travelling + (or - for the second direction)."""
-    return PoseTask(name, q, np.vstack([np.ones(len(q)), -np.ones(len(q))]), normal_force_N=normal_force_N,
-                    friction=friction)
+    return PoseTask(name, q, np.vstack([np.ones(len(q)), -np.ones(len(q))]), JOINT_SPACE_DIRECTIONS,
+                    normal_force_N=normal_force_N, friction=friction)
 
 
 def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]:
@@ -158,7 +169,7 @@ def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]
     if study.iso_cube is not None:
         cube_poses, cube = place_cube(robot, study.iso_cube["center_m"], study.iso_cube["side_m"],
                                       study.iso_cube["rpy_deg"], study.source)
-        tasks += [PoseTask(p.name, p.q, p.approach_signs, cartesian_approach=True) for p in cube_poses]
+        tasks += [PoseTask(p.name, p.q, p.approach_signs, tuple(APPROACH_DIRECTIONS)) for p in cube_poses]
     return tasks, cube
 
 
@@ -211,35 +222,37 @@ class PoseRunner:
         dq, mu = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs, rng)
         return dq, mu, group
 
-    def sample(self, task: PoseTask, forces_N, cycles: int, mode: str, rng):
-        """Cycles at one pose: (positions [m], angles [rad], approach index, dq, mu)."""
-        dq, mu, group = self.draw(task, forces_N, cycles, mode, rng)
-        positions, angles = tool_deviations(self.robot, task.q, dq, self.study.engine)
-        return positions, angles, group, dq, mu
+    def approach_sequence(self, task: PoseTask, rng) -> tuple[np.ndarray, np.ndarray]:
+        """The joints' signs of travel (n, nv) and the approach index (n,) of every cycle at a pose:
+        ``study.cycles`` from each direction, one series after another (unidirectional) or in turn
+        (bidirectional); or as many cycles in all, each from a direction drawn at random (random)."""
+        mode, count, cycles = self.study.approach, len(task.directions), self.study.cycles
+        if mode == "unidirectional":
+            group = np.repeat(np.arange(count), cycles)
+            return task.directions[group].astype(float), group
+        return approach_signs(mode, count * cycles, task.directions, rng)
 
     def measure(self, task: PoseTask, rng: np.random.Generator) -> PoseResult:
-        """Sample ``study.cycles`` cycles at ``task`` from ``rng`` and take their ISO 9283 figures."""
-        study = self.study
+        """Sample the cycles of every approach direction the study's ``approach`` mode tests at ``task`` from
+        ``rng`` and take their ISO 9283 figures."""
+        task = task.tested(self.study.approach)
         forces = self.normal_forces(task)
-        positions, angles, group, dq, mu = self.sample(task, forces, study.cycles, study.approach, rng)
+        signs, group = self.approach_sequence(task, rng)
+        dq, mu = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces, signs, rng)
+        positions, angles = tool_deviations(self.robot, task.q, dq, self.study.engine)
         commanded = self.robot.tool_placement(task.q)
-        metrics = pose_metrics(positions, angles, commanded.translation,
-                               None if study.approach == "unidirectional" else group)
+        metrics = directional_metrics(positions, angles, commanded.translation, group, task.labels)
         reference = self.robot.tool_placement(task.q + self.offsets)
         return PoseResult(task.name, task.q, commanded.translation.copy(), commanded.rotation.copy(),
-                          reference.translation.copy(), positions, angles, group, mu, dq, forces, metrics)
+                          reference.translation.copy(), positions, angles, task.labels, group, mu, dq, forces,
+                          metrics)
 
     def run(self, task: PoseTask, index: int) -> PoseResult:
-        """Measure pose ``index`` (ISO 9283, vAP from the Cartesian approaches, and beyond)."""
-        rng = pose_rng(self.study.seed, index)
-        result = self.measure(task, rng)
-        if self.study.approach == "unidirectional" and task.cartesian_approach:
-            cycles = self.study.cycles * len(task.directions)
-            multi = self.sample(task, result.normal_forces_N, cycles, "bidirectional", rng)
-            result.metrics = replace(result.metrics, vAP_p_m=multidirectional_variation(multi[0], multi[2]))
+        """Measure pose ``index`` (ISO 9283 per approach direction and across them, and beyond)."""
+        result = self.measure(task, pose_rng(self.study.seed, index))
         if task.friction is not None:
             result.extra["friction"] = task.friction.describe()
-        result.extra.update(self.beyond_iso(task, result.normal_forces_N, result, index))
+        result.direction_extra = self.beyond_iso(task, result.normal_forces_N, result, index)
         if self.study.engine == "fast":
             check = max_deviation_from_exact(self.robot, task.q, result.dq)
             result.extra["engine_check_cycles"] = check.samples
@@ -247,28 +260,34 @@ class PoseRunner:
             result.extra["engine_max_angle_deviation_nrad"] = check.angle_rad * 1e9
         return result
 
-    def beyond_iso(self, task: PoseTask, forces_N, result: PoseResult, index: int) -> dict:
-        """Joint shares of the position variance, 1-sigma ellipsoid semi-axes [µm], 95 % interval of RP_l [µm].
+    def beyond_iso(self, task: PoseTask, forces_N, result: PoseResult, index: int) -> dict[str, dict]:
+        """Per approach direction with ISO figures: joint shares of the position variance, 1-sigma
+        ellipsoid semi-axes [µm], 95 % interval of RP_l [µm].
 
-        The interval comes from replicate tests of ``study.cycles`` cycles each (fresh random
-        streams), propagated to first order through the position Jacobian: how much a test
-        of this length can vary.
+        The interval comes from replicate tests of ``study.cycles`` cycles each from that direction
+        (fresh random streams), propagated to first order through the position Jacobian: how much
+        a test of this length can vary.
         """
         jacobian = self.robot.tool_jacobian(task.q)[:3]
-        shares = variance_contributions(jacobian, result.dq)
-        extra = {f"contribution_{name}": None if np.isnan(share) else float(share)
-                 for name, share in zip(self.robot.joint_names, shares)}
-        extra["ellipsoid_semi_axes_um"] = (covariance_semi_axes(result.positions_m) * UM_PER_M).tolist()
         cycles = self.study.cycles
         replicates = int(np.clip(REPLICATE_SAMPLES // cycles, 20, RP_REPLICATES))
         rng = pose_rng(self.study.seed, index, stream=1)
-        rp = np.empty(replicates)
-        for k in range(replicates):
-            signs, _ = approach_signs(self.study.approach, cycles, task.directions, rng)
-            dq, _ = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs, rng)
-            rp[k] = position_repeatability(dq @ jacobian.T)[0]
-        extra["RP_l_95_um"] = (np.percentile(rp, [2.5, 97.5]) * UM_PER_M).tolist()
-        return extra
+        figures = {}
+        for label in result.metrics.directions:
+            mine = result.approach == result.directions.index(label)
+            shares = variance_contributions(jacobian, result.dq[mine])
+            extra = {f"contribution_{name}": None if np.isnan(share) else float(share)
+                     for name, share in zip(self.robot.joint_names, shares)}
+            extra["ellipsoid_semi_axes_um"] = (covariance_semi_axes(result.positions_m[mine]) * UM_PER_M).tolist()
+            signs = np.broadcast_to(task.directions[task.labels.index(label)].astype(float), (cycles, len(task.q)))
+            rp = np.empty(replicates)
+            for j in range(replicates):
+                dq, _ = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs,
+                                                rng)
+                rp[j] = position_repeatability(dq @ jacobian.T)[0]
+            extra["RP_l_95_um"] = (np.percentile(rp, [2.5, 97.5]) * UM_PER_M).tolist()
+            figures[label] = extra
+        return figures
 
 
 def run_study(study, cycles: int | None = None, seed: int | None = None, *, workers: int = 1,
@@ -298,7 +317,7 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, work
     tasks, cube = pose_tasks(study, robot)
     check_names(study, tasks)
     prepared_map = None if study.map is None else prepare_map(study, robot)
-    check_memory(study, robot.model.nv, [len(t.directions) if t.cartesian_approach else 1 for t in tasks], workers,
+    check_memory(study, robot.model.nv, [len(t.tested(study.approach).labels) for t in tasks], workers,
                  cycles_from_command_line=cycles is not None)
     check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None else checkpoint)
     runner = PoseRunner(study, robot, models)

@@ -72,4 +72,5 @@ def test_zero_width_laws_are_constants_and_give_no_dispersion(spec):
     pose = run_study(axis_study(friction=spec)).poses[0]
     assert np.all(pose.mu == 0.12)
     # constant mu, one approach direction: every cycle stops mu N / k short, RP_l = 0 and AP = mu N / k
-    assert pose.metrics.RP_l_m == 0.0 and pose.metrics.AP_p_m == pytest.approx(0.12 * 100.0 / 1.0e6, rel=1e-9)
+    figures = pose.metrics.directions["+"]
+    assert figures.RP_l_m == 0.0 and figures.AP_p_m == pytest.approx(0.12 * 100.0 / 1.0e6, rel=1e-9)

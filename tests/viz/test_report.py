@@ -30,8 +30,9 @@ def test_report_has_colour_bar_tables_and_figures(written):
     page = (out / "report.html").read_text(encoding="utf-8")
     assert "RP_l [µm]" in page and "1.000 µm" in page and "8.000 µm" in page  # colour bar range
     assert "unreachable target" in page
-    row = result.poses[0].report_row()
+    row = result.poses[0].direction_rows()[0]
     assert f"{row['RP_l_um']:.3f}" in page and f"{row['AP_p_um']:.3f}" in page and "RP_a [mdeg]" in page
+    assert "<td>P1</td><td>+</td>" in page and "RP_l all directions [µm]" in page
     baseline = grid_layers()["baseline"].values_um[1:]  # the first target is unreachable
     stats = "".join(f"<td>{v:.3f}</td>" for v in (baseline.min(), np.median(baseline), baseline.max()))
     assert f"<td>baseline</td><td>34 / 35</td>{stats}<td>+0.0 %</td>" in page

@@ -24,11 +24,12 @@ from tribokin.viz.static import static_visualizer
 REPORT_FILE = "report.html"
 REPORT_CHOICES = ("full", "light", "none")
 
-#: columns of the ISO table: (report_row key, header with unit)
-ISO_COLUMNS = (("name", "pose"), ("cycles", "cycles"), ("RP_l_um", "RP_l [µm]"), ("AP_p_um", "AP_p [µm]"),
-               ("vAP_p_um", "vAP_p [µm]"), ("RP_a_mdeg", "RP_a [mdeg]"), ("RP_b_mdeg", "RP_b [mdeg]"),
-               ("RP_c_mdeg", "RP_c [mdeg]"), ("AP_a_mdeg", "AP_a [mdeg]"), ("AP_b_mdeg", "AP_b [mdeg]"),
-               ("AP_c_mdeg", "AP_c [mdeg]"))
+#: columns of the ISO table: (direction_rows key, header with unit)
+ISO_COLUMNS = (("name", "pose"), ("direction", "direction"), ("cycles", "cycles"), ("RP_l_um", "RP_l [µm]"),
+               ("AP_p_um", "AP_p [µm]"), ("vAP_p_um", "vAP_p [µm]"),
+               ("RP_l_all_directions_um", "RP_l all directions [µm]"), ("RP_a_mdeg", "RP_a [mdeg]"),
+               ("RP_b_mdeg", "RP_b [mdeg]"), ("RP_c_mdeg", "RP_c [mdeg]"), ("AP_a_mdeg", "AP_a [mdeg]"),
+               ("AP_b_mdeg", "AP_b [mdeg]"), ("AP_c_mdeg", "AP_c [mdeg]"))
 
 STYLE = """
 body { font-family: sans-serif; margin: 1.5em; color: #222; max-width: 1200px; }
@@ -58,8 +59,8 @@ def _table(headers: list[str], rows: list[list]) -> str:
 
 
 def iso_table(result: StudyResult) -> str:
-    """The per-pose ISO 9283 figures (µm, mdeg) as an HTML table."""
-    rows = [[pose.report_row()[key] for key, _ in ISO_COLUMNS] for pose in result.poses]
+    """The ISO 9283 figures (µm, mdeg) per pose and approach direction as an HTML table."""
+    rows = [[row[key] for key, _ in ISO_COLUMNS] for pose in result.poses for row in pose.direction_rows()]
     return _table([header for _, header in ISO_COLUMNS], rows)
 
 
