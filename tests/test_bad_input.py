@@ -226,6 +226,9 @@ CASES = [
             expected=("{tmp}/out.chunks", "--resume", "no [map]"), id="resume-without-map"),
     study(None, "", "--resume", base=GANTRY_MAP, files={"out.chunks/manifest.json": '{"key": "x"}'},
           at_fault="out.chunks", expected=("--resume", "other settings"), id="resume-other-settings"),
+    study(None, "", "--resume", "--force", base=GANTRY_MAP, files={"out.chunks/done/0": "", "out/old.txt": "old"},
+          at_fault="out.chunks", expected=("--resume", "lacks manifest.json", "--force without --resume"),
+          id="resume-damaged-chunks"),
     # -- tribometer logs (tribokin fit-friction)
     measurement("fit-friction", None, expected=("file not found",), id="log-missing"),
     measurement("fit-friction", "cycle,friction\n1,0.1\n", expected=("mu", "columns"), id="log-wrong-columns"),
