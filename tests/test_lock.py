@@ -1,6 +1,7 @@
 """One run at a time per output folder: the second is refused while the first runs; a killed run's lock
 is taken over."""
 
+import errno
 import os
 import signal
 import subprocess
@@ -93,3 +94,14 @@ def test_a_forked_child_does_not_hold_the_lock_after_its_parent_is_killed(tmp_pa
             assert path.read_text().split()[0] == str(os.getpid())
     finally:
         os.kill(child, signal.SIGKILL)
+
+
+def test_a_full_disk_when_writing_the_lock_is_one_error_and_leaves_no_lock(tmp_path, monkeypatch):
+    def full(fd, data):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(os, "write", full)
+    with pytest.raises(InputError, match="disk is full .* a few bytes for the lock file") as error:
+        with output_lock(tmp_path / "out"):
+            pass  # pragma: no cover
+    assert error.value.key == "--out" and list(tmp_path.iterdir()) == []

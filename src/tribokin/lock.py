@@ -16,6 +16,7 @@ from contextlib import contextmanager, suppress
 from pathlib import Path
 
 from tribokin.errors import InputError
+from tribokin.folders import DISK_FULL, disk_full
 
 #: Descriptors of the lock files this process holds.
 _held: set[int] = set()
@@ -84,7 +85,12 @@ def output_lock(out):
     _held.add(fd)
     try:
         os.ftruncate(fd, 0)
-        os.write(fd, f"{os.getpid()} {os.uname().nodename}\n".encode())
+        try:
+            os.write(fd, f"{os.getpid()} {os.uname().nodename}\n".encode())
+        except OSError as error:
+            if error.errno in DISK_FULL:
+                raise disk_full(error, out, "a few bytes for the lock file") from None
+            raise
         yield lock_path(out)
     finally:
         with suppress(FileNotFoundError):
