@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import copy
+import itertools
 import os
+import sys
+import traceback
 from pathlib import Path
 
 import pytest
@@ -60,6 +63,32 @@ extent_v_m = [0.0, 0.6]
 resolution = [25, 40]
 chunk_rows = 1
 """
+
+
+def killed_after(steps: int, functions: tuple[str, ...], action) -> bool:
+    """Run ``action()`` in a forked process killed (``os._exit``, no clean-up) right after its ``steps``-th
+    call of the ``functions`` (``"module.name"``); whether it was killed before finishing."""
+    child = os.fork()
+    if child == 0:  # pragma: no cover (measured in the parent)
+        try:
+            calls = itertools.count(1)
+            for function in functions:
+                module, _, name = function.rpartition(".")
+                real = getattr(sys.modules[module], name)
+
+                def step(*args, real=real, **options):
+                    done = real(*args, **options)
+                    if next(calls) == steps:
+                        os._exit(9)
+                    return done
+
+                setattr(sys.modules[module], name, step)
+            action()
+        except BaseException:
+            traceback.print_exc()
+            os._exit(1)
+        os._exit(0)  # never back into pytest
+    return os.waitstatus_to_exitcode(os.waitpid(child, 0)[1]) == 9
 
 
 def axis_study(**joints) -> dict:

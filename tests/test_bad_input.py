@@ -27,6 +27,10 @@ def _replace(text: str, old: str, new: str) -> str:
     return text.replace(old, new)
 
 
+class Symlink(str):
+    """A file of a case that is a symbolic link to this target."""
+
+
 STUDY = AXIS_STUDY_TOML
 GANTRY_MAP = _replace(_replace(GANTRY_MAP_TOML, "cycles = 400", "cycles = 5"), "resolution = [25, 40]",
                       "resolution = [4, 3]")
@@ -252,6 +256,11 @@ CASES = [
     command([*RUN, "--workers", "0"], expected=("command line", "--workers", ">= 1"), id="option-workers-zero"),
     command([*RUN, "--workers", "2", "--scheduler", "tcp://127.0.0.1:9"], expected=("command line", "--scheduler"),
             id="option-workers-and-scheduler"),
+    command([*RUN, "--scheduler", "tcp://127.0.0.1:9"], files={"study.toml": GANTRY_MAP},
+            expected=("command line", "--scheduler", "cannot reach", "127.0.0.1:9"), id="scheduler-closed-port"),
+    command([*RUN, "--scheduler", "not a url"], files={"study.toml": GANTRY_MAP},
+            expected=("command line", "--scheduler", "'not a url' is not a scheduler address", "tcp://host:port"),
+            id="scheduler-not-an-address"),
     command(["run", "{tmp}/study.toml", "--out", "{tmp}/out", "--report", "fancy"],
             expected=("command line", "--report", "invalid choice"), id="option-report-unknown"),
     command(["run", "{tmp}/study.toml"], expected=("command line", "--out"), id="option-out-missing"),
@@ -264,12 +273,21 @@ CASES = [
             id="out-exists-without-force"),
     command([*RUN, "--force"], files={"out": "a file"}, expected=("{tmp}/out", "--out", "is a file"),
             id="out-is-a-file"),
+    command(RUN, files={"out": Symlink("gone")}, expected=("{tmp}/out", "--out", "symbolic link", "gone"),
+            id="out-dangling-symlink"),
+    command(["run", "{tmp}/study.toml", "--out", ".", "--report", "none", "--force"],
+            expected=("tribokin: error: .: --out: ", "current folder or one of its parents"), id="out-here-force"),
+    command(["run", "{tmp}/study.toml", "--out", "..", "--report", "none", "--force"],
+            expected=("tribokin: error: ..: --out: ", "current folder or one of its parents"), id="out-parent-force"),
     command(RUN, files={"out.chunks/manifest.json": '{"key": "x"}'}, expected=("{tmp}/out.chunks", "--resume"),
             id="leftover-chunks-without-resume"),
     command([*RUN, "--resume"], files={"out.chunks/manifest.json": '{"key": "x"}'},
             expected=("{tmp}/out.chunks", "--resume", "no [map]"), id="resume-without-map"),
     study(None, "", "--resume", base=GANTRY_MAP, files={"out.chunks/manifest.json": '{"key": "x"}'},
           at_fault="out.chunks", expected=("--resume", "other settings"), id="resume-other-settings"),
+    study(None, "", "--resume", "--force", base=GANTRY_MAP, files={"out.chunks/done/0": "", "out/old.txt": "old"},
+          at_fault="out.chunks", expected=("--resume", "lacks manifest.json", "--force without --resume"),
+          id="resume-damaged-chunks"),
     # -- tribometer logs (tribokin fit-friction)
     measurement("fit-friction", None, expected=("file not found",), id="log-missing"),
     measurement("fit-friction", "cycle,friction\n1,0.1\n", expected=("mu", "columns"), id="log-wrong-columns"),
@@ -318,12 +336,16 @@ def _create(tmp: Path, files: dict) -> None:
     for name, content in files.items():
         path = tmp / name
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_bytes(content if isinstance(content, bytes) else content.encode())
+        if isinstance(content, Symlink):
+            path.symlink_to(content)
+        else:
+            path.write_bytes(content if isinstance(content, bytes) else content.encode())
 
 
-def _tree(folder: Path) -> dict[str, bytes | None]:
-    """Every file (its bytes) and folder (``None``) below ``folder``."""
-    return {str(p.relative_to(folder)): (p.read_bytes() if p.is_file() else None) for p in sorted(folder.rglob("*"))}
+def _tree(folder: Path) -> dict[str, bytes | str | None]:
+    """Every file (its bytes), symbolic link (its target) and folder (``None``) below ``folder``."""
+    return {str(p.relative_to(folder)): (os.readlink(p) if p.is_symlink() else p.read_bytes() if p.is_file() else None)
+            for p in sorted(folder.rglob("*"))}
 
 
 def test_bad_input_table_is_large_and_unambiguous():

@@ -1,6 +1,7 @@
 """One run at a time per output folder: the second is refused while the first runs; a killed run's lock
 is taken over."""
 
+import errno
 import os
 import signal
 import subprocess
@@ -73,3 +74,34 @@ def test_second_run_into_the_same_folder_is_refused_while_the_first_runs(tmp_pat
     finally:
         first.send_signal(signal.SIGKILL)
         first.wait()
+
+
+def test_a_forked_child_does_not_hold_the_lock_after_its_parent_is_killed(tmp_path):
+    """A local worker forked during a run inherits the lock's descriptor; it closes it, so the lock ends with the run."""
+    out = tmp_path / "out"
+    holder = subprocess.Popen([sys.executable, "-c", "import os, time; from tribokin.lock import output_lock\n"
+                               f"with output_lock({str(out)!r}):\n"
+                               "    child = os.fork()\n"
+                               "    if child == 0:\n        time.sleep(60)\n        os._exit(0)\n"
+                               "    print(child, flush=True); time.sleep(60)"],
+                              stdout=subprocess.PIPE, text=True)
+    child = int(holder.stdout.readline())
+    try:
+        holder.send_signal(signal.SIGKILL)
+        holder.wait()
+        assert os.path.exists(f"/proc/{child}")  # the child lives on...
+        with output_lock(out) as path:  # ...and holds no lock
+            assert path.read_text().split()[0] == str(os.getpid())
+    finally:
+        os.kill(child, signal.SIGKILL)
+
+
+def test_a_full_disk_when_writing_the_lock_is_one_error_and_leaves_no_lock(tmp_path, monkeypatch):
+    def full(fd, data):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(os, "write", full)
+    with pytest.raises(InputError, match="disk is full .* a few bytes for the lock file") as error:
+        with output_lock(tmp_path / "out"):
+            pass  # pragma: no cover
+    assert error.value.key == "--out" and list(tmp_path.iterdir()) == []

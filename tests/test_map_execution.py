@@ -1,16 +1,21 @@
 """Maps give the same bytes whatever the chunk size, the workers, the executor, or an interruption."""
 
 import json
+import shutil
 import signal
 import subprocess
 import sys
 import time
+from contextlib import suppress
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from conftest import GANTRY_MAP_TOML
 from tribokin import InputError, run_study
+from tribokin.checkpoint import ChunkStore
+from tribokin.cli import main
 from tribokin.output import map_table_name, write_map_table, write_results, write_summary
 
 UR5_MAP = {
@@ -107,11 +112,10 @@ def test_dask_cluster_changes_nothing(reference, tmp_path):
     assert written(result, tmp_path / "out") == reference
 
 
-def test_unreachable_scheduler_is_an_input_error(monkeypatch):
-    monkeypatch.setattr("tribokin.executors.SCHEDULER_TIMEOUT_S", 0.5)
-    with pytest.raises(InputError) as error:
-        run_study(UR5_MAP, scheduler="tcp://127.0.0.1:9")
-    assert error.value.key == "--scheduler"
+def test_unreachable_scheduler_is_refused_before_any_work(tmp_path):
+    with pytest.raises(InputError, match="cannot reach") as error:
+        run_study(UR5_MAP, scheduler="tcp://127.0.0.1:9", checkpoint=tmp_path / "chunks")
+    assert error.value.key == "--scheduler" and list(tmp_path.iterdir()) == []
 
 
 def test_finished_chunks_are_reused_on_resume_others_recomputed_and_settings_checked(tmp_path):
@@ -153,6 +157,46 @@ def killed_after(command, chunks, count: int) -> int:
     return finished(chunks)
 
 
+def children(pid: int) -> list[int]:
+    """The processes whose parent is ``pid``."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        with suppress(OSError):
+            if int(stat.read_text().rsplit(")", 1)[1].split()[1]) == pid:
+                found.append(int(stat.parent.name))
+    return found
+
+
+def alive(pid: int) -> bool:
+    """Whether process ``pid`` runs (a zombie has ended: only its exit status waits to be collected)."""
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except FileNotFoundError:
+        return False
+
+
+def test_workers_end_with_a_killed_run_and_leave_its_lock_free(tmp_path):
+    study = tmp_path / "study.toml"
+    study.write_text(GANTRY_MAP_TOML)
+    command = [sys.executable, "-m", "tribokin", "run", study, "--out", tmp_path / "out", "--workers", "2",
+               "--report", "none"]
+    run = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 60
+    while finished(tmp_path / "out.chunks") < 2 and run.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.005)
+    workers = children(run.pid)
+    run.send_signal(signal.SIGKILL)
+    run.wait()
+    assert run.returncode == -signal.SIGKILL and len(workers) >= 2
+    deadline = time.monotonic() + 10  # the kernel kills them at once; this only bounds a failing test
+    while any(alive(worker) for worker in workers) and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert not any(alive(worker) for worker in workers)
+    resumed = subprocess.run(command + ["--resume"], capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "study.toml"]
+
+
 def without_command(summary: bytes) -> dict:
     """summary.json without the command line it records (which says --resume, and names the folder)."""
     summary = json.loads(summary)
@@ -185,3 +229,45 @@ def test_run_killed_at_random_points_resumes_to_the_same_bytes(tmp_path):
     uninterrupted = json.loads((tmp_path / "uninterrupted" / "summary.json").read_bytes())
     assert uninterrupted["reproduce"].pop("command") is None
     assert without_command((out / "summary.json").read_bytes()) == uninterrupted
+
+
+SMALL_MAP = GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 5")
+
+
+def test_chunk_folder_deleted_during_a_run_ends_in_one_line(tmp_path, monkeypatch, capsys):
+    study = tmp_path / "study.toml"
+    study.write_text(SMALL_MAP)
+    real = ChunkStore.save
+
+    def save_then_lose_the_folder(store, chunk, first, arrays):
+        real(store, chunk, first, arrays)
+        if chunk == 2:
+            shutil.rmtree(store.folder)
+
+    monkeypatch.setattr(ChunkStore, "save", save_then_lose_the_folder)
+    status = main(["run", str(study), "--out", str(tmp_path / "out"), "--report", "none"])
+    error = capsys.readouterr().err
+    last = error.splitlines()[-1]  # after the progress bar
+    assert status == 2 and "Traceback" not in error and last.startswith("tribokin: error: "), error
+    assert last.startswith(f"tribokin: error: {tmp_path / 'out.chunks'}: ") and "deleted or damaged" in last
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]
+
+
+def test_a_refusal_after_the_map_ran_removes_only_the_chunks_of_this_run(tmp_path, monkeypatch, capsys):
+    """Chunks this run created hold nothing a later run needs; chunks an interrupted run left are kept for --resume."""
+    study = tmp_path / "study.toml"
+    study.write_text(SMALL_MAP)
+    command = ["run", str(study), "--out", str(tmp_path / "out"), "--report", "none"]
+    answers = iter([InputError("refused", "a file"), KeyboardInterrupt(), InputError("refused", "a file")])
+
+    def refuses(*args, **options):
+        raise next(answers)
+
+    monkeypatch.setattr("tribokin.output.write_results", refuses)
+    assert main(command) == 2  # refused after the map ran: its chunks go
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]
+    assert main(command) == 130  # interrupted: its chunks stay for --resume
+    assert main([*command, "--resume"]) == 2  # refused while resuming: the interrupted run's chunks stay
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.chunks", "study.toml"]
+    assert len(list((tmp_path / "out.chunks" / "done").iterdir())) == 40
+    assert "refused" in capsys.readouterr().err

@@ -2,7 +2,9 @@
 next run clears what it left; the pose files' layout."""
 
 import csv
+import errno
 import json
+import os
 import signal
 import subprocess
 import sys
@@ -11,9 +13,10 @@ import time
 import numpy as np
 import pytest
 
-from conftest import AXIS_STUDY_TOML, axis_study
+from conftest import AXIS_STUDY_TOML, axis_study, killed_after
 from tribokin import InputError, run_study
-from tribokin.output import atomic_folder, write_results
+from tribokin.cli import main
+from tribokin.output import atomic_folder, remove_leftovers, write_results
 
 # Six poses: writing their figures and the report takes long enough to be caught in the middle.
 STUDY = AXIS_STUDY_TOML.replace('[[poses]]\nname = "P1"\nq = [0.25]\n',
@@ -96,3 +99,67 @@ def test_pose_files_hold_one_row_per_pose_and_approach_direction(tmp_path):
     with np.load(out / "samples.npz") as samples:
         assert samples["P1/positions_m"].shape == (20, 3)
         assert samples["P1/directions"].tolist() == ["+", "-"] and samples["P1/approach"].tolist() == [0, 1] * 10
+def _replace(out) -> None:
+    with atomic_folder(out, force=True) as folder:
+        (folder / "new.txt").write_text("new")
+
+
+@pytest.mark.parametrize("can_exchange", [True, False], ids=["exchanged", "moved-aside"])
+def test_force_replacement_killed_at_any_step_loses_neither_folder(tmp_path, monkeypatch, can_exchange):
+    """Where the system cannot exchange two folders, the old one is moved aside first; the next run moves it back."""
+    if not can_exchange:
+        monkeypatch.setattr("tribokin.output.exchange", lambda first, second: False)
+    out = tmp_path / "out"
+    kill_after, restores = 0, 0
+    while True:
+        kill_after += 1
+        out.mkdir()
+        (out / "old.txt").write_text("old")
+        killed = killed_after(kill_after, ("tribokin.output.exchange", "tribokin.output.remove", "os.replace"),
+                              lambda: _replace(out))
+        restored = remove_leftovers(out)  # as the next run does, holding the lock
+        assert sorted(tmp_path.iterdir()) == [out]
+        contents = {p.name: p.read_text() for p in out.iterdir()}
+        assert contents in ({"old.txt": "old"}, {"new.txt": "new"}), kill_after
+        restores += restored is not None
+        if not killed:
+            break
+        for path in out.iterdir():
+            path.unlink()
+        out.rmdir()
+    assert contents == {"new.txt": "new"}  # the last run was not killed
+    assert (kill_after, restores) == ((3, 0) if can_exchange else (5, 1))  # out was missing at one point only
+
+
+def test_full_disk_while_writing_is_one_line_and_leaves_nothing(tmp_path, monkeypatch, capsys):
+    """The disk is made to fill up while samples.npz is written (no mount needed): the run ends in one line."""
+    import tribokin.output
+
+    study = tmp_path / "study.toml"
+    study.write_text(STUDY)
+    real = tribokin.output.write_samples
+
+    def fills_the_disk(result, folder):
+        real(result, folder)
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(folder / "samples.npz"))
+
+    monkeypatch.setattr("tribokin.output.write_samples", fills_the_disk)
+    status = main(["run", str(study), "--out", str(tmp_path / "out"), "--report", "none"])
+    error = capsys.readouterr().err
+    assert status == 2 and len(error.splitlines()) == 1 and "Traceback" not in error, error
+    assert "samples.npz" in error and "needed more than " in error and "--out" in error
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]
+
+
+def test_next_run_moves_back_an_output_folder_a_killed_force_run_left_aside_and_says_so(tmp_path, capsys):
+    study = tmp_path / "study.toml"
+    study.write_text(STUDY)
+    aside = tmp_path / ".out.old-x1y2"  # as a --force run killed between its two renames leaves it
+    (aside / "out").mkdir(parents=True)
+    (aside / "out" / "old.txt").write_text("old")
+    status = main(["run", str(study), "--out", str(tmp_path / "out"), "--report", "none"])
+    captured = capsys.readouterr()
+    assert f"moved '{tmp_path / 'out'}' back from '{aside}'" in captured.out
+    assert status == 2 and "output folder exists" in captured.err  # now it does: --force would replace it
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "study.toml"]
+    assert (tmp_path / "out" / "old.txt").read_text() == "old"

@@ -14,14 +14,17 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
-import shutil
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 from numpy.lib.format import open_memmap
 
 from tribokin.errors import InputError
+from tribokin.folders import DISK_FULL, disk_full, remove, temporary_sibling, temporary_siblings
+from tribokin.memory import gib
 
 #: Rows of a column file a scattered read maps at once.
 READ_ROWS = 1 << 16
@@ -41,8 +44,15 @@ def check_chunk_folder(folder, resume: bool) -> None:
 
 
 def discard(folder) -> None:
-    """Delete a chunk folder (once the results are written, or to start over)."""
-    shutil.rmtree(folder, ignore_errors=True)
+    """Delete a chunk folder (once the results are written, or to start over), and the temporary folders
+    a killed run left beside it. It is renamed aside first: a run killed meanwhile leaves it whole or gone."""
+    folder = Path(folder)
+    for leftover in temporary_siblings(folder, "new") + temporary_siblings(folder, "old"):
+        remove(leftover)
+    if folder.exists():
+        retired = temporary_sibling(folder, "old")
+        os.replace(folder, retired / folder.name)
+        remove(retired)
 
 
 def fingerprint(settings: dict) -> str:
@@ -50,8 +60,24 @@ def fingerprint(settings: dict) -> str:
     return hashlib.sha256(json.dumps(settings, sort_keys=True, default=str).encode()).hexdigest()
 
 
+def _column_path(folder: Path, name: str) -> Path:
+    return folder / f"{name}.npy"
+
+
+def _reserve(path: Path) -> None:
+    """Allocate the disk space of file ``path`` now, so that writing into it through a memory map cannot
+    fail for lack of space later (the process would get SIGBUS, not an error)."""
+    if hasattr(os, "posix_fallocate"):
+        with open(path, "r+b") as handle:
+            os.posix_fallocate(handle.fileno(), 0, os.fstat(handle.fileno()).st_size)
+
+
 class ChunkStore:
     """Per-target result columns of a map, in ``folder``.
+
+    The folder is built beside its place and renamed into it once its columns (their disk space
+    reserved) and manifest are written, so it is whole or absent. A folder deleted or damaged while a
+    run uses it, or a full disk, is an :class:`InputError`.
 
     Args:
         folder: the store's folder.
@@ -65,44 +91,87 @@ class ChunkStore:
     def __init__(self, folder, key: str, columns: dict[str, tuple[tuple, str]], size: int, resume: bool = False):
         self.folder = Path(folder)
         self.size = size
-        manifest = self.folder / "manifest.json"
         check_chunk_folder(self.folder, resume)
         if self.folder.exists():
-            saved = json.loads(manifest.read_text()).get("key") if manifest.is_file() else None
-            if saved != key:
-                raise InputError("these chunks were computed with other settings (study file, cycles, seed or "
-                                 "chunk size); rerun with the same ones, or pass --force without --resume to "
-                                 "start over", self.folder, "--resume")
-            return
-        (self.folder / "done").mkdir(parents=True)
-        for name, (shape, dtype) in columns.items():
-            open_memmap(self._path(name), mode="w+", dtype=dtype, shape=(size, *shape))  # sparse until written
-        manifest.write_text(json.dumps({"key": key}) + "\n")
+            self._check_resumable(key, columns)
+        else:
+            self._create(key, columns)
+
+    def _check_resumable(self, key: str, columns: dict) -> None:
+        manifest = self.folder / "manifest.json"
+        saved = json.loads(manifest.read_text()).get("key") if manifest.is_file() else None
+        if saved is not None and saved != key:
+            raise InputError("these chunks were computed with other settings (study file, cycles, seed or "
+                             "chunk size); rerun with the same ones, or pass --force without --resume to "
+                             "start over", self.folder, "--resume")
+        parts = [manifest, self.folder / "done", *(_column_path(self.folder, name) for name in columns)]
+        missing = [path.name for path in parts if not path.exists()]
+        if missing:
+            raise InputError(f"this chunk folder lacks {', '.join(missing)} (damaged or partly deleted); pass "
+                             "--force without --resume to start over", self.folder, "--resume")
+
+    def _create(self, key: str, columns: dict) -> None:
+        discard(self.folder)  # the temporary folders of a killed creation
+        building = temporary_sibling(self.folder, "new")
+        try:
+            (building / "done").mkdir()
+            for name, (shape, dtype) in columns.items():
+                path = _column_path(building, name)
+                open_memmap(path, mode="w+", dtype=dtype, shape=(self.size, *shape))  # sparse until written
+                _reserve(path)
+            (building / "manifest.json").write_text(json.dumps({"key": key}) + "\n")
+            os.rename(building, self.folder)
+        except OSError as error:
+            if error.errno in DISK_FULL:
+                needed = sum(self.size * math.prod(shape) * np.dtype(dtype).itemsize
+                             for shape, dtype in columns.values())
+                raise disk_full(error, self.folder, f"about {gib(needed)} for the map's store") from None
+            raise
+        finally:
+            remove(building)
+
+    @contextmanager
+    def _intact(self):
+        """Turn a file of the store gone missing, or a full disk, into an :class:`InputError`."""
+        try:
+            yield
+        except FileNotFoundError as error:
+            raise InputError(f"{os.path.relpath(error.filename, self.folder)} is gone: the chunk folder was deleted "
+                             "or damaged while this run used it; run again (with --force to start over)",
+                             self.folder) from None
+        except OSError as error:
+            if error.errno in DISK_FULL:
+                raise disk_full(error, self.folder, "more than the space reserved for the map's store") from None
+            raise
 
     def _path(self, name: str) -> Path:
-        return self.folder / f"{name}.npy"
+        return _column_path(self.folder, name)
 
     def finished(self) -> list[int]:
         """Indices of the chunks already saved."""
-        return sorted(int(p.name) for p in (self.folder / "done").iterdir())
+        with self._intact():
+            return sorted(int(p.name) for p in (self.folder / "done").iterdir())
 
     def write(self, index, arrays: dict[str, np.ndarray]) -> None:
         """Write ``arrays`` (column name -> values) at targets ``index`` (a slice or indices), flushed to disk."""
-        for name, values in arrays.items():
-            column = open_memmap(self._path(name), mode="r+")
-            column[index] = values
-            column.flush()
-            del column
+        with self._intact():
+            for name, values in arrays.items():
+                column = open_memmap(self._path(name), mode="r+")
+                column[index] = values
+                column.flush()
+                del column
 
     def save(self, chunk: int, first: int, arrays: dict[str, np.ndarray]) -> None:
         """Write chunk ``chunk``'s arrays (targets ``first`` on), then mark it finished."""
         self.write(slice(first, first + len(next(iter(arrays.values())))), arrays)
-        (self.folder / "done" / str(chunk)).touch()
+        with self._intact():
+            (self.folder / "done" / str(chunk)).touch()
 
     def _mapped(self, name: str, take) -> np.ndarray:
         """``take(column)`` of column ``name``, copied out of a memory map closed before returning, so
         the column's pages it touched do not stay in this process's memory."""
-        column = np.load(self._path(name), mmap_mode="r")
+        with self._intact():
+            column = np.load(self._path(name), mmap_mode="r")
         values = np.array(take(column))
         del column
         return values
@@ -130,13 +199,14 @@ class ChunkStore:
     def save_record(self, name: str, arrays: dict[str, np.ndarray]) -> None:
         """Keep ``arrays`` as record ``name``, atomically."""
         temporary = self.folder / f".{name}.tmp.npz"
-        np.savez(temporary, **arrays)
-        os.replace(temporary, self.folder / f"{name}.npz")
+        with self._intact():
+            np.savez(temporary, **arrays)
+            os.replace(temporary, self.folder / f"{name}.npz")
 
     def load_record(self, name: str) -> dict[str, np.ndarray] | None:
         """Record ``name``, or ``None`` if it was never saved."""
         path = self.folder / f"{name}.npz"
         if not path.is_file():
             return None
-        with np.load(path) as saved:
+        with self._intact(), np.load(path) as saved:
             return {key: saved[key] for key in saved.files}

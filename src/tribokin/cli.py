@@ -23,13 +23,16 @@ class _Parser(argparse.ArgumentParser):
 @contextmanager
 def _claimed(out, force: bool):
     """Check the output folder, hold its lock (``<out>.lock``) while the block runs, and first delete the
-    temporary folders a killed run left beside it."""
+    temporary folders a killed run left beside it (or move back an output folder it had moved aside)."""
     from tribokin.lock import output_lock
     from tribokin.output import check_output_folder, remove_leftovers
 
     check_output_folder(out, force)
     with output_lock(out):
-        remove_leftovers(out)
+        restored = remove_leftovers(out)
+        if restored is not None:
+            print(f"note: moved '{out}' back from '{restored}', where a killed --force run had left it")
+            check_output_folder(out, force)
         yield
 
 
@@ -57,7 +60,8 @@ def _run(args) -> None:
 
 
 def _compute_and_write(args):
-    """Run the study (resuming from ``<out>.chunks`` if asked) and write its output folder."""
+    """Run the study (resuming from ``<out>.chunks`` if asked) and write its output folder. A refusal
+    deletes the chunk folder this run created, never one an interrupted run left for ``--resume``."""
     from tribokin.checkpoint import check_chunk_folder, chunk_folder, discard
     from tribokin.output import write_results
     from tribokin.study import run_study
@@ -66,10 +70,16 @@ def _compute_and_write(args):
     if args.force and not args.resume:
         discard(chunks)
     check_chunk_folder(chunks, args.resume)
-    result = run_study(args.study, cycles=args.cycles, seed=args.seed, workers=args.workers,
-                       scheduler=args.scheduler, checkpoint=chunks, resume=args.resume, progress=True)
-    result.reproduce["command"] = ["tribokin", *args.argv]
-    out = write_results(result, args.out, args.force, report=args.report)
+    resumed = chunks.exists()
+    try:
+        result = run_study(args.study, cycles=args.cycles, seed=args.seed, workers=args.workers,
+                           scheduler=args.scheduler, checkpoint=chunks, resume=args.resume, progress=True)
+        result.reproduce["command"] = ["tribokin", *args.argv]
+        out = write_results(result, args.out, args.force, report=args.report)
+    except InputError:
+        if not resumed:
+            discard(chunks)
+        raise
     discard(chunks)
     return result, out
 

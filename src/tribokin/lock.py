@@ -2,8 +2,10 @@
 
 The lock is a ``flock`` on that file, held for the whole run (computation, chunks, writing) and
 removed when the run ends. The kernel releases a ``flock`` when its process ends, however it ends,
-so a file left behind by a killed run locks nothing: the next run takes it over. ``flock`` is
-local to one machine: on a network file system, do not run two machines into one folder.
+so a file left behind by a killed run locks nothing: the next run takes it over. A process forked
+while the lock is held (a local worker) closes its copy of the lock's descriptor at once, so the
+lock ends with the run, not with its longest-lived child. ``flock`` is local to one machine: on a
+network file system, do not run two machines into one folder.
 """
 
 from __future__ import annotations
@@ -14,6 +16,22 @@ from contextlib import contextmanager, suppress
 from pathlib import Path
 
 from tribokin.errors import InputError
+from tribokin.folders import DISK_FULL, disk_full
+
+#: Descriptors of the lock files this process holds.
+_held: set[int] = set()
+
+
+def _close_held() -> None:
+    """In a forked child: close the inherited lock descriptors (closing, unlike unlocking, leaves the
+    parent's lock in place)."""
+    for fd in _held:
+        with suppress(OSError):
+            os.close(fd)
+    _held.clear()
+
+
+os.register_at_fork(after_in_child=_close_held)
 
 
 def lock_path(out) -> Path:
@@ -64,11 +82,18 @@ def output_lock(out):
     """Hold ``<out>.lock`` while the block runs; refuse (``InputError``, ``--out``) if another run holds it."""
     out = Path(out)
     fd = _acquire(out)
+    _held.add(fd)
     try:
         os.ftruncate(fd, 0)
-        os.write(fd, f"{os.getpid()} {os.uname().nodename}\n".encode())
+        try:
+            os.write(fd, f"{os.getpid()} {os.uname().nodename}\n".encode())
+        except OSError as error:
+            if error.errno in DISK_FULL:
+                raise disk_full(error, out, "a few bytes for the lock file") from None
+            raise
         yield lock_path(out)
     finally:
         with suppress(FileNotFoundError):
             os.unlink(lock_path(out))  # still locked: no other run can have taken it meanwhile
+        _held.discard(fd)
         os.close(fd)

@@ -1,7 +1,8 @@
 """Writing results to an output folder: all or nothing, never over a user's folder unasked.
 
 Files are written into a temporary sibling folder, which is renamed into
-place at the end; an existing folder is replaced only with ``force``.
+place at the end; an existing folder is replaced only with ``force``, by
+exchanging the two folders in one step where the system can.
 """
 
 from __future__ import annotations
@@ -9,21 +10,29 @@ from __future__ import annotations
 import csv
 import json
 import os
-import shutil
-import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
 from tribokin.errors import InputError
+from tribokin.folders import DISK_FULL, disk_full, exchange, remove, size_of, temporary_sibling, temporary_siblings
+from tribokin.memory import gib
 from tribokin.names import map_table_file, pose_figure_file
 from tribokin.results import MAP_FIGURES, MapResult, ScenarioMap, StudyResult
 
 
 def check_output_folder(out, force: bool = False) -> Path:
-    """Refuse, before any work, an output folder that exists (without ``force``) or cannot be created."""
+    """Refuse, before any work, an output folder that exists (without ``force``) or cannot be created, a
+    symbolic link, and the current folder or one of its parents."""
     out = Path(out)
+    if out.is_symlink():
+        raise InputError(f"is a symbolic link (to '{os.readlink(out)}'); give a folder's own path as --out",
+                         out, "--out")
+    here = Path.cwd().resolve()
+    if out.resolve() in (here, *here.parents):
+        raise InputError("is the current folder or one of its parents, which a run never replaces; choose a new "
+                         "folder as --out", out, "--out")
     if out.exists() and not force:
         raise InputError("output folder exists; choose another --out or pass --force to replace it",
                          out, "--out")
@@ -38,44 +47,67 @@ def check_output_folder(out, force: bool = False) -> Path:
 
 def _temporary_folder(out: Path, kind: str) -> Path:
     """A new empty folder ``.<out>.<kind>-XXXX`` beside ``out``, or an :class:`InputError` if none can be made."""
-    parent = out.absolute().parent
     try:
-        return Path(tempfile.mkdtemp(prefix=f".{out.name}.{kind}-", dir=parent))
+        return temporary_sibling(out, kind)
     except OSError as error:
-        raise InputError(f"cannot write into parent folder '{parent}' ({error.strerror}); choose another --out",
-                         out, "--out") from None
+        raise InputError(f"cannot write into parent folder '{out.absolute().parent}' ({error.strerror}); choose "
+                         "another --out", out, "--out") from None
 
 
-def remove_leftovers(out) -> None:
-    """Delete the temporary folders a killed run left beside ``out`` (call it while holding ``out``'s lock)."""
+def remove_leftovers(out) -> Path | None:
+    """Delete the temporary folders a killed run left beside ``out`` (call it while holding ``out``'s lock).
+
+    A ``--force`` run killed after moving the old ``out`` aside and before renaming the new one in
+    (only where folders cannot be exchanged in one step) left the old one in ``.<out>.old-*``: it is
+    moved back, and the folder it was in is returned."""
     out = Path(out)
+    restored = None
+    for retired in temporary_siblings(out, "old"):
+        if not out.exists() and (retired / out.name).exists():
+            os.replace(retired / out.name, out)
+            restored = retired
+        remove(retired)
     for kind in ("partial", "probe"):
-        for leftover in out.absolute().parent.glob(f".{out.name}.{kind}-*"):
-            shutil.rmtree(leftover, ignore_errors=True)
+        for leftover in temporary_siblings(out, kind):
+            remove(leftover)
+    return restored
+
+
+def _move_in(folder: Path, out: Path) -> None:
+    """Rename ``folder`` to ``out``, replacing an existing ``out`` in one step where the system can."""
+    if not out.exists():
+        os.replace(folder, out)
+    elif exchange(folder, out):
+        remove(folder)  # the old out, exchanged into folder's place
+    else:
+        retired = _temporary_folder(out, "old")
+        os.replace(out, retired / out.name)  # killed before the next line: the next run moves it back
+        os.replace(folder, out)
+        remove(retired)
 
 
 @contextmanager
 def atomic_folder(out, force: bool = False):
-    """Yield a temporary folder; on success it replaces ``out``, on failure it is removed."""
+    """Yield a temporary folder; on success it replaces ``out``, on failure it is removed. A full disk
+    is an :class:`InputError` naming the folder."""
     out = check_output_folder(out, force)
     temporary = _temporary_folder(out, "partial")
     umask = os.umask(0)
     os.umask(umask)
     temporary.chmod(0o777 & ~umask)  # mkdtemp makes it private; the result is an ordinary folder
     try:
-        yield temporary
+        try:
+            yield temporary
+        except OSError as error:
+            if error.errno in DISK_FULL:
+                raise disk_full(error, out, f"more than the {gib(size_of(temporary))} written") from None
+            raise
         if out.exists() and not force:
             raise InputError("output folder appeared while this run was computing; choose another --out or pass "
                              "--force to replace it", out, "--out")
-        if out.exists():
-            retired = _temporary_folder(out, "old")
-            os.replace(out, retired / out.name)
-            os.replace(temporary, out)
-            shutil.rmtree(retired, ignore_errors=True)
-        else:
-            os.replace(temporary, out)
+        _move_in(temporary, out)
     except BaseException:
-        shutil.rmtree(temporary, ignore_errors=True)
+        remove(temporary)
         raise
 
 
