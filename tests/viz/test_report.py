@@ -43,6 +43,15 @@ def test_report_has_colour_bar_tables_and_figures(written):
     assert f"×{magnification:g}" in page
 
 
+def test_two_identical_runs_write_the_same_bytes_report_included(written, tmp_path):
+    out, _ = written
+    write_results(run_study(copy.deepcopy(UNIFORM_AXIS)), tmp_path / "again", map_layers=grid_layers(), cube=CUBE)
+    names = sorted(p.name for p in out.iterdir())
+    assert names == sorted(p.name for p in (tmp_path / "again").iterdir()) and "report.html" in names
+    for name in names:
+        assert (tmp_path / "again" / name).read_bytes() == (out / name).read_bytes(), name
+
+
 def test_report_makes_no_network_request(written):
     out, _ = written
     page = (out / "report.html").read_text(encoding="utf-8")
