@@ -191,7 +191,7 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
     ``map_layers`` (:class:`~tribokin.viz.scene.MapLayer` by scenario; default: the study's map
     scenarios) and ``cube`` (default: the study's ISO cube, if it has one).
     """
-    from tribokin.viz.figures import save_repeatability_field
+    from tribokin.viz.figures import field_figure_name, save_repeatability_field
     from tribokin.viz.maps import save_map_figures
     from tribokin.viz.report import write_report
     from tribokin.viz.scene import Cube
@@ -209,7 +209,7 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
             write_pose_table(result, folder)
             write_samples(result, folder)
         for pose in result.poses:
-            save_repeatability_field(pose, folder / f"field_{pose.name}.png", title=f"{result.name} — {pose.name}")
+            save_repeatability_field(pose, folder / field_figure_name(pose.name), title=f"{result.name} — {pose.name}")
         if result.map is not None:
             for scenario in result.map.scenarios:
                 write_map_table(result.map, scenario, folder / map_table_name(result.map, scenario))

@@ -137,3 +137,10 @@ def test_cube_is_optional_and_light_variant_uses_collision_geometry(drawn):
     tribokin = node(vis, "tribokin")
     assert "cube" not in tribokin and "maps" not in tribokin
     assert set(tribokin["robot"]["visuals"]) == {g.name for g in result.robot.collision_model.geometryObjects}
+
+
+def test_scene_without_poses_writes_no_cloud_magnification(drawn):
+    _, _, result = drawn
+    vis = static_visualizer()
+    build_scene(vis, result.robot, result.poses[0].q, [], grid_layers(), variant="light")
+    assert {"robot", "maps"} <= set(node(vis, "tribokin")) and "magnification" not in node(vis, "tribokin")

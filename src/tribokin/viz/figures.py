@@ -14,6 +14,11 @@ from matplotlib.patches import Circle  # noqa: E402
 from tribokin.results import UM_PER_M, PoseResult  # noqa: E402
 
 
+def field_figure_name(pose_name: str) -> str:
+    """File name of a pose's repeatability field: ``field_<pose>.png``."""
+    return f"field_{pose_name}.png"
+
+
 def _field_axes(deviations_um: np.ndarray) -> tuple[int, int]:
     """The two base axes along which the cloud spreads most (ties keep x, y, z order)."""
     spread = np.ptp(deviations_um, axis=0) if len(deviations_um) else np.zeros(3)
