@@ -100,7 +100,8 @@ def test_light_report_of_ur5_is_far_smaller_than_full(tmp_path):
 SCENARIO_STUDY = gantry_map_study() | {"scenarios": [
     {"name": "raw"}, {"name": "heavy", "robot": {"payload_kg": 8.0},
                       "joints": {"z": {"friction": {"law": "constant", "mu": 0.05}}}}]}
-SCENARIO_STUDY["robot"] = {**SCENARIO_STUDY["robot"], "urdf": str(ROOT / "tests" / ".." / "urdf" / "cartesian_xyz.urdf")}
+SCENARIO_STUDY["robot"] = {**SCENARIO_STUDY["robot"],
+                           "urdf": str(ROOT / "tests" / ".." / "urdf" / "cartesian_xyz.urdf")}
 
 
 @pytest.fixture(scope="module")
@@ -114,7 +115,9 @@ def test_report_shows_the_inputs_with_normalised_paths(map_only):
     page, _ = map_only
     for row in ("<th>robot</th><td>" + str((ROOT / "urdf" / "cartesian_xyz.urdf").resolve()) + "</td>",
                 "<th>tool frame</th><td>tool</td>", "<th>payload</th><td>5 kg</td>",
-                "<th>cycles</th><td>10 per map target</td>", "<th>approach</th><td>bidirectional</td>"):
+                "<th>cycles</th><td>10 per map target</td>", "<th>approach</th><td>bidirectional</td>",
+                "<th>map targets</th><td>plane through (0.2, 0, 0.3) m: u along (1, 0, 0) 0 to 0.7 m (8 values); "
+                "v along (0, 1, 0) 0 to 0.6 m (4 values)</td>"):
         assert row in page
     assert "/../" not in page.split("<iframe")[0]
     # the gantry's three prismatic joints share one model: stiffness, loads from statics, bearing span, law

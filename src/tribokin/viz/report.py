@@ -18,6 +18,7 @@ import numpy as np
 
 from tribokin.results import StudyResult
 from tribokin.robot import Robot
+from tribokin.targets import TargetGrid
 from tribokin.viz.colours import ColourScale
 from tribokin.viz.figures import field_figure_name
 from tribokin.viz.maps import map_figure_names
@@ -71,9 +72,9 @@ def _table(headers: list[str], rows: list[list], text_columns: tuple[int, ...] =
     return f"<table><tr>{head}</tr>{body}</table>"
 
 
-def _key_values(rows: list[list]) -> str:
+def _key_values(rows: dict[str, str]) -> str:
     """A two-column HTML table: a name (header cell) and its value per row."""
-    body = "".join(f"<tr><th>{html.escape(key)}</th><td>{_cell(value)}</td></tr>" for key, value in rows)
+    body = "".join(f"<tr><th>{html.escape(key)}</th><td>{_cell(value)}</td></tr>" for key, value in rows.items())
     return f'<table class="inputs">{body}</table>'
 
 
@@ -173,11 +174,10 @@ def _vector(values) -> str:
     return f"({', '.join(f'{v:g}' for v in values)})"
 
 
-def map_targets(workspace_map) -> str:
+def map_targets(grid: TargetGrid) -> str:
     """Where a map's targets are: the grid's axes, their ranges and counts, and the orientation held."""
-    grid = workspace_map.grid
     axes = [a for a in grid.axes if a is not None]
-    directions = ([f" along {_vector(d)}" for d in grid.directions] if grid.kind == "plane" else [""] * 3)
+    directions = [f" along {_vector(d)}" for d in grid.directions] if grid.kind == "plane" else [""] * 3
     where = f"plane through {_vector(grid.origin_m)} m: " if grid.kind == "plane" else f"{grid.kind}: "
     ranges = "; ".join(f"{a.name}{d} {a.values[0]:g} to {a.values[-1]:g} {a.unit} ({len(a.values)} values)"
                        for a, d in zip(axes, directions))
@@ -186,33 +186,31 @@ def map_targets(workspace_map) -> str:
     return where + ranges + held
 
 
-def input_rows(result: StudyResult) -> list[list]:
-    """(name, value) of the study's settings: study file, robot, tool frame, payload, cycles, approach,
-    seed, engine, the ISO cube and the map's targets."""
+def input_values(result: StudyResult) -> dict[str, str]:
+    """The study's settings by name: study file, robot, tool frame, payload, cycles, approach, seed,
+    engine, the ISO cube and the map's targets (those it has)."""
     settings = result.settings
-    spec, source = settings.get("robot_spec", {}), str(settings.get("source", ""))
-    robot = (f"{spec['name']} (example-robot-data)" if spec.get("name") else
-             shown_path(spec["urdf"]) if spec.get("urdf") else settings.get("robot", ""))
+    spec, source = settings["robot_spec"], str(settings["source"])
     counted = [what for what, present in (("pose", result.poses), ("map target", result.map is not None)) if present]
-    rows = [["study file", source if source.startswith("<") else shown_path(source)],
-            ["robot", robot], ["tool frame", settings.get("tool_frame")],
-            ["payload", f"{settings.get('payload_kg', 0.0):g} kg"],
-            ["cycles", f"{settings.get('cycles')} per {' and per '.join(counted)}"],
-            ["approach", settings.get("approach")], ["seed", settings.get("seed")], ["engine", settings.get("engine")]]
-    if settings.get("iso_cube"):
+    rows = {"study file": source if source.startswith("<") else shown_path(source),  # "<mapping>": no file
+            "robot": f"{spec['name']} (example-robot-data)" if spec["name"] else shown_path(spec["urdf"]),
+            "tool frame": settings["tool_frame"], "payload": f"{settings['payload_kg']:g} kg",
+            "cycles": f"{settings['cycles']} per {' and per '.join(counted)}", "approach": settings["approach"],
+            "seed": str(settings["seed"]), "engine": settings["engine"]}
+    if settings["iso_cube"]:
         cube = settings["iso_cube"]
-        rows.append(["ISO 9283 cube", f"centre {_vector(cube['center_m'])} m, side {cube['side_m']:g} m"])
+        rows["ISO 9283 cube"] = f"centre {_vector(cube['center_m'])} m, side {cube['side_m']:g} m"
     if result.map is not None:
-        rows.append(["map targets", map_targets(result.map)])
+        rows["map targets"] = map_targets(result.map.grid)
     return rows
 
 
 def inputs_section(result: StudyResult, prismatic) -> str:
-    """What the study was run with (:func:`input_rows`), each joint's model and each scenario's overrides
+    """What the study was run with (:func:`input_values`), each joint's model and each scenario's overrides
     of the study."""
-    parts = [f"<h2>Inputs</h2>{_key_values(input_rows(result))}<h3>Joint models</h3>"
+    parts = [f"<h2>Inputs</h2>{_key_values(input_values(result))}<h3>Joint models</h3>"
              f"{joint_table(result.settings, prismatic)}"]
-    scenarios = result.settings.get("scenarios", [])
+    scenarios = result.settings["scenarios"]
     if scenarios:
         scenario_rows = [[s["name"], "\n".join(_overrides(s["overrides"])) or "none: the study as written"]
                          for s in scenarios]
@@ -252,7 +250,8 @@ def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: d
     clouds = (f"Cycle clouds and their 3σ covariance ellipsoids are drawn around their barycenter, magnified "
               f"<b>×{info.magnification:g}</b>. " if result.poses else "")
     poses = f"<h2>ISO 9283 figures per pose</h2>{iso_table(result)}" if result.poses else ""
-    summary = ", ".join(f"{name} {value}" for name, value in input_rows(result)[1:6])
+    inputs = input_values(result)
+    summary = ", ".join(f"{name} {inputs[name]}" for name in ("robot", "tool frame", "payload", "cycles", "approach"))
     return f"""<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>{title}</title><style>{STYLE}</style></head>
 <body><h1>{title}</h1>

@@ -8,7 +8,7 @@ Scene paths (each a toggle in meshcat's GUI):
 - ``tribokin/poses/<pose>``     the cycle cloud, its 3-sigma covariance ellipsoid and a label.
 
 Cycle deviations are micrometres: they are drawn around their barycenter,
-magnified by a factor written on screen (``×20000``).
+magnified by a factor written on screen (``clouds ×20000``; not drawn without poses).
 """
 
 from __future__ import annotations
