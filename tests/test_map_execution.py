@@ -224,7 +224,9 @@ def test_run_killed_at_random_points_resumes_to_the_same_bytes(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "study.toml"]  # no chunks, lock or partial folder
 
     write_results(run_study(study), tmp_path / "uninterrupted")
-    for name in ("map.csv", "map_RP_l.png"):
+    names = sorted(p.name for p in out.iterdir())
+    assert names == sorted(p.name for p in (tmp_path / "uninterrupted").iterdir()) and "report.html" in names
+    for name in set(names) - {"summary.json"}:  # every file, the report included
         assert (out / name).read_bytes() == (tmp_path / "uninterrupted" / name).read_bytes(), name
     uninterrupted = json.loads((tmp_path / "uninterrupted" / "summary.json").read_bytes())
     assert uninterrupted["reproduce"].pop("command") is None

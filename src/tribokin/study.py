@@ -11,7 +11,7 @@ import copy
 import hashlib
 import sys
 import tempfile
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from pathlib import Path
 
 import numpy as np
@@ -339,6 +339,9 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, work
         "payload_kg": study.robot["payload_kg"],
         "iso_cube": cube,
         "friction": {name: m.friction.describe() for name, m in zip(robot.joint_names, models)},
+        "joint_models": {name: {f.name: getattr(m, f.name) for f in fields(m) if f.name != "friction"}
+                         for name, m in zip(robot.joint_names, models)},
+        "scenarios": [{"name": s.name, "overrides": s.overrides} for s in study.scenarios],
     }
     reproduce = {"seed": study.seed, "study_sha256": study.sha256, "versions": software_versions(), "command": None}
     return StudyResult(study.name, poses, settings, robot, workspace_map, reproduce)

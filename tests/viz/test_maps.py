@@ -56,3 +56,81 @@ def test_colour_scales_keep_the_centre_in_the_middle():
     plain = value_norm(np.array([2.0, 4.0]))
     assert (plain(2.0), plain(4.0)) == pytest.approx((0.0, 1.0))
     assert value_norm(np.array([1.0, 1.0]), centre=1.0)(1.0) == pytest.approx(0.0, abs=1e-6)
+
+
+def plane_grid(origin_m, axis_u, axis_v, u_values, v_values):
+    from tribokin.targets import GridAxis, TargetGrid
+
+    return TargetGrid("plane", (GridAxis("u", "m", np.array(u_values)), GridAxis("v", "m", np.array(v_values)), None),
+                      None, np.zeros(3), np.array(origin_m, dtype=float),
+                      np.array([axis_u, axis_v, [0, 0, 0]], dtype=float))
+
+
+def test_plane_heat_maps_are_labelled_in_base_frame_coordinates_and_mark_the_base():
+    from tribokin.viz.maps import panel_frame
+
+    # a horizontal plane at z = 0.1 m: u along +y, v along -x; offsets u -0.6..0.6, v -0.2..0.6 (steps 0.2)
+    grid = plane_grid([0.0, 0.0, 0.1], [0, 1, 0], [-1, 0, 0], np.linspace(-0.6, 0.6, 7), np.linspace(-0.2, 0.6, 5))
+    frame = panel_frame(grid, *grid.axes[:2])
+    assert (frame.xlabel, frame.ylabel, frame.plane) == ("y [m]", "x [m]", "z = 0.1 m")
+    # y = u from -0.6 to 0.6; x = -v from 0.2 down to -0.6; cells 0.2 wide around each target
+    assert frame.extent == pytest.approx((-0.7, 0.7, 0.3, -0.7))
+    assert frame.base == (0.0, 0.0)
+
+    away = plane_grid([0.2, -0.5, 0.3], [1, 0, 0], [0, 0, 1], [0.0, 0.2, 0.4], [0.0, 0.1])
+    frame = panel_frame(away, *away.axes[:2])
+    assert (frame.xlabel, frame.ylabel, frame.plane) == ("x [m]", "z [m]", "y = -0.5 m")
+    assert frame.extent == pytest.approx((0.1, 0.7, 0.25, 0.45))  # x 0.2..0.6, z 0.3..0.4
+    assert frame.base is None  # the base (x 0, z 0) lies outside
+
+    # an oblique axis keeps the offset u from the origin; the base lies 0.5 m behind the origin along it
+    oblique = plane_grid([0.3, 0.4, 0.5], [0.6, 0.8, 0], [0, 0, 1], [-1.0, 1.0], [-1.0, 0.0])
+    frame = panel_frame(oblique, *oblique.axes[:2])
+    assert frame.xlabel == "u [m] along (0.6, 0.8, 0) from (0.3, 0.4, 0.5) m" and frame.ylabel == "z [m]"
+    assert frame.base == pytest.approx((-0.5, 0.0)) and frame.extent == pytest.approx((-2.0, 2.0, -1.0, 1.0))
+
+
+def test_box_and_joint_grids_keep_their_axes():
+    from tribokin.targets import GridAxis, TargetGrid
+    from tribokin.viz.maps import panel_frame
+
+    box = TargetGrid("box", (GridAxis("x", "m", np.array([-0.2, 0.2])), GridAxis("y", "m", np.array([-0.1, 0.3])),
+                             GridAxis("z", "m", np.array([0.5]))), None, np.zeros(3), np.zeros(3), np.eye(3))
+    frame = panel_frame(box, *box.axes[:2])
+    assert (frame.xlabel, frame.ylabel, frame.plane) == ("x [m]", "y [m]", "")
+    assert frame.extent == pytest.approx((-0.4, 0.4, -0.3, 0.5)) and frame.base == (0.0, 0.0)
+    joint = TargetGrid("joint", (GridAxis("shoulder", "rad", np.array([0.0, 1.0])), None, None), None, np.zeros(2))
+    frame = panel_frame(joint, joint.axes[0], None)
+    assert (frame.xlabel, frame.ylabel, frame.base) == ("shoulder [rad]", None, None)
+
+
+def scenario_map():
+    study = gantry_map_study()
+    study["scenarios"] = [{"name": "raw"}, {"name": "low", "joints": {"friction": {"law": "constant", "mu": 0.03}}},
+                          {"name": "high", "joints": {"friction": {"law": "constant", "mu": 0.3}}}]
+    return run_study(study).map
+
+
+def test_rp_l_maps_of_all_scenarios_share_one_colour_scale_and_ratios_keep_their_own(monkeypatch, tmp_path):
+    from tribokin.viz import maps
+
+    workspace_map = scenario_map()
+    values = [s.figure("RP_l_um") for s in workspace_map.scenarios]
+    norm = maps.rp_l_norm(workspace_map)
+    assert (norm.vmin, norm.vmax) == (min(np.nanmin(v) for v in values), max(np.nanmax(v) for v in values))
+    assert norm.vmin == np.nanmin(values[1]) and norm.vmax == np.nanmax(values[2])  # from two other scenarios
+    saved = {}
+    monkeypatch.setattr(maps, "save_grid_image", lambda grid, values, path, label, title, **options:
+                        saved.update({path.name: options}))
+    maps.save_map_figures(workspace_map, tmp_path, "study")
+    rp_l = [saved[name]["norm"] for name in ("map_RP_l.png", "map_RP_l_low.png", "map_RP_l_high.png")]
+    assert all((n.vmin, n.vmax) == (norm.vmin, norm.vmax) for n in rp_l)
+    assert saved["map_RP_l_ratio_low.png"].get("norm") is None and saved["map_RP_l_ratio_low.png"]["centre"] == 1.0
+
+
+def test_map_figures_come_in_reading_order():
+    from tribokin.viz.maps import map_figure_names
+
+    assert map_figure_names(scenario_map()) == [
+        "map_RP_l.png", "map_dominant_joint.png", "map_RP_l_low.png", "map_RP_l_high.png", "map_RP_l_ratio_low.png",
+        "map_RP_l_ratio_high.png", "map_RP_l_diff_low.png", "map_RP_l_diff_high.png", "map_winner.png"]

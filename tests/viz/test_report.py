@@ -7,8 +7,11 @@ import re
 import numpy as np
 import pytest
 
+from conftest import ROOT
+from test_workspace import gantry_map_study
 from tribokin.output import write_results
 from tribokin.study import run_study
+from tribokin.viz.maps import map_figure_names
 from tribokin.viz.report import write_report
 from tribokin.viz.scene_file import load_scene_inputs
 from viz_fixtures import CUBE, UNIFORM_AXIS, grid_layers
@@ -42,6 +45,15 @@ def test_report_has_colour_bar_tables_and_figures(written):
     assert [base64.b64decode(p) for p in pngs] == [(out / "field_P1.png").read_bytes()]
     magnification = float(np.load(out / "scene.npz")["magnification"])
     assert f"×{magnification:g}" in page
+
+
+def test_two_identical_runs_write_the_same_bytes_report_included(written, tmp_path):
+    out, _ = written
+    write_results(run_study(copy.deepcopy(UNIFORM_AXIS)), tmp_path / "again", map_layers=grid_layers(), cube=CUBE)
+    names = sorted(p.name for p in out.iterdir())
+    assert names == sorted(p.name for p in (tmp_path / "again").iterdir()) and "report.html" in names
+    for name in names:
+        assert (tmp_path / "again" / name).read_bytes() == (out / name).read_bytes(), name
 
 
 def test_report_makes_no_network_request(written):
@@ -83,3 +95,56 @@ def test_light_report_of_ur5_is_far_smaller_than_full(tmp_path):
     light, _ = write_report(result, result.robot, tmp_path, variant="light")
     assert light.stat().st_size < 0.3 * full_size
     assert 1.2e6 < light.stat().st_size and full_size > 5e6
+
+
+#: the gantry through a path with "..", two scenarios (one heavier), and 5 kg payload
+SCENARIO_STUDY = gantry_map_study() | {"scenarios": [
+    {"name": "raw"}, {"name": "heavy", "robot": {"payload_kg": 8.0},
+                      "joints": {"z": {"friction": {"law": "constant", "mu": 0.05}}}}]}
+SCENARIO_STUDY["robot"] = {**SCENARIO_STUDY["robot"],
+                           "urdf": str(ROOT / "tests" / ".." / "urdf" / "cartesian_xyz.urdf")}
+
+
+@pytest.fixture(scope="module")
+def map_only(tmp_path_factory):
+    result = run_study(copy.deepcopy(SCENARIO_STUDY))
+    out = write_results(result, tmp_path_factory.mktemp("map") / "out", report="light")
+    return (out / "report.html").read_text(encoding="utf-8"), result
+
+
+def test_report_shows_the_inputs_with_normalised_paths(map_only):
+    page, _ = map_only
+    for row in ("<th>robot</th><td>" + str((ROOT / "urdf" / "cartesian_xyz.urdf").resolve()) + "</td>",
+                "<th>tool frame</th><td>tool</td>", "<th>payload</th><td>5 kg</td>",
+                "<th>cycles</th><td>10 per map target</td>", "<th>approach</th><td>bidirectional</td>",
+                "<th>map targets</th><td>plane through (0.2, 0, 0.3) m: u along (1, 0, 0) 0 to 0.7 m (8 values); "
+                "v along (0, 1, 0) 0 to 0.6 m (4 values)</td>"):
+        assert row in page
+    assert "/../" not in page.split("<iframe")[0]
+    # the gantry's three prismatic joints share one model: stiffness, loads from statics, bearing span, law
+    assert ('<td>x, y, z</td><td>prismatic</td><td>2e7 N/m</td><td>from statics</td><td>–</td>'
+            '<td>0.2 m</td><td>0 m</td><td>0 m</td><td>0 m</td><td class="text">constant (mu 0.12): mean 0.12, '
+            'std 0</td>') in page
+    assert '<td>heavy</td><td class="text">robot.payload_kg = 8.0\njoints.z.friction.law = &quot;constant&quot;' \
+           '\njoints.z.friction.mu = 0.05</td>' in page
+    assert '<td>raw</td><td class="text">none: the study as written</td>' in page
+
+
+def test_map_only_report_has_no_pose_table_and_no_cloud_magnification(map_only):
+    page, _ = map_only
+    assert "ISO 9283 figures per pose" not in page and "RP_l [µm]</th><th>AP_p" not in page
+    assert "clouds" not in page.split("<iframe")[0] and "magnified" not in page
+
+
+def test_figures_come_in_reading_order_poses_in_study_order_first(map_only, tmp_path):
+    page, result = map_only
+    assert re.findall(r"<h3>([^<]+\.png)</h3>", page) == map_figure_names(result.map)
+    study = copy.deepcopy(SCENARIO_STUDY) | {"poses": [{"name": "P2", "q": [0.1, 0.2, 0.1]},
+                                                       {"name": "P10", "q": [0.2, 0.2, 0.1]}]}
+    study["map"]["resolution"] = [2, 2]
+    result = run_study(study)
+    page = (write_results(result, tmp_path / "out", report="light") / "report.html").read_text(encoding="utf-8")
+    assert re.findall(r"<h3>([^<]+\.png)</h3>", page) == ["field_P2.png", "field_P10.png", "map_RP_l.png",
+                                                          "map_dominant_joint.png", "map_RP_l_heavy.png",
+                                                          "map_RP_l_ratio_heavy.png", "map_RP_l_diff_heavy.png",
+                                                          "map_winner.png"]

@@ -137,3 +137,28 @@ def test_cube_is_optional_and_light_variant_uses_collision_geometry(drawn):
     tribokin = node(vis, "tribokin")
     assert "cube" not in tribokin and "maps" not in tribokin
     assert set(tribokin["robot"]["visuals"]) == {g.name for g in result.robot.collision_model.geometryObjects}
+
+
+def test_scene_without_poses_writes_no_cloud_magnification(drawn):
+    _, _, result = drawn
+    vis = static_visualizer()
+    build_scene(vis, result.robot, result.poses[0].q, [], grid_layers(), variant="light")
+    assert {"robot", "maps"} <= set(node(vis, "tribokin")) and "magnification" not in node(vis, "tribokin")
+
+
+def test_scene_objects_are_named_by_a_counter_with_their_links_kept(drawn):
+    """No clock-based uuid1 reaches the page; every object still names its own geometry and material."""
+    from meshcat.servers.tree import walk
+
+    vis, _, _ = drawn
+    objects = [unpack(n.object)["object"] for n in walk(vis.window.tree) if n.object is not None]
+    declared = [entry["uuid"] for obj in objects for field in ("geometries", "materials", "textures", "images")
+                for entry in obj.get(field, [])] + [obj["object"]["uuid"] for obj in objects]
+    assert all(u.startswith("00000000-0000-0000-0000-") for u in declared) and len(set(declared)) == len(declared)
+    meshes = [obj for obj in objects if "geometry" in obj["object"]]
+    assert len(meshes) > 10
+    for obj in meshes:
+        assert obj["object"]["geometry"] == obj["geometries"][0]["uuid"]
+        assert obj["object"]["material"] == obj["materials"][0]["uuid"]
+    labels = [obj for obj in objects if "textures" in obj]  # text sprites: material -> texture
+    assert labels and all(obj["materials"][0]["map"] == obj["textures"][0]["uuid"] for obj in labels)

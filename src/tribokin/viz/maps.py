@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import textwrap
+from dataclasses import dataclass
 from pathlib import Path
 
 import matplotlib
@@ -21,13 +22,71 @@ from tribokin.targets import GridAxis, TargetGrid  # noqa: E402
 UNREACHABLE_GREY = "#c8c8c8"
 
 
-def _span(axis: GridAxis | None) -> tuple[float, float]:
-    """Outer edges of the cells around an axis' evenly spaced values (a single value gets a cell of width 1)."""
-    if axis is None or len(axis.values) == 1:
-        centre = 0.0 if axis is None else axis.values[0]
+def _span(values: np.ndarray | None) -> tuple[float, float]:
+    """Outer edges of the cells around evenly spaced ``values``, first to last (a single value gets a cell of
+    width 1; no values: the cell -0.5 .. 0.5)."""
+    if values is None or len(values) == 1:
+        centre = 0.0 if values is None else float(values[0])
         return centre - 0.5, centre + 0.5
-    half = (axis.values[1] - axis.values[0]) / 2
-    return axis.values[0] - half, axis.values[-1] + half
+    half = (values[1] - values[0]) / 2
+    return float(values[0] - half), float(values[-1] + half)
+
+
+@dataclass(frozen=True)
+class PanelFrame:
+    """How a heat-map panel is laid out.
+
+    Attributes:
+        xlabel, ylabel: axis labels with units (``ylabel`` ``None``: the grid has one row).
+        extent: (left, right, bottom, top) of the image in axis coordinates, first to last target (a
+            decreasing coordinate gives left > right; the axes are then shown increasing).
+        base: where the robot base's origin, projected onto the panel, lies [m] (``None``: outside the
+            extent, or a joint grid).
+        plane: the coordinate a plane keeps constant, e.g. ``"z = 0.1 m"`` (``""`` if none).
+    """
+
+    xlabel: str
+    ylabel: str | None
+    extent: tuple[float, float, float, float]
+    base: tuple[float, float] | None
+    plane: str = ""
+
+
+def _base_axis(direction: np.ndarray) -> int | None:
+    """Index of the base axis (x, y, z) ``direction`` runs along, either way; ``None`` for an oblique one."""
+    along = np.flatnonzero(np.abs(direction) > 1e-12)
+    return int(along[0]) if len(along) == 1 else None
+
+
+def _shown_axis(axis: GridAxis, direction: np.ndarray, origin_m: np.ndarray) -> tuple[str, np.ndarray, float]:
+    """A Cartesian grid axis as a panel shows it: its label, the coordinates of its targets, and the
+    coordinate of the base origin projected onto it [m]."""
+    k = _base_axis(direction)
+    if k is None:
+        label = (f"{axis.label} along ({', '.join(f'{c:.3g}' for c in direction)}) from "
+                 f"({', '.join(f'{c:.4g}' for c in origin_m)}) m")
+        return label, axis.values, -float(origin_m @ direction)
+    return f"{'xyz'[k]} [{axis.unit}]", origin_m[k] + direction[k] * axis.values, 0.0
+
+
+def panel_frame(grid: TargetGrid, columns: GridAxis, rows: GridAxis | None) -> PanelFrame:
+    """The labels, extent and base marker of panels showing ``columns`` and ``rows`` of ``grid``.
+
+    A Cartesian grid's axes are shown in the coordinates of the frame its targets are given in (the
+    base frame): an axis along a base axis is labelled by it (``x [m]``) and shows that coordinate,
+    ``origin_m`` included; an oblique one shows the offset from ``origin_m`` along its direction."""
+    if grid.kind == "joint":
+        return PanelFrame(columns.label, None if rows is None else rows.label,
+                          (*_span(columns.values), *_span(None if rows is None else rows.values)), None)
+    (xlabel, x, base_x), (ylabel, y, base_y) = (_shown_axis(axis, direction, grid.origin_m)
+                                                for axis, direction in zip((columns, rows), grid.directions))
+    extent = (*_span(x), *_span(y))
+    inside = min(extent[:2]) <= base_x <= max(extent[:2]) and min(extent[2:]) <= base_y <= max(extent[2:])
+    plane = ""
+    if grid.kind == "plane":
+        k = _base_axis(np.cross(*grid.directions[:2]))
+        plane = "" if k is None else f"{'xyz'[k]} = {grid.origin_m[k]:.4g} m"
+    return PanelFrame(xlabel, ylabel, extent, (base_x, base_y) if inside else None, plane)
 
 
 def value_norm(values: np.ndarray, centre: float | None = None) -> Normalize:
@@ -87,20 +146,29 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
     width_in = 1.5 + 4.6 * panels_across
     fig, axes = plt.subplots(panels_down, panels_across, figsize=(width_in, 0.8 + 3.9 * panels_down),
                              squeeze=False, constrained_layout=True)
+    frame = panel_frame(grid, columns, rows)
     mesh = None
     for layer, ax in enumerate(axes.flat):
         if layer >= n_layers:
             ax.set_visible(False)
             continue
-        mesh = ax.imshow(images[layer], extent=(*_span(columns), *_span(rows)), origin="lower", cmap=cmap, norm=norm,
+        mesh = ax.imshow(images[layer], extent=frame.extent, origin="lower", cmap=cmap, norm=norm,
                          interpolation="nearest", aspect="equal" if grid.kind != "joint" and rows is not None else "auto")
-        ax.set_xlabel(columns.label)
-        if rows is not None:
-            ax.set_ylabel(rows.label)
+        ax.set_xlim(sorted(frame.extent[:2]))
+        ax.set_ylim(sorted(frame.extent[2:]))
+        ax.set_xlabel(frame.xlabel)
+        if frame.ylabel is not None:
+            ax.set_ylabel(frame.ylabel)
         else:
             ax.set_yticks([])
+        if frame.base is not None:
+            ax.plot(*frame.base, marker="P", ms=11, color="black", mec="white", mew=1.2, ls="none")
+            ax.annotate("robot base", frame.base, xytext=(8, 8), textcoords="offset points", fontsize=8,
+                        bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.8})
         if layers is not None:
             ax.set_title(f"{layers.name} = {layers.values[layer]:.4g} {layers.unit}", fontsize=9)
+        elif frame.plane:
+            ax.set_title(f"plane {frame.plane}", fontsize=9)
     bar = fig.colorbar(mesh, ax=axes, label=label, shrink=0.9)
     if categories:
         bar.set_ticks(np.arange(-1, len(categories) - 1), labels=categories)
@@ -120,42 +188,65 @@ def _categorical(count: int) -> ListedColormap:
     return ListedColormap(["#ffffff"] + [plt.get_cmap("tab10")(i % 10) for i in range(count)])
 
 
-def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) -> list[Path]:
-    """``map_RP_l.png`` and ``map_dominant_joint.png`` (reference scenario); with scenarios, per other
-    scenario its RP_l, ratio and difference to the reference, and ``map_winner.png`` (which scenario
-    has the smallest RP_l)."""
-    grid, reference = workspace_map.grid, workspace_map.reference
-    paths = []
+def rp_l_norm(workspace_map: MapResult) -> Normalize:
+    """One colour scale for the RP_l maps of every scenario: the range of all their values at the targets
+    the heat maps show, so equal colours mean equal RP_l across scenarios."""
+    shown = shown_targets(workspace_map.grid)[0].ravel()
+    return value_norm(np.concatenate([s.figure("RP_l_um", shown) for s in workspace_map.scenarios]))
 
-    def save(name, values, label, title, **options):
-        paths.append(folder / name)
-        save_grid_image(grid, values, paths[-1], label, f"{study_name}: {title}", **options)
 
-    compared = f", {reference.name}" if len(workspace_map.scenarios) > 1 else ""
-    save("map_RP_l.png", lambda shown: reference.figure("RP_l_um", shown), "RP_l [µm]",
-         f"position repeatability RP_l, {reference.cycles} cycles per target{compared}")
+def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | None) -> dict[str, tuple]:
+    """File name -> arguments of :func:`save_grid_image` (values, label, title, options) of each map figure,
+    in the order a reader follows: the reference, each other scenario, their ratios and differences to
+    the reference, the winner."""
+    reference = workspace_map.reference
+    others = workspace_map.scenarios[1:]
+    shared = " (colour scale shared by all scenarios)" if others else ""
+    compared = f", {reference.name}" if others else ""
     joints = workspace_map.joint_names
-    save("map_dominant_joint.png",
-         lambda shown: np.where(workspace_map.read("reachable", shown), reference.read("dominant_joint", shown), np.nan),
-         "joint with the largest share of the position variance", f"dominant joint{compared}",
-         cmap=_categorical(len(joints)), norm=BoundaryNorm(np.arange(-1.5, len(joints)), len(joints) + 1),
-         categories=["none"] + joints)
-    for scenario in workspace_map.scenarios[1:]:
-        save(map_figure_file("RP_l", scenario.name), lambda shown, s=scenario: s.figure("RP_l_um", shown),
-             "RP_l [µm]", f"RP_l, {scenario.name}")
-        save(map_figure_file("RP_l_ratio", scenario.name),
-             lambda shown, s=scenario: workspace_map.ratio_RP_l(s, shown),
-             f"RP_l {scenario.name} / {reference.name} [-]", f"RP_l ratio {scenario.name} / {reference.name}",
-             cmap="RdBu_r", centre=1.0)
-        save(map_figure_file("RP_l_diff", scenario.name),
-             lambda shown, s=scenario: workspace_map.diff_RP_l_um(s, shown),
-             f"RP_l {scenario.name} − {reference.name} [µm]",
-             f"RP_l difference {scenario.name} − {reference.name}", cmap="RdBu_r", centre=0.0)
-    if len(workspace_map.scenarios) > 1:
+    figures = {
+        "map_RP_l.png": (lambda shown: reference.figure("RP_l_um", shown), "RP_l [µm]",
+                         f"position repeatability RP_l, {reference.cycles} cycles per target{compared}{shared}",
+                         {"norm": norm}),
+        "map_dominant_joint.png": (
+            lambda shown: np.where(workspace_map.read("reachable", shown), reference.read("dominant_joint", shown),
+                                   np.nan),
+            "joint with the largest share of the position variance", f"dominant joint{compared}",
+            {"cmap": _categorical(len(joints)), "norm": BoundaryNorm(np.arange(-1.5, len(joints)), len(joints) + 1),
+             "categories": ["none"] + joints}),
+    }
+    for s in others:
+        figures[map_figure_file("RP_l", s.name)] = (lambda shown, s=s: s.figure("RP_l_um", shown), "RP_l [µm]",
+                                             f"RP_l, {s.name}{shared}", {"norm": norm})
+    for s in others:
+        figures[map_figure_file("RP_l_ratio", s.name)] = (
+            lambda shown, s=s: workspace_map.ratio_RP_l(s, shown), f"RP_l {s.name} / {reference.name} [-]",
+            f"RP_l ratio {s.name} / {reference.name}", {"cmap": "RdBu_r", "centre": 1.0})
+    for s in others:
+        figures[map_figure_file("RP_l_diff", s.name)] = (
+            lambda shown, s=s: workspace_map.diff_RP_l_um(s, shown), f"RP_l {s.name} − {reference.name} [µm]",
+            f"RP_l difference {s.name} − {reference.name}", {"cmap": "RdBu_r", "centre": 0.0})
+    if others:
         names = [s.name for s in workspace_map.scenarios]
-        save("map_winner.png",
-             lambda shown: np.where(workspace_map.read("reachable", shown), workspace_map.winners(shown), np.nan),
-             "scenario with the smallest RP_l", "which scenario has the smallest RP_l",
-             cmap=_categorical(len(names)), norm=BoundaryNorm(np.arange(-1.5, len(names)), len(names) + 1),
-             categories=["tie"] + names)
-    return paths
+        figures["map_winner.png"] = (
+            lambda shown: np.where(workspace_map.read("reachable", shown), workspace_map.winners(shown), np.nan),
+            "scenario with the smallest RP_l", "which scenario has the smallest RP_l",
+            {"cmap": _categorical(len(names)), "norm": BoundaryNorm(np.arange(-1.5, len(names)), len(names) + 1),
+             "categories": ["tie"] + names})
+    return figures
+
+
+def map_figure_names(workspace_map: MapResult) -> list[str]:
+    """The file names :func:`save_map_figures` writes, in the order a reader follows."""
+    return list(_map_figures(workspace_map, "", None))
+
+
+def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) -> list[Path]:
+    """``map_RP_l.png`` and ``map_dominant_joint.png`` (reference scenario); with scenarios, each other
+    scenario's RP_l (all RP_l maps on one colour scale, :func:`rp_l_norm`), its ratio and difference to
+    the reference, and ``map_winner.png`` (which scenario has the smallest RP_l); returns their paths in
+    that order."""
+    figures = _map_figures(workspace_map, study_name, rp_l_norm(workspace_map))
+    for name, (values, label, title, options) in figures.items():
+        save_grid_image(workspace_map.grid, values, folder / name, label, f"{study_name}: {title}", **options)
+    return [folder / name for name in figures]

@@ -10,14 +10,18 @@ from __future__ import annotations
 
 import base64
 import html
+import json
 import os
 from pathlib import Path
 
 import numpy as np
 
+from tribokin.names import pose_figure_file
 from tribokin.results import StudyResult
 from tribokin.robot import Robot
+from tribokin.targets import TargetGrid
 from tribokin.viz.colours import ColourScale
+from tribokin.viz.maps import map_figure_names
 from tribokin.viz.scene import Cube, MapLayer, SceneInfo, build_scene
 from tribokin.viz.static import static_visualizer
 
@@ -41,7 +45,15 @@ th:first-child, td:first-child { text-align: left; }
 .scale { display: flex; justify-content: space-between; width: 422px; font-size: 0.9em; }
 .swatch { display: inline-block; width: 14px; height: 14px; vertical-align: middle; border: 1px solid #888; }
 img { max-width: 100%; }
+table.inputs th, table.inputs td, th.text { text-align: left; }
+td.text { text-align: left; font-size: 0.85em; max-width: 36em; white-space: pre-line; }
 """
+
+#: columns of the joint-model table: (``summary.json`` key, header, unit of a prismatic joint, of a revolute one)
+JOINT_COLUMNS = (("stiffness", "stiffness", "N/m", "N·m/rad"), ("normal_force_N", "normal force", "N", "N"),
+                 ("friction_radius_m", "friction radius", None, "m"), ("bearing_span_m", "bearing span", "m", "m"),
+                 ("backlash", "backlash", "m", "rad"), ("offset", "offset ε_t", "m", "rad"),
+                 ("noise_std", "noise σ", "m", "rad"))
 
 
 def _cell(value) -> str:
@@ -52,10 +64,19 @@ def _cell(value) -> str:
     return html.escape(str(value))
 
 
-def _table(headers: list[str], rows: list[list]) -> str:
-    head = "".join(f"<th>{html.escape(h)}</th>" for h in headers)
-    body = "".join("<tr>" + "".join(f"<td>{_cell(v)}</td>" for v in row) + "</tr>" for row in rows)
+def _table(headers: list[str], rows: list[list], text_columns: tuple[int, ...] = ()) -> str:
+    """An HTML table; ``text_columns`` hold prose (left-aligned, line breaks kept)."""
+    head = "".join(f'<th class="text">{html.escape(h)}</th>' if i in text_columns else f"<th>{html.escape(h)}</th>"
+                   for i, h in enumerate(headers))
+    body = "".join("<tr>" + "".join(f'<td class="text">{_cell(v)}</td>' if i in text_columns else f"<td>{_cell(v)}</td>"
+                                    for i, v in enumerate(row)) + "</tr>" for row in rows)
     return f"<table><tr>{head}</tr>{body}</table>"
+
+
+def _key_values(rows: dict[str, str]) -> str:
+    """A two-column HTML table: a name (header cell) and its value per row."""
+    body = "".join(f"<tr><th>{html.escape(key)}</th><td>{_cell(value)}</td></tr>" for key, value in rows.items())
+    return f'<table class="inputs">{body}</table>'
 
 
 def iso_table(result: StudyResult) -> str:
@@ -100,10 +121,118 @@ def colour_bar(scale: ColourScale) -> str:
             f'rgb(158,158,158)"></span> unreachable target</div>')
 
 
-def embedded_figures(folder: Path) -> str:
-    """Every PNG of ``folder`` as an ``<img>`` with a base64 data URI."""
+def shown_path(path) -> str:
+    """A path as the report shows it: absolute, without ``..`` or symbolic links."""
+    return str(Path(path).resolve())
+
+
+def _number(value: float, unit: str | None) -> str:
+    """``value`` to 4 significant digits with its unit (``1e5``, not ``1e+05``); no unit: the value does
+    not apply (–)."""
+    if unit is None:
+        return "–"
+    mantissa, _, exponent = f"{value:.4g}".partition("e")
+    return f"{mantissa}e{int(exponent)} {unit}" if exponent else f"{mantissa} {unit}"
+
+
+def _friction(law: dict) -> str:
+    """A friction law as the study wrote it, its moments and where it comes from."""
+    skipped = ("law", "mean", "std", "support", "provenance")
+    parameters = ", ".join(f"{k} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in law.items()
+                           if k not in skipped)
+    return (f"{law['law']}{f' ({parameters})' if parameters else ''}: mean {law['mean']:.4g}, std {law['std']:.3g}"
+            + (f" — {law['provenance']}" if law.get("provenance") else ""))
+
+
+def joint_table(settings: dict, prismatic) -> str:
+    """The joints' error models (friction law and the ``[joints]`` values, with their units), one row per
+    model: joints with the same model share a row."""
+    models = settings["joint_models"]
+    headers = ["joints", "type", *(header for _, header, _, _ in JOINT_COLUMNS), "friction coefficient μ"]
+    rows: dict[tuple, list[str]] = {}
+    for name, is_prismatic in zip(settings["joints"], prismatic):
+        model = models[name]
+        cells = tuple(_number(model[key], prismatic_unit if is_prismatic else revolute_unit)
+                      if key != "normal_force_N" or model[key] is not None else "from statics"
+                      for key, _, prismatic_unit, revolute_unit in JOINT_COLUMNS)
+        rows.setdefault(("prismatic" if is_prismatic else "revolute", *cells, _friction(settings["friction"][name])),
+                        []).append(name)
+    return _table(headers, [[", ".join(names), *row] for row, names in rows.items()], text_columns=(len(headers) - 1,))
+
+
+def _overrides(overrides: dict, prefix: str = "") -> list[str]:
+    """Nested override tables as dotted ``key = value`` lines (values in JSON, as TOML writes them)."""
+    lines = []
+    for key, value in overrides.items():
+        if isinstance(value, dict):
+            lines += _overrides(value, f"{prefix}{key}.")
+        else:
+            lines.append(f"{prefix}{key} = {json.dumps(value, ensure_ascii=False)}")
+    return lines
+
+
+def _vector(values) -> str:
+    return f"({', '.join(f'{v:g}' for v in values)})"
+
+
+def map_targets(grid: TargetGrid) -> str:
+    """Where a map's targets are: the grid's axes, their ranges and counts, and the orientation held."""
+    axes = [a for a in grid.axes if a is not None]
+    directions = [f" along {_vector(d)}" for d in grid.directions] if grid.kind == "plane" else [""] * 3
+    where = f"plane through {_vector(grid.origin_m)} m: " if grid.kind == "plane" else f"{grid.kind}: "
+    ranges = "; ".join(f"{a.name}{d} {a.values[0]:g} to {a.values[-1]:g} {a.unit} ({len(a.values)} values)"
+                       for a, d in zip(axes, directions))
+    rpy = grid.describe()["rpy_deg"]
+    held = "" if rpy is None else f"; tool orientation held at roll, pitch, yaw {_vector(np.round(rpy, 6) + 0.0)}°"
+    return where + ranges + held
+
+
+def input_values(result: StudyResult) -> dict[str, str]:
+    """The study's settings by name: study file, robot, tool frame, payload, cycles, approach, seed,
+    engine, the ISO cube and the map's targets (those it has)."""
+    settings = result.settings
+    spec, source = settings["robot_spec"], str(settings["source"])
+    counted = [what for what, present in (("pose", result.poses), ("map target", result.map is not None)) if present]
+    rows = {"study file": source if source.startswith("<") else shown_path(source),  # "<mapping>": no file
+            "robot": f"{spec['name']} (example-robot-data)" if spec["name"] else shown_path(spec["urdf"]),
+            "tool frame": settings["tool_frame"], "payload": f"{settings['payload_kg']:g} kg",
+            "cycles": f"{settings['cycles']} per {' and per '.join(counted)}", "approach": settings["approach"],
+            "seed": str(settings["seed"]), "engine": settings["engine"]}
+    if settings["iso_cube"]:
+        cube = settings["iso_cube"]
+        rows["ISO 9283 cube"] = f"centre {_vector(cube['center_m'])} m, side {cube['side_m']:g} m"
+    if result.map is not None:
+        rows["map targets"] = map_targets(result.map.grid)
+    return rows
+
+
+def inputs_section(result: StudyResult, prismatic) -> str:
+    """What the study was run with (:func:`input_values`), each joint's model and each scenario's overrides
+    of the study."""
+    parts = [f"<h2>Inputs</h2>{_key_values(input_values(result))}<h3>Joint models</h3>"
+             f"{joint_table(result.settings, prismatic)}"]
+    scenarios = result.settings["scenarios"]
+    if scenarios:
+        scenario_rows = [[s["name"], "\n".join(_overrides(s["overrides"])) or "none: the study as written"]
+                         for s in scenarios]
+        parts.append("<h3>Scenarios</h3>" + _table(["scenario", "overrides of the study"], scenario_rows, (1,)))
+    return "".join(parts)
+
+
+def figure_names(result: StudyResult) -> list[str]:
+    """The figures of ``result``'s output folder in reading order: each pose's field (poses in study order),
+    then the map's (reference, scenarios, ratios, differences, winner)."""
+    names = [pose_figure_file(pose.name) for pose in result.poses]
+    return names + (map_figure_names(result.map) if result.map is not None else [])
+
+
+def embedded_figures(folder: Path, names: list[str]) -> str:
+    """The PNGs ``names`` of ``folder`` (those that exist), in that order, as ``<img>`` with base64 data URIs."""
     parts = []
-    for png in sorted(Path(folder).glob("*.png")):
+    for name in names:
+        png = Path(folder) / name
+        if not png.is_file():
+            continue
         data = base64.b64encode(png.read_bytes()).decode("ascii")
         parts.append(f'<h3>{html.escape(png.name)}</h3><img alt="{html.escape(png.stem)}" '
                      f'src="data:image/png;base64,{data}">')
@@ -111,26 +240,31 @@ def embedded_figures(folder: Path) -> str:
 
 
 def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: dict[str, MapLayer],
-                folder: Path, variant: str) -> str:
-    """The report page around ``scene_page`` (a full meshcat static page)."""
+                folder: Path, variant: str, prismatic) -> str:
+    """The report page around ``scene_page`` (a full meshcat static page); ``prismatic``: per joint, True
+    for a prismatic one (the units of its model)."""
     srcdoc = scene_page.replace("&", "&amp;").replace('"', "&quot;")
     maps = (f"<h2>RP_l maps</h2>{colour_bar(info.colour_scale)}<h3>Map statistics</h3>{thinning_note(layers)}"
             f"{map_statistics(layers)}" if layers else "")
     notes = "".join(f"<p><b>Note:</b> {html.escape(n)}</p>" for n in info.notes)
     title = html.escape(f"tribokin — {result.name}")
+    clouds = (f"Cycle clouds and their 3σ covariance ellipsoids are drawn around their barycenter, magnified "
+              f"<b>×{info.magnification:g}</b>. " if result.poses else "")
+    poses = f"<h2>ISO 9283 figures per pose</h2>{iso_table(result)}" if result.poses else ""
+    inputs = input_values(result)
+    summary = ", ".join(f"{name} {inputs[name]}" for name in ("robot", "tool frame", "payload", "cycles", "approach"))
     return f"""<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>{title}</title><style>{STYLE}</style></head>
 <body><h1>{title}</h1>
-<p>Robot {html.escape(str(result.settings.get("robot", "")))}, tool frame
-{html.escape(str(result.settings.get("tool_frame", "")))}, {result.settings.get("cycles", "")} cycles per pose,
-approach {html.escape(str(result.settings.get("approach", "")))}; robot meshes: {variant}.</p>
+<p>{html.escape(summary[:1].upper() + summary[1:])}. All inputs are listed below the scene.</p>
 <h2>Scene</h2>
-<p>Cycle clouds and their 3σ covariance ellipsoids are drawn around their barycenter, magnified
-<b>×{info.magnification:g}</b>. Open Controls (top right) toggles the robot, each map and each pose.</p>
+<p>{clouds}Robot meshes: {variant}. Open Controls (top right) toggles the robot, each map and each pose.</p>
 <iframe title="3-D scene" srcdoc="{srcdoc}"></iframe>
-{notes}{maps}
-<h2>ISO 9283 figures per pose</h2>{iso_table(result)}
-<h2>Figures</h2>{embedded_figures(folder)}
+{notes}
+{inputs_section(result, prismatic)}
+{maps}
+{poses}
+<h2>Figures</h2>{embedded_figures(folder, figure_names(result))}
 </body></html>
 """
 
@@ -150,7 +284,7 @@ def write_report(result: StudyResult, robot: Robot, folder, map_layers: dict[str
     layers = dict(map_layers or {})
     vis = static_visualizer()
     info = build_scene(vis, robot, result.display_configuration(), result.poses, layers, cube, variant=variant)
-    page = report_html(result, vis.static_html(), info, layers, folder, variant)
+    page = report_html(result, vis.static_html(), info, layers, folder, variant, robot.joint_is_prismatic)
     temporary = folder / f".{REPORT_FILE}.partial"
     temporary.write_text(page, encoding="utf-8")
     os.replace(temporary, folder / REPORT_FILE)

@@ -8,7 +8,7 @@ Scene paths (each a toggle in meshcat's GUI):
 - ``tribokin/poses/<pose>``     the cycle cloud, its 3-sigma covariance ellipsoid and a label.
 
 Cycle deviations are micrometres: they are drawn around their barycenter,
-magnified by a factor written on screen (``×20000``).
+magnified by a factor written on screen (``clouds ×20000``; not drawn without poses).
 """
 
 from __future__ import annotations
@@ -242,7 +242,8 @@ def build_scene(vis, robot: Robot, q, poses, map_layers: dict[str, MapLayer] | N
     for pose in poses:
         draw_pose(vis, pose, magnification)
     tool = robot.tool_placement(q).translation
-    draw_text(vis["tribokin/magnification"], f"clouds ×{magnification:g}", tool + [0, 0, 0.25], height_m=0.3)
+    if poses:
+        draw_text(vis["tribokin/magnification"], f"clouds ×{magnification:g}", tool + [0, 0, 0.25], height_m=0.3)
     extent = [tool[None]] + [p.positions_m for p in poses] + [layer.points_m for layer in layers.values()]
     if cube is not None:
         extent.append(cube.corners_m())

@@ -5,10 +5,17 @@ window keeps the scene tree the way ``meshcat-server`` does
 (``meshcat.servers.tree.SceneTree``) and :meth:`StaticWindow.static_html`
 inlines the viewer's JavaScript and every command, so the page makes no
 network request.
+
+Same scene, same bytes: meshcat names every geometry, material, texture and
+object with ``uuid.uuid1()`` (the clock and the machine's network address); the
+window renames them ``00000000-0000-0000-0000-000000000001``, ``…02``, … in the
+order they reach it (three.js uses them only as keys linking an object to its
+geometry and material). meshcat itself is left untouched.
 """
 
 from __future__ import annotations
 
+import uuid
 from pathlib import Path
 
 import meshcat
@@ -22,10 +29,14 @@ class StaticWindow:
 
     def __init__(self):
         self.tree = SceneTree()
+        self.uuids: dict[str, str] = {}
 
     def send(self, command) -> None:
         """Apply one lowered meshcat command to the scene tree, as ``meshcat-server`` does."""
         data = command.lower()
+        self.uuids.update((name, str(uuid.UUID(int=len(self.uuids) + 1))) for name in _declared_uuids(data)
+                          if name not in self.uuids)
+        data = _renamed(data, self.uuids)
         kind = data["type"]
         path = [part for part in data["path"].split("/") if part]
         packed = umsgpack.packb(data)
@@ -57,6 +68,27 @@ class StaticWindow:
     def get_scene(self) -> str:
         """The page ``meshcat.Visualizer.static_html()`` returns."""
         return static_html(self.commands_js())
+
+
+def _declared_uuids(node):
+    """The values of every ``"uuid"`` key in a lowered command, in order."""
+    if isinstance(node, dict):
+        if isinstance(node.get("uuid"), str):
+            yield node["uuid"]
+        for value in node.values():
+            yield from _declared_uuids(value)
+    elif isinstance(node, list):
+        for value in node:
+            yield from _declared_uuids(value)
+
+
+def _renamed(node, names: dict[str, str]):
+    """``node`` with every string that is a key of ``names`` (a uuid or a reference to one) replaced."""
+    if isinstance(node, dict):
+        return {key: _renamed(value, names) for key, value in node.items()}
+    if isinstance(node, list):
+        return [_renamed(value, names) for value in node]
+    return names.get(node, node) if isinstance(node, str) else node
 
 
 def viewer_js() -> str:
