@@ -251,5 +251,6 @@ def run_map(study: Study, robot: Robot, workers: int = 1, scheduler: str | None 
     finally:
         _local.cache = None
     fill_holes(robot, grid, runners, store)
-    maps = [ScenarioMap(name, s.cycles, i, store) for i, (name, s) in enumerate(zip(names, studies))]
+    maps = {name: ScenarioMap(name, s.cycles, i, robot.joint_names, store)
+            for i, (name, s) in enumerate(zip(names, studies))}
     return MapResult(grid, robot.joint_names, store, maps)

@@ -138,7 +138,7 @@ def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) ->
          "joint with the largest share of the position variance", f"dominant joint{compared}",
          cmap=_categorical(len(joints)), norm=BoundaryNorm(np.arange(-1.5, len(joints)), len(joints) + 1),
          categories=["none"] + joints)
-    for scenario in workspace_map.scenarios[1:]:
+    for scenario in list(workspace_map.scenarios.values())[1:]:
         save(f"map_RP_l_{scenario.name}.png", lambda shown, s=scenario: s.figure("RP_l_um", shown), "RP_l [µm]",
              f"RP_l, {scenario.name}")
         save(f"map_RP_l_ratio_{scenario.name}.png", lambda shown, s=scenario: workspace_map.ratio_RP_l(s, shown),
@@ -148,7 +148,7 @@ def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) ->
              f"RP_l {scenario.name} − {reference.name} [µm]",
              f"RP_l difference {scenario.name} − {reference.name}", cmap="RdBu_r", centre=0.0)
     if len(workspace_map.scenarios) > 1:
-        names = [s.name for s in workspace_map.scenarios]
+        names = list(workspace_map.scenarios)
         save("map_winner.png",
              lambda shown: np.where(workspace_map.read("reachable", shown), workspace_map.winners(shown), np.nan),
              "scenario with the smallest RP_l", "which scenario has the smallest RP_l",
