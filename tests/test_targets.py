@@ -135,8 +135,8 @@ def test_joint_and_line_grids_are_the_decimals_written():
         "study": {"cycles": 10},
         "robot": {"name": "ur5"},
         "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5},
-        "map": {"kind": "joint", "joints": ["shoulder_pan_joint", "elbow_joint"], "ranges": [[-0.55, 0.45], [-2.0, 0.4]],
-                "counts": [21, 7]},
+        "map": {"kind": "joint", "joints": ["shoulder_pan_joint", "elbow_joint"],
+                "ranges": [[-0.55, 0.45], [-2.0, 0.4]], "counts": [21, 7]},
     })
     grid = make_grid(load_robot(study), study.map, study.source)
     values = grid.axis_values(np.arange(grid.size))[:, :2]

@@ -105,7 +105,8 @@ class ScenarioMap:
 
     def read(self, name: str, targets=slice(None)) -> np.ndarray:
         """Column ``name`` at ``targets``: ``figures`` (k, len(MAP_FIGURES)), ``normal_forces_N`` (k, nv)
-        bearing loads [N], ``dominant_joint`` (k,) joint with the largest share of the position variance (-1: none)."""
+        bearing loads [N], ``dominant_joint`` (k,) index in ``joint_names`` of the joint with the largest share of
+        the position variance (-1: none)."""
         return self.store.read(scenario_column(self.number, name), targets)
 
     def figure(self, name: str, targets=slice(None)) -> np.ndarray:
@@ -124,7 +125,8 @@ class ScenarioMap:
 
     @property
     def dominant_joint(self) -> np.ndarray:
-        """(N,) index in ``joint_names`` of each target's dominant joint (-1: none); names: :meth:`dominant_joint_names`."""
+        """(N,) index in ``joint_names`` of each target's dominant joint (-1: none); :meth:`dominant_joint_names`
+        gives the names."""
         return self.read("dominant_joint")
 
     def dominant_joint_names(self, targets=slice(None)) -> np.ndarray:
