@@ -30,6 +30,7 @@ demo: $(VENV)/.base
 	done
 	@echo "demo results: $(DEMO_OUT)/<study>/ (summary.json, poses.csv, field_*.png, report.html; maps: map*.csv, map_*.png)"
 	@for study in $(DEMO_STUDIES); do echo "report: $(DEMO_OUT)/$$study/report.html"; done
+	@echo "tribokin is in $(VENV), not on your PATH: run $(VENV)/bin/tribokin, or first source $(VENV)/bin/activate"
 
 test: $(VENV)/.test
 	$(PY) -m pytest -q

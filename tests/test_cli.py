@@ -3,8 +3,10 @@
 import hashlib
 import json
 import platform
+import re
 import subprocess
 import sys
+from importlib import metadata
 
 import numpy as np
 import pinocchio
@@ -75,3 +77,17 @@ def test_shipped_paper_studies_run(tmp_path):
         assert done.returncode == 0, done.stderr
         summary = json.loads((tmp_path / study.stem / "summary.json").read_text())
         assert [p["name"] for p in summary["poses"]] == ["40N", "150N"]
+
+
+def test_version_is_the_installed_distributions():
+    done = tribokin("--version")
+    assert done.returncode == 0 and done.stdout == f"tribokin {metadata.version('tribokin')}\n"
+    assert tribokin_version == metadata.version("tribokin")
+
+
+def test_bare_command_prints_usage_and_the_commands():
+    done = tribokin()
+    assert done.returncode == 2 and done.stdout == ""
+    assert done.stderr.startswith("usage: tribokin ")
+    for command in ("run", "view", "fit-friction", "surface", "robots"):
+        assert re.search(rf"^    {command}\s", done.stderr, re.MULTILINE)

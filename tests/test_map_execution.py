@@ -35,7 +35,7 @@ def written(result, folder):
     """The map tables and summary.json as write_results writes them (figures left out, for speed)."""
     folder.mkdir()
     write_summary(result, folder)
-    for scenario in result.map.scenarios:
+    for scenario in result.map.scenarios.values():
         write_map_table(result.map, scenario, folder / map_table_name(result.map, scenario))
     return {name: (folder / name).read_bytes() for name in MAP_FILES}
 

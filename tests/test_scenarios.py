@@ -22,7 +22,7 @@ def test_scenarios_share_targets_and_streams():
     study = with_scenarios({"name": "raw"}, {"name": "same"}, {"name": "none", "joints": {"friction": {
         "preset": "frictionless"}}})
     workspace_map = run_study(study).map
-    raw, same, none = workspace_map.scenarios
+    raw, same, none = workspace_map.scenarios.values()
     np.testing.assert_array_equal(raw.figures, same.figures)  # no override: the very same numbers
     assert np.all(none.figure("RP_l_um")[workspace_map.reachable] == 0.0)
     np.testing.assert_array_equal(workspace_map.ratio_RP_l(none)[workspace_map.reachable], 0.0)
@@ -38,7 +38,7 @@ def test_payload_and_joint_overrides_change_only_what_they_name():
                            {"name": "constant-x", "joints": {"x": {"friction": {"law": "constant", "mu": MU}}}},
                            {"name": "short", "study": {"cycles": 4}})
     workspace_map = run_study(study, cycles=6).map
-    base, heavy, constant_x, _ = workspace_map.scenarios
+    base, heavy, constant_x, _ = workspace_map.scenarios.values()
     ok = workspace_map.reachable
     y = workspace_map.positions_m[:, 1]
     extra_x = heavy_payload - 5.0  # the base payload of gantry_map_study
@@ -50,8 +50,10 @@ def test_payload_and_joint_overrides_change_only_what_they_name():
     assert np.all(heavy.figure("RP_l_um")[ok] > base.figure("RP_l_um")[ok])
     # constant mu on x: its lost motion no longer varies; only y's uniform friction spreads the cycles
     assert np.all(constant_x.figure("RP_l_um")[ok] < 0.5 * base.figure("RP_l_um")[ok])
-    assert np.all(constant_x.dominant_joint[ok] == 1)
-    assert [s.cycles for s in workspace_map.scenarios] == [6, 6, 6, 4]  # --cycles applies unless overridden
+    assert np.all(constant_x.dominant_joint[ok] == 1) and constant_x.joint_names[1] == "y"
+    names = constant_x.dominant_joint_names()
+    assert set(names[ok]) == {"y"} and set(names[~ok]) <= {""}
+    assert [s.cycles for s in workspace_map.scenarios.values()] == [6, 6, 6, 4]  # --cycles applies unless overridden
 
 
 @pytest.mark.parametrize("scenario, key", [
@@ -111,6 +113,6 @@ def test_constant_friction_lost_motion_sets_the_gantry_ratio():
                            {"name": "double", "joints": {"friction": {"law": "constant", "mu": 2 * MU}}})
     study["study"]["approach"] = "bidirectional"
     workspace_map = run_study(study).map
-    ratio = workspace_map.ratio_RP_l(workspace_map.scenarios[1])[workspace_map.reachable]
+    ratio = workspace_map.ratio_RP_l(workspace_map.scenarios["double"])[workspace_map.reachable]
     np.testing.assert_allclose(ratio, 2.0, rtol=1e-6)
     assert workspace_map.summary()["wins"]["mu"] == workspace_map.summary()["reachable"]

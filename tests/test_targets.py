@@ -5,6 +5,7 @@ import dataclasses
 import numpy as np
 import pytest
 
+from conftest import STUDIES
 from tribokin.study import load_robot, load_study
 from tribokin.targets import (extrapolate_row, fill_from_neighbours, grid_neighbours, holes_beside_reached, make_grid,
                               solve_row, solve_row_heads)
@@ -104,3 +105,42 @@ def test_row_extrapolation_continues_a_polynomial_through_the_last_reached_targe
     assert extrapolate_row(line[:5], partly) == pytest.approx(line[5], abs=1e-12)
     assert extrapolate_row(cubic[:5], np.array([True, True, True, False, True])) is None
     assert extrapolate_row(cubic[:1], reached[:1]) is None
+
+
+def _short(values) -> bool:
+    return all(v == float(f"{v:.9g}") for v in np.ravel(values))
+
+
+@pytest.mark.parametrize("name", sorted(p.stem for p in STUDIES.glob("*.toml") if "[map]" in p.read_text()))
+def test_shipped_map_grids_are_the_decimals_written(name):
+    study = load_study(STUDIES / f"{name}.toml")
+    grid = make_grid(load_robot(study), study.map, study.source)
+    positions = grid.positions_m(np.arange(grid.size))
+    values = grid.axis_values(np.arange(grid.size))
+    assert _short(positions) and _short(values)
+    assert not np.signbit(positions[positions == 0]).any() and not np.signbit(values[values == 0]).any()
+    spec = study.map
+    if spec["kind"] == "plane":
+        lows, highs = [spec["extent_u_m"][0], spec["extent_v_m"][0]], [spec["extent_u_m"][1], spec["extent_v_m"][1]]
+        assert values[0, :2].tolist() == lows and values[-1, :2].tolist() == highs
+        directions = np.array([spec["axis_u"], spec["axis_v"]])
+        corners = [np.asarray(spec["origin_m"]) + np.array(b) @ directions for b in (lows, highs)]
+        assert positions[[0, -1]].tolist() == np.round(corners, 12).tolist()
+    else:
+        assert positions[0].tolist() == spec["min_m"] and positions[-1].tolist() == spec["max_m"]
+
+
+def test_joint_and_line_grids_are_the_decimals_written():
+    study = load_study({
+        "study": {"cycles": 10},
+        "robot": {"name": "ur5"},
+        "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5},
+        "map": {"kind": "joint", "joints": ["shoulder_pan_joint", "elbow_joint"],
+                "ranges": [[-0.55, 0.45], [-2.0, 0.4]], "counts": [21, 7]},
+    })
+    grid = make_grid(load_robot(study), study.map, study.source)
+    values = grid.axis_values(np.arange(grid.size))[:, :2]
+    assert _short(values) and values[0].tolist() == [-0.55, -2.0] and values[-1].tolist() == [0.45, 0.4]
+    assert 0.0 in values[:, 1] and not np.signbit(values[values == 0]).any()  # -2 + 5 · 0.4 rounds to -0.0
+    line = make_grid(load_robot(study), ur5_plane([21, 1]).map)
+    assert _short(line.positions_m(np.arange(line.size))) and line.axes[1].values.tolist() == [0.0]

@@ -163,8 +163,12 @@ def _surface(args) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from tribokin import __version__
+
     parser = _Parser(prog="tribokin", description="Friction-induced pose repeatability (ISO 9283) of robots.")
-    commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    parser.add_argument("--version", action="version", version=f"tribokin {__version__}")
+    commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser, title="commands",
+                                     metavar="COMMAND")
 
     run = commands.add_parser("run", help="run a study file and write its results")
     run.add_argument("study", help="study file (TOML)")
@@ -211,10 +215,15 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    """Entry point of the ``tribokin`` command; returns the exit status."""
+    """Entry point of the ``tribokin`` command; returns the exit status (2 for a bare ``tribokin``, which
+    prints the help: a command is missing, a usage error as for argparse)."""
     try:
         argv = sys.argv[1:] if argv is None else [str(arg) for arg in argv]
-        args = build_parser().parse_args(argv)
+        parser = build_parser()
+        if not argv:
+            parser.print_help(sys.stderr)
+            return 2
+        args = parser.parse_args(argv)
         args.argv = argv
         args.handler(args)
     except InputError as error:

@@ -39,12 +39,36 @@ from tribokin.targets import TargetGrid, fill_from_neighbours, make_grid, solve_
 #: Random stream of map targets: target i draws from ``pose_rng(seed, i, MAP_STREAM)``
 #: (poses use streams 0 and 1).
 MAP_STREAM = 2
+#: Chunks finished after the warm-up before the progress bar shows a rate and an ETA.
+ETA_SAMPLES = 4
 
 
 class ProgressBar(tqdm):
-    """tqdm without its monitor thread, which would outlive the bar and keep later runs from forking workers."""
+    """tqdm whose rate, hence ETA, is the average since its first ``warm_up`` updates (the chunks that paid for
+    start-up: worker processes, first calls), shown once ``samples`` more are in (``?`` until then); and without
+    tqdm's monitor thread, which would outlive the bar and keep later runs from forking workers."""
 
     monitor_interval = 0
+
+    def __init__(self, *args, warm_up: int = 1, samples: int = ETA_SAMPLES, **kwargs):
+        self.warm_up, self.samples, self.updates = warm_up, samples, 0
+        self.clock_start: tuple[float, float] | None = None  # (time [s], count) at the end of the warm-up
+        super().__init__(*args, **kwargs)
+
+    def update(self, n=1):
+        self.updates += 1
+        super().update(n)
+        if self.updates == self.warm_up and not self.disable:
+            self.clock_start = (self._time(), self.n)
+
+    @property
+    def format_dict(self) -> dict:
+        shown = super().format_dict
+        shown["rate"] = 0.0  # tqdm shows "?"
+        if self.clock_start is not None and self.updates >= self.warm_up + self.samples:
+            start_s, start_n = self.clock_start
+            shown["rate"] = (self.n - start_n) / max(self._time() - start_s, 1e-9)
+        return shown
 
 
 @dataclass(frozen=True)
@@ -210,6 +234,15 @@ def open_store(study: Study, studies: tuple[Study, ...], chunks: list[list[int]]
     return store
 
 
+def chunk_order(count: int) -> list[int]:
+    """The order ``count`` chunks are computed in: by their index's bits reversed (0, 8, 4, 12, 2, ... of 16), so
+    that the chunks done first are spread evenly over the grid and their rate holds for the rest (in grid order, a
+    plane's far rows, mostly unreachable hence slow to search, all came first and the first ETA was many times too
+    long)."""
+    bits = max(1, (count - 1).bit_length())
+    return sorted(range(count), key=lambda k: f"{k:0{bits}b}"[::-1])
+
+
 def prepare_map(study: Study, robot: Robot) -> tuple[TargetGrid, list[PoseRunner]]:
     """The grid of the study's ``[map]`` and a runner per scenario (the study itself without scenarios), checked
     against ``robot`` before any work: the map's joints, ranges, start posture and orientation, and each
@@ -246,17 +279,19 @@ def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunn
     finished = set(store.finished())
     job = MapJob(uuid.uuid4().hex, study, studies)
     _local.cache = (job.token, robot, grid, runners)  # chunks run in this thread need not rebuild them
-    todo = {k: (job, rows, heads[rows]) for k, rows in enumerate(chunks) if k not in finished}
+    todo = {k: (job, chunks[k], heads[chunks[k]]) for k in chunk_order(len(chunks)) if k not in finished}
     done_targets = sum(len(chunks[k]) for k in finished) * grid.row_length
     try:
         results = run_chunks(compute_chunk, todo, workers, scheduler)
         with ProgressBar(total=grid.size, initial=done_targets, unit="target", desc=f"map {study.name}",
-                         disable=not progress or len(chunks) <= 1) as bar:
+                         disable=not progress or len(chunks) <= 1,
+                         warm_up=1 if scheduler is not None else max(1, min(workers, len(todo)))) as bar:
             for chunk, arrays in results:
                 store.save(chunk, chunks[chunk][0] * grid.row_length, arrays)
                 bar.update(len(chunks[chunk]) * grid.row_length)
     finally:
         _local.cache = None
     fill_holes(robot, grid, runners, store)
-    maps = [ScenarioMap(name, s.cycles, i, store) for i, (name, s) in enumerate(zip(names, studies))]
+    maps = {name: ScenarioMap(name, s.cycles, i, robot.joint_names, store)
+            for i, (name, s) in enumerate(zip(names, studies))}
     return MapResult(grid, robot.joint_names, store, maps)

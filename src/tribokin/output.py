@@ -183,8 +183,7 @@ def map_table_columns(workspace_map: MapResult, scenario: ScenarioMap, targets: 
     columns = {"x_m": positions[:, 0], "y_m": positions[:, 1], "z_m": positions[:, 2],
                "reachable": workspace_map.read("reachable", targets)}
     columns.update({name: figures[:, i] for i, name in enumerate(MAP_FIGURES) if name != "dominant_share"})
-    columns["dominant_joint"] = np.array([names[i] if i >= 0 else "" for i in scenario.read("dominant_joint", targets)],
-                                         dtype=object)
+    columns["dominant_joint"] = scenario.dominant_joint_names(targets)
     columns["dominant_share"] = figures[:, MAP_FIGURES.index("dominant_share")]
     if scenario is not workspace_map.reference:
         columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
@@ -229,7 +228,8 @@ def map_scene_layers(workspace_map: MapResult) -> dict:
     shown, stride = workspace_map.grid.thinned(SCENE_TARGETS)
     shown = shown.ravel()
     points = workspace_map.read("position_m", shown)
-    return {s.name: MapLayer(points, s.figure("RP_l_um", shown), s.name, stride) for s in workspace_map.scenarios}
+    return {s.name: MapLayer(points, s.figure("RP_l_um", shown), s.name, stride)
+            for s in workspace_map.scenarios.values()}
 
 
 def write_results(result: StudyResult, out, force: bool = False, report: str = "full", map_layers=None,
@@ -262,7 +262,7 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
         for pose in result.poses:
             save_repeatability_field(pose, folder / pose_figure_file(pose.name), title=f"{result.name} — {pose.name}")
         if result.map is not None:
-            for scenario in result.map.scenarios:
+            for scenario in result.map.scenarios.values():
                 write_map_table(result.map, scenario, folder / map_table_name(result.map, scenario))
             save_map_figures(result.map, folder, result.name)
         if report != "none":

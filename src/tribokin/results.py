@@ -117,17 +117,20 @@ class ScenarioMap:
     Attributes:
         name: scenario name. cycles: cycles per target.
         number: the scenario's place in the study (its columns in the store).
+        joint_names: active joints, in the order of ``q`` (the names of ``dominant_joint``'s indices).
         store: where the columns are (:class:`~tribokin.checkpoint.ChunkStore`).
     """
 
     name: str
     cycles: int
     number: int
+    joint_names: list[str]
     store: ChunkStore = field(repr=False)
 
     def read(self, name: str, targets=slice(None)) -> np.ndarray:
         """Column ``name`` at ``targets``: ``figures`` (k, len(MAP_FIGURES)), ``normal_forces_N`` (k, nv)
-        bearing loads [N], ``dominant_joint`` (k,) joint with the largest share of the position variance (-1: none)."""
+        bearing loads [N], ``dominant_joint`` (k,) index in ``joint_names`` of the joint with the largest share of
+        the position variance (-1: none)."""
         return self.store.read(scenario_column(self.number, name), targets)
 
     def figure(self, name: str, targets=slice(None)) -> np.ndarray:
@@ -141,11 +144,18 @@ class ScenarioMap:
 
     @property
     def normal_forces_N(self) -> np.ndarray:
+        """(N, nv) bearing loads of every target [N]."""
         return self.read("normal_forces_N")
 
     @property
     def dominant_joint(self) -> np.ndarray:
+        """(N,) index in ``joint_names`` of each target's dominant joint (-1: none); :meth:`dominant_joint_names`
+        gives the names."""
         return self.read("dominant_joint")
+
+    def dominant_joint_names(self, targets=slice(None)) -> np.ndarray:
+        """Name of the dominant joint at each of ``targets`` (``""``: none, e.g. unreachable), as Python strings."""
+        return np.array([*self.joint_names, ""], dtype=object)[self.read("dominant_joint", targets)]
 
 
 @dataclass
@@ -159,18 +169,19 @@ class MapResult:
         store: the per-target columns: ``position_m`` (N, 3) target positions [m], ``q`` (N, nv)
             configurations [m or rad] (NaN where unreachable), ``reachable`` (N,), ``closest`` (N, 2) how
             close the IK came to unreachable targets [m, rad], and each scenario's (:class:`ScenarioMap`).
-        scenarios: one :class:`ScenarioMap` per scenario; the first is the reference of comparisons.
+        scenarios: one :class:`ScenarioMap` per scenario, by name, in the study's order; the first is the
+            reference of comparisons.
     """
 
     grid: TargetGrid
     joint_names: list[str]
     store: ChunkStore = field(repr=False)
-    scenarios: list[ScenarioMap]
+    scenarios: dict[str, ScenarioMap]
     _summary: dict | None = field(default=None, init=False, repr=False)
 
     @property
     def reference(self) -> ScenarioMap:
-        return self.scenarios[0]
+        return next(iter(self.scenarios.values()))
 
     def blocks(self) -> Iterator[slice]:
         """The targets in consecutive blocks of bounded size."""
@@ -191,6 +202,7 @@ class MapResult:
 
     @property
     def positions_m(self) -> np.ndarray:
+        """(N, 3) target positions [m]: commanded (plane, box), or reached at the configurations (joint maps)."""
         return self.read("position_m")
 
     def reasons(self, targets=slice(None)) -> np.ndarray:
@@ -208,8 +220,9 @@ class MapResult:
         return scenario.figure("RP_l_um", targets) - self.reference.figure("RP_l_um", targets)
 
     def winners(self, targets=slice(None)) -> np.ndarray:
-        """Index of the scenario with the smallest RP_l at each of ``targets``; -1 for a tie or unreachable."""
-        rp = np.column_stack([s.figure("RP_l_um", targets) for s in self.scenarios])
+        """Place in ``scenarios`` of the scenario with the smallest RP_l at each of ``targets``; -1 for a tie or
+        unreachable."""
+        rp = np.column_stack([s.figure("RP_l_um", targets) for s in self.scenarios.values()])
         best = np.argmin(np.where(np.isnan(rp), np.inf, rp), axis=1)
         ties = (rp == rp.min(axis=1, keepdims=True)).sum(axis=1) > 1
         return np.where(self.read("reachable", targets) & ~ties, best, -1)
@@ -253,8 +266,8 @@ class MapResult:
                 "RP_l_um": spread(lambda part, s=s: s.figure("RP_l_um", part), size),
                 "RP_l_ratio": spread(lambda part, s=s: self.ratio_RP_l(s, part), size),
                 "RP_l_diff_um": spread(lambda part, s=s: self.diff_RP_l_um(s, part), size),
-            } for s in self.scenarios]
-            block["wins"] = {s.name: int(count) for s, count in zip(self.scenarios, wins[1:])}
+            } for s in self.scenarios.values()]
+            block["wins"] = {name: int(count) for name, count in zip(self.scenarios, wins[1:])}
             block["ties"] = int(wins[0])
         return block
 

@@ -29,6 +29,9 @@ IK_RESTARTS = 4
 EXTRAPOLATION_POINTS = 4
 #: Seed of the IK restarts: target ``index`` restarts from ``default_rng([IK_SEED, index])``.
 IK_SEED = 9283
+#: Grid values and target positions are rounded to 1e-GRID_DECIMALS [m or rad], so that they are the decimals
+#: the user wrote (``-0.55``, not ``-0.5499999999999999``).
+GRID_DECIMALS = 12
 
 
 @dataclass(frozen=True)
@@ -101,8 +104,9 @@ class TargetGrid:
                                 for axis, k in zip(self.axes, (column, row, layer))])
 
     def positions_m(self, indices) -> np.ndarray:
-        """(k, 3) commanded tool positions of Cartesian targets ``indices`` in the base frame [m]."""
-        return self.origin_m + self.axis_values(indices) @ self.directions
+        """(k, 3) commanded tool positions of Cartesian targets ``indices`` in the base frame [m], rounded to
+        1e-12 m (:func:`grid_rounded`)."""
+        return grid_rounded(self.origin_m + self.axis_values(indices) @ self.directions)
 
     def joint_q(self, indices) -> np.ndarray:
         """(k, nv) configurations of joint-grid targets ``indices`` [m or rad]."""
@@ -140,8 +144,17 @@ class TargetGrid:
                 "orientation_held": self.rotation is not None}
 
 
+def grid_rounded(values: np.ndarray) -> np.ndarray:
+    """``values`` rounded to ``GRID_DECIMALS`` decimals, without ``-0.0``."""
+    return np.round(values, GRID_DECIMALS) + 0.0
+
+
 def _grid_values(bounds, count: int) -> np.ndarray:
-    return np.linspace(bounds[0], bounds[1], count)
+    """``count`` values ``low + i·(high − low)/(count − 1)`` from ``bounds`` = [low, high] (``low`` alone for
+    one), rounded (:func:`grid_rounded`): both ends exact."""
+    low, high = bounds
+    step = (high - low) / (count - 1) if count > 1 else 0.0
+    return grid_rounded(low + np.arange(count) * step)
 
 
 def make_grid(robot: Robot, spec: dict, source=None) -> TargetGrid:

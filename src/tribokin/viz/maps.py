@@ -192,7 +192,7 @@ def rp_l_norm(workspace_map: MapResult) -> Normalize:
     """One colour scale for the RP_l maps of every scenario: the range of all their values at the targets
     the heat maps show, so equal colours mean equal RP_l across scenarios."""
     shown = shown_targets(workspace_map.grid)[0].ravel()
-    return value_norm(np.concatenate([s.figure("RP_l_um", shown) for s in workspace_map.scenarios]))
+    return value_norm(np.concatenate([s.figure("RP_l_um", shown) for s in workspace_map.scenarios.values()]))
 
 
 def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | None) -> dict[str, tuple]:
@@ -200,7 +200,7 @@ def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | No
     in the order a reader follows: the reference, each other scenario, their ratios and differences to
     the reference, the winner."""
     reference = workspace_map.reference
-    others = workspace_map.scenarios[1:]
+    others = list(workspace_map.scenarios.values())[1:]
     shared = " (colour scale shared by all scenarios)" if others else ""
     compared = f", {reference.name}" if others else ""
     joints = workspace_map.joint_names
@@ -227,7 +227,7 @@ def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | No
             lambda shown, s=s: workspace_map.diff_RP_l_um(s, shown), f"RP_l {s.name} − {reference.name} [µm]",
             f"RP_l difference {s.name} − {reference.name}", {"cmap": "RdBu_r", "centre": 0.0})
     if others:
-        names = [s.name for s in workspace_map.scenarios]
+        names = list(workspace_map.scenarios)
         figures["map_winner.png"] = (
             lambda shown: np.where(workspace_map.read("reachable", shown), workspace_map.winners(shown), np.nan),
             "scenario with the smallest RP_l", "which scenario has the smallest RP_l",
