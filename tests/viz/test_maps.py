@@ -115,7 +115,7 @@ def test_rp_l_maps_of_all_scenarios_share_one_colour_scale_and_ratios_keep_their
     from tribokin.viz import maps
 
     workspace_map = scenario_map()
-    values = [s.figure("RP_l_um") for s in workspace_map.scenarios]
+    values = [s.figure("RP_l_um") for s in workspace_map.scenarios.values()]
     norm = maps.rp_l_norm(workspace_map)
     assert (norm.vmin, norm.vmax) == (min(np.nanmin(v) for v in values), max(np.nanmax(v) for v in values))
     assert norm.vmin == np.nanmin(values[1]) and norm.vmax == np.nanmax(values[2])  # from two other scenarios
