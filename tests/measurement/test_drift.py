@@ -35,6 +35,9 @@ def test_drift_between_the_first_and_last_sets_equals_the_hand_computation():
     assert np.degrees(drift.dRP_abc_rad[2]) * 1e3 == pytest.approx(3 * np.sqrt(2 / 3), rel=1e-6)
     assert drift.dRP_abc_rad[0] == 0
     assert drift.start_s.tolist() == [0, 1800] and drift.end_s.tolist() == [2400, 4200]
+    row = drift.report_row()
+    assert row["dAP_p_um"] == pytest.approx(10) and row["dRP_c_mdeg"] == pytest.approx(3 * np.sqrt(2 / 3))
+    assert row["dRP_l_um"] == pytest.approx(3.5 + 3 * np.sqrt(1 / 3)) and row["last_set_s"] == [2400, 4200]
 
 
 def test_sets_follow_the_times_not_the_cycle_numbers():

@@ -26,6 +26,7 @@ from tribokin.iso9283 import barycenter, orientation_repeatability, position_rep
 from tribokin.measurement.contract import Pose, Series
 from tribokin.measurement.figures import pose_clouds, position_accuracy, wrapped
 from tribokin.measurement.registration import Registration
+from tribokin.results import MDEG_PER_RAD, UM_PER_M
 
 CYCLES_PER_SET = 10
 
@@ -52,6 +53,17 @@ class Drift:
     dRP_l_m: float
     dRP_abc_rad: np.ndarray | None
     barycenter_shift_m: float
+
+    def report_row(self) -> dict:
+        """The drift under report names (µm, mdeg, s)."""
+        row = {"direction": self.direction, "cycles_per_set": self.cycles_per_set,
+               "first_set_s": self.start_s.tolist(), "last_set_s": self.end_s.tolist(),
+               "dAP_p_um": None if self.dAP_p_m is None else self.dAP_p_m * UM_PER_M,
+               "dRP_l_um": self.dRP_l_m * UM_PER_M}
+        for k, axis in enumerate("abc"):
+            row[f"dRP_{axis}_mdeg"] = None if self.dRP_abc_rad is None else float(self.dRP_abc_rad[k] * MDEG_PER_RAD)
+        row["barycenter_shift_um"] = self.barycenter_shift_m * UM_PER_M
+        return row
 
 
 def series_drift(series: Series, positions_m: np.ndarray, commanded_m: np.ndarray | None,
