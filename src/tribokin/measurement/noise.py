@@ -2,8 +2,8 @@
 
 The readings of a still target spread only by the instrument (and the room):
 their l_bar + 3 S_l is the smallest RP_l the instrument can tell apart from
-zero, and their per-axis standard deviations bound the smallest 1-sigma
-semi-axis it can resolve. A figure within ``factor`` (2) times the matching
+zero, and their largest per-axis standard deviation is the scale below which a 1-sigma
+semi-axis is the instrument's as much as the robot's. A figure within ``factor`` (2) times the matching
 floor is flagged: RP_l per direction, RP_l of all directions and vAP_p against
 the RP_l floor; ellipsoid semi-axes against the largest per-axis deviation.
 """
