@@ -7,7 +7,7 @@ Pinocchio forward kinematics -> ISO 9283 figures, at any pose of any robot.
 from importlib import metadata
 
 from tribokin.errors import InputError
-from tribokin.study import load_study, run_study
+from tribokin.run import load_study, run_study
 
 try:
     __version__ = metadata.version("tribokin")  # pyproject.toml's, as installed
