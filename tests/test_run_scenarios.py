@@ -5,9 +5,9 @@ import pytest
 
 from maps.test_workspace import G, MU, gantry_loads_by_hand, gantry_map_study
 from tribokin import InputError, run_study
-from tribokin.study.names import pose_figure_file, scenario_files
 from tribokin.output.writers import write_results
-from tribokin.run import PoseRunner
+from tribokin.simulation.pose_run import PoseRunner
+from tribokin.study.names import pose_figure_file, scenario_files
 
 
 def with_scenarios(*scenarios, **joints):

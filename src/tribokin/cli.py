@@ -24,8 +24,8 @@ class _Parser(argparse.ArgumentParser):
 def _claimed(out, force: bool):
     """Check the output folder, hold its lock (``<out>.lock``) while the block runs, and first delete the
     temporary folders a killed run left beside it (or move back an output folder it had moved aside)."""
+    from tribokin.output.folder import check_output_folder, remove_leftovers
     from tribokin.output.lock import output_lock
-    from tribokin.output.writers import check_output_folder, remove_leftovers
 
     check_output_folder(out, force)
     with output_lock(out):

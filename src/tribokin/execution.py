@@ -17,7 +17,7 @@ import threading
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
-from tribokin.study.spec import positive_int
+from tribokin.checks import positive_int
 from tribokin.errors import InputError
 
 #: How long to try reaching a dask scheduler [s].

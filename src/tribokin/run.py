@@ -1,293 +1,65 @@
-"""Study file -> run -> results on disk.
-
-``run_study`` takes a TOML path or a mapping and returns a
-:class:`~tribokin.maps.result.StudyResult`; ``write_results`` writes it to an
-output folder atomically (a temporary folder renamed into place).
-"""
+"""A study's run: its poses, then its map, into a :class:`StudyResult`."""
 
 from __future__ import annotations
 
-import copy
-import hashlib
-import sys
 import tempfile
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
 
-from tribokin.study.spec import Study, parse_study, positive_int, seed_int
-
-#: Replicate tests simulated for the 95 % interval of RP_l (fewer when they would exceed
-#: REPLICATE_SAMPLES cycles in all, never fewer than 20).
-RP_REPLICATES = 200
-REPLICATE_SAMPLES = 200_000
-from tribokin.errors import InputError, closest_hint
-from tribokin.iso9283.cube import APPROACH_DIRECTIONS, place_cube
+from tribokin.errors import InputError
 from tribokin.execution import check_executor
-from tribokin.iso9283.metrics import covariance_semi_axes, directional_metrics, position_repeatability, variance_contributions
-from tribokin.simulation.joint_errors import JointErrorModel, approach_signs, sample_joint_deviations
-from tribokin.kinematics.loads import BearingLoads
-from tribokin.propagation.exact import max_deviation_from_exact, tool_deviations
+from tribokin.kinematics.robot import Robot
 from tribokin.maps.budget import check_disk, check_memory
-from tribokin.study.names import check_file_name_part, check_files_apart, check_name, pose_figure_file, scenario_files
-from tribokin.maps.result import UM_PER_M, PoseResult, StudyResult, software_versions
-from tribokin.kinematics.robot import Robot, load_example_robot, load_urdf
-from tribokin.tribology.laws import FrictionLaw
-from tribokin.tribology.spec import law_from_spec
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
-
-
-def read_study_file(path) -> Study:
-    """Read and validate a TOML study file."""
-    path = Path(path)
-    if not path.is_file():
-        raise InputError("study file not found", path)
-    content = path.read_bytes()
-    try:
-        mapping = tomllib.loads(content.decode("utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
-        raise InputError(f"not valid TOML: {error}", path) from None
-    study = parse_study(mapping, str(path), path.parent)
-    study.sha256 = hashlib.sha256(content).hexdigest()
-    return study
-
-
-def load_study(study, cycles: int | None = None, seed: int | None = None) -> Study:
-    """A :class:`Study` from a path, a mapping or a Study, with ``cycles``/``seed`` overriding the file."""
-    if isinstance(study, Study):
-        study = copy.copy(study)
-    elif isinstance(study, dict):
-        study = parse_study(study, "<mapping>", Path.cwd())
-    else:
-        study = read_study_file(study)
-    if cycles is not None:
-        study.cycles = positive_int(cycles, "command line", "--cycles")
-    if seed is not None:
-        study.seed = seed_int(seed, "command line", "--seed")
-    study.scenarios = [replace(s, study=_with_run_overrides(s.study, s.overrides.get("study", {}), study))
-                       for s in study.scenarios]
-    return study
-
-
-def robot_spec(study: Study) -> dict:
-    """The study's ``[robot]`` table with absolute paths: loads the same robot from any folder."""
-    spec = dict(study.robot)
-    if spec["urdf"] is not None:
-        spec["urdf"] = str((study.base_dir / spec["urdf"]).absolute())
-    spec["package_dirs"] = [str((study.base_dir / p).absolute()) for p in spec["package_dirs"]]
-    return spec
-
-
-def load_robot_spec(spec: dict, source=None) -> Robot:
-    """The robot a ``[robot]`` table with absolute paths names (see :func:`robot_spec`)."""
-    if spec["name"] is not None:
-        return load_example_robot(spec["name"], spec["tool_frame"], source)
-    return load_urdf(spec["urdf"], spec["tool_frame"], spec["package_dirs"], source)
-
-
-def _with_run_overrides(scenario: Study, own: dict, base: Study) -> Study:
-    """A scenario's study with the base's ``cycles`` and ``seed`` (command-line overrides included),
-    unless the scenario sets its own."""
-    return replace(scenario, cycles=own.get("cycles", base.cycles), seed=own.get("seed", base.seed))
-
-
-def load_robot(study: Study) -> Robot:
-    """The robot a study names, reduced to its tool frame's chain."""
-    return load_robot_spec(robot_spec(study), study.source)
-
-
-def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
-    """One error model per active joint: the ``[joints]`` defaults with ``[joints.<name>]`` overrides."""
-    names = robot.joint_names
-    for joint in study.joint_overrides:
-        if joint not in names:
-            raise InputError(f"unknown joint '{joint}'{closest_hint(joint, names)}; joints of {robot.label}: "
-                             f"{', '.join(names)}", study.source, f"joints.{joint}")
-    models = []
-    for name in names:
-        values = {**study.joints, **study.joint_overrides.get(name, {})}
-        for key in ("friction", "stiffness"):
-            if values[key] is None:
-                raise InputError(f"joint '{name}' has no {key}: set joints.{key} or joints.{name}.{key}",
-                                 study.source, f"joints.{key}")
-        key = f"joints.{name}.friction" if "friction" in study.joint_overrides.get(name, {}) else "joints.friction"
-        values["friction"] = law_from_spec(values["friction"], study.source, key, study.base_dir)
-        models.append(JointErrorModel(**values))
-    return models
-
-
-def pose_rng(seed: int, index: int, stream: int = 0) -> np.random.Generator:
-    """Random stream ``stream`` of pose ``index``: depends on the seed, the index and the stream only."""
-    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, stream)))
-
-
-#: Approach directions of a joint-space pose: every joint travelling +, then every joint travelling -.
-JOINT_SPACE_DIRECTIONS = ("+", "-")
+from tribokin.maps.result import MapResult
+from tribokin.maps.run import prepare_map, run_map
+from tribokin.provenance import software_versions
+from tribokin.simulation.pose_result import PoseResult
+from tribokin.simulation.pose_run import PoseRunner
+from tribokin.study.assembly import check_names, joint_models, load_robot, pose_tasks, robot_spec
+from tribokin.study.reading import load_study
 
 
 @dataclass
-class PoseTask:
-    """A pose to run: configuration [m or rad] and its approach directions: the joints' signs of
-    travel (m, nv) and a label for each (``"+"``, ``"-"`` in joint space; ``"+x"``... for a cube pose)."""
+class StudyResult:
+    """Results of a whole study: ``poses`` in file order, the workspace ``map`` (if any), and what
+    produced them (``robot``, for views; ``reproduce``: seed, study file hash, versions, command line)."""
 
     name: str
-    q: np.ndarray
-    directions: np.ndarray
-    labels: tuple[str, ...]
-    normal_force_N: float | None = None
-    friction: FrictionLaw | None = None
+    poses: list[PoseResult]
+    settings: dict
+    robot: Robot | None = field(default=None, repr=False)
+    map: MapResult | None = None
+    reproduce: dict = field(default_factory=dict)
 
-    def tested(self, mode: str) -> PoseTask:
-        """The task with the directions an ``approach`` mode tests: the + ones (unidirectional) or all
-        (bidirectional, random)."""
-        if mode != "unidirectional":
-            return self
-        keep = [k for k, label in enumerate(self.labels) if label.startswith("+")]
-        return replace(self, directions=self.directions[keep], labels=tuple(self.labels[k] for k in keep))
+    def display_configuration(self) -> np.ndarray:
+        """Where to draw the robot [m or rad]: the first pose, else the first reachable map target,
+        else the robot's reference posture."""
+        if self.poses:
+            return self.poses[0].q
+        first = None if self.map is None else self.map.first_reachable_q()
+        return self.robot.reference_q if first is None else first
 
+    def pose(self, name: str) -> PoseResult:
+        """The pose called ``name``."""
+        return next(p for p in self.poses if p.name == name)
 
-def joint_space_task(name: str, q: np.ndarray, normal_force_N: float | None = None,
-                     friction: FrictionLaw | None = None) -> PoseTask:
-    """A pose approached in joint space: every joint travelling + (or - for the second direction)."""
-    return PoseTask(name, q, np.vstack([np.ones(len(q)), -np.ones(len(q))]), JOINT_SPACE_DIRECTIONS,
-                    normal_force_N=normal_force_N, friction=friction)
+    def table(self) -> dict[str, np.ndarray]:
+        """Figures per pose and approach direction as columns: ``{"direction": array([...]), "RP_l_um":
+        array([...]), ...}`` (scalar figures only; :meth:`PoseResult.direction_rows`)."""
+        rows = [row for p in self.poses for row in p.direction_rows()]
+        if not rows:
+            return {}
+        return {key: np.array([r[key] if r[key] is not None else np.nan for r in rows])
+                for key, value in rows[0].items() if value is None or isinstance(value, (int, float, str))}
 
-
-def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]:
-    """The study's joint-space poses, then the ISO cube's P1-P5 (solved by IK)."""
-    tasks = [joint_space_task(p.name, robot.check_configuration(p.q, study.source, f"poses[{i}].q"),
-                              p.normal_force_N,
-                              None if p.friction is None else
-                              law_from_spec(p.friction, study.source, f"poses[{i}].friction", study.base_dir))
-             for i, p in enumerate(study.poses)]
-    cube = None
-    if study.iso_cube is not None:
-        cube_poses, cube = place_cube(robot, study.iso_cube["center_m"], study.iso_cube["side_m"],
-                                      study.iso_cube["rpy_deg"], study.source)
-        tasks += [PoseTask(p.name, p.q, p.approach_signs, tuple(APPROACH_DIRECTIONS)) for p in cube_poses]
-    return tasks, cube
-
-
-def check_names(study: Study, tasks: list[PoseTask]) -> None:
-    """Refuse names that cannot name what they name (:mod:`tribokin.study.names`), and poses (``tasks``: the study's
-    poses, then the ISO cube's) or scenarios whose files would be the same (a clash with an ISO cube pose
-    names the study's pose, the one to rename)."""
-    check_name(study.name, study.source, "study.name")
-    poses = [(f"poses[{i}].name", pose.name) for i, pose in enumerate(study.poses)]
-    scenarios = [(f"scenarios[{i}].name", scenario.name) for i, scenario in enumerate(study.scenarios)]
-    for key, name in poses + scenarios:
-        check_file_name_part(name, study.source, key)
-    cube = [("iso_cube", task.name) for task in tasks[len(study.poses):]]
-    files = [(key, pose_figure_file(name)) for key, name in cube + poses]
-    files += [(key, file) for key, name in scenarios[1:] for file in scenario_files(name)]  # [0]: the reference
-    check_files_apart(files, study.source)
-
-
-class PoseRunner:
-    """Runs poses of one study: samples the cycles, propagates them, measures them."""
-
-    def __init__(self, study: Study, robot: Robot, models: list[JointErrorModel]):
-        self.study, self.robot, self.models = study, robot, models
-        self.offsets = np.array([m.offset for m in models])
-        self.loads = None
-        if any(m.normal_force_N is None for m in models):
-            self.loads = BearingLoads(robot, study.robot["payload_kg"], [m.bearing_span_m for m in models])
-
-    def normal_forces(self, task: PoseTask) -> np.ndarray:
-        """Bearing loads [N]: the pose's value, else each joint's fixed value, else statics at the pose."""
-        if task.normal_force_N is not None:
-            return np.full(len(self.models), task.normal_force_N)
-        return self.normal_forces_at(task.q)
-
-    def normal_forces_at(self, q: np.ndarray) -> np.ndarray:
-        """Bearing loads [N] at configuration ``q`` (nq,) or configurations (poses, nq): each joint's
-        fixed value, else statics."""
-        fixed = np.array([np.nan if m.normal_force_N is None else m.normal_force_N for m in self.models])
-        if self.loads is None:
-            return np.broadcast_to(fixed, np.shape(q)[:-1] + fixed.shape).copy()
-        return np.where(np.isnan(fixed), self.loads(q), fixed)
-
-    def models_at(self, task: PoseTask) -> list[JointErrorModel]:
-        """The joint error models at a pose: the study's, with the pose's friction law if it has one."""
-        return self.models if task.friction is None else [replace(m, friction=task.friction) for m in self.models]
-
-    def draw(self, task: PoseTask, forces_N, cycles: int, mode: str, rng):
-        """Joint deviations of the cycles at one pose: (dq (n, nv) [m or rad], mu (n, nv), approach index (n,))."""
-        signs, group = approach_signs(mode, cycles, task.directions, rng)
-        dq, mu = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs, rng)
-        return dq, mu, group
-
-    def approach_sequence(self, task: PoseTask, rng) -> tuple[np.ndarray, np.ndarray]:
-        """The joints' signs of travel (n, nv) and the approach index (n,) of every cycle at a pose:
-        ``study.cycles`` from each direction, one series after another (unidirectional) or in turn
-        (bidirectional); or as many cycles in all, each from a direction drawn at random (random)."""
-        mode, count, cycles = self.study.approach, len(task.directions), self.study.cycles
-        if mode == "unidirectional":
-            group = np.repeat(np.arange(count), cycles)
-            return task.directions[group].astype(float), group
-        return approach_signs(mode, count * cycles, task.directions, rng)
-
-    def measure(self, task: PoseTask, rng: np.random.Generator) -> PoseResult:
-        """Sample the cycles of every approach direction the study's ``approach`` mode tests at ``task`` from
-        ``rng`` and take their ISO 9283 figures."""
-        task = task.tested(self.study.approach)
-        forces = self.normal_forces(task)
-        signs, group = self.approach_sequence(task, rng)
-        dq, mu = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces, signs, rng)
-        positions, angles = tool_deviations(self.robot, task.q, dq, self.study.engine)
-        commanded = self.robot.tool_placement(task.q)
-        metrics = directional_metrics(positions, angles, commanded.translation, group, task.labels)
-        reference = self.robot.tool_placement(task.q + self.offsets)
-        return PoseResult(task.name, task.q, commanded.translation.copy(), commanded.rotation.copy(),
-                          reference.translation.copy(), positions, angles, task.labels, group, mu, dq, forces,
-                          metrics)
-
-    def run(self, task: PoseTask, index: int) -> PoseResult:
-        """Measure pose ``index`` (ISO 9283 per approach direction and across them, and beyond)."""
-        result = self.measure(task, pose_rng(self.study.seed, index))
-        if task.friction is not None:
-            result.extra["friction"] = task.friction.describe()
-        result.direction_extra = self.beyond_iso(task, result.normal_forces_N, result, index)
-        if self.study.engine == "fast":
-            check = max_deviation_from_exact(self.robot, task.q, result.dq)
-            result.extra["engine_check_cycles"] = check.samples
-            result.extra["engine_max_deviation_nm"] = check.position_m * 1e9
-            result.extra["engine_max_angle_deviation_nrad"] = check.angle_rad * 1e9
-        return result
-
-    def beyond_iso(self, task: PoseTask, forces_N, result: PoseResult, index: int) -> dict[str, dict]:
-        """Per approach direction with ISO figures: joint shares of the position variance, 1-sigma
-        ellipsoid semi-axes [µm], 95 % interval of RP_l [µm].
-
-        The interval comes from replicate tests of ``study.cycles`` cycles each from that direction
-        (fresh random streams), propagated to first order through the position Jacobian: how much
-        a test of this length can vary.
-        """
-        jacobian = self.robot.tool_jacobian(task.q)[:3]
-        cycles = self.study.cycles
-        replicates = int(np.clip(REPLICATE_SAMPLES // cycles, 20, RP_REPLICATES))
-        rng = pose_rng(self.study.seed, index, stream=1)
-        figures = {}
-        for label in result.metrics.directions:
-            mine = result.approach == result.directions.index(label)
-            shares = variance_contributions(jacobian, result.dq[mine])
-            extra = {f"contribution_{name}": None if np.isnan(share) else float(share)
-                     for name, share in zip(self.robot.joint_names, shares)}
-            extra["ellipsoid_semi_axes_um"] = (covariance_semi_axes(result.positions_m[mine]) * UM_PER_M).tolist()
-            signs = np.broadcast_to(task.directions[task.labels.index(label)].astype(float), (cycles, len(task.q)))
-            rp = np.empty(replicates)
-            for j in range(replicates):
-                dq, _ = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs,
-                                                rng)
-                rp[j] = position_repeatability(dq @ jacobian.T)[0]
-            extra["RP_l_95_um"] = (np.percentile(rp, [2.5, 97.5]) * UM_PER_M).tolist()
-            figures[label] = extra
-        return figures
+    def summary(self) -> dict:
+        """The content of ``summary.json``."""
+        summary = {"study": self.settings, "reproduce": self.reproduce, "poses": [p.report_row() for p in self.poses]}
+        if self.map is not None:
+            summary["map"] = self.map.summary()
+        return summary
 
 
 def run_study(study, cycles: int | None = None, seed: int | None = None, *, workers: int = 1,
@@ -305,8 +77,6 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, work
     Returns:
         the per-pose samples and ISO 9283 figures, and the map's per-target figures.
     """
-    from tribokin.maps.run import prepare_map, run_map  # mapping builds on this module
-
     check_executor(workers, scheduler)
     study = load_study(study, cycles, seed)
     if resume and study.map is None and checkpoint is not None and Path(checkpoint).exists():

@@ -12,9 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
-from tribokin.study.spec import positive
+from tribokin.checks import positive
 from tribokin.errors import InputError
-from tribokin.output.writers import atomic_folder, check_output_folder
+from tribokin.output.folder import atomic_folder, check_output_folder
 from tribokin.tribology.fitting import Fit, fit_laws
 from tribokin.tribology.surfaces import find_peaks, level, profile_statistics, read_profile
 from tribokin.tribology.tribometer import read_log, steady_state

@@ -14,8 +14,8 @@ import pytest
 
 from conftest import GANTRY_MAP_TOML
 from tribokin import InputError, run_study
-from tribokin.maps.store import ChunkStore
 from tribokin.cli import main
+from tribokin.maps.store import ChunkStore
 from tribokin.output.writers import map_table_name, write_map_table, write_results, write_summary
 
 UR5_MAP = {

@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from tribokin.iso9283.metrics import directional_metrics, multidirectional_variation, pose_metrics, position_repeatability
+from tribokin.iso9283.metrics import directional_metrics, multidirectional_variation, pose_metrics, \
+    position_repeatability
 
 
 def test_hand_computed_example():

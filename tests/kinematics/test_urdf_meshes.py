@@ -11,10 +11,10 @@ import pytest
 
 from tribokin.cli import main
 from tribokin.errors import InputError
-from tribokin.output.writers import write_results
 from tribokin.kinematics.robot import load_urdf
-from tribokin.run import run_study
 from tribokin.kinematics.urdf_meshes import resolve_mesh
+from tribokin.output.writers import write_results
+from tribokin.run import run_study
 
 TETRAHEDRON_STL = """solid t
 facet normal 0 0 -1

@@ -8,7 +8,8 @@ import pytest
 from conftest import ROOT, axis_study
 from tribokin import InputError, load_study, run_study
 from tribokin.cli import main
-from tribokin.maps.budget import available_bytes, estimate, gib, map_target_count
+from tribokin.maps.budget import available_bytes, estimate, map_target_count
+from tribokin.units import gib
 
 GANTRY_MAP = {
     "study": {"cycles": 5},

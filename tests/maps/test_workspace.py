@@ -9,7 +9,9 @@ import pytest
 from conftest import ROOT
 from tribokin import InputError, run_study
 from tribokin.maps.run import MAP_STREAM
-from tribokin.run import PoseRunner, joint_models, joint_space_task, load_robot, load_study, pose_rng
+from tribokin.simulation.pose_run import PoseRunner, joint_space_task, pose_rng
+from tribokin.study.assembly import joint_models, load_robot
+from tribokin.study.reading import load_study
 
 GANTRY = str(ROOT / "urdf" / "cartesian_xyz.urdf")
 G = 9.81  # Pinocchio's default gravity [m/s^2]

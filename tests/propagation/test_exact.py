@@ -5,9 +5,9 @@ import pinocchio as pin
 import pytest
 
 from conftest import AXIS_URDF
-from tribokin.propagation.poe import _exp_tail, _log_tail, tool_deviations_fast, tool_twists
-from tribokin.propagation.exact import max_deviation_from_exact, tool_deviations_exact
 from tribokin.kinematics.robot import load_example_robot, load_urdf
+from tribokin.propagation.exact import max_deviation_from_exact, tool_deviations_exact
+from tribokin.propagation.poe import _exp_tail, _log_tail, tool_deviations_fast, tool_twists
 
 NANOMETRE = 1e-9
 

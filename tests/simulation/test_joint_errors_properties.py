@@ -9,9 +9,9 @@ from hypothesis import strategies as st
 
 from conftest import ROOT
 from tribokin.iso9283.metrics import position_repeatability
-from tribokin.simulation.joint_errors import JointErrorModel, approach_signs, sample_joint_deviations
-from tribokin.propagation.exact import tool_deviations
 from tribokin.kinematics.robot import load_urdf
+from tribokin.propagation.exact import tool_deviations
+from tribokin.simulation.joint_errors import JointErrorModel, approach_signs, sample_joint_deviations
 from tribokin.tribology.laws import Constant
 
 GANTRY = load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf", "tool")  # three prismatic joints

@@ -59,7 +59,7 @@ def test_colour_scales_keep_the_centre_in_the_middle():
 
 
 def plane_grid(origin_m, axis_u, axis_v, u_values, v_values):
-    from tribokin.maps.targets import GridAxis, TargetGrid
+    from tribokin.maps.grid import GridAxis, TargetGrid
 
     return TargetGrid("plane", (GridAxis("u", "m", np.array(u_values)), GridAxis("v", "m", np.array(v_values)), None),
                       None, np.zeros(3), np.array(origin_m, dtype=float),
@@ -91,7 +91,7 @@ def test_plane_heat_maps_are_labelled_in_base_frame_coordinates_and_mark_the_bas
 
 
 def test_box_and_joint_grids_keep_their_axes():
-    from tribokin.maps.targets import GridAxis, TargetGrid
+    from tribokin.maps.grid import GridAxis, TargetGrid
     from tribokin.viz.maps import panel_frame
 
     box = TargetGrid("box", (GridAxis("x", "m", np.array([-0.2, 0.2])), GridAxis("y", "m", np.array([-0.1, 0.3])),

@@ -8,8 +8,8 @@ import numpy as np
 import pinocchio as pin
 
 from tribokin.errors import InputError
-from tribokin.kinematics.ik import solve_ik_with_restarts
 from tribokin.iso9283.metrics import cube_test_positions
+from tribokin.kinematics.ik import solve_ik_with_restarts
 from tribokin.kinematics.robot import Robot
 
 #: Cartesian approach directions of a cube pose, each followed by its opposite: label -> the tool's

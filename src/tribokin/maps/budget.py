@@ -15,8 +15,9 @@ import os
 import shutil
 from pathlib import Path
 
-from tribokin.study.spec import Study
 from tribokin.errors import InputError
+from tribokin.study.spec import Study
+from tribokin.units import gib
 
 FLOAT = 8
 #: A map draws, propagates and measures its targets in blocks of about this many cycles: enough to
@@ -101,15 +102,6 @@ def available_bytes() -> int | None:
 def map_target_count(spec: dict) -> int:
     """Targets of a validated ``[map]`` table (every grid point, reachable or not)."""
     return math.prod(grid_counts(spec))
-
-
-def gib(size: float) -> str:
-    """``size`` [bytes] for people: ``"48 GiB"``, ``"310 MiB"``."""
-    for unit, scale in (("TiB", 2 ** 40), ("GiB", 2 ** 30), ("MiB", 2 ** 20)):
-        if size >= scale:
-            value = size / scale
-            return f"{value:.0f} {unit}" if value >= 100 else f"{value:.3g} {unit}"
-    return f"{size / 2 ** 20:.2g} MiB"
 
 
 def _count(number: int, word: str) -> str:

@@ -1,104 +1,16 @@
-"""Results of a study: per-pose samples and ISO 9283 figures, in SI inside, µm/mdeg in reports."""
+"""Results of a workspace map: every target's figures per scenario, read from the map's store."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from collections.abc import Iterator
-from typing import TYPE_CHECKING
+from dataclasses import dataclass, field
 
 import numpy as np
 
+from tribokin.maps.grid import TargetGrid
+from tribokin.maps.rows import unreachable_reason
 from tribokin.maps.store import ChunkStore
-from tribokin.iso9283.metrics import DirectionalMetrics
 from tribokin.maps.streaming import blocks, spread
-from tribokin.maps.targets import TargetGrid, unreachable_reason
-
-if TYPE_CHECKING:
-    from tribokin.kinematics.robot import Robot
-
-UM_PER_M = 1e6
-MDEG_PER_RAD = 180e3 / np.pi
-
-
-@dataclass
-class PoseResult:
-    """Everything sampled and measured at one commanded pose, from each of its approach directions.
-
-    Attributes:
-        name: pose name. q: (nv,) commanded configuration [m or rad].
-        commanded_position_m: (3,) [m]. commanded_rotation: (3, 3).
-        reference_position_m: (3,) tool position with the joint offsets only (epsilon_t), no friction [m].
-        positions_m: (n, 3) reached tool positions [m], every direction's cycles.
-        angles_rad: (n, 3) orientation deviations a, b, c from the commanded orientation [rad].
-        directions: label of each approach direction tested (``"+"``, ``"+x"``...).
-        approach: (n,) index into ``directions`` of each cycle's approach direction.
-        mu: (n, nv) friction coefficients drawn [-]. dq: (n, nv) joint deviations [m or rad].
-        normal_forces_N: (nv,) bearing loads [N].
-        metrics: the ISO 9283 figures, per direction and across directions.
-        extra: further figures of the pose. direction_extra: further figures per direction label.
-    """
-
-    name: str
-    q: np.ndarray
-    commanded_position_m: np.ndarray
-    commanded_rotation: np.ndarray
-    reference_position_m: np.ndarray
-    positions_m: np.ndarray
-    angles_rad: np.ndarray
-    directions: tuple[str, ...]
-    approach: np.ndarray
-    mu: np.ndarray
-    dq: np.ndarray
-    normal_forces_N: np.ndarray
-    metrics: DirectionalMetrics
-    extra: dict = field(default_factory=dict)
-    direction_extra: dict[str, dict] = field(default_factory=dict)
-
-    @property
-    def cycles(self) -> int:
-        """Cycles at the pose, all directions together."""
-        return len(self.positions_m)
-
-    def direction_figures(self, label: str) -> dict:
-        """The ISO 9283 figures (µm, mdeg) of the cycles from approach direction ``label``."""
-        m = self.metrics.directions[label]
-        figures = {
-            "cycles": int(np.count_nonzero(self.approach == self.directions.index(label))),
-            "barycenter_m": m.barycenter_m.tolist(),
-            "AP_p_um": m.AP_p_m * UM_PER_M,
-            "RP_l_um": m.RP_l_m * UM_PER_M,
-        }
-        for axis, ap in zip("abc", m.AP_abc_rad):
-            figures[f"AP_{axis}_mdeg"] = float(ap * MDEG_PER_RAD)
-        for axis, rp in zip("abc", m.RP_abc_rad):
-            figures[f"RP_{axis}_mdeg"] = float(rp * MDEG_PER_RAD)
-        figures.update(self.direction_extra.get(label, {}))
-        return figures
-
-    def report_row(self) -> dict:
-        """The pose's figures under the report names (µm, mdeg), as in ``summary.json``: the pose's own,
-        those across its directions, and ``directions``, label -> :meth:`direction_figures`."""
-        m = self.metrics
-        return {
-            "name": self.name,
-            "cycles": self.cycles,
-            "commanded_position_m": self.commanded_position_m.tolist(),
-            "vAP_p_um": None if m.vAP_p_m is None else m.vAP_p_m * UM_PER_M,
-            "RP_l_all_directions_um": m.RP_l_all_directions_m * UM_PER_M,
-            "q": self.q.tolist(),
-            "normal_forces_N": self.normal_forces_N.tolist(),
-            **self.extra,
-            "directions": {label: self.direction_figures(label) for label in m.directions},
-        }
-
-    def direction_rows(self) -> list[dict]:
-        """One flat row per approach direction: ``name``, ``direction``, that direction's figures, then
-        the pose's (its ``cycles`` those of the direction), as in ``poses.csv``."""
-        pose = self.report_row()
-        directions = pose.pop("directions")
-        del pose["name"], pose["cycles"]
-        return [{"name": self.name, "direction": label, **figures, **pose} for label, figures in directions.items()]
-
 
 #: Scalar figures of every map target, in map.csv order (µm, mdeg; ``dominant_share`` in [0, 1]).
 MAP_FIGURES = ("RP_l_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg", "largest_semi_axis_um",
@@ -278,66 +190,3 @@ class MapResult:
             if flags.any():
                 return self.read("q", part.start + int(np.argmax(flags)))
         return None
-
-
-#: What ``summary.json`` records the versions of (``reproduce.versions``), besides Python and tribokin:
-#: name in the summary -> distribution.
-RECORDED_DISTRIBUTIONS = {"numpy": "numpy", "scipy": "scipy", "pinocchio": "pin",
-                          "example-robot-data": "example-robot-data"}
-
-
-def software_versions() -> dict[str, str | None]:
-    """Versions of Python, tribokin and ``RECORDED_DISTRIBUTIONS`` (``None``: not installed)."""
-    import platform
-    from importlib import metadata
-
-    from tribokin import __version__
-
-    versions = {"tribokin": __version__, "python": platform.python_version()}
-    for name, distribution in RECORDED_DISTRIBUTIONS.items():
-        try:
-            versions[name] = metadata.version(distribution)
-        except metadata.PackageNotFoundError:
-            versions[name] = None
-    return versions
-
-
-@dataclass
-class StudyResult:
-    """Results of a whole study: ``poses`` in file order, the workspace ``map`` (if any), and what
-    produced them (``robot``, for views; ``reproduce``: seed, study file hash, versions, command line)."""
-
-    name: str
-    poses: list[PoseResult]
-    settings: dict
-    robot: Robot | None = field(default=None, repr=False)
-    map: MapResult | None = None
-    reproduce: dict = field(default_factory=dict)
-
-    def display_configuration(self) -> np.ndarray:
-        """Where to draw the robot [m or rad]: the first pose, else the first reachable map target,
-        else the robot's reference posture."""
-        if self.poses:
-            return self.poses[0].q
-        first = None if self.map is None else self.map.first_reachable_q()
-        return self.robot.reference_q if first is None else first
-
-    def pose(self, name: str) -> PoseResult:
-        """The pose called ``name``."""
-        return next(p for p in self.poses if p.name == name)
-
-    def table(self) -> dict[str, np.ndarray]:
-        """Figures per pose and approach direction as columns: ``{"direction": array([...]), "RP_l_um":
-        array([...]), ...}`` (scalar figures only; :meth:`PoseResult.direction_rows`)."""
-        rows = [row for p in self.poses for row in p.direction_rows()]
-        if not rows:
-            return {}
-        return {key: np.array([r[key] if r[key] is not None else np.nan for r in rows])
-                for key, value in rows[0].items() if value is None or isinstance(value, (int, float, str))}
-
-    def summary(self) -> dict:
-        """The content of ``summary.json``."""
-        summary = {"study": self.settings, "reproduce": self.reproduce, "poses": [p.report_row() for p in self.poses]}
-        if self.map is not None:
-            summary["map"] = self.map.summary()
-        return summary

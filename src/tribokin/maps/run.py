@@ -1,10 +1,10 @@
 """Workspace maps: the ISO 9283 figures at every target of a grid, computed in chunks of whole rows.
 
-Each target is measured like a single pose (:meth:`~tribokin.run.PoseRunner.measure`,
+Each target is measured like a single pose (:meth:`~tribokin.simulation.pose_run.PoseRunner.measure`,
 joint-space approach) from its own random stream ``pose_rng(seed, index, MAP_STREAM)``,
 and only its scalar figures are kept, on disk (:class:`~tribokin.maps.store.ChunkStore`): memory
 holds a chunk's targets and a block's cycles, whatever the grid's size. A chunk solves and measures whole grid rows from
-their heads (:mod:`tribokin.maps.targets`), so the numbers depend on neither the chunk size,
+their heads (:mod:`tribokin.maps.rows`), so the numbers depend on neither the chunk size,
 nor the number of workers, nor where the chunks run, nor on a resume. Every scenario is
 measured at the same configurations with the same streams.
 """
@@ -23,18 +23,20 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from tribokin.maps.store import ChunkStore, fingerprint
-from tribokin.study.spec import Study
 from tribokin.errors import InputError
 from tribokin.execution import run_chunks
 from tribokin.iso9283.metrics import orientation_repeatability, position_spread, variance_contributions
-from tribokin.maps.budget import TARGET_BLOCK_SAMPLES, rows_per_chunk
-from tribokin.propagation.exact import tool_deviations_at_poses, tool_frames
-from tribokin.maps.result import MAP_FIGURES, MDEG_PER_RAD, UM_PER_M, MapResult, ScenarioMap, scenario_column
 from tribokin.kinematics.robot import Robot
-from tribokin.run import PoseRunner, joint_models, joint_space_task, load_robot, pose_rng
-from tribokin.maps.targets import TargetGrid, fill_from_neighbours, make_grid, solve_row, solve_row_heads, \
-    target_positions_m
+from tribokin.maps.budget import TARGET_BLOCK_SAMPLES, rows_per_chunk
+from tribokin.maps.grid import TargetGrid, make_grid, target_positions_m
+from tribokin.maps.result import MAP_FIGURES, MapResult, ScenarioMap, scenario_column
+from tribokin.maps.rows import fill_from_neighbours, solve_row, solve_row_heads
+from tribokin.maps.store import ChunkStore, fingerprint
+from tribokin.propagation.exact import tool_deviations_at_poses, tool_frames
+from tribokin.simulation.pose_run import PoseRunner, joint_space_task, pose_rng
+from tribokin.study.assembly import joint_models, load_robot
+from tribokin.study.spec import Study
+from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 #: Random stream of map targets: target i draws from ``pose_rng(seed, i, MAP_STREAM)``
 #: (poses use streams 0 and 1).
@@ -192,7 +194,7 @@ def measure_into(arrays: dict, slots: np.ndarray, robot: Robot, runners: list[Po
 
 def fill_holes(robot: Robot, grid, runners: list[PoseRunner], store: ChunkStore) -> None:
     """Reach and measure, in ``store``, the targets that IK reaches from a neighbour's configuration
-    (:func:`~tribokin.maps.targets.fill_from_neighbours`) though not along their own row.
+    (:func:`~tribokin.maps.rows.fill_from_neighbours`) though not along their own row.
 
     The outcome is kept as the record ``filled`` before the store is changed, so a run killed while
     changing it writes the same values again on resume instead of searching anew from a changed store.

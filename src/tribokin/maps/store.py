@@ -24,7 +24,7 @@ from numpy.lib.format import open_memmap
 
 from tribokin.errors import InputError
 from tribokin.folders import DISK_FULL, disk_full, remove, temporary_sibling, temporary_siblings
-from tribokin.maps.budget import gib
+from tribokin.units import gib
 
 #: Rows of a column file a scattered read maps at once.
 READ_ROWS = 1 << 16

@@ -26,7 +26,7 @@ from tribokin.iso9283.metrics import barycenter, orientation_repeatability, posi
 from tribokin.measurement.contract import Pose, Series
 from tribokin.measurement.figures import pose_clouds, position_accuracy, wrapped
 from tribokin.measurement.registration import Registration
-from tribokin.maps.result import MDEG_PER_RAD, UM_PER_M
+from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 CYCLES_PER_SET = 10
 

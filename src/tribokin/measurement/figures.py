@@ -33,7 +33,7 @@ from tribokin.iso9283.metrics import (barycenter, covariance_semi_axes, multidir
                               orientation_repeatability, position_repeatability)
 from tribokin.measurement.contract import Measurements, Pose, Series
 from tribokin.measurement.registration import Registration
-from tribokin.maps.result import MDEG_PER_RAD, UM_PER_M
+from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 BOOTSTRAP_RESAMPLES = 2000
 BOOTSTRAP_SEED = 9283

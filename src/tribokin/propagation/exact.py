@@ -7,9 +7,9 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
+from tribokin.kinematics.robot import Robot
 from tribokin.propagation.poe import DEFAULT_TOLERANCE, evaluate_polynomial, tool_deviations_fast, \
     tool_twists, truncation_bound
-from tribokin.kinematics.robot import Robot
 
 
 def tool_deviations_exact(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

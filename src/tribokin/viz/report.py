@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from tribokin.study.names import pose_figure_file
-from tribokin.maps.result import StudyResult
 from tribokin.kinematics.robot import Robot
-from tribokin.maps.targets import TargetGrid
+from tribokin.maps.grid import TargetGrid
+from tribokin.run import StudyResult
+from tribokin.study.names import pose_figure_file
 from tribokin.viz.colours import ColourScale
 from tribokin.viz.maps import map_figure_names
 from tribokin.viz.scene import Cube, MapLayer, SceneInfo, build_scene
