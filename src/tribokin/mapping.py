@@ -225,17 +225,18 @@ def run_map(study: Study, robot: Robot, workers: int = 1, scheduler: str | None 
     scenarios = study.scenarios
     studies = tuple(s.study for s in scenarios) or (study,)
     names = [s.name for s in scenarios] or [study.name]
+    grid = make_grid(robot, study.map, study.source)
+    heads = solve_row_heads(robot, grid)
     runners = []
     for i, scenario in enumerate(studies):
         try:
             runners.append(PoseRunner(scenario, robot, joint_models(scenario, robot)))
+            runners[-1].normal_forces_at(heads)  # the loads at each row's start, checked before any chunk runs
         except InputError as error:
             key = error.key if not scenarios else f"scenarios[{i}].{error.key}"
             raise InputError(error.message, error.source, key) from None
-    grid = make_grid(robot, study.map, study.source)
     chunks = chunk_rows(study, grid.row_length, grid.row_count)
     store = open_store(study, studies, chunks, grid.size, robot.model.nv, checkpoint, resume)
-    heads = solve_row_heads(robot, grid)
     finished = set(store.finished())
     job = MapJob(uuid.uuid4().hex, study, studies)
     _local.cache = (job.token, robot, grid, runners)  # chunks run in this thread need not rebuild them
