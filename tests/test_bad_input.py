@@ -362,6 +362,8 @@ CASES = [
                 expected=("friction_force_N", "data row 1", "mu = inf"), id="log-force-ratio-overflows"),
     measurement("fit-friction", "cycle,mu\n" + "\n".join(f"{i},{1e-320 * (1 + i % 3)}" for i in range(1, 41)) + "\n",
                 expected=("mu", "steady-state mean"), id="log-mu-subnormal"),
+    measurement("fit-friction", "cycle,mu\n" + "\n".join(f"{i},0.12" for i in range(1, 41)) + "\n",
+                expected=("mu", "no spread to fit", 'law = "constant", mu = 0.12'), id="log-constant-mu"),
     measurement("fit-friction", GOOD_LOG, "--running-in", "9" * 400, expected=("running_in", "more than all"),
                 id="log-running-in-400-digits"),
     measurement("surface", GOOD_PROFILE.replace("\n2e-06,", "\n2e-06,1e308\n#"), expected=("z_m", "data row 3",

@@ -80,6 +80,9 @@ def _checked_fits(mu: np.ndarray, source: str) -> list[Fit]:
     if mu.mean() < LOGNORMAL_MEAN_MIN:
         raise InputError(f"the steady-state mean mu is {mu.mean():g}, below {LOGNORMAL_MEAN_MIN:g}: no sliding contact "
                          "has so little friction; check the units", source, "mu")
+    if np.ptp(mu) == 0:
+        raise InputError(f"every steady-state cycle has mu = {mu[0]:g}: there is no spread to fit; use "
+                         f'{{ law = "constant", mu = {mu[0]:g} }}', source, "mu")
     with quiet_numerics():
         fits = fit_laws(mu)
     for fit in fits:
