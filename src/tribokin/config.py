@@ -132,15 +132,17 @@ stiffness = within(positive, 1e-3, 1e12, "N/m or N·m/rad", "below, a newton of 
 chunk_count = within(positive_int, 1, 10 ** 7, "rows", "a chunk is held in memory, and ten million rows outgrow it")
 friction_radius = within(positive, 1e-4, 10.0, "m", "bearing raceways run from 0.1 mm to the few metres of the "
                          "largest slewing rings")
-joint_error = "m or rad", "more than 0.1 m or 0.1 rad (5.7°) is a broken drive, not an imprecise one"
-backlash = within(non_negative, 0.0, 0.1, *joint_error)
-offset = within(finite, -0.1, 0.1, *joint_error)
-noise_std = within(non_negative, 0.0, 0.1, *joint_error)
+_drive_fault = "m or rad", "more than 0.1 m or 0.1 rad (5.7°) is a broken drive, not an imprecise one"
+backlash = within(non_negative, 0.0, 0.1, *_drive_fault)
+offset = within(finite, -0.1, 0.1, *_drive_fault)
+noise_std = within(non_negative, 0.0, 0.1, *_drive_fault)
 bearing_span = within(positive, 1e-3, 10.0, "m", "a joint's guide pads or bearings sit between 1 mm and a few "
                       "metres apart")
-REACH_M = 1e3  # positions [m]: no robot reaches a kilometre
-side = within(positive, 1e-3, 100.0, "m", "ISO 9283's cube spans the most-used part of a workspace: between 1 mm "
-              "(the size of the deviations themselves) and 100 m")
+side = within(positive, 1e-3, 100.0, "m", "ISO 9283's cube spans the most-used part of a workspace; below 1 mm its "
+              "poses are hardly distinct places")
+coordinate = within(finite, -1e3, 1e3, "m", "no robot reaches a kilometre")
+joint_value = within(finite, -1e3, 1e3, "m or rad", "no joint travels a kilometre or turns 160 times")
+angle_deg = within(finite, -360.0, 360.0, "deg", "write each angle within one turn either way")
 
 
 # -- schema: key -> (check, default); REQUIRED marks keys without a default -------------------------------------
@@ -205,9 +207,6 @@ def count_list(value, source, key) -> list[int]:
     return [grid_count(v, source, f"{key}[{i}]") for i, v in enumerate(value)]
 
 
-coordinate = within(finite, -REACH_M, REACH_M, "m", "no robot reaches a kilometre")
-joint_value = within(finite, -REACH_M, REACH_M, "m or rad", "no joint travels a kilometre or turns 160 times")
-angle_deg = within(finite, -360.0, 360.0, "deg", "write each angle within one turn either way")
 position3 = partial(vector3, element=coordinate)
 angles3 = partial(vector3, element=angle_deg)
 

@@ -17,7 +17,7 @@ from tribokin.errors import InputError
 from tribokin.output import atomic_folder, check_output_folder
 from tribokin.tribology.columns import quiet_numerics
 from tribokin.tribology.fitting import Fit, fit_laws
-from tribokin.tribology.laws import LOGNORMAL_MEAN_MIN
+from tribokin.tribology.laws import MU_MIN
 from tribokin.tribology.surfaces import find_peaks, level, profile_statistics, read_profile
 from tribokin.tribology.tribometer import read_log, steady_state
 
@@ -77,8 +77,8 @@ def fit_friction(log_path, out, running_in: int | None = None, force: bool = Fal
 
 def _checked_fits(mu: np.ndarray, source: str) -> list[Fit]:
     """``fit_laws(mu)``, each fit finite and a valid law, else an error naming the log's ``mu``."""
-    if mu.mean() < LOGNORMAL_MEAN_MIN:
-        raise InputError(f"the steady-state mean mu is {mu.mean():g}, below {LOGNORMAL_MEAN_MIN:g}: no sliding contact "
+    if mu.mean() < MU_MIN:
+        raise InputError(f"the steady-state mean mu is {mu.mean():g}, below {MU_MIN:g}: no sliding contact "
                          "has so little friction; check the units", source, "mu")
     if np.ptp(mu) == 0:
         raise InputError(f"every steady-state cycle has mu = {mu[0]:g}: there is no spread to fit; use "

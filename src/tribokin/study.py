@@ -198,9 +198,12 @@ class PoseRunner:
     def check_travel(self, forces_N: np.ndarray, models: list[JointErrorModel]) -> None:
         """Refuse loads ``forces_N`` (..., nv) [N] under which a joint's deviation could exceed its range."""
         overrides = self.study.joint_overrides
+
+        def key_of(joint: str, part: str) -> str:
+            return f"joints.{joint}.{part}" if part in overrides.get(joint, {}) else f"joints.{part}"
+
         check_travel(models, self.robot.joint_is_prismatic, forces_N, self.travel, self.robot.joint_names,
-                     self.study.source,
-                     lambda joint, part: f"joints.{joint}.{part}" if part in overrides.get(joint, {}) else f"joints.{part}")
+                     self.study.source, key_of)
 
     def models_at(self, task: PoseTask) -> list[JointErrorModel]:
         """The joint error models at a pose: the study's, with the pose's friction law if it has one."""

@@ -3,7 +3,7 @@
 Each law has the shape of a frozen ``scipy.stats`` distribution --
 ``rvs(size, random_state)``, ``mean()``, ``std()``, ``support()``, ``pdf(x)``
 -- so users need no new vocabulary; most delegate to ``scipy.stats``.
-Friction coefficients are dimensionless and never negative.
+Friction coefficients are dimensionless, never negative and at most ``MU_MAX``.
 """
 
 from __future__ import annotations
@@ -19,15 +19,17 @@ from tribokin.errors import InputError
 #: Largest friction coefficient a law may hold [-]: above, it is not sliding friction (clean metals in
 #: vacuum reach a few).
 MU_MAX = 10.0
-#: Smallest mean of a lognormal law [-] (superlubric contacts reach about 1e-4).
-LOGNORMAL_MEAN_MIN = 1e-6
+#: Smallest friction coefficient [-] where a law needs one above zero (a lognormal's mean): no sliding contact has
+#: less friction (superlubric ones reach about 1e-4).
+MU_MIN = 1e-6
 
 
 def _check_coefficient(**values: float) -> None:
     """Each value a friction coefficient: a finite number in [0, ``MU_MAX``]."""
     for key, value in values.items():
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or value in (math.inf, -math.inf) \
-                or value != value:  # NaN; a whole number is compared exactly, however long
+        # (a whole number, however long, compares exactly below; math.isfinite would overflow on it)
+        if isinstance(value, bool) or not isinstance(value, (int, float)) \
+                or isinstance(value, float) and not math.isfinite(value):
             raise InputError(f"must be a finite number (got {value!r})", key=key)
         if value < 0:
             raise InputError(f"must be >= 0: friction coefficients are never negative (got {value})", key=key)
@@ -166,8 +168,8 @@ class Lognormal(FrictionLaw):
 
     def __init__(self, mean: float, std: float, provenance: str | None = None):
         _check_coefficient(mean=mean, std=std)
-        if mean < LOGNORMAL_MEAN_MIN:
-            raise InputError(f"must be > 0, at least {LOGNORMAL_MEAN_MIN:g}, for a lognormal law (got {mean}): "
+        if mean < MU_MIN:
+            raise InputError(f"must be > 0, at least {MU_MIN:g}, for a lognormal law (got {mean}): "
                              "no sliding contact has less friction (superlubric ones reach about 1e-4)", key="mean")
         sigma_log = math.sqrt(math.log1p((std / mean) ** 2))
         median = mean / math.sqrt(1 + (std / mean) ** 2)

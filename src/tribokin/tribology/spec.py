@@ -18,7 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from tribokin.errors import InputError, closest_hint
-from tribokin.tribology.laws import Constant, Empirical, FrictionLaw, Gaussian, Lognormal, Uniform
+from tribokin.tribology.laws import (MU_MAX, MU_MIN, Constant, Empirical, FrictionLaw, Gaussian,
+                                     Lognormal, Uniform)
 from tribokin.tribology.presets import preset
 
 if sys.version_info >= (3, 11):
@@ -95,13 +96,13 @@ SURFACE_RANGES = {
     "normal_force_N": (1e-3, 1e7, "N", "tribometers load from millinewtons; no bearing carries 1000 t"),
     "contact_area_m2": (1e-12, 1e-2, "m²", "a pin's apparent contact spans a square micrometre to 100 cm²"),
     "film_thickness_m": (1e-9, 1e-3, "m", "lubricant films run from nanometres to a tenth of a millimetre"),
-    "mu_boundary": (1e-6, 10.0, "", "friction coefficients, see the laws' range"),
-    "mu_film": (1e-6, 10.0, "", "friction coefficients, see the laws' range"),
+    "mu_boundary": (MU_MIN, MU_MAX, "", "the friction coefficients a law may hold"),
+    "mu_film": (MU_MIN, MU_MAX, "", "the friction coefficients a law may hold"),
     "modulus_Pa": (1e6, 1.2e12, "Pa", "contact moduli run from rubber's megapascals to diamond's 1.2e12 Pa"),
 }
 #: key -> (default, smallest, largest) of the whole numbers of a surface law.
 SURFACE_COUNTS = {"cycles": (1000, 1, 10 ** 6), "seed": (0, 0, 2 ** 64 - 1)}
-#: Most summits a surface law may draw (contacts per cycle × cycles): about ten seconds' work.
+#: Most summits a surface law may draw (contacts per cycle × cycles): about a minute's work.
 MAX_SUMMIT_DRAWS = 1e8
 
 
