@@ -262,6 +262,8 @@ CASES = [
     command([*RUN, "--cycles", "9" * 400], expected=("command line", "--cycles", "digits", "between 2 and"),
             id="option-cycles-400-digits"),
     study("seed = 3", "seed = 18446744073709551616", expected=("study.seed", "64-bit"), id="seed-beyond-64-bits"),
+    command([*RUN, "--seed", "9" * 400], expected=("command line", "--seed", "digits", "64-bit"),
+            id="option-seed-400-digits"),
     study("seed = 3", "seed = " + "9" * 5000, expected=("not valid TOML", "digits"), id="toml-5000-digit-number"),
     study('tool_frame = "tool"', 'tool_frame = "tool"\npayload_kg = 1e308', expected=("robot.payload_kg", "2.3 t"),
           id="payload-1e308"),
