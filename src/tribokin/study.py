@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tribokin.config import Study, parse_study, positive_int, seed_int
+from tribokin.config import Study, cycle_count, parse_study, seed_int
 
 #: Replicate tests simulated for the 95 % interval of RP_l (fewer when they would exceed
 #: REPLICATE_SAMPLES cycles in all, never fewer than 20).
@@ -26,7 +26,7 @@ from tribokin.errors import InputError, closest_hint
 from tribokin.cube import APPROACH_DIRECTIONS, place_cube
 from tribokin.executors import check_executor
 from tribokin.iso9283 import covariance_semi_axes, directional_metrics, position_repeatability, variance_contributions
-from tribokin.joints import JointErrorModel, approach_signs, sample_joint_deviations
+from tribokin.joints import JointErrorModel, approach_signs, check_travel, joint_travel, sample_joint_deviations
 from tribokin.loads import BearingLoads
 from tribokin.propagate import max_deviation_from_exact, tool_deviations
 from tribokin.memory import check_disk, check_memory
@@ -50,7 +50,7 @@ def read_study_file(path) -> Study:
     content = path.read_bytes()
     try:
         mapping = tomllib.loads(content.decode("utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
+    except ValueError as error:  # also a number of more than 4300 digits
         raise InputError(f"not valid TOML: {error}", path) from None
     study = parse_study(mapping, str(path), path.parent)
     study.sha256 = hashlib.sha256(content).hexdigest()
@@ -66,7 +66,7 @@ def load_study(study, cycles: int | None = None, seed: int | None = None) -> Stu
     else:
         study = read_study_file(study)
     if cycles is not None:
-        study.cycles = positive_int(cycles, "command line", "--cycles")
+        study.cycles = cycle_count(cycles, "command line", "--cycles")
     if seed is not None:
         study.seed = seed_int(seed, "command line", "--seed")
     study.scenarios = [replace(s, study=_with_run_overrides(s.study, s.overrides.get("study", {}), study))
@@ -197,20 +197,40 @@ class PoseRunner:
         self.loads = None
         if any(m.normal_force_N is None for m in models):
             self.loads = BearingLoads(robot, study.robot["payload_kg"], [m.bearing_span_m for m in models])
+        self.travel = joint_travel(robot.lower_limits, robot.upper_limits, robot.joint_is_prismatic)
 
     def normal_forces(self, task: PoseTask) -> np.ndarray:
-        """Bearing loads [N]: the pose's value, else each joint's fixed value, else statics at the pose."""
+        """Bearing loads [N]: the pose's value, else each joint's fixed value, else statics at the pose;
+        refused (:meth:`check_travel`) if they would move a joint beyond its range."""
         if task.normal_force_N is not None:
-            return np.full(len(self.models), task.normal_force_N)
-        return self.normal_forces_at(task.q)
+            forces = np.full(len(self.models), task.normal_force_N)
+        else:
+            forces = self._loads_at(task.q)
+        self.check_travel(forces, self.models_at(task))
+        return forces
 
     def normal_forces_at(self, q: np.ndarray) -> np.ndarray:
         """Bearing loads [N] at configuration ``q`` (nq,) or configurations (poses, nq): each joint's
-        fixed value, else statics."""
+        fixed value, else statics; refused (:meth:`check_travel`) if they would move a joint beyond its range."""
+        forces = self._loads_at(q)
+        self.check_travel(forces, self.models)
+        return forces
+
+    def _loads_at(self, q: np.ndarray) -> np.ndarray:
         fixed = np.array([np.nan if m.normal_force_N is None else m.normal_force_N for m in self.models])
         if self.loads is None:
             return np.broadcast_to(fixed, np.shape(q)[:-1] + fixed.shape).copy()
         return np.where(np.isnan(fixed), self.loads(q), fixed)
+
+    def check_travel(self, forces_N: np.ndarray, models: list[JointErrorModel]) -> None:
+        """Refuse loads ``forces_N`` (..., nv) [N] under which a joint's deviation could exceed its range."""
+        overrides = self.study.joint_overrides
+
+        def key_of(joint: str, part: str) -> str:
+            return f"joints.{joint}.{part}" if part in overrides.get(joint, {}) else f"joints.{part}"
+
+        check_travel(models, self.robot.joint_is_prismatic, forces_N, self.travel, self.robot.joint_names,
+                     self.study.source, key_of)
 
     def models_at(self, task: PoseTask) -> list[JointErrorModel]:
         """The joint error models at a pose: the study's, with the pose's friction law if it has one."""
@@ -316,11 +336,13 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, work
     models = joint_models(study, robot)
     tasks, cube = pose_tasks(study, robot)
     check_names(study, tasks)
-    prepared_map = None if study.map is None else prepare_map(study, robot)
     check_memory(study, robot.model.nv, [len(t.tested(study.approach).labels) for t in tasks], workers,
                  cycles_from_command_line=cycles is not None)
     check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None else checkpoint)
+    prepared_map = None if study.map is None else prepare_map(study, robot)
     runner = PoseRunner(study, robot, models)
+    for task in tasks:  # every pose's loads, checked before any is sampled
+        runner.normal_forces(task)
     poses = [runner.run(task, index) for index, task in enumerate(tasks)]
     workspace_map = None
     if prepared_map is not None:
