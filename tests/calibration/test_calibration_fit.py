@@ -7,7 +7,7 @@ import pytest
 from calibration_fixtures import BACKLASH, NOISE_FLOOR_M, STIFFNESS, arm_kinematics, arm_model, simulate
 from scipy.spatial.transform import Rotation
 
-from tribokin.calibration.fit import fit
+from tribokin.calibration.fit import fit, profile_interval
 
 TRUTH = dict(zip(arm_model().names(), np.concatenate([STIFFNESS, BACKLASH, [NOISE_FLOOR_M]])))
 B_FIXED = dict(fit_backlash=(False,) * 6)
@@ -38,7 +38,8 @@ def test_pooled_intervals_of_identifiable_parameters_cover_the_truth():
 
 def test_joint_whose_column_is_zero_is_named_not_identifiable():
     kinematics = [(np.where(np.arange(6) == 5, 0.0, j), t, s) for j, t, s in arm_kinematics()]
-    calibration = fit(arm_model(), simulate(kinematics, np.random.default_rng(2)))
+    poses = simulate(kinematics, np.random.default_rng(2))
+    calibration = fit(arm_model(), poses)
     named = {p.name: p for p in calibration.parameters}
     for name in ("joints.j6.stiffness", "joints.j6.backlash"):
         assert not named[name].identifiable
@@ -46,6 +47,14 @@ def test_joint_whose_column_is_zero_is_named_not_identifiable():
         assert "does not move with this joint" in named[name].hint
     assert calibration.rank == 11
     assert named["joints.j5.stiffness"].identifiable and named["joints.j5.stiffness"].hint == ""
+    assert profile_interval(calibration, poses, "joints.j6.stiffness") == (None, None)  # a flat profile
+
+
+def test_profile_interval_of_a_well_determined_stiffness_is_close_to_its_wald_interval():
+    poses = simulate(arm_kinematics(), np.random.default_rng(1))
+    calibration = fit(arm_model(), poses)
+    wald = {p.name: p.ci95 for p in calibration.parameters}["joints.j4.stiffness"]
+    np.testing.assert_allclose(profile_interval(calibration, poses, "joints.j4.stiffness"), wald, rtol=0.01)
 
 
 def test_tie_all_makes_identifiable_what_per_joint_stiffness_is_not():
@@ -69,3 +78,11 @@ def test_rotating_and_shifting_the_measurements_changes_no_fitted_value():
     np.testing.assert_allclose([p.value for p in moved.parameters], [p.value for p in base.parameters], rtol=1e-9)
     np.testing.assert_allclose([p.std_error for p in moved.parameters], [p.std_error for p in base.parameters],
                                rtol=1e-4)
+
+
+def test_backlash_absent_from_the_data_is_not_reported_as_known():
+    backlash = BACKLASH.copy()
+    backlash[1] = 0.0
+    calibration = fit(arm_model(), simulate(arm_kinematics(), np.random.default_rng(0), backlash=backlash))
+    named = {p.name: p for p in calibration.parameters}["joints.j2.backlash"]
+    assert not named.identifiable and "fix its value" in named.hint

@@ -13,7 +13,8 @@
   optimum: the Jacobian of its analytic gradient by ``scipy.differentiate.jacobian`` (adaptive
   central differences with Richardson extrapolation), symmetrised. Standard errors, null space and
   identifiability: :mod:`.identifiability`.
-  Intervals are Wald intervals in log space, ``exp(θ̂ ± 1.96·se)``: asymmetric in linear space.
+  Intervals are Wald intervals in log space, ``exp(θ̂ ± 1.96·se)``: asymmetric in linear space;
+  :func:`profile_interval` gives a parameter's profile-likelihood interval instead.
   A parameter that ends on a bound of the box is not at a maximum of the likelihood: it is named
   not identifiable whatever its standard error.
 - AIC = 2p - 2·log L with p the number of free parameters.
@@ -25,7 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.differentiate import jacobian
-from scipy.optimize import lsq_linear, minimize, nnls
+from scipy.optimize import brentq, lsq_linear, minimize, nnls
+from scipy.stats import chi2
 
 from tribokin.calibration.data import PoseData, SeriesStack, stack
 from tribokin.calibration.identifiability import MAX_RELATIVE_STD_ERROR, RANK_RTOL, analyse, hint
@@ -90,6 +92,7 @@ class Calibration:
         rank: rank of the information.
         condition_number: of the information (inf when singular).
         converged: the optimiser reported success.
+        bounds: (p, 2) the box in θ the optimiser searched.
     """
 
     nominal: JointModel
@@ -103,6 +106,7 @@ class Calibration:
     rank: int
     condition_number: float
     converged: bool
+    bounds: np.ndarray
 
 
 def starting_theta(model: JointModel, data: SeriesStack) -> np.ndarray:
@@ -193,6 +197,14 @@ def _polish(objective, theta: np.ndarray, information: np.ndarray, bounds: np.nd
     return theta
 
 
+def _negative_log_likelihood(model: JointModel, data: SeriesStack):
+    """θ (p, ...) -> (-log L (...), its gradient (p, ...))."""
+    def objective(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        value, gradient = log_likelihood_and_gradient(model, theta, data)
+        return -value, -gradient
+    return objective
+
+
 def fit(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...] | SeriesStack,
         max_relative_std_error: float = MAX_RELATIVE_STD_ERROR) -> Calibration:
     """Maximum-likelihood fit of ``model``'s free parameters to the measured series at ``poses``.
@@ -210,12 +222,10 @@ def fit(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...] | Series
     if not names:
         raise ValueError("nothing to fit: free at least one parameter")
 
-    def objective(theta: np.ndarray) -> tuple[float, np.ndarray]:
-        value, gradient = log_likelihood_and_gradient(model, theta, data)
-        return -value, -gradient
+    objective = _negative_log_likelihood(model, data)
 
     def gradient(theta: np.ndarray) -> np.ndarray:
-        return -log_likelihood_and_gradient(model, theta, data)[1]
+        return objective(theta)[1]
 
     start = starting_theta(model, data)
     bounds = np.stack([start - LOG_SPAN, start + LOG_SPAN], axis=1)
@@ -244,4 +254,35 @@ def fit(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...] | Series
     return Calibration(nominal=model, model=model.with_theta(theta), theta=theta, parameters=tuple(estimates),
                        log_likelihood=log_l, aic=2 * len(names) - 2 * log_l, information=information,
                        covariance=found.covariance, rank=found.rank, condition_number=found.condition_number,
-                       converged=bool(best.success))
+                       converged=bool(best.success), bounds=bounds)
+
+
+def profile_interval(calibration: Calibration, poses: list[PoseData] | tuple[PoseData, ...] | SeriesStack,
+                     name: str) -> tuple[float | None, float | None]:
+    """95 % profile-likelihood interval of one free parameter [its unit].
+
+    Each end is where 2·(log L̂ - max over the other parameters of log L) reaches χ²₁(0.95) = 3.84,
+    found by ``scipy.optimize.brentq`` in θ between the optimum and the box's edge (the other
+    parameters re-fitted by SLSQP at each trial). None for an end the profile does not reach inside
+    the box: the data do not bound the parameter on that side.
+    """
+    data = poses if isinstance(poses, SeriesStack) else stack(poses)
+    i = calibration.nominal.names().index(name)
+    objective = _negative_log_likelihood(calibration.nominal, data)
+    others = np.arange(len(calibration.theta)) != i
+    threshold = chi2.ppf(0.95, 1) / 2
+
+    def excess(value: float) -> float:
+        def restricted(rest: np.ndarray) -> tuple[float, np.ndarray]:
+            theta = np.insert(rest, i, value)
+            negative, gradient = objective(theta)
+            return negative, gradient[others]
+        best = minimize(restricted, calibration.theta[others], method="SLSQP", jac=True,
+                        bounds=calibration.bounds[others], options={"ftol": FTOL})
+        return best.fun + calibration.log_likelihood - threshold
+
+    ends = []
+    for edge in calibration.bounds[i]:
+        ends.append(float(np.exp(brentq(excess, calibration.theta[i], edge, xtol=1e-6))) if excess(edge) > 0
+                    else None)
+    return ends[0], ends[1]

@@ -103,7 +103,7 @@ def log_likelihood_and_gradient(model: JointModel, theta: np.ndarray, data: Seri
     differences, d_shift, d_variance = difference_loglik(data.mean_m, shift, covariance / n, data.pose_matrix)
     inverse = np.linalg.inv(covariance)
     d_covariance = 0.5 * (inverse @ data.scatter_m2 @ inverse - dof[:, None, None] * inverse) + d_variance / n
-    # Σ = Σ_i v_i J_i J_iᵀ + σ_n² I with v_i = (s σ_τ / k_i)² (+ σ_q²); m = Σ_i J_i s_i (τ̄_i / k_i + b_i / 2).
+    # Σ = Σ_i v_i J_i J_iᵀ + σ_n² I, v_i = (s σ_τ / k_i)² (+ σ_q²); m = Σ_i J_i s_i (τ̄_i / k_i + b_i / 2).
     d_v = np.einsum("mai,...mab,mbi->...mi", data.jacobian, d_covariance, data.jacobian)
     d_m = np.einsum("mai,...ma->...mi", data.jacobian, d_shift) * data.signs
     d_log_k = (-2 * d_v * (data.signs * data.torque_std / k) ** 2 - d_m * data.torque_mean / k).sum(axis=-2)
