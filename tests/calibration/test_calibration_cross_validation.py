@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 from calibration_fixtures import arm_kinematics, arm_model, simulate
 
-from tribokin.calibration.cross_validation import leave_one_pose_out, position_repeatability
+from tribokin.calibration.cross_validation import leave_one_pose_out, position_repeatability, predict_pose
+from tribokin.calibration.data import PoseData, SeriesData
+from tribokin.calibration.fit import fit
 
 
 def test_position_repeatability_by_hand():
@@ -49,3 +51,15 @@ def test_predictions_are_the_same_for_the_same_seed():
     first, second = (leave_one_pose_out(arm_model(fit_backlash=(False,) * 6), poses, draws=200, seed=4)
                      for _ in range(2))
     assert first == second
+
+
+def test_a_one_cycle_series_has_no_predicted_rp_but_counts_in_vap():
+    poses = simulate(arm_kinematics(), np.random.default_rng(8))
+    pose, (first, second, third) = poses[0], poses[0].series
+    short = PoseData(pose.label, pose.jacobian, pose.torque_mean, pose.torque_std,
+                     (first, second, SeriesData(third.direction, third.signs, third.points_m[:1])))
+    calibration = fit(arm_model(fit_backlash=(False,) * 6), [short, *poses[1:]])
+    prediction = predict_pose(calibration, short, np.random.default_rng(0), draws=200)
+    assert prediction.RP_l[2] is None and prediction.RP_l[0] is not None
+    centres = np.array([first.points_m.mean(axis=0), second.points_m.mean(axis=0), third.points_m[0]])
+    assert prediction.vAP.measured_m == pytest.approx(np.linalg.norm(centres[:, None] - centres[None], axis=-1).max())

@@ -9,7 +9,7 @@ from scipy.differentiate import jacobian
 from scipy.linalg import helmert
 from scipy.stats import multivariate_normal, wishart
 
-from tribokin.calibration.data import stack
+from tribokin.calibration.data import PoseData, SeriesData, stack
 from tribokin.calibration.likelihood import difference_loglik, log_likelihood, log_likelihood_and_gradient, \
     wishart_logpdf
 from tribokin.calibration.model import predict_series
@@ -88,3 +88,18 @@ def test_predicted_series_is_the_spread_and_shift_of_simulated_joint_errors():
                                        joint_noise)
     np.testing.assert_allclose(covariance, np.cov(points.T), atol=0.01 * np.abs(covariance).max())
     np.testing.assert_allclose(shift, points.mean(axis=0), atol=0.01 * np.abs(shift).max())
+
+
+def test_one_cycle_series_enters_through_its_barycentre_only():
+    model = arm_model()
+    poses = simulate(arm_kinematics(), np.random.default_rng(6))
+    pose, (first, second, _) = poses[0], poses[0].series
+    one_cycle = SeriesData(second.direction, second.signs, second.points_m[:1])
+    data = stack([PoseData(pose.label, pose.jacobian, pose.torque_mean, pose.torque_std, (first, one_cycle))])
+    assert wishart_logpdf(np.zeros((3, 3)), 0, random_covariance(np.random.default_rng(0))) == 0.0
+    covariance, shift = predict_series(model.stiffness, model.backlash, model.noise_floor_m, data.jacobian,
+                                       data.signs, data.torque_mean, data.torque_std)
+    spread = wishart(df=29, scale=covariance[0]).logpdf(data.scatter_m2[0])
+    difference = multivariate_normal(shift[1] - shift[0], covariance[0] / 30 + covariance[1]).logpdf(
+        data.mean_m[1] - data.mean_m[0])
+    assert log_likelihood(model, model.theta(), data) == pytest.approx(spread + difference, rel=1e-10)

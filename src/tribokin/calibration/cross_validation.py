@@ -50,13 +50,13 @@ class PosePrediction:
     Attributes:
         pose: pose label.
         directions: approach labels, in the order of ``RP_l``.
-        RP_l: one per direction.
+        RP_l: one per direction; None for a one-cycle series (too short for RP).
         vAP: across directions, None with one direction.
     """
 
     pose: str
     directions: tuple[str, ...]
-    RP_l: tuple[PredictedFigure, ...]
+    RP_l: tuple[PredictedFigure | None, ...]
     vAP: PredictedFigure | None
 
 
@@ -98,7 +98,8 @@ def predict_pose(calibration: Calibration, pose: PoseData, rng: np.random.Genera
     for d, series in enumerate(pose.series):
         cloud = shift[:, d, None, :] + np.einsum("kab,knb->kna", factor[:, d],
                                                  rng.standard_normal((tests, len(series.points_m), 3)))
-        rp_l.append(_summary(position_repeatability(np.asarray(series.points_m)), position_repeatability(cloud)))
+        rp_l.append(_summary(position_repeatability(np.asarray(series.points_m)), position_repeatability(cloud))
+                    if len(series.points_m) > 1 else None)
         barycentres.append(cloud.mean(axis=1))
     vap = None
     if len(pose.series) > 1:

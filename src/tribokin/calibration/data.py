@@ -18,7 +18,8 @@ class SeriesData:
     Attributes:
         direction: approach label.
         signs: (nv,) approach sign of each joint (+1, -1, or 0 for a joint that does not move).
-        points_m: (n, 3) measured tool positions [m], n >= 2.
+        points_m: (n, 3) measured tool positions [m]. A one-cycle series (n = 1) has no spread but
+            its barycentre still differs from the pose's other directions'.
     """
 
     direction: str
@@ -80,15 +81,15 @@ def stack(poses: list[PoseData] | tuple[PoseData, ...]) -> SeriesStack:
     """Stack the series of ``poses`` and reduce each to its count, barycentre and scatter matrix.
 
     Raises:
-        ValueError: a series with fewer than two cycles, or arrays of inconsistent shapes.
+        ValueError: a series without cycles, or arrays of inconsistent shapes.
     """
     rows = [(i, pose, series) for i, pose in enumerate(poses) for series in pose.series]
     nv = np.shape(poses[0].jacobian)[1]
     for _, pose, series in rows:
         if np.shape(pose.jacobian) != (3, nv) or np.shape(series.signs) != (nv,):
             raise ValueError(f"pose {pose.label!r}: the Jacobian must be (3, {nv}) and the signs ({nv},)")
-        if np.ndim(series.points_m) != 2 or np.shape(series.points_m)[1] != 3 or len(series.points_m) < 2:
-            raise ValueError(f"pose {pose.label!r}, direction {series.direction!r}: points must be (n >= 2, 3)")
+        if np.ndim(series.points_m) != 2 or np.shape(series.points_m)[1] != 3 or len(series.points_m) < 1:
+            raise ValueError(f"pose {pose.label!r}, direction {series.direction!r}: points must be (n >= 1, 3)")
     points = [np.asarray(s.points_m, dtype=float) for _, _, s in rows]
     means = np.array([p.mean(axis=0) for p in points])
     centred = [p - m for p, m in zip(points, means)]

@@ -122,7 +122,9 @@ def starting_theta(model: JointModel, data: SeriesStack) -> np.ndarray:
         fixed = fixed + np.einsum("mai,i,mbi->mab", data.jacobian, model.joint_noise ** 2, data.jacobian)
     if not model.fit_noise_floor:
         fixed = fixed + model.noise_floor_m ** 2 * identity
-    target = weights * (data.scatter_m2 / dof[:, None, None] - fixed)
+    sample = np.divide(data.scatter_m2, dof[:, None, None], out=np.zeros_like(data.scatter_m2),
+                       where=dof[:, None, None] > 0)
+    target = weights * (sample - fixed)
     if model.tied:
         columns = [np.einsum("miab,i->mab", outer[:, free_k], model.stiffness[free_k] ** -2.0)]
     else:

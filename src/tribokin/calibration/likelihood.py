@@ -6,7 +6,8 @@ law's mean and standard deviation: a quasi-likelihood for other laws):
 - **Spread.** The scatter matrix S of a series of n cycles about its own mean is Wishart with
   ν = n - 1 degrees of freedom and scale Σ(s). For ν < 3 S is singular and has no density; the
   term is then the density of ν orthonormal (Helmert) contrasts of the cycles,
-  ``-(3ν/2)·log 2π - (ν/2)·log|Σ| - tr(Σ⁻¹S)/2``, which depends on Σ exactly as the Wishart does.
+  ``-(3ν/2)·log 2π - (ν/2)·log|Σ| - tr(Σ⁻¹S)/2``, which depends on Σ exactly as the Wishart does
+  (0 for a one-cycle series: it enters through its barycentre only).
 - **Barycentre differences.** At a pose with d directions, the barycentres are
   ``x̄_a ~ N(g + m(s_a), Σ_a/n_a)`` with g the pose's unknown absolute position (its geometric
   error, which friction does not explain). Only the d - 1 differences ``x̄_a - x̄_1`` are used;
