@@ -12,7 +12,7 @@ from scipy.stats import multivariate_normal, wishart
 from tribokin.calibration.data import PoseData, SeriesData, stack
 from tribokin.calibration.likelihood import difference_loglik, log_likelihood, log_likelihood_and_gradient, \
     wishart_logpdf
-from tribokin.calibration.model import predict_series
+from tribokin.calibration.model import JointModel, predict_series
 
 
 def random_covariance(rng: np.random.Generator) -> np.ndarray:
@@ -84,8 +84,9 @@ def test_predicted_series_is_the_spread_and_shift_of_simulated_joint_errors():
     torque = rng.normal(torque_mean, torque_std, (400_000, 4))
     dq = signs * (torque / stiffness + backlash / 2) + rng.normal(0.0, 1.0, (400_000, 4)) * joint_noise
     points = dq @ jacobian_.T + rng.normal(0.0, noise, (400_000, 3))
-    covariance, shift = predict_series(stiffness, backlash, noise, jacobian_, signs, torque_mean, torque_std,
-                                       joint_noise)
+    model = JointModel(tuple("abcd"), stiffness, backlash, noise, (True,) * 4, (False,) * 4, False,
+                       joint_noise=joint_noise)
+    covariance, shift = model.predict(jacobian_, signs, torque_mean, torque_std)
     np.testing.assert_allclose(covariance, np.cov(points.T), atol=0.01 * np.abs(covariance).max())
     np.testing.assert_allclose(shift, points.mean(axis=0), atol=0.01 * np.abs(shift).max())
 

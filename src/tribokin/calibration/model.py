@@ -141,6 +141,12 @@ class JointModel:
         noise = values[..., -1] if self.fit_noise_floor else np.full(batch, self.noise_floor_m)
         return stiffness, backlash, noise
 
+    def predict(self, jacobian: np.ndarray, signs: np.ndarray, torque_mean: np.ndarray, torque_std: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray]:
+        """``(Σ, m(s))`` of a series at one pose with the model's own values (:func:`predict_series`)."""
+        return predict_series(self.stiffness, self.backlash, self.noise_floor_m, jacobian, signs, torque_mean,
+                              torque_std, self.joint_noise)
+
     def gradient(self, d_log_stiffness: np.ndarray, d_log_backlash: np.ndarray, d_log_noise: np.ndarray
                  ) -> np.ndarray:
         """(p, ...) derivative with respect to θ of derivatives with respect to every joint's log k
