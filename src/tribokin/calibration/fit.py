@@ -22,6 +22,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -182,7 +183,7 @@ def _parameter_joints(model: JointModel) -> list[np.ndarray]:
     return stiff + [np.array([i]) for i in free_b] + noise
 
 
-def _polish(objective, theta: np.ndarray, information: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+def _polish(objective: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], theta: np.ndarray, information: np.ndarray, bounds: np.ndarray) -> np.ndarray:
     """Newton steps with the fixed information off its null space, while they stay in bounds and
     do not raise -log L beyond its rounding: the optimum to the gradient's precision, not the line
     search's."""
@@ -199,7 +200,8 @@ def _polish(objective, theta: np.ndarray, information: np.ndarray, bounds: np.nd
     return theta
 
 
-def _negative_log_likelihood(model: JointModel, data: SeriesStack):
+def _negative_log_likelihood(model: JointModel, data: SeriesStack
+                             ) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
     """θ (p, ...) -> (-log L (...), its gradient (p, ...))."""
     def objective(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         value, gradient = log_likelihood_and_gradient(model, theta, data)
