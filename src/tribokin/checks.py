@@ -7,13 +7,17 @@ import math
 
 from tribokin.errors import InputError, closest_hint
 
+#: Largest seed: NumPy's seeds are 64-bit numbers.
+SEED_MAX = 2 ** 64 - 1
+
 
 def _number(value, source, key) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise InputError(f"must be a number (got {value!r})", source, key)
-    if not math.isfinite(value):
-        raise InputError(f"must be finite (got {value})", source, key)
-    return float(value)
+    number = float(value) if isinstance(value, float) or value.bit_length() <= 1000 else math.inf
+    if not math.isfinite(number):
+        raise InputError(f"must be finite (got {_shown(value)})", source, key)
+    return number
 
 
 def finite(value, source, key) -> float:
@@ -34,6 +38,12 @@ def positive(value, source, key) -> float:
     return value
 
 
+def whole_number(value, source, key) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise InputError(f"must be a whole number (got {value!r})", source, key)
+    return value
+
+
 def positive_int(value, source, key) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or value < 1:
         raise InputError(f"must be a whole number >= 1 (got {value!r})", source, key)
@@ -43,7 +53,28 @@ def positive_int(value, source, key) -> int:
 def seed_int(value, source, key) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or value < 0:
         raise InputError(f"must be a whole number >= 0 (got {value!r})", source, key)
+    if value > SEED_MAX:
+        raise InputError(f"must be at most 2**64 - 1 (got {_shown(value)}): seeds are 64-bit numbers", source, key)
     return value
+
+
+def _shown(value) -> str:
+    """A number for a message: ``1e+308``, ``12``, or ``a number of about 400 digits`` for a whole number too long."""
+    if isinstance(value, int) and value.bit_length() > 60:
+        return f"a number of about {int(value.bit_length() * math.log10(2)) + 1} digits"
+    return f"{value:g}"
+
+
+def within(check, low: float, high: float, unit: str, why: str):
+    """``check``, then a range: the value must lie in [low, high] [unit]; ``why`` (in the error) says what lies
+    outside. Both ends may be whole numbers (a count) or floats."""
+    def bounded(value, source, key):
+        value = check(value, source, key)
+        if not low <= value <= high:
+            raise InputError(f"must be between {low:g} and {high:g}{' ' + unit if unit else ''} (got "
+                             f"{_shown(value)}): {why}", source, key)
+        return value
+    return bounded
 
 
 def text(value, source, key) -> str:
@@ -67,10 +98,11 @@ def table(value, source, key) -> dict:
     return value
 
 
-def number_list(value, source, key) -> list[float]:
+def number_list(value, source, key, element=finite) -> list[float]:
+    """A non-empty list of numbers, each passing ``element``."""
     if not isinstance(value, list) or not value:
         raise InputError(f"must be a non-empty list of numbers (got {value!r})", source, key)
-    return [_number(v, source, f"{key}[{i}]") for i, v in enumerate(value)]
+    return [element(v, source, f"{key}[{i}]") for i, v in enumerate(value)]
 
 
 def string_list(value, source, key) -> list[str]:

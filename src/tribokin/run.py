@@ -86,11 +86,13 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, work
     models = joint_models(study, robot)
     tasks, cube = pose_tasks(study, robot)
     check_names(study, tasks)
-    prepared_map = None if study.map is None else prepare_map(study, robot)
     check_memory(study, robot.model.nv, [len(t.tested(study.approach).labels) for t in tasks], workers,
                  cycles_from_command_line=cycles is not None)
     check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None else checkpoint)
+    prepared_map = None if study.map is None else prepare_map(study, robot)
     runner = PoseRunner(study, robot, models)
+    for task in tasks:  # every pose's loads, checked before any is sampled
+        runner.normal_forces(task)
     poses = [runner.run(task, index) for index, task in enumerate(tasks)]
     workspace_map = None
     if prepared_map is not None:

@@ -12,10 +12,12 @@ from pathlib import Path
 
 import numpy as np
 
-from tribokin.checks import positive
+from tribokin.checks import positive, within
 from tribokin.errors import InputError
 from tribokin.output.folder import atomic_folder, check_output_folder
+from tribokin.tribology.columns import quiet_numerics
 from tribokin.tribology.fitting import Fit, fit_laws
+from tribokin.tribology.laws import MU_MIN
 from tribokin.tribology.surfaces import find_peaks, level, profile_statistics, read_profile
 from tribokin.tribology.tribometer import read_log, steady_state
 
@@ -55,7 +57,7 @@ def fit_friction(log_path, out, running_in: int | None = None, force: bool = Fal
     check_output_folder(out, force)
     log = read_log(log_path)
     mu, trimmed = steady_state(log, running_in)
-    fits = fit_laws(mu)
+    fits = _checked_fits(mu, log.source)
     how = "given" if running_in is not None else "detected"
     provenance = f"{Path(log_path).name}, {mu.size} cycles after {trimmed} running-in cycles ({how})"
     report = {"log": str(log_path), "cycles": int(log.mu.size), "running_in_cycles": trimmed,
@@ -73,10 +75,37 @@ def fit_friction(log_path, out, running_in: int | None = None, force: bool = Fal
     return report
 
 
+def _checked_fits(mu: np.ndarray, source: str) -> list[Fit]:
+    """``fit_laws(mu)``, each fit finite and a valid law, else an error naming the log's ``mu``."""
+    if mu.mean() < MU_MIN:
+        raise InputError(f"the steady-state mean mu is {mu.mean():g}, below {MU_MIN:g}: no sliding contact "
+                         "has so little friction; check the units", source, "mu")
+    if np.ptp(mu) == 0:
+        raise InputError(f"every steady-state cycle has mu = {mu[0]:g}: there is no spread to fit; use "
+                         f'{{ law = "constant", mu = {mu[0]:g} }}', source, "mu")
+    with quiet_numerics():
+        fits = fit_laws(mu)
+    for fit in fits:
+        try:
+            if not all(math.isfinite(v) for v in [*fit.params.values(), fit.aic]):
+                raise InputError(f"parameters {fit.params}, AIC {fit.aic}", key=fit.law)
+            fit.to_law()
+        except InputError as error:
+            raise InputError(f"the {fit.law} fit to the {mu.size} steady-state cycles is not a valid law "
+                             f"({error.key}: {error.message}); check the values", source, "mu") from None
+    return fits
+
+
+area = within(positive, 1e-12, 1.0, "m²", "eq. (6) counts summits on a square micrometre (a summit or two) up to a "
+              "square metre (a whole plate)")
+#: Largest finite end of the eq. (6) ranges [m]: summit heights and radii are far below a metre.
+RANGE_LIMIT_M = 1.0
+
+
 def _check_surface_options(area_m2, z_range_m, radius_range_m):
-    """The options of ``tribokin surface``, checked: A_a > 0, each range [low, high] with low <= high, radii >= 0
-    (either end of a range may be infinite)."""
-    area_m2 = positive(area_m2, "command line", "--area-m2")
+    """The options of ``tribokin surface``, checked: A_a in ``area``'s range, each range [low, high] with
+    low <= high, finite ends within ±``RANGE_LIMIT_M``, radii >= 0 (either end of a range may be infinite)."""
+    area_m2 = area(area_m2, "command line", "--area-m2")
     ranges = []
     for key, bounds in (("--z-range-m", z_range_m), ("--radius-range-m", radius_range_m)):
         low, high = (_bound(value, f"{key}[{i}]") for i, value in enumerate(bounds))
@@ -91,6 +120,9 @@ def _check_surface_options(area_m2, z_range_m, radius_range_m):
 def _bound(value, key: str) -> float:
     if isinstance(value, float) and math.isnan(value):
         raise InputError("must be a number or an infinity, not nan", "command line", key)
+    if math.isfinite(value) and abs(value) > RANGE_LIMIT_M:
+        raise InputError(f"must be within ±{RANGE_LIMIT_M:g} m, or an infinity (got {value:g}): summit heights and "
+                         "radii are far below a metre; write inf for no bound", "command line", key)
     return float(value)
 
 

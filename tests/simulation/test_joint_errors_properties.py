@@ -3,7 +3,6 @@ same pose (RP = 0 exactly, the paper's reference case); with a constant mu the l
 closed form offset + s (mu N r / k + backlash / 2)."""
 
 import numpy as np
-import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 

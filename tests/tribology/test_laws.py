@@ -88,6 +88,11 @@ def test_same_generator_state_same_draws():
     (lambda: Lognormal(0.0, 0.01), "mean"),
     (lambda: Empirical([0.1]), "values"),
     (lambda: Uniform(float("nan"), 0.1), "low"),
+    (lambda: Constant(10.5), "mu"),
+    (lambda: Gaussian(0.1, 10 ** 400), "std"),
+    (lambda: Lognormal(1e-300, 1.0), "mean"),
+    (lambda: Empirical([0.1, 1e308]), "values"),
+    (lambda: Empirical([0.1, 10 ** 400]), "values"),
 ])
 def test_bad_parameters_name_the_key(make, key):
     with pytest.raises(InputError) as error:

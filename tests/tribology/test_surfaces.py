@@ -2,6 +2,7 @@
 
 import dataclasses
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -59,3 +60,12 @@ def test_too_few_peaks_is_an_input_error():
     x = np.linspace(0, 1e-3, 100)
     with pytest.raises(InputError, match="peaks"):
         analyse_profile(x, 1e-6 * np.sin(2 * np.pi * x / 5e-4))
+
+
+def test_subnormal_heights_are_one_input_error_without_warnings():
+    x = np.arange(200) * 1e-6
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a warning would be a second line on stderr
+        with pytest.raises(InputError, match="summit statistics are not finite numbers of some spread") as error:
+            analyse_profile(x, 1e-310 * np.sin(x / 3e-6), "p.csv")
+    assert error.value.source == "p.csv" and error.value.key == "z_m"

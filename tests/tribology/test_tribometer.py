@@ -1,5 +1,7 @@
 """Tribometer logs: reading both layouts and detecting the running-in."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -39,3 +41,16 @@ def test_override_and_too_short(tmp_path):
     assert steady_state(log, 5)[1] == 5
     with pytest.raises(InputError, match="running_in"):
         steady_state(log, 25)
+
+
+@pytest.mark.parametrize("steady, last, key", [("mu\n" + "0.1\n" * 25, "1e308", "mu"),
+                                              ("friction_force_N,normal_force_N\n" + "10,100\n" * 25, "5e300,1e-10",
+                                               "friction_force_N")])
+def test_mu_above_ten_or_overflowing_names_the_row_without_warnings(tmp_path, steady, last, key):
+    path = tmp_path / "log.csv"
+    path.write_text(f"{steady}{last}\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a warning would be a second line on stderr
+        with pytest.raises(InputError, match="data row 26 gives mu") as error:
+            read_log(path)
+    assert error.value.key == key and error.value.source == str(path)

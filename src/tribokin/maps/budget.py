@@ -144,7 +144,6 @@ def estimate(study: Study, nv: int, directions: list[int], workers: int = 1) -> 
         parts.append((kept + computed, "study.cycles",
                       f"{_count(cycles, 'cycle')} × {_count(len(directions), 'pose')} × {_count(nv, 'joint')}"))
     if study.map is not None:
-        targets = map_target_count(study.map)
         scenarios = max(1, len(study.scenarios))
         cycles = max([s.study.cycles for s in study.scenarios] or [study.cycles])
         key = size_key(study.map)

@@ -245,28 +245,32 @@ def chunk_order(count: int) -> list[int]:
     return sorted(range(count), key=lambda k: f"{k:0{bits}b}"[::-1])
 
 
-def prepare_map(study: Study, robot: Robot) -> tuple[TargetGrid, list[PoseRunner]]:
-    """The grid of the study's ``[map]`` and a runner per scenario (the study itself without scenarios), checked
-    against ``robot`` before any work: the map's joints, ranges, start posture and orientation, and each
-    scenario's joints and friction laws."""
+def prepare_map(study: Study, robot: Robot) -> tuple[TargetGrid, list[PoseRunner], np.ndarray]:
+    """The grid of the study's ``[map]``, a runner per scenario (the study itself without scenarios) and each
+    grid row's starting posture (rows, nv), checked against ``robot`` before any work: the map's joints, ranges,
+    start posture and orientation, each scenario's joints and friction laws, and its loads at each row's start."""
+    grid = make_grid(robot, study.map, study.source)
+    heads = solve_row_heads(robot, grid)
     runners = []
     for i, scenario in enumerate(tuple(s.study for s in study.scenarios) or (study,)):
         try:
             runners.append(PoseRunner(scenario, robot, joint_models(scenario, robot)))
+            runners[-1].normal_forces_at(heads)  # the loads at each row's start, checked before any chunk runs
         except InputError as error:
             key = error.key if not study.scenarios else f"scenarios[{i}].{error.key}"
             raise InputError(error.message, error.source, key) from None
-    return make_grid(robot, study.map, study.source), runners
+    return grid, runners, heads
 
 
-def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunner], workers: int = 1,
-            scheduler: str | None = None, checkpoint=None, resume: bool = False, progress: bool = False) -> MapResult:
+def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunner], heads: np.ndarray,
+            workers: int = 1, scheduler: str | None = None, checkpoint=None, resume: bool = False, progress: bool = False) -> MapResult:
     """Measure the study's ``[map]`` for each scenario.
 
     Args:
         study: a study with a ``map`` (its ``scenarios``, if any, are measured instead of it).
         robot: the study's robot.
-        grid, runners: the map's grid and its scenarios' runners (:func:`prepare_map`).
+        grid, runners, heads: the map's grid, its scenarios' runners and its rows' starting postures
+            (:func:`prepare_map`).
         workers, scheduler: where chunks run (see :func:`~tribokin.execution.run_chunks`).
         checkpoint: folder where the results are kept as chunks finish (``None``: a temporary folder,
             deleted with the result).
@@ -277,7 +281,6 @@ def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunn
     names = [s.name for s in study.scenarios] or [study.name]
     chunks = chunk_rows(study, grid.row_length, grid.row_count)
     store = open_store(study, studies, chunks, grid.size, robot.model.nv, checkpoint, resume)
-    heads = solve_row_heads(robot, grid)
     finished = set(store.finished())
     job = MapJob(uuid.uuid4().hex, study, studies)
     _local.cache = (job.token, robot, grid, runners)  # chunks run in this thread need not rebuild them

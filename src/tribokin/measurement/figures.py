@@ -193,10 +193,9 @@ def pose_figures(pose: Pose, registration: Registration | None = None, resamples
     directions = tuple(
         _direction_figures(series, points, reference, resamples, np.random.default_rng([seed, pose_index, k]))
         for k, (series, points, reference) in enumerate(zip(pose.series, clouds.positions_m, commanded)))
-    long_enough = [(points, k) for k, (series, points) in enumerate(zip(pose.series, clouds.positions_m))
+    long_enough = [points for series, points in zip(pose.series, clouds.positions_m)
                    if not series.too_short]
-    vap = multidirectional_variation(np.concatenate([p for p, _ in long_enough]),
-                                     np.concatenate([np.full(len(p), k) for p, k in long_enough]))
+    vap = multidirectional_variation(np.array([barycenter(points) for points in long_enough]))
     rp_all, _ = position_repeatability(np.concatenate(clouds.positions_m))
     return PoseFigures(pose.name, directions, vap, float(rp_all), clouds.commanded_spread_m,
                        clouds.commanded_corrected, registration is not None)

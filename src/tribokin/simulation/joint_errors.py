@@ -11,10 +11,12 @@ when the spring force equals friction, in the direction of travel s_ij.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from tribokin.errors import InputError
 from tribokin.tribology.laws import FrictionLaw
 
 APPROACH_MODES = ("unidirectional", "bidirectional", "random")
@@ -49,6 +51,53 @@ def friction_lever(models: list[JointErrorModel], prismatic: np.ndarray) -> np.n
     """r_i / k_i for each joint: lost motion per newton of normal load per unit mu [m/N or rad/N]."""
     radius = np.array([1.0 if p else m.friction_radius_m for m, p in zip(models, prismatic)])
     return radius / np.array([m.stiffness for m in models])
+
+
+def joint_travel(lower: np.ndarray, upper: np.ndarray, prismatic: np.ndarray) -> np.ndarray:
+    """Range of each joint [m or rad]: upper - lower limit, at most a full turn for a revolute joint."""
+    return np.where(prismatic, upper - lower, np.minimum(upper - lower, 2 * math.pi))
+
+
+#: The parts of a joint's largest deviation, each named by the key that sets it, and what to do when it is too large.
+DEVIATION_PARTS = {"stiffness": "raise stiffness (or lower the friction or the load)", "backlash": "lower backlash",
+                   "offset": "lower offset", "noise_std": "lower noise_std"}
+#: A law without an upper bound reaches at most its mean plus this many standard deviations (and noise this many).
+TAIL_STDS = 6
+
+
+def largest_mu(law: FrictionLaw) -> float:
+    """The law's upper bound [-], else its mean + ``TAIL_STDS`` standard deviations."""
+    high = law.support()[1]
+    return high if math.isfinite(high) else law.mean() + TAIL_STDS * law.std()
+
+
+def deviation_parts(models: list[JointErrorModel], prismatic: np.ndarray, forces_N: np.ndarray) -> np.ndarray:
+    """(nv, 4) largest size [m or rad] of each part of every joint's deviation, in the order of ``DEVIATION_PARTS``:
+    lost motion mu_max N r / k at the largest load of ``forces_N`` (..., nv) [N], backlash / 2, |offset| and
+    ``TAIL_STDS`` noise_std."""
+    load = np.max(np.reshape(forces_N, (-1, len(models))), axis=0, initial=0.0)
+    lost = np.array([largest_mu(m.friction) for m in models]) * load * friction_lever(models, prismatic)
+    return np.column_stack([lost, *(np.array([[m.backlash / 2, abs(m.offset), TAIL_STDS * m.noise_std]
+                                              for m in models]).T)])
+
+
+def check_travel(models: list[JointErrorModel], prismatic: np.ndarray, forces_N: np.ndarray, travel: np.ndarray,
+                 names: list[str], source, key_of) -> None:
+    """Refuse a joint whose deviation could exceed its range ``travel`` [m or rad], with the figures.
+
+    Args:
+        forces_N: (..., nv) bearing loads [N] the joints will carry.
+        key_of: ``key_of(joint name, part)`` -> the key of the study file that sets that part.
+    """
+    parts = deviation_parts(models, prismatic, forces_N)
+    for i in np.flatnonzero(parts.sum(axis=1) > travel):
+        unit = "m" if prismatic[i] else "rad"
+        part = list(DEVIATION_PARTS)[int(np.argmax(parts[i]))]
+        labels = ("lost motion", "backlash/2", "offset", f"{TAIL_STDS} noise_std")
+        shown = [f"{label} {value:.3g} {unit}" for label, value in zip(labels, parts[i]) if value]
+        what = labels[int(np.argmax(parts[i]))] if len(shown) == 1 else f"deviation ({', '.join(shown)})"
+        raise InputError(f"joint '{names[i]}': {what} up to {parts[i].sum():.3g} {unit} exceeds the joint's range "
+                         f"{travel[i]:.3g} {unit}; {DEVIATION_PARTS[part]}", source, key_of(names[i], part))
 
 
 def approach_signs(mode: str, cycles: int, directions: np.ndarray, rng: np.random.Generator):

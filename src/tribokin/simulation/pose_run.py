@@ -12,7 +12,8 @@ from tribokin.iso9283.metrics import covariance_semi_axes, directional_metrics, 
 from tribokin.kinematics.loads import BearingLoads
 from tribokin.kinematics.robot import Robot
 from tribokin.propagation.exact import max_deviation_from_exact, tool_deviations
-from tribokin.simulation.joint_errors import JointErrorModel, approach_signs, sample_joint_deviations
+from tribokin.simulation.joint_errors import JointErrorModel, approach_signs, check_travel, joint_travel, \
+    sample_joint_deviations
 from tribokin.simulation.pose_result import PoseResult
 from tribokin.tribology.laws import FrictionLaw
 from tribokin.units import UM_PER_M
@@ -31,6 +32,8 @@ class RunSettings(Protocol):
     approach: str
     engine: str
     robot: dict  # its "payload_kg" [kg]
+    joint_overrides: dict  # joint name -> its [joints.<name>] keys (names the key a refusal points to)
+    source: str  # the study file (named by a refusal)
 
 
 def pose_rng(seed: int, index: int, stream: int = 0) -> np.random.Generator:
@@ -79,20 +82,40 @@ class PoseRunner:
         self.loads = None
         if any(m.normal_force_N is None for m in models):
             self.loads = BearingLoads(robot, study.robot["payload_kg"], [m.bearing_span_m for m in models])
+        self.travel = joint_travel(robot.lower_limits, robot.upper_limits, robot.joint_is_prismatic)
 
     def normal_forces(self, task: PoseTask) -> np.ndarray:
-        """Bearing loads [N]: the pose's value, else each joint's fixed value, else statics at the pose."""
+        """Bearing loads [N]: the pose's value, else each joint's fixed value, else statics at the pose;
+        refused (:meth:`check_travel`) if they would move a joint beyond its range."""
         if task.normal_force_N is not None:
-            return np.full(len(self.models), task.normal_force_N)
-        return self.normal_forces_at(task.q)
+            forces = np.full(len(self.models), task.normal_force_N)
+        else:
+            forces = self._loads_at(task.q)
+        self.check_travel(forces, self.models_at(task))
+        return forces
 
     def normal_forces_at(self, q: np.ndarray) -> np.ndarray:
         """Bearing loads [N] at configuration ``q`` (nq,) or configurations (poses, nq): each joint's
-        fixed value, else statics."""
+        fixed value, else statics; refused (:meth:`check_travel`) if they would move a joint beyond its range."""
+        forces = self._loads_at(q)
+        self.check_travel(forces, self.models)
+        return forces
+
+    def _loads_at(self, q: np.ndarray) -> np.ndarray:
         fixed = np.array([np.nan if m.normal_force_N is None else m.normal_force_N for m in self.models])
         if self.loads is None:
             return np.broadcast_to(fixed, np.shape(q)[:-1] + fixed.shape).copy()
         return np.where(np.isnan(fixed), self.loads(q), fixed)
+
+    def check_travel(self, forces_N: np.ndarray, models: list[JointErrorModel]) -> None:
+        """Refuse loads ``forces_N`` (..., nv) [N] under which a joint's deviation could exceed its range."""
+        overrides = self.study.joint_overrides
+
+        def key_of(joint: str, part: str) -> str:
+            return f"joints.{joint}.{part}" if part in overrides.get(joint, {}) else f"joints.{part}"
+
+        check_travel(models, self.robot.joint_is_prismatic, forces_N, self.travel, self.robot.joint_names,
+                     self.study.source, key_of)
 
     def models_at(self, task: PoseTask) -> list[JointErrorModel]:
         """The joint error models at a pose: the study's, with the pose's friction law if it has one."""

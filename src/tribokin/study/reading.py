@@ -8,9 +8,9 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
-from tribokin.checks import positive_int, seed_int
+from tribokin.checks import seed_int
 from tribokin.errors import InputError
-from tribokin.study.spec import Study, parse_study
+from tribokin.study.spec import Study, cycle_count, parse_study
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -26,7 +26,7 @@ def read_study_file(path) -> Study:
     content = path.read_bytes()
     try:
         mapping = tomllib.loads(content.decode("utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
+    except ValueError as error:  # also a number of more than 4300 digits
         raise InputError(f"not valid TOML: {error}", path) from None
     study = parse_study(mapping, str(path), path.parent)
     study.sha256 = hashlib.sha256(content).hexdigest()
@@ -42,7 +42,7 @@ def load_study(study, cycles: int | None = None, seed: int | None = None) -> Stu
     else:
         study = read_study_file(study)
     if cycles is not None:
-        study.cycles = positive_int(cycles, "command line", "--cycles")
+        study.cycles = cycle_count(cycles, "command line", "--cycles")
     if seed is not None:
         study.seed = seed_int(seed, "command line", "--seed")
     study.scenarios = [replace(s, study=_with_run_overrides(s.study, s.overrides.get("study", {}), study))

@@ -9,12 +9,39 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 
-from tribokin.checks import finite, non_negative, number_list, one_of, positive, positive_int, seed_int, string_list, \
-    table, text
+from tribokin.checks import finite, non_negative, number_list, one_of, positive, positive_int, seed_int, \
+    string_list, table, text, whole_number, within
 from tribokin.errors import InputError, closest_hint
 from tribokin.simulation.joint_errors import APPROACH_MODES
+
+
+# -- ranges: physically meaningful bounds, each with the reason a value outside is refused ---------------------
+
+cycle_count = within(whole_number, 2, 10 ** 15, "cycles", "ISO 9283 needs at least 2 (S_l divides by n - 1); "
+                     "1e15 cycles at one a second would take 30 million years")
+grid_count = within(positive_int, 1, 10 ** 7, "", "ten million points along one axis are 0.1 µm apart over a "
+                    "metre, far finer than any figure varies")
+payload = within(non_negative, 0.0, 1e4, "kg", "the heaviest industrial robots carry about 2.3 t")
+normal_force = within(non_negative, 0.0, 1e7, "N", "1e7 N (1000 t) is beyond what any joint's bearing carries")
+stiffness = within(positive, 1e-3, 1e12, "N/m or N·m/rad", "below, a newton of friction would move a joint a "
+                   "kilometre; above, stiffer than any drive (for a rigid joint, set its friction to 0)")
+chunk_count = within(positive_int, 1, 10 ** 7, "rows", "a chunk is held in memory, and ten million rows outgrow it")
+friction_radius = within(positive, 1e-4, 10.0, "m", "bearing raceways run from 0.1 mm to the few metres of the "
+                         "largest slewing rings")
+_drive_fault = "m or rad", "more than 0.1 m or 0.1 rad (5.7°) is a broken drive, not an imprecise one"
+backlash = within(non_negative, 0.0, 0.1, *_drive_fault)
+offset = within(finite, -0.1, 0.1, *_drive_fault)
+noise_std = within(non_negative, 0.0, 0.1, *_drive_fault)
+bearing_span = within(positive, 1e-3, 10.0, "m", "a joint's guide pads or bearings sit between 1 mm and a few "
+                      "metres apart")
+side = within(positive, 1e-3, 100.0, "m", "ISO 9283's cube spans the most-used part of a workspace; below 1 mm its "
+              "poses are hardly distinct places")
+coordinate = within(finite, -1e3, 1e3, "m", "no robot reaches a kilometre")
+joint_value = within(finite, -1e3, 1e3, "m or rad", "no joint travels a kilometre or turns 160 times")
+angle_deg = within(finite, -360.0, 360.0, "deg", "write each angle within one turn either way")
 
 
 # -- schema: key -> (check, default); REQUIRED marks keys without a default -------------------------------------
@@ -23,7 +50,7 @@ REQUIRED = object()
 
 STUDY_KEYS = {
     "name": (text, None),
-    "cycles": (positive_int, 30),
+    "cycles": (cycle_count, 30),
     "seed": (seed_int, 0),
     "approach": (one_of(*APPROACH_MODES), "unidirectional"),
     "engine": (one_of("fast", "exact"), "fast"),
@@ -33,20 +60,20 @@ ROBOT_KEYS = {
     "name": (text, None),
     "tool_frame": (text, None),
     "package_dirs": (string_list, []),
-    "payload_kg": (non_negative, 0.0),
+    "payload_kg": (payload, 0.0),
 }
 JOINT_KEYS = {
     "friction": (table, None),
-    "normal_force_N": (non_negative, None),
-    "stiffness": (positive, None),
-    "friction_radius_m": (positive, 0.02),
-    "backlash": (non_negative, 0.0),
-    "offset": (finite, 0.0),
-    "noise_std": (non_negative, 0.0),
-    "bearing_span_m": (positive, 0.1),
+    "normal_force_N": (normal_force, None),
+    "stiffness": (stiffness, None),
+    "friction_radius_m": (friction_radius, 0.02),
+    "backlash": (backlash, 0.0),
+    "offset": (offset, 0.0),
+    "noise_std": (noise_std, 0.0),
+    "bearing_span_m": (bearing_span, 0.1),
 }
-def vector3(value, source, key) -> list[float]:
-    values = number_list(value, source, key)
+def vector3(value, source, key, element=finite) -> list[float]:
+    values = number_list(value, source, key, element)
     if len(values) != 3:
         raise InputError(f"needs 3 numbers (got {len(values)})", source, key)
     return values
@@ -60,62 +87,66 @@ def unit_vector3(value, source, key) -> list[float]:
     return values
 
 
-def interval(value, source, key) -> list[float]:
-    values = number_list(value, source, key)
+def interval(value, source, key, element=finite) -> list[float]:
+    values = number_list(value, source, key, element)
     if len(values) != 2 or values[0] > values[1]:
         raise InputError(f"must be [low, high] with low <= high (got {value!r})", source, key)
     return values
 
 
-def interval_list(value, source, key) -> list[list[float]]:
+def interval_list(value, source, key, element=finite) -> list[list[float]]:
     if not isinstance(value, list) or not value:
         raise InputError(f"must be a list of [low, high] pairs (got {value!r})", source, key)
-    return [interval(v, source, f"{key}[{i}]") for i, v in enumerate(value)]
+    return [interval(v, source, f"{key}[{i}]", element) for i, v in enumerate(value)]
 
 
 def count_list(value, source, key) -> list[int]:
     if not isinstance(value, list) or not value:
         raise InputError(f"must be a list of whole numbers >= 1 (got {value!r})", source, key)
-    return [positive_int(v, source, f"{key}[{i}]") for i, v in enumerate(value)]
+    return [grid_count(v, source, f"{key}[{i}]") for i, v in enumerate(value)]
+
+
+position3 = partial(vector3, element=coordinate)
+angles3 = partial(vector3, element=angle_deg)
 
 
 ISO_CUBE_KEYS = {
-    "center_m": (vector3, None),
-    "side_m": (positive, None),
-    "rpy_deg": (vector3, None),
+    "center_m": (position3, None),
+    "side_m": (side, None),
+    "rpy_deg": (angles3, None),
 }
 POSE_KEYS = {
     "name": (text, None),
-    "q": (number_list, REQUIRED),
-    "normal_force_N": (non_negative, None),
+    "q": (partial(number_list, element=joint_value), REQUIRED),
+    "normal_force_N": (normal_force, None),
     "friction": (table, None),
 }
 MAP_KINDS = {
     "plane": {
-        "origin_m": (vector3, REQUIRED),
+        "origin_m": (position3, REQUIRED),
         "axis_u": (unit_vector3, REQUIRED),
         "axis_v": (unit_vector3, REQUIRED),
-        "extent_u_m": (interval, REQUIRED),
-        "extent_v_m": (interval, REQUIRED),
+        "extent_u_m": (partial(interval, element=coordinate), REQUIRED),
+        "extent_v_m": (partial(interval, element=coordinate), REQUIRED),
         "resolution": (count_list, REQUIRED),
-        "rpy_deg": (vector3, None),
+        "rpy_deg": (angles3, None),
     },
     "box": {
-        "min_m": (vector3, REQUIRED),
-        "max_m": (vector3, REQUIRED),
+        "min_m": (position3, REQUIRED),
+        "max_m": (position3, REQUIRED),
         "resolution": (count_list, REQUIRED),
-        "rpy_deg": (vector3, None),
+        "rpy_deg": (angles3, None),
     },
     "joint": {
         "joints": (string_list, REQUIRED),
-        "ranges": (interval_list, REQUIRED),
+        "ranges": (partial(interval_list, element=joint_value), REQUIRED),
         "counts": (count_list, REQUIRED),
     },
 }
 MAP_COMMON_KEYS = {
     "kind": (one_of(*MAP_KINDS), REQUIRED),
-    "start_q": (number_list, None),
-    "chunk_rows": (positive_int, None),
+    "start_q": (partial(number_list, element=joint_value), None),
+    "chunk_rows": (chunk_count, None),
 }
 #: Study sections a scenario may override; of [robot], only the payload (the targets stay the same).
 SCENARIO_SECTIONS = ("study", "robot", "joints")

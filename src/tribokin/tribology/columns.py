@@ -7,6 +7,8 @@ line holds the column names.
 from __future__ import annotations
 
 import csv
+import warnings
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -60,3 +62,12 @@ def read_columns(path, layouts: tuple[tuple[str, ...], ...], min_rows: int,
                 raise InputError(f"data row {line + 1} holds {values[line]}, not a finite number", path, name)
         columns[name] = values
     return columns
+
+
+@contextmanager
+def quiet_numerics():
+    """NumPy floating-point warnings and ``RuntimeWarning`` silenced inside the block (an error is one line):
+    the caller checks that what it computed is finite."""
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        yield

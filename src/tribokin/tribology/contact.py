@@ -55,6 +55,11 @@ class Lubrication:
     mu_film: float = MU_FILM
 
 
+def mean_contacts(surface: SurfaceStatistics, area_m2: float, separation_m: float) -> float:
+    """Mean number of summits of an apparent area ``area_m2`` [m²] above ``separation_m`` [m] (GW: D_s A F_0(h))."""
+    return float(gw.contact_count(surface.summit_density_m2, area_m2, (separation_m - surface.Alt_m) / surface.SAlt_m))
+
+
 def asperity_loads(surface: SurfaceStatistics, area_m2: float, separation_m: float, cycles: int,
                    rng: np.random.Generator, modulus_Pa: float = STEEL_MODULUS_PA) -> np.ndarray:
     """Load carried by the summits touching a flat at ``separation_m`` [N], one value per cycle.
@@ -62,7 +67,7 @@ def asperity_loads(surface: SurfaceStatistics, area_m2: float, separation_m: flo
     Its expectation is the GW load ``gw.load`` with sqrt(R) replaced by its mean over the radius law.
     """
     h = (separation_m - surface.Alt_m) / surface.SAlt_m
-    counts = rng.poisson(surface.summit_density_m2 * area_m2 * float(gw.gw_F(0, h)), cycles)
+    counts = rng.poisson(mean_contacts(surface, area_m2, separation_m), cycles)
     above = stats.truncnorm(h, np.inf, surface.Alt_m, surface.SAlt_m)
     loads = np.empty(cycles)
     start = 0

@@ -3,7 +3,7 @@
 Each law has the shape of a frozen ``scipy.stats`` distribution --
 ``rvs(size, random_state)``, ``mean()``, ``std()``, ``support()``, ``pdf(x)``
 -- so users need no new vocabulary; most delegate to ``scipy.stats``.
-Friction coefficients are dimensionless and never negative.
+Friction coefficients are dimensionless, never negative and at most ``MU_MAX``.
 """
 
 from __future__ import annotations
@@ -16,17 +16,27 @@ from scipy import stats
 from tribokin.errors import InputError
 
 
-def _check_finite(**values: float) -> None:
+#: Largest friction coefficient a law may hold [-]: above, it is not sliding friction (clean metals in
+#: vacuum reach a few).
+MU_MAX = 10.0
+#: Smallest friction coefficient [-] where a law needs one above zero (a lognormal's mean): no sliding contact has
+#: less friction (superlubric ones reach about 1e-4).
+MU_MIN = 1e-6
+
+
+def _check_coefficient(**values: float) -> None:
+    """Each value a friction coefficient: a finite number in [0, ``MU_MAX``]."""
     for key, value in values.items():
-        if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
+        # (a whole number, however long, compares exactly below; math.isfinite would overflow on it)
+        if isinstance(value, bool) or not isinstance(value, (int, float)) \
+                or isinstance(value, float) and not math.isfinite(value):
             raise InputError(f"must be a finite number (got {value!r})", key=key)
-
-
-def _check_non_negative(**values: float) -> None:
-    _check_finite(**values)
-    for key, value in values.items():
         if value < 0:
             raise InputError(f"must be >= 0: friction coefficients are never negative (got {value})", key=key)
+        if value > MU_MAX:
+            shown = f"{value:g}" if isinstance(value, float) or value < 1e300 else "a number past 1e300"
+            raise InputError(f"must be at most {MU_MAX:g} (got {shown}): friction coefficients above that are not "
+                             "sliding friction (clean metals in vacuum reach a few)", key=key)
 
 
 class FrictionLaw:
@@ -103,7 +113,7 @@ class Constant(FrictionLaw):
     law = "constant"
 
     def __init__(self, mu: float, provenance: str | None = None):
-        _check_non_negative(mu=mu)
+        _check_coefficient(mu=mu)
         super().__init__(None, {"mu": float(mu)}, provenance, value=float(mu))
 
 
@@ -113,7 +123,7 @@ class Uniform(FrictionLaw):
     law = "uniform"
 
     def __init__(self, low: float, high: float, provenance: str | None = None):
-        _check_non_negative(low=low, high=high)
+        _check_coefficient(low=low, high=high)
         if low > high:
             raise InputError(f"low ({low}) is above high ({high}): swap them", key="low")
         super().__init__(stats.uniform(loc=low, scale=high - low) if high > low else None,
@@ -135,7 +145,7 @@ class Gaussian(FrictionLaw):
     law = "gaussian"
 
     def __init__(self, mean: float, std: float, provenance: str | None = None):
-        _check_non_negative(mean=mean, std=std)
+        _check_coefficient(mean=mean, std=std)
         dist = stats.truncnorm(a=-mean / std, b=np.inf, loc=mean, scale=std) if std > 0 else None
         super().__init__(dist, {"mean": float(mean), "std": float(std)}, provenance, value=float(mean))
 
@@ -157,9 +167,10 @@ class Lognormal(FrictionLaw):
     law = "lognormal"
 
     def __init__(self, mean: float, std: float, provenance: str | None = None):
-        _check_non_negative(mean=mean, std=std)
-        if mean <= 0:
-            raise InputError(f"must be > 0 for a lognormal law (got {mean})", key="mean")
+        _check_coefficient(mean=mean, std=std)
+        if mean < MU_MIN:
+            raise InputError(f"must be > 0, at least {MU_MIN:g}, for a lognormal law (got {mean}): "
+                             "no sliding contact has less friction (superlubric ones reach about 1e-4)", key="mean")
         sigma_log = math.sqrt(math.log1p((std / mean) ** 2))
         median = mean / math.sqrt(1 + (std / mean) ** 2)
         super().__init__(stats.lognorm(s=sigma_log, scale=median) if std > 0 else None,
@@ -182,7 +193,7 @@ class Empirical(FrictionLaw):
     def __init__(self, values, provenance: str | None = None):
         try:
             values = np.asarray(values, dtype=float).ravel()
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise InputError("must be a list of numbers", key="values") from None
         if values.size < 2:
             raise InputError(f"needs at least 2 measured values (got {values.size})", key="values")
@@ -190,6 +201,9 @@ class Empirical(FrictionLaw):
             raise InputError("must all be finite numbers", key="values")
         if np.any(values < 0):
             raise InputError(f"must be >= 0: friction coefficients are never negative (min {values.min()})", key="values")
+        if np.any(values > MU_MAX):
+            raise InputError(f"must be at most {MU_MAX:g} (max {values.max():g}): friction coefficients above that are "
+                             "not sliding friction", key="values")
         self.values = values
         super().__init__(stats.rv_histogram(np.histogram(values, bins="auto"), density=True),
                          {"values": values.tolist()}, provenance)

@@ -12,14 +12,14 @@ File names are relative to the study file.
 
 from __future__ import annotations
 
-import math
 import sys
 from pathlib import Path
 
 import numpy as np
 
 from tribokin.errors import InputError, closest_hint
-from tribokin.tribology.laws import Constant, Empirical, FrictionLaw, Gaussian, Lognormal, Uniform
+from tribokin.tribology.laws import (MU_MAX, MU_MIN, Constant, Empirical, FrictionLaw, Gaussian,
+                                     Lognormal, Uniform)
 from tribokin.tribology.presets import preset
 
 if sys.version_info >= (3, 11):
@@ -69,8 +69,11 @@ def _from_file(spec: dict, base_dir: Path) -> FrictionLaw:
         raise InputError(f"law file '{path}' not found; write it with `tribokin fit-friction`", key="file")
     try:
         mapping = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
+    except ValueError as error:  # also a number of more than 4300 digits
         raise InputError(f"not valid TOML: {error}", path) from None
+    if "file" in mapping:  # one level only: a law file naming itself, or a ring of them, would never end
+        raise InputError(f"a law file holds the law itself (law = ..., preset = ..., log = ...), not another law "
+                         f"file; point the study at {mapping['file']!r} directly", path, "file")
     law = law_from_spec(mapping, path, "", path.parent)
     law.provenance = law.provenance or f"law file {path} (its comments say where it comes from)"
     return law
@@ -88,23 +91,38 @@ def _from_log(spec: dict, base_dir: Path) -> FrictionLaw:
 
 
 SURFACE_REQUIRED = ("normal_force_N", "contact_area_m2", "film_thickness_m")
-SURFACE_COUNTS = {"cycles": (1000, 1), "seed": (0, 0)}  # key -> (default, smallest value)
+#: key -> (smallest, largest, unit, what lies outside) of the numbers of a surface law.
+SURFACE_RANGES = {
+    "normal_force_N": (1e-3, 1e7, "N", "tribometers load from millinewtons; no bearing carries 1000 t"),
+    "contact_area_m2": (1e-12, 1e-2, "m²", "a pin's apparent contact spans a square micrometre to 100 cm²"),
+    "film_thickness_m": (1e-9, 1e-3, "m", "lubricant films run from nanometres to a tenth of a millimetre"),
+    "mu_boundary": (MU_MIN, MU_MAX, "", "the friction coefficients a law may hold"),
+    "mu_film": (MU_MIN, MU_MAX, "", "the friction coefficients a law may hold"),
+    "modulus_Pa": (1e6, 1.2e12, "Pa", "contact moduli run from rubber's megapascals to diamond's 1.2e12 Pa"),
+}
+#: key -> (default, smallest, largest) of the whole numbers of a surface law.
+SURFACE_COUNTS = {"cycles": (1000, 1, 10 ** 6), "seed": (0, 0, 2 ** 64 - 1)}
+#: Most summits a surface law may draw (contacts per cycle × cycles): about a minute's work.
+MAX_SUMMIT_DRAWS = 1e8
 
 
-def _positive(spec: dict, key: str, default: float | None = None) -> float:
+def _number(spec: dict, key: str, default: float | None = None) -> float:
+    """``spec[key]`` (else ``default``), a number within its ``SURFACE_RANGES``."""
     value = spec.get(key, default)
     if value is None:
         raise InputError("is required for a surface friction law", key=key)
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
-        raise InputError(f"must be a number > 0 (got {value!r})", key=key)
+    low, high, unit, why = SURFACE_RANGES[key]
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
+        raise InputError(f"must be a number between {low:g} and {high:g}{' ' + unit if unit else ''} (got {value!r}): "
+                         f"{why}", key=key)
     return float(value)
 
 
 def _count(spec: dict, key: str) -> int:
-    default, smallest = SURFACE_COUNTS[key]
+    default, smallest, largest = SURFACE_COUNTS[key]
     value = spec.get(key, default)
-    if isinstance(value, bool) or not isinstance(value, int) or value < smallest:
-        raise InputError(f"must be a whole number >= {smallest} (got {value!r})", key=key)
+    if isinstance(value, bool) or not isinstance(value, int) or not smallest <= value <= largest:
+        raise InputError(f"must be a whole number between {smallest} and {largest} (got {value!r})", key=key)
     return value
 
 
@@ -114,10 +132,15 @@ def _from_surface(spec: dict, base_dir: Path) -> FrictionLaw:
 
     optional = {"mu_boundary": contact.MU_BOUNDARY, "mu_film": contact.MU_FILM, "modulus_Pa": contact.STEEL_MODULUS_PA}
     _only_keys(spec, ("surface",) + SURFACE_REQUIRED + tuple(optional) + tuple(SURFACE_COUNTS))
-    values = {key: _positive(spec, key) for key in SURFACE_REQUIRED}
-    values.update({key: _positive(spec, key, default) for key, default in optional.items()})
+    values = {key: _number(spec, key) for key in SURFACE_REQUIRED}
+    values.update({key: _number(spec, key, default) for key, default in optional.items()})
     values.update({key: _count(spec, key) for key in SURFACE_COUNTS})
     surface = profile_statistics(base_dir / str(spec["surface"]))
+    contacts = contact.mean_contacts(surface, values["contact_area_m2"], values["film_thickness_m"])
+    if contacts * values["cycles"] > MAX_SUMMIT_DRAWS:
+        raise InputError(f"{values['contact_area_m2']:g} m² puts {contacts:.3g} summits of {surface.source} in "
+                         f"contact per cycle, {contacts * values['cycles']:.3g} draws over {values['cycles']} cycles; "
+                         f"at most {MAX_SUMMIT_DRAWS:g}: use a smaller area or fewer cycles", key="contact_area_m2")
     lubrication = contact.Lubrication(values["film_thickness_m"], values["mu_boundary"], values["mu_film"])
     mu, share = contact.friction_per_cycle(surface, values["normal_force_N"], values["contact_area_m2"], lubrication,
                                            values["cycles"], np.random.default_rng(values["seed"]),

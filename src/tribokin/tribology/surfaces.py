@@ -27,11 +27,15 @@ import numpy as np
 from scipy import integrate, stats
 
 from tribokin.errors import InputError
-from tribokin.tribology.columns import read_columns
+from tribokin.tribology.columns import quiet_numerics, read_columns
 
 RADIUS_UNIT_M = 1e-6   # R* = R / RADIUS_UNIT_M in eq. (2)
 STENCIL = 2            # neighbours on each side of a peak in its parabola fit
 MIN_POINTS = 50
+#: column -> (largest |value| [m], why); and the finest spacing of x [m] (no profilometer resolves below atoms).
+PROFILE_LIMITS_M = {"x_m": (10.0, "a profile is millimetres to metres long"),
+                    "z_m": (1.0, "roughness heights are micrometres")}
+MIN_SPACING_M = 1e-10
 
 
 @dataclass(frozen=True)
@@ -83,10 +87,20 @@ class SurfaceStatistics:
 def read_profile(path) -> tuple[np.ndarray, np.ndarray]:
     """Positions x [m] and heights z [m] of a profile CSV (``x_m, z_m``); x must increase strictly."""
     columns = read_columns(path, (("x_m", "z_m"),), MIN_POINTS)
+    for key, (largest, why) in PROFILE_LIMITS_M.items():
+        beyond = np.abs(columns[key]) > largest
+        if beyond.any():
+            row = int(np.argmax(beyond))
+            raise InputError(f"data row {row + 1} holds {columns[key][row]:g} m, beyond ±{largest:g} m: {why}; check "
+                             "the units", path, key)
     x = columns["x_m"]
     steps = np.diff(x)
     if np.any(steps <= 0):
         raise InputError(f"must increase strictly; data row {int(np.argmax(steps <= 0)) + 2} does not", path, "x_m")
+    if np.any(steps < MIN_SPACING_M):
+        row = int(np.argmax(steps < MIN_SPACING_M))
+        raise InputError(f"data row {row + 2} lies {steps[row]:g} m after the one before; points closer than "
+                         f"{MIN_SPACING_M:g} m are below atomic size: check the units", path, "x_m")
     return x, columns["z_m"]
 
 
@@ -112,19 +126,28 @@ def peak_curvatures(x, z, peaks) -> np.ndarray:
 
 
 def analyse_profile(x, z, source: str = "<profile>") -> SurfaceStatistics:
-    """Asperity statistics of a profile x [m], z [m] (see the module docstring for each definition)."""
-    z = level(x, z)
-    peaks = find_peaks(z)
-    curvature = peak_curvatures(x, z, peaks) if peaks.size else np.empty(0)
-    curved = curvature < 0
-    if peaks.size < 10 or curved.sum() < 10:
-        raise InputError(f"has {peaks.size} peaks ({curved.sum()} curved); at least 10 are needed for the "
-                         "statistics: give a longer or finer profile", source, "z_m")
-    AR = float((x[peaks[-1]] - x[peaks[0]]) / (peaks.size - 1))
-    Alt, SAlt = stats.norm.fit(z[peaks])
-    a, _, scale = stats.lognorm.fit(-1 / curvature[curved] / RADIUS_UNIT_M, floc=0)
-    return SurfaceStatistics(source, float(x[-1] - x[0]), float(np.sqrt(np.mean(z * z))), int(peaks.size), AR,
-                             1.2 / AR ** 2, float(Alt), float(SAlt), float(a), float(math.log(scale)))
+    """Asperity statistics of a profile x [m], z [m] (see the module docstring for each definition).
+
+    Statistics that come out infinite, NaN or of zero spread (heights too small for floating point)
+    are an :class:`InputError` naming the file's ``z_m``."""
+    with quiet_numerics():
+        z = level(x, z)
+        peaks = find_peaks(z)
+        curvature = peak_curvatures(x, z, peaks) if peaks.size else np.empty(0)
+        curved = curvature < 0
+        if peaks.size < 10 or curved.sum() < 10:
+            raise InputError(f"has {peaks.size} peaks ({curved.sum()} curved); at least 10 are needed for the "
+                             "statistics: give a longer or finer profile", source, "z_m")
+        AR = float((x[peaks[-1]] - x[peaks[0]]) / (peaks.size - 1))
+        Alt, SAlt = stats.norm.fit(z[peaks])
+        a, _, scale = stats.lognorm.fit(-1 / curvature[curved] / RADIUS_UNIT_M, floc=0)
+        statistics = (float(np.sqrt(np.mean(z * z))), 1.2 / AR ** 2, float(Alt), float(SAlt), float(a),
+                      math.log(scale) if scale > 0 else math.nan)
+    if not all(math.isfinite(v) for v in statistics) or SAlt <= 0 or a <= 0:
+        raise InputError("its summit statistics are not finite numbers of some spread (rms, D_s, Alt, SAlt, a, b = "
+                         f"{', '.join(f'{v:.3g}' for v in statistics)}): check the heights' units", source, "z_m")
+    rq, density, Alt, SAlt, a, b = statistics
+    return SurfaceStatistics(source, float(x[-1] - x[0]), rq, int(peaks.size), AR, density, Alt, SAlt, a, b)
 
 
 def profile_statistics(path) -> SurfaceStatistics:

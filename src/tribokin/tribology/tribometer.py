@@ -13,6 +13,7 @@ import numpy as np
 
 from tribokin.errors import InputError
 from tribokin.tribology.columns import read_columns
+from tribokin.tribology.laws import MU_MAX
 
 MIN_CYCLES = 20
 
@@ -30,15 +31,20 @@ def read_log(path) -> TribometerLog:
     """Read a tribometer log (``cycle, mu`` or ``friction_force_N, normal_force_N``)."""
     columns = read_columns(path, (("mu",), ("friction_force_N", "normal_force_N")), MIN_CYCLES, ("cycle",))
     if "mu" in columns:
-        mu = columns["mu"]
+        mu, key = columns["mu"], "mu"
     else:
-        normal = columns["normal_force_N"]
+        normal, key = columns["normal_force_N"], "friction_force_N"
         if np.any(normal <= 0):
             raise InputError(f"data row {int(np.argmax(normal <= 0)) + 1} has a normal force <= 0", path,
                              "normal_force_N")
-        mu = np.abs(columns["friction_force_N"]) / normal
+        with np.errstate(over="ignore"):  # an overflowing ratio is refused below, as too large
+            mu = np.abs(columns["friction_force_N"]) / normal
     if np.any(mu < 0):
         raise InputError(f"data row {int(np.argmax(mu < 0)) + 1} has mu < 0: friction is never negative", path, "mu")
+    if np.any(mu > MU_MAX):
+        row = int(np.argmax(mu > MU_MAX))
+        raise InputError(f"data row {row + 1} gives mu = {mu[row]:g}, above {MU_MAX:g}: not sliding friction (clean "
+                         "metals in vacuum reach a few); check the row and the units", path, key)
     cycle = columns.get("cycle", np.arange(1, mu.size + 1, dtype=float))
     return TribometerLog(str(path), cycle, mu)
 
@@ -72,7 +78,8 @@ def steady_state(log: TribometerLog, running_in: int | None = None) -> tuple[np.
     if isinstance(trimmed, bool) or not isinstance(trimmed, (int, np.integer)) or trimmed < 0:
         raise InputError(f"must be a whole number >= 0 (got {trimmed!r})", log.source, "running_in")
     if log.mu.size - trimmed < MIN_CYCLES:
-        raise InputError(f"trimming {trimmed} of {log.mu.size} cycles leaves fewer than {MIN_CYCLES}; "
+        shown = trimmed if trimmed <= log.mu.size else "more than all"
+        raise InputError(f"trimming {shown} of {log.mu.size} cycles leaves fewer than {MIN_CYCLES}; "
                          "use a smaller running-in count", log.source, "running_in")
     return log.mu[trimmed:], int(trimmed)
 

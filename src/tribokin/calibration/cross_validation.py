@@ -1,0 +1,120 @@
+"""Predicted ISO 9283 figures with prediction intervals, and leave-one-pose-out cross-validation.
+
+Prediction at a pose: ``draws`` parameter vectors θ ~ N(θ̂, covariance) (the fit's approximate
+posterior in log space; parameters on the information's null space are held at θ̂, since the data
+say nothing about them), each giving the series' Σ and m(s) (:func:`~.model.predict_series`); for
+each draw one ISO test is simulated as Gaussian clouds of the measured number of cycles per
+direction, and its RP_l per direction (l̄ + 3·S_l) and vAP (largest distance between the
+directions' barycentres) computed. The 95 % prediction interval runs from the 2.5th to the 97.5th
+percentile of those figures: it holds both the parameters' uncertainty and the test-to-test spread
+of a figure computed from n cycles. The prediction is the expected figure of one test at the fitted
+values: the mean over ``draws`` tests simulated at θ̂ (a mean over the posterior draws would be
+dominated by the heavy tail of poorly determined parameters). Random numbers:
+``numpy.random.default_rng([seed, pose index])`` in leave-one-pose-out.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial.distance import pdist
+
+from tribokin.calibration.data import PoseData
+from tribokin.calibration.fit import Calibration, fit
+from tribokin.calibration.model import JointModel, predict_series
+
+DRAWS = 2000
+SEED = 9283
+
+
+@dataclass(frozen=True)
+class PredictedFigure:
+    """A measured figure beside its prediction [m].
+
+    Attributes:
+        measured_m: from the measured cycles.
+        predicted_m: expected value of the figure for one test (mean over the draws).
+        interval_m: (low, high) 95 % prediction interval of one test's figure.
+    """
+
+    measured_m: float
+    predicted_m: float
+    interval_m: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class PosePrediction:
+    """Measured and predicted figures at one pose.
+
+    Attributes:
+        pose: pose label.
+        directions: approach labels, in the order of ``RP_l``.
+        RP_l: one per direction; None for a one-cycle series (too short for RP).
+        vAP: across directions, None with one direction.
+    """
+
+    pose: str
+    directions: tuple[str, ...]
+    RP_l: tuple[PredictedFigure | None, ...]
+    vAP: PredictedFigure | None
+
+
+def position_repeatability(points_m: np.ndarray) -> np.ndarray:
+    """ISO 9283 RP_l = l̄ + 3·S_l of clouds (..., n, 3) [m] → (...)."""
+    distances = np.linalg.norm(points_m - points_m.mean(axis=-2, keepdims=True), axis=-1)
+    return distances.mean(axis=-1) + 3 * distances.std(axis=-1, ddof=1)
+
+
+def _summary(measured: float, figures: np.ndarray) -> PredictedFigure:
+    """``figures``: (2·draws,) at θ̂ first, then at the posterior draws."""
+    at_fit, drawn = np.split(figures, 2)
+    low, high = np.percentile(drawn, [2.5, 97.5])
+    return PredictedFigure(float(measured), float(at_fit.mean()), (float(low), float(high)))
+
+
+def _draw_theta(calibration: Calibration, draws: int, rng: np.random.Generator) -> np.ndarray:
+    """(p, 2·draws) θ: θ̂ ``draws`` times, then ``draws`` from the approximate posterior with
+    null-space parameters held at θ̂."""
+    theta = np.repeat(calibration.theta[:, None], 2 * draws, axis=1)
+    known = np.isfinite(np.diag(calibration.covariance))
+    covariance = calibration.covariance[np.ix_(known, known)]
+    theta[known, draws:] = rng.multivariate_normal(calibration.theta[known], covariance, size=draws,
+                                                   method="eigh").T
+    return theta
+
+
+def predict_pose(calibration: Calibration, pose: PoseData, rng: np.random.Generator,
+                 draws: int = DRAWS) -> PosePrediction:
+    """RP_l per direction and vAP at ``pose`` predicted by a fit, beside those of its measured series."""
+    model = calibration.nominal
+    stiffness, backlash, noise = model.unpack(_draw_theta(calibration, draws, rng))
+    tests = 2 * draws
+    signs = np.array([s.signs for s in pose.series], dtype=float)
+    covariance, shift = predict_series(stiffness[:, None], backlash[:, None], noise[:, None], pose.jacobian,
+                                       signs, pose.torque_mean, pose.torque_std, model.joint_noise)
+    factor = np.linalg.cholesky(covariance)
+    rp_l, barycentres = [], []
+    for d, series in enumerate(pose.series):
+        cloud = shift[:, d, None, :] + np.einsum("kab,knb->kna", factor[:, d],
+                                                 rng.standard_normal((tests, len(series.points_m), 3)))
+        rp_l.append(_summary(position_repeatability(np.asarray(series.points_m)), position_repeatability(cloud))
+                    if len(series.points_m) > 1 else None)
+        barycentres.append(cloud.mean(axis=1))
+    vap = None
+    if len(pose.series) > 1:
+        measured = np.array([np.mean(s.points_m, axis=0) for s in pose.series])
+        simulated = np.stack(barycentres, axis=1)
+        spans = np.linalg.norm(simulated[:, :, None] - simulated[:, None, :], axis=-1).max(axis=(1, 2))
+        vap = _summary(pdist(measured).max(), spans)
+    return PosePrediction(pose.label, tuple(s.direction for s in pose.series), tuple(rp_l), vap)
+
+
+def leave_one_pose_out(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...], draws: int = DRAWS,
+                       seed: int = SEED) -> tuple[PosePrediction, ...]:
+    """For each pose: fit ``model`` to the other poses, predict this one (module docstring)."""
+    predictions = []
+    for i, pose in enumerate(poses):
+        calibration = fit(model, [p for j, p in enumerate(poses) if j != i])
+        predictions.append(predict_pose(calibration, pose, np.random.default_rng([seed, i]), draws))
+    return tuple(predictions)

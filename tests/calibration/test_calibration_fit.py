@@ -1,0 +1,88 @@
+"""Maximum-likelihood fit: round trip against the truth, identifiability, frame independence."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from calibration_fixtures import BACKLASH, NOISE_FLOOR_M, STIFFNESS, arm_kinematics, arm_model, simulate
+from scipy.spatial.transform import Rotation
+
+from tribokin.calibration.fit import fit, profile_interval
+
+TRUTH = dict(zip(arm_model().names(), np.concatenate([STIFFNESS, BACKLASH, [NOISE_FLOOR_M]])))
+B_FIXED = dict(fit_backlash=(False,) * 6)
+
+
+def covered(calibration) -> list[bool]:
+    """For each identifiable parameter: its 95 % interval holds the truth."""
+    return [p.ci95[0] <= TRUTH[p.name] <= p.ci95[1] for p in calibration.parameters if p.identifiable]
+
+
+def test_round_trip_recovers_the_truth_within_the_intervals():
+    calibration = fit(arm_model(**B_FIXED), simulate(arm_kinematics(), np.random.default_rng(1)))
+    assert calibration.converged and calibration.rank == 7
+    assert all(p.identifiable for p in calibration.parameters)
+    assert all(covered(calibration))
+    assert calibration.aic == pytest.approx(2 * 7 - 2 * calibration.log_likelihood)
+    np.testing.assert_allclose(calibration.model.stiffness, STIFFNESS, rtol=0.3)
+
+
+def test_pooled_intervals_of_identifiable_parameters_cover_the_truth():
+    """200 seeded data sets, all 13 parameters free (stiffness, backlash per joint, noise floor)."""
+    kinematics, model = arm_kinematics(), arm_model()
+    hits = [covered(fit(model, simulate(kinematics, np.random.default_rng([21, seed])))) for seed in range(200)]
+    pooled = np.concatenate(hits)
+    assert len(pooled) >= 1200  # most parameters are identifiable in most repetitions
+    assert pooled.mean() >= 0.90
+
+
+def test_joint_whose_column_is_zero_is_named_not_identifiable():
+    kinematics = [(np.where(np.arange(6) == 5, 0.0, j), t, s) for j, t, s in arm_kinematics()]
+    poses = simulate(kinematics, np.random.default_rng(2))
+    calibration = fit(arm_model(), poses)
+    named = {p.name: p for p in calibration.parameters}
+    for name in ("joints.j6.stiffness", "joints.j6.backlash"):
+        assert not named[name].identifiable
+        assert named[name].std_error is None and named[name].ci95 is None
+        assert "does not move with this joint" in named[name].hint
+    assert calibration.rank == 11
+    assert named["joints.j5.stiffness"].identifiable and named["joints.j5.stiffness"].hint == ""
+    assert profile_interval(calibration, poses, "joints.j6.stiffness") == (None, None)  # a flat profile
+
+
+def test_profile_interval_of_a_well_determined_stiffness_is_close_to_its_wald_interval():
+    poses = simulate(arm_kinematics(), np.random.default_rng(1))
+    calibration = fit(arm_model(), poses)
+    wald = {p.name: p.ci95 for p in calibration.parameters}["joints.j4.stiffness"]
+    np.testing.assert_allclose(profile_interval(calibration, poses, "joints.j4.stiffness"), wald, rtol=0.01)
+
+
+def test_tie_all_makes_identifiable_what_per_joint_stiffness_is_not():
+    """One pose, one direction: a 3 × 3 covariance cannot give six stiffnesses and a noise floor."""
+    kinematics = arm_kinematics(poses=1)
+    poses = simulate(kinematics, np.random.default_rng(3), cycles=200, directions={"+": np.ones(6)})
+    per_joint = fit(arm_model(**B_FIXED), poses)
+    assert not all(p.identifiable for p in per_joint.parameters)
+    assert any('tie = "all"' in p.hint for p in per_joint.parameters)
+    tied = fit(arm_model(**B_FIXED, tie="all"), poses)
+    assert [p.name for p in tied.parameters] == ["joints.stiffness_factor", "noise_floor_m"]
+    assert tied.rank == 2 and all(p.identifiable for p in tied.parameters)
+
+
+def test_rotating_and_shifting_the_measurements_changes_no_fitted_value():
+    kinematics, model = arm_kinematics(), arm_model(**B_FIXED)
+    rotation = Rotation.from_euler("xyz", [30, -50, 110], degrees=True).as_matrix()
+    base = fit(model, simulate(kinematics, np.random.default_rng(5)))
+    moved = fit(model, simulate(kinematics, np.random.default_rng(5), rotation=rotation,
+                                shift_m=np.array([1.5, -2.0, 0.3])))
+    np.testing.assert_allclose([p.value for p in moved.parameters], [p.value for p in base.parameters], rtol=1e-9)
+    np.testing.assert_allclose([p.std_error for p in moved.parameters], [p.std_error for p in base.parameters],
+                               rtol=1e-4)
+
+
+def test_backlash_absent_from_the_data_is_not_reported_as_known():
+    backlash = BACKLASH.copy()
+    backlash[1] = 0.0
+    calibration = fit(arm_model(), simulate(arm_kinematics(), np.random.default_rng(0), backlash=backlash))
+    named = {p.name: p for p in calibration.parameters}["joints.j2.backlash"]
+    assert not named.identifiable and "fix its value" in named.hint
