@@ -24,6 +24,7 @@ STAGES = (
     ("propagation",),
     ("iso9283",),
     ("measurement",),
+    ("calibration",),
     ("simulation",),
     ("study",),
     ("execution",),
