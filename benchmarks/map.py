@@ -44,7 +44,7 @@ SHIPPED_STUDY = Path(__file__).resolve().parents[1] / "studies" / "ur5-map-horiz
 def ur5_plane(side_u: int, side_v: int, cycles: int, engine: str = "fast") -> dict:
     """A UR5 map on a horizontal plane in front of the base, tool down, every target reachable;
     robot, payload and joint model those of the shipped ``studies/ur5-map-horizontal.toml``."""
-    from tribokin.study import read_study_file
+    from tribokin.study.reading import read_study_file
 
     shipped = read_study_file(SHIPPED_STUDY).mapping
     return {
@@ -72,8 +72,8 @@ def fk_loop_rates(samples: int) -> dict:
       i.e. what the map would run without the fast engine;
     * ``position_only``: the bare minimum, forward kinematics and the tool frame's translation.
     """
-    from tribokin.propagate import tool_deviations_exact
-    from tribokin.robot import load_example_robot
+    from tribokin.kinematics.robot import load_example_robot
+    from tribokin.propagation.exact import tool_deviations_exact
 
     robot = load_example_robot("ur5")
     model, data, frame = robot.model, robot.data, robot.tool_frame_id
@@ -92,8 +92,10 @@ def fk_loop_rates(samples: int) -> dict:
 def draw_rate(study: dict, targets: int) -> float:
     """Target-cycles/s of drawing a map's random numbers alone, as the map draws them: per target its
     own stream, the approach signs and every joint's friction coefficients, turned into deviations."""
-    from tribokin.mapping import MAP_STREAM
-    from tribokin.study import PoseRunner, joint_models, joint_space_task, load_robot, load_study, pose_rng
+    from tribokin.maps.run import MAP_STREAM
+    from tribokin.simulation.pose_run import PoseRunner, joint_space_task, pose_rng
+    from tribokin.study.assembly import joint_models, load_robot
+    from tribokin.study.reading import load_study
 
     loaded = load_study(study)
     robot = load_robot(loaded)
@@ -121,9 +123,10 @@ def memory_child(targets_v: int) -> None:
     import tempfile
 
     from tribokin import run_study
-    from tribokin.checkpoint import chunk_folder
-    from tribokin.output import write_results
-    from tribokin.study import load_robot, load_study
+    from tribokin.maps.store import chunk_folder
+    from tribokin.output.writers import write_results
+    from tribokin.study.assembly import load_robot
+    from tribokin.study.reading import load_study
 
     study = ur5_plane(1000, targets_v, MEMORY_CYCLES)
     load_robot(load_study(study))  # imports done and meshes read before the baseline

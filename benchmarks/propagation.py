@@ -17,9 +17,9 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from tribokin.fast_propagation import MAX_ORDER, tool_deviations_fast
-from tribokin.propagate import tool_deviations_exact
-from tribokin.robot import load_example_robot
+from tribokin.kinematics.robot import load_example_robot
+from tribokin.propagation.exact import tool_deviations_exact
+from tribokin.propagation.poe import MAX_ORDER, tool_deviations_fast
 
 ROBOTS = ("ur5", "panda")
 FAST_SAMPLES = 200_000

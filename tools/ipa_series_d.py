@@ -22,7 +22,7 @@ pose that has a unidirectional series of at least two cycles, in the file's row 
 - Columns: measured T-Mac position ``x_m, y_m, z_m`` in the laser tracker's frame (not the robot base
   frame); ``a_deg, b_deg, c_deg``: rotation vector, about the tracker's x, y, z axes, taking the
   pose's mean measured orientation (``Rotation.mean``) to the row's: the deviations ISO 9283's a, b, c
-  stand for, as ``tribokin.iso9283`` defines them (the raw angles are intrinsic X-Y-Z Euler angles
+  stand for, as ``tribokin.iso9283.metrics`` defines them (the raw angles are intrinsic X-Y-Z Euler angles
   whose second angle is near -79° and whose third wraps at ±180°, and fixed-axis x-y-z angles of
   these orientations sit at the gimbal lock, b ≈ -90°: differences of either are not rotations about
   x, y, z); commanded TCP position ``cx_m, cy_m, cz_m`` of the row itself in the robot base frame;

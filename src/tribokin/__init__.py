@@ -4,13 +4,9 @@ Tribological statistics of each joint's friction -> joint lost motion ->
 Pinocchio forward kinematics -> ISO 9283 figures, at any pose of any robot.
 """
 
-from importlib import metadata
-
 from tribokin.errors import InputError
-from tribokin.study import load_study, run_study
+from tribokin.provenance import __version__
+from tribokin.run import run_study
+from tribokin.study.reading import load_study
 
-try:
-    __version__ = metadata.version("tribokin")  # pyproject.toml's, as installed
-except metadata.PackageNotFoundError:  # sources on the path, never installed
-    __version__ = "unknown"
 __all__ = ["InputError", "load_study", "run_study", "__version__"]

@@ -24,8 +24,8 @@ class _Parser(argparse.ArgumentParser):
 def _claimed(out, force: bool):
     """Check the output folder, hold its lock (``<out>.lock``) while the block runs, and first delete the
     temporary folders a killed run left beside it (or move back an output folder it had moved aside)."""
-    from tribokin.lock import output_lock
-    from tribokin.output import check_output_folder, remove_leftovers
+    from tribokin.output.folder import check_output_folder, remove_leftovers
+    from tribokin.output.lock import output_lock
 
     check_output_folder(out, force)
     with output_lock(out):
@@ -37,7 +37,7 @@ def _claimed(out, force: bool):
 
 
 def _run(args) -> None:
-    from tribokin.executors import check_executor
+    from tribokin.execution import check_executor
 
     check_executor(args.workers, args.scheduler)
     with _claimed(args.out, args.force):
@@ -62,9 +62,9 @@ def _run(args) -> None:
 def _compute_and_write(args):
     """Run the study (resuming from ``<out>.chunks`` if asked) and write its output folder. A refusal
     deletes the chunk folder this run created, never one an interrupted run left for ``--resume``."""
-    from tribokin.checkpoint import check_chunk_folder, chunk_folder, discard
-    from tribokin.output import write_results
-    from tribokin.study import run_study
+    from tribokin.maps.store import check_chunk_folder, chunk_folder, discard
+    from tribokin.output.writers import write_results
+    from tribokin.run import run_study
 
     chunks = chunk_folder(args.out)
     if args.force and not args.resume:
@@ -128,14 +128,14 @@ def _view(args) -> None:
 
 
 def _robots(args) -> None:
-    from tribokin.robot import TESTED_ROBOTS, example_robot_names
+    from tribokin.kinematics.robot import TESTED_ROBOTS, example_robot_names
 
     for name in example_robot_names():
         print(f"{name}{'  (tested)' if name in TESTED_ROBOTS else ''}")
 
 
 def _fit_friction(args) -> None:
-    from tribokin.measurements import fit_friction
+    from tribokin.tribology_reports import fit_friction
 
     with _claimed(args.out, args.force):
         report = fit_friction(args.log, args.out, args.running_in, args.force)
@@ -149,7 +149,7 @@ def _fit_friction(args) -> None:
 
 
 def _surface(args) -> None:
-    from tribokin.measurements import surface_report
+    from tribokin.tribology_reports import surface_report
 
     with _claimed(args.out, args.force):
         report = surface_report(args.profile, args.out, args.area_m2, args.z_range_m, args.radius_range_m,

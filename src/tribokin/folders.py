@@ -15,7 +15,7 @@ import tempfile
 from pathlib import Path
 
 from tribokin.errors import InputError
-from tribokin.memory import gib
+from tribokin.units import gib
 
 #: ``renameat2`` flag: exchange the two paths atomically (Linux).
 _RENAME_EXCHANGE = 2

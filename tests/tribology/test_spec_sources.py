@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from tribokin.errors import InputError
-from tribokin.study import run_study
+from tribokin.run import run_study
 from tribokin.tribology import Empirical, Gaussian, law_from_spec
 
 from conftest import ROOT, axis_study

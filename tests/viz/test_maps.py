@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from test_workspace import gantry_map_study
+from maps.test_workspace import gantry_map_study
 from tribokin import run_study
-from tribokin.output import map_scene_layers, write_results
+from tribokin.output.writers import map_scene_layers, write_results
 from tribokin.viz.maps import shown_targets
 
 
@@ -28,7 +28,7 @@ def test_heat_maps_show_every_target_up_to_their_limit_then_every_kth(gantry_map
 def test_scene_layers_hold_at_most_their_limit_with_the_values_of_the_targets_shown(gantry_map, monkeypatch):
     full = map_scene_layers(gantry_map)[gantry_map.reference.name]
     assert full.stride == 1 and len(full.points_m) == 63
-    monkeypatch.setattr("tribokin.output.SCENE_TARGETS", 12)
+    monkeypatch.setattr("tribokin.output.writers.SCENE_TARGETS", 12)
     layer = map_scene_layers(gantry_map)[gantry_map.reference.name]
     assert layer.stride == 3 and len(layer.points_m) == 9  # 3 x 3 of 7 x 9
     shown = gantry_map.grid.every((3, 3, 3)).ravel()
@@ -37,7 +37,7 @@ def test_scene_layers_hold_at_most_their_limit_with_the_values_of_the_targets_sh
 
 
 def test_report_of_a_thinned_map_says_so_and_its_table_keeps_every_target(gantry_map, monkeypatch, tmp_path):
-    monkeypatch.setattr("tribokin.output.SCENE_TARGETS", 12)
+    monkeypatch.setattr("tribokin.output.writers.SCENE_TARGETS", 12)
     monkeypatch.setattr("tribokin.viz.maps.PANEL_TARGETS", 4)
     result = run_study(gantry_map_study() | {"map": {**gantry_map_study()["map"], "resolution": [9, 7]}})
     out = write_results(result, tmp_path / "out", report="light")
@@ -59,7 +59,7 @@ def test_colour_scales_keep_the_centre_in_the_middle():
 
 
 def plane_grid(origin_m, axis_u, axis_v, u_values, v_values):
-    from tribokin.targets import GridAxis, TargetGrid
+    from tribokin.maps.grid import GridAxis, TargetGrid
 
     return TargetGrid("plane", (GridAxis("u", "m", np.array(u_values)), GridAxis("v", "m", np.array(v_values)), None),
                       None, np.zeros(3), np.array(origin_m, dtype=float),
@@ -91,7 +91,7 @@ def test_plane_heat_maps_are_labelled_in_base_frame_coordinates_and_mark_the_bas
 
 
 def test_box_and_joint_grids_keep_their_axes():
-    from tribokin.targets import GridAxis, TargetGrid
+    from tribokin.maps.grid import GridAxis, TargetGrid
     from tribokin.viz.maps import panel_frame
 
     box = TargetGrid("box", (GridAxis("x", "m", np.array([-0.2, 0.2])), GridAxis("y", "m", np.array([-0.1, 0.3])),

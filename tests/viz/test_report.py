@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
-from test_workspace import gantry_map_study
-from tribokin.output import write_results
-from tribokin.study import run_study
+from maps.test_workspace import gantry_map_study
+from tribokin.output.writers import write_results
+from tribokin.run import run_study
 from tribokin.viz.maps import map_figure_names
 from tribokin.viz.report import write_report
 from tribokin.viz.scene_file import load_scene_inputs

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
-from tribokin.output import write_results
-from tribokin.study import run_study
+from tribokin.output.writers import write_results
+from tribokin.run import run_study
 from tribokin.viz.colours import ColourScale
 from viz_fixtures import CUBE, UNIFORM_AXIS, grid_layers
 

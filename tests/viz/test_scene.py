@@ -8,7 +8,7 @@ import umsgpack
 from meshcat.servers.tree import find_node
 
 from tribokin.errors import InputError
-from tribokin.study import run_study
+from tribokin.run import run_study
 from tribokin.viz.colours import UNREACHABLE_RGB, ColourScale
 from tribokin.viz.scene import MapLayer, build_scene, choose_magnification
 from tribokin.viz.scene_file import CycleCloud

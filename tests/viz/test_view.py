@@ -21,8 +21,8 @@ import pytest
 from conftest import AXIS_STUDY_TOML, GANTRY_MAP_TOML
 from tribokin.cli import main
 from tribokin.errors import InputError
-from tribokin.output import write_results
-from tribokin.study import run_study
+from tribokin.output.writers import write_results
+from tribokin.run import run_study
 from tribokin.viz.live import start_server
 from tribokin.viz.scene_file import load_scene_inputs
 from viz_fixtures import CUBE, UNIFORM_AXIS, grid_layers

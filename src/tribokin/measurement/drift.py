@@ -22,11 +22,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tribokin.iso9283 import barycenter, orientation_repeatability, position_repeatability
+from tribokin.iso9283.metrics import barycenter, orientation_repeatability, position_repeatability
 from tribokin.measurement.contract import Pose, Series
 from tribokin.measurement.figures import pose_clouds, position_accuracy, wrapped
 from tribokin.measurement.registration import Registration
-from tribokin.results import MDEG_PER_RAD, UM_PER_M
+from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 CYCLES_PER_SET = 10
 

@@ -29,11 +29,11 @@ from typing import NamedTuple
 import numpy as np
 from scipy.spatial.distance import pdist
 
-from tribokin.iso9283 import (barycenter, covariance_semi_axes, multidirectional_variation,
+from tribokin.iso9283.metrics import (barycenter, covariance_semi_axes, multidirectional_variation,
                               orientation_repeatability, position_repeatability)
 from tribokin.measurement.contract import Measurements, Pose, Series
 from tribokin.measurement.registration import Registration
-from tribokin.results import MDEG_PER_RAD, UM_PER_M
+from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 BOOTSTRAP_RESAMPLES = 2000
 BOOTSTRAP_SEED = 9283

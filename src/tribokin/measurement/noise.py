@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tribokin.errors import InputError
-from tribokin.iso9283 import position_repeatability
+from tribokin.iso9283.metrics import position_repeatability
 from tribokin.measurement.contract import Stream
 from tribokin.measurement.figures import PoseFigures
 

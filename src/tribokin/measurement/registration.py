@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from tribokin.iso9283 import barycenter
+from tribokin.iso9283.metrics import barycenter
 from tribokin.measurement.contract import Measurements
 
 #: Poses are collinear when the second singular value of their centred commanded positions is below

@@ -11,7 +11,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
-from tribokin.results import UM_PER_M, PoseResult  # noqa: E402
+from tribokin.simulation.pose_result import PoseResult  # noqa: E402
+from tribokin.units import UM_PER_M  # noqa: E402
 
 
 #: Colours of the approach directions' barycenters and RP_l circles, in the order of the directions.

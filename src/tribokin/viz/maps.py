@@ -15,9 +15,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize, TwoSlopeNorm  # noqa: E402
 
-from tribokin.names import map_figure_file  # noqa: E402
-from tribokin.results import MapResult  # noqa: E402
-from tribokin.targets import GridAxis, TargetGrid  # noqa: E402
+from tribokin.maps.grid import GridAxis, TargetGrid  # noqa: E402
+from tribokin.maps.result import MapResult  # noqa: E402
+from tribokin.study.names import map_figure_file  # noqa: E402
 
 UNREACHABLE_GREY = "#c8c8c8"
 

@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from tribokin.names import pose_figure_file
-from tribokin.results import StudyResult
-from tribokin.robot import Robot
-from tribokin.targets import TargetGrid
+from tribokin.kinematics.robot import Robot
+from tribokin.maps.grid import TargetGrid
+from tribokin.run import StudyResult
+from tribokin.study.names import pose_figure_file
 from tribokin.viz.colours import ColourScale
 from tribokin.viz.maps import map_figure_names
 from tribokin.viz.scene import Cube, MapLayer, SceneInfo, build_scene

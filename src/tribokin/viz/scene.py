@@ -21,9 +21,9 @@ import meshcat.geometry as mg
 import numpy as np
 
 from tribokin.errors import InputError
-from tribokin.iso9283 import barycenter, position_repeatability
-from tribokin.results import UM_PER_M
-from tribokin.robot import Robot
+from tribokin.iso9283.metrics import barycenter, position_repeatability
+from tribokin.kinematics.robot import Robot
+from tribokin.units import UM_PER_M
 from tribokin.viz.colours import ColourScale
 
 #: on-screen size [m] of the largest magnified cycle cloud (its largest distance from the barycenter).
@@ -220,7 +220,8 @@ def build_scene(vis, robot: Robot, q, poses, map_layers: dict[str, MapLayer] | N
     Args:
         vis: a ``meshcat.Visualizer`` (live, or static: :func:`tribokin.viz.static.static_visualizer`).
         robot: the robot; q: its configuration [m or rad] for the drawing.
-        poses: objects with ``name``, ``positions_m`` (n, 3) [m] (e.g. :class:`~tribokin.results.PoseResult`).
+        poses: objects with ``name``, ``positions_m`` (n, 3) [m]
+            (e.g. :class:`~tribokin.simulation.pose_result.PoseResult`).
         map_layers: RP_l maps by scenario name, each toggled on its own in the GUI.
         cube: the ISO 9283 test cube, drawn with P1–P5.
         magnification: cloud magnification [-] (default: :func:`choose_magnification`).

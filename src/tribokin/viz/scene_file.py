@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from tribokin.errors import InputError
-from tribokin.robot import Robot
+from tribokin.kinematics.robot import Robot
 from tribokin.viz.scene import Cube, MapLayer
 
 SCENE_FILE = "scene.npz"
@@ -62,7 +62,7 @@ def save_scene_inputs(folder: Path, q, magnification: float, map_layers: dict[st
 
 def load_scene_inputs(folder) -> SceneInputs:
     """Read the scene of an output folder written by ``tribokin run``."""
-    from tribokin.study import load_robot_spec
+    from tribokin.study.assembly import load_robot_spec
 
     folder = Path(folder)
     for name in ("summary.json", SCENE_FILE):

@@ -1,0 +1,111 @@
+"""Value checks: each takes (value, source, key) and returns the clean value, or raises an
+:class:`~tribokin.errors.InputError` naming the source and the key."""
+
+from __future__ import annotations
+
+import math
+
+from tribokin.errors import InputError, closest_hint
+
+#: Largest seed: NumPy's seeds are 64-bit numbers.
+SEED_MAX = 2 ** 64 - 1
+
+
+def _number(value, source, key) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"must be a number (got {value!r})", source, key)
+    number = float(value) if isinstance(value, float) or value.bit_length() <= 1000 else math.inf
+    if not math.isfinite(number):
+        raise InputError(f"must be finite (got {_shown(value)})", source, key)
+    return number
+
+
+def finite(value, source, key) -> float:
+    return _number(value, source, key)
+
+
+def non_negative(value, source, key) -> float:
+    value = _number(value, source, key)
+    if value < 0:
+        raise InputError(f"must be >= 0 (got {value:g})", source, key)
+    return value
+
+
+def positive(value, source, key) -> float:
+    value = _number(value, source, key)
+    if value <= 0:
+        raise InputError(f"must be > 0 (got {value:g})", source, key)
+    return value
+
+
+def whole_number(value, source, key) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise InputError(f"must be a whole number (got {value!r})", source, key)
+    return value
+
+
+def positive_int(value, source, key) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise InputError(f"must be a whole number >= 1 (got {value!r})", source, key)
+    return value
+
+
+def seed_int(value, source, key) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+        raise InputError(f"must be a whole number >= 0 (got {value!r})", source, key)
+    if value > SEED_MAX:
+        raise InputError(f"must be at most 2**64 - 1 (got {_shown(value)}): seeds are 64-bit numbers", source, key)
+    return value
+
+
+def _shown(value) -> str:
+    """A number for a message: ``1e+308``, ``12``, or ``a number of about 400 digits`` for a whole number too long."""
+    if isinstance(value, int) and value.bit_length() > 60:
+        return f"a number of about {int(value.bit_length() * math.log10(2)) + 1} digits"
+    return f"{value:g}"
+
+
+def within(check, low: float, high: float, unit: str, why: str):
+    """``check``, then a range: the value must lie in [low, high] [unit]; ``why`` (in the error) says what lies
+    outside. Both ends may be whole numbers (a count) or floats."""
+    def bounded(value, source, key):
+        value = check(value, source, key)
+        if not low <= value <= high:
+            raise InputError(f"must be between {low:g} and {high:g}{' ' + unit if unit else ''} (got "
+                             f"{_shown(value)}): {why}", source, key)
+        return value
+    return bounded
+
+
+def text(value, source, key) -> str:
+    if not isinstance(value, str) or not value.strip():
+        raise InputError(f"must be a non-empty string (got {value!r})", source, key)
+    return value
+
+
+def one_of(*choices):
+    def check(value, source, key) -> str:
+        if value not in choices:
+            hint = closest_hint(str(value), list(choices))
+            raise InputError(f"must be one of {', '.join(choices)} (got {value!r}){hint}", source, key)
+        return value
+    return check
+
+
+def table(value, source, key) -> dict:
+    if not isinstance(value, dict):
+        raise InputError(f"must be a table (got {value!r})", source, key)
+    return value
+
+
+def number_list(value, source, key, element=finite) -> list[float]:
+    """A non-empty list of numbers, each passing ``element``."""
+    if not isinstance(value, list) or not value:
+        raise InputError(f"must be a non-empty list of numbers (got {value!r})", source, key)
+    return [element(v, source, f"{key}[{i}]") for i, v in enumerate(value)]
+
+
+def string_list(value, source, key) -> list[str]:
+    if not isinstance(value, list):
+        raise InputError(f"must be a list of strings (got {value!r})", source, key)
+    return [text(v, source, f"{key}[{i}]") for i, v in enumerate(value)]

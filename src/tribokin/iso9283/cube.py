@@ -1,0 +1,111 @@
+"""The ISO 9283 test cube placed on a robot: P1-P5 as joint configurations, and their approach directions."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from tribokin.errors import InputError
+from tribokin.iso9283.metrics import cube_test_positions
+from tribokin.kinematics.ik import solve_ik_with_restarts
+from tribokin.kinematics.robot import Robot
+
+#: Cartesian approach directions of a cube pose, each followed by its opposite: label -> the tool's
+#: direction of travel along the base axes. Unidirectional tests use the + ones (ISO 9283's three
+#: directions for vAP), bidirectional and random tests all six.
+APPROACH_DIRECTIONS = {f"{sign}{axis}": sign_value * row for axis, row in zip("xyz", np.eye(3))
+                       for sign, sign_value in (("+", 1.0), ("-", -1.0))}
+
+
+@dataclass(frozen=True)
+class CubePose:
+    """One ISO test pose: name, target position [m], configuration ``q`` and the joints' approach signs
+    (6, nv), one row per :data:`APPROACH_DIRECTIONS`."""
+
+    name: str
+    position_m: np.ndarray
+    q: np.ndarray
+    approach_signs: np.ndarray
+
+
+def position_manipulability(robot: Robot, q) -> float:
+    """Yoshikawa manipulability sqrt(det(J J^T)) of the tool position [m^3 per unit^3]."""
+    jacobian = robot.tool_jacobian(q)[:3]
+    return float(np.sqrt(max(np.linalg.det(jacobian @ jacobian.T), 0.0)))
+
+
+def candidate_postures(robot: Robot, samples: int = 256, keep: int = 4) -> list[np.ndarray]:
+    """Well-conditioned working postures, best first: the reference posture and random
+    postures within the limits (fixed seed), ranked by the manipulability of the tool position."""
+    rng = np.random.default_rng(9283)
+    lower, upper = robot.lower_limits, robot.upper_limits
+    candidates = [robot.reference_q] + [rng.uniform(lower, upper) for _ in range(samples)]
+    scores = np.round([position_manipulability(robot, q) for q in candidates], 9)
+    return [candidates[i] for i in np.argsort(-scores, kind="stable")[:keep]]
+
+
+def joint_approach_signs(robot: Robot, q, directions=tuple(APPROACH_DIRECTIONS.values())) -> np.ndarray:
+    """(m, nv) direction of travel of each joint when the tool approaches along each Cartesian direction.
+
+    The joint velocities that move the tool along ``d`` (least-squares, ``pinv(J_position) d``)
+    give the signs; a joint that does not move takes +1.
+    """
+    jacobian = robot.tool_jacobian(q)[:3]
+    velocities = np.linalg.pinv(jacobian) @ np.asarray(directions).T
+    signs = np.sign(np.round(velocities.T, 12))
+    signs[signs == 0] = 1.0
+    return signs
+
+
+def holds_orientation(robot: Robot, q) -> bool:
+    """Whether the robot can move its tool in all 6 directions at ``q`` (full-rank Jacobian)."""
+    return robot.model.nv >= 6 and np.linalg.matrix_rank(robot.tool_jacobian(q), tol=1e-6) == 6
+
+
+def _solve_cube(robot, center, side, rotation, start, rng, position_only):
+    """Poses P1-P5 of one cube, or the first unreachable one as (name, position, IK result)."""
+    poses = []
+    for name, position in cube_test_positions(center, side).items():
+        result = solve_ik_with_restarts(robot, pin.SE3(rotation, position), start, rng, position_only=position_only)
+        if not result.success:
+            return None, (name, position, result)
+        poses.append(CubePose(name, position, result.q, joint_approach_signs(robot, result.q)))
+    return poses, None
+
+
+def place_cube(robot: Robot, center_m=None, side_m: float | None = None, rpy_deg=None, source=None,
+               rng: np.random.Generator | None = None) -> tuple[list[CubePose], dict]:
+    """Solve P1-P5 of the ISO cube by IK, with the tool held at one orientation.
+
+    Defaults: centre at the tool position of a well-conditioned posture (see
+    :func:`candidate_postures`), orientation the tool's there, side the largest of
+    0.4, 0.3, 0.2, 0.1, 0.05 m with all five poses reachable. A robot that cannot
+    hold its tool's orientation everywhere (fewer than 6 independent joints) is
+    solved for position only. An unreachable pose is an error naming it.
+
+    Returns:
+        the five poses and the cube actually used (``center_m``, ``side_m``, ``rpy_deg``,
+        ``orientation_held``).
+    """
+    rng = rng or np.random.default_rng(9283)
+    sides = [side_m] if side_m is not None else [0.4, 0.3, 0.2, 0.1, 0.05]
+    failure = None
+    for start in candidate_postures(robot, keep=1 if center_m is not None else 4):
+        home = robot.tool_placement(start)
+        center = home.translation.copy() if center_m is None else np.asarray(center_m, dtype=float)
+        rotation = home.rotation.copy() if rpy_deg is None else pin.rpy.rpyToMatrix(*np.radians(rpy_deg))
+        position_only = not holds_orientation(robot, start)
+        if center_m is not None:
+            start = solve_ik_with_restarts(robot, pin.SE3(rotation, center), start, rng, position_only=position_only).q
+        for side in sides:
+            poses, failure = _solve_cube(robot, center, side, rotation, start, rng, position_only)
+            if poses is not None:
+                rpy = np.degrees(pin.rpy.matrixToRpy(rotation)).tolist()
+                return poses, {"center_m": center.tolist(), "side_m": side, "rpy_deg": rpy,
+                               "orientation_held": not position_only}
+    name, position, result = failure
+    raise InputError(f"ISO pose {name} at {np.round(position, 4).tolist()} m is unreachable with this tool "
+                     f"orientation within the joint limits (closest {result.position_error_m * 1e3:.3g} mm); "
+                     "move or shrink the cube", source, "iso_cube")

@@ -1,0 +1,1 @@
+"""Kinematics: robot loading (URDF, example-robot-data), inverse kinematics, bearing loads."""

@@ -1,0 +1,226 @@
+"""Load a robot: a URDF file or an example-robot-data name, reduced to the tool's chain.
+
+The joints that move the tool frame (its kinematic chain from the base) are
+the robot's *active joints*; every other joint (gripper fingers, a floating
+base) is locked at the robot's reference posture. Only one-degree-of-freedom
+joints (revolute, prismatic) may be active.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import io
+import warnings
+import xml.etree.ElementTree as ET
+from collections import Counter
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from tribokin.errors import InputError, closest_hint
+from tribokin.kinematics.urdf_meshes import confine_meshes
+
+#: example-robot-data names tested with tribokin (any fixed-base arm it ships should load).
+TESTED_ROBOTS = ("ur3", "ur5", "ur10", "panda", "xarm7", "z1", "so100")
+
+
+def example_robot_names() -> list[str]:
+    """Every robot name example-robot-data can load."""
+    from example_robot_data.robots_loader import ROBOTS
+
+    return sorted(ROBOTS)
+
+
+@dataclass
+class Robot:
+    """A Pinocchio model reduced to the chain that moves ``tool_frame``.
+
+    Attributes:
+        model: the reduced model; its joints are the active joints, in chain order.
+        tool_frame: name of the frame whose pose is measured.
+        label: robot name or URDF path, for reports.
+        reference_q: (nq,) a typical working posture [m or rad] (example-robot-data's, else mid-range).
+        visual_model, collision_model: geometry models (may be ``None``).
+        joint_is_prismatic: (nv,) True for prismatic joints (deviations in [m]), False for revolute ([rad]).
+        motion_axes: (nv, 3) unit motion axis of each joint in its own frame (linear or angular).
+    """
+
+    model: pin.Model
+    tool_frame: str
+    label: str
+    reference_q: np.ndarray
+    visual_model: pin.GeometryModel | None = None
+    collision_model: pin.GeometryModel | None = None
+
+    def __post_init__(self):
+        self.tool_frame_id = self.model.getFrameId(self.tool_frame)
+        self.data = self.model.createData()
+        pin.forwardKinematics(self.model, self.data, pin.neutral(self.model))
+        subspaces = np.array([np.asarray(self.data.joints[i].S).reshape(6) for i in range(1, self.model.njoints)])
+        self.joint_is_prismatic = np.linalg.norm(subspaces[:, :3], axis=1) > 0
+        axes = np.where(self.joint_is_prismatic[:, None], subspaces[:, :3], subspaces[:, 3:])
+        self.motion_axes = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+
+    @property
+    def joint_names(self) -> list[str]:
+        """Active joint names, in the order of ``q``."""
+        return list(self.model.names)[1:]
+
+    @property
+    def lower_limits(self) -> np.ndarray:
+        """Lower position limits [m or rad]."""
+        return np.asarray(self.model.lowerPositionLimit, dtype=float)
+
+    @property
+    def upper_limits(self) -> np.ndarray:
+        """Upper position limits [m or rad]."""
+        return np.asarray(self.model.upperPositionLimit, dtype=float)
+
+    def tool_placement(self, q) -> pin.SE3:
+        """Pose of the tool frame in the world (base) frame at configuration ``q``."""
+        pin.forwardKinematics(self.model, self.data, np.asarray(q, dtype=float))
+        return pin.updateFramePlacement(self.model, self.data, self.tool_frame_id).copy()
+
+    def tool_jacobian(self, q) -> np.ndarray:
+        """(6, nv) Jacobian of the tool frame, LOCAL_WORLD_ALIGNED: rows (linear [m/unit], angular [rad/unit])."""
+        jacobian = pin.computeFrameJacobian(self.model, self.data, np.asarray(q, dtype=float), self.tool_frame_id,
+                                            pin.LOCAL_WORLD_ALIGNED)
+        return np.asarray(jacobian).reshape(6, self.model.nv)
+
+    def check_configuration(self, q, source=None, key: str = "q") -> np.ndarray:
+        """``q`` as an array, or an :class:`InputError` if its length or limits are wrong."""
+        try:
+            q = np.asarray(q, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"must be a list of numbers (got {q!r})", source, key) from None
+        names = self.joint_names
+        if q.shape != (len(names),):
+            raise InputError(f"needs {len(names)} values, one per joint ({', '.join(names)}); got {q.size}",
+                             source, key)
+        if not np.all(np.isfinite(q)):
+            raise InputError("must be finite numbers", source, key)
+        for i, name in enumerate(names):
+            if not self.lower_limits[i] <= q[i] <= self.upper_limits[i]:
+                raise InputError(f"joint '{name}' = {q[i]:g} is outside its limits "
+                                 f"[{self.lower_limits[i]:g}, {self.upper_limits[i]:g}]", source, key)
+        return q
+
+
+def _quiet(call, *args):
+    """Call a loader, hiding the chatter some URDF parsers print or warn."""
+    with contextlib.redirect_stdout(io.StringIO()), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return call(*args)
+
+
+def _make_frame_names_unique(model: pin.Model) -> None:
+    """Rename a body frame that shares its name with a joint to ``<name>_link``.
+
+    Some URDFs (so100) name a link and a joint alike; Pinocchio's
+    ``buildReducedModel`` then cannot tell their frames apart.
+    """
+    counts = Counter(frame.name for frame in model.frames)
+    for index, frame in enumerate(model.frames):
+        if counts[frame.name] > 1 and frame.type == pin.FrameType.BODY:
+            frame.name = f"{frame.name}_link"
+            model.frames[index] = frame
+
+
+def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, source) -> Robot:
+    """Lock every joint that does not move ``tool_frame``; check the rest are 1-DoF."""
+    _make_frame_names_unique(model)
+    frames = [f.name for f in model.frames]
+    if tool_frame is None:
+        tool_frame = frames[-1]
+    elif tool_frame not in frames:
+        raise InputError(f"unknown frame '{tool_frame}'{closest_hint(tool_frame, frames)}; frames of {label}: "
+                         f"{', '.join(frames[1:])}", source, "robot.tool_frame")
+    full = model
+    chain = set(model.supports[model.frames[model.getFrameId(tool_frame)].parentJoint])
+    locked = [j for j in range(1, model.njoints) if j not in chain or model.joints[j].shortname() == "JointModelFreeFlyer"]
+    if locked:
+        if visual is None or collision is None:
+            model = pin.buildReducedModel(model, locked, reference_q)
+        else:
+            model, (visual, collision) = pin.buildReducedModel(model, [visual, collision], locked, reference_q)
+    for joint, name in zip(model.joints[1:], list(model.names)[1:]):
+        if joint.nq != 1 or joint.nv != 1:
+            raise InputError(f"joint '{name}' ({joint.shortname()}) moves the tool but is not a 1-DoF revolute or "
+                             "prismatic joint; tribokin cannot model it", source, "robot")
+    if model.nq == 0:
+        raise InputError(f"frame '{tool_frame}' is not moved by any joint", source, "robot.tool_frame")
+    kept_q = np.array([reference_q[full.joints[full.getJointId(name)].idx_q] for name in list(model.names)[1:]])
+    return Robot(model, tool_frame, label, kept_q, visual, collision)
+
+
+def load_urdf(path, tool_frame: str | None = None, package_dirs=(), source=None) -> Robot:
+    """Load a robot from a URDF file, after checking its meshes lie inside ``package_dirs``.
+
+    Args:
+        path: the URDF file.
+        tool_frame: frame whose pose is measured (default: the model's last frame).
+        package_dirs: folders that ``package://`` mesh URIs resolve against, and the only folders
+            meshes may be read from (default: the URDF's folder and its parent).
+        source: file that named the URDF, for error messages.
+
+    Raises:
+        InputError: a missing or malformed URDF, or a mesh outside ``package_dirs``
+            (:func:`tribokin.kinematics.urdf_meshes.confine_meshes`, before Pinocchio reads any file).
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"URDF file '{path}' not found", source, "robot.urdf")
+    dirs = [Path(p) for p in package_dirs] or [path.parent, path.parent.parent]
+    try:
+        urdf = ET.fromstring(path.read_bytes())
+    except ET.ParseError as error:
+        raise InputError(f"cannot read URDF '{path}': {error}", source, "robot.urdf") from None
+    confine_meshes(urdf, path, dirs, source)
+    text = ET.tostring(urdf, encoding="unicode")
+    try:
+        model = _quiet(pin.buildModelFromXML, text)
+    except (RuntimeError, ValueError) as error:
+        first = str(error).strip().splitlines()[0] if str(error).strip() else "unreadable"
+        raise InputError(f"cannot read URDF '{path}': {first}", source, "robot.urdf") from None
+    visual = collision = None
+    try:
+        visual = _quiet(pin.buildGeomFromUrdfString, model, text, pin.GeometryType.VISUAL, None, list(map(str, dirs)))
+        collision = _quiet(pin.buildGeomFromUrdfString, model, text, pin.GeometryType.COLLISION, None,
+                           list(map(str, dirs)))
+    except (RuntimeError, ValueError):
+        pass  # kinematics do not need meshes; the viewers say when meshes are missing
+    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
+    mid_range = np.where(np.isfinite(lower) & np.isfinite(upper) & (upper - lower < 1e3), (lower + upper) / 2,
+                         pin.neutral(model))
+    return _reduce_to_chain(model, visual, collision, mid_range, tool_frame, str(path), source)
+
+
+def load_example_robot(name: str, tool_frame: str | None = None, source=None) -> Robot:
+    """Load a robot that example-robot-data ships, by name (e.g. ``"ur5"``)."""
+    names = example_robot_names()
+    if name not in names:
+        raise InputError(f"unknown robot '{name}'{closest_hint(name, names)}; valid names: {', '.join(names)}",
+                         source, "robot.name")
+    model, visual, collision, reference_q = _example_robot(name)
+    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name, source)
+
+
+@functools.lru_cache(maxsize=None)
+def _example_robot(name: str):
+    """(model, visual model, collision model, reference posture) of an example-robot-data robot, read
+    once per process (reading its meshes takes a third of a second); callers copy the model.
+
+    Its meshes must lie inside example-robot-data's ``robots`` folder; they are checked after
+    example-robot-data has loaded them (its files, named by no user input).
+    """
+    import example_robot_data
+
+    wrapper = _quiet(example_robot_data.load, name)
+    urdf = Path(wrapper.urdf).resolve()
+    robots = next((p for p in urdf.parents if p.name == "robots"), urdf.parent)
+    confine_meshes(ET.parse(urdf).getroot(), urdf, [robots.parent.parent], allowed_dirs=[robots])
+    reference_q = wrapper.q0 if wrapper.q0 is not None else pin.neutral(wrapper.model)
+    return wrapper.model, wrapper.visual_model, wrapper.collision_model, np.asarray(reference_q)

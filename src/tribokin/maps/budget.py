@@ -1,0 +1,177 @@
+"""The memory and disk a run needs, estimated from the study before anything runs, against what the machine has.
+
+A run keeps every cycle of every pose in memory (``samples.npz`` holds them all). A map keeps its
+per-target results on disk (:class:`~tribokin.maps.store.ChunkStore`, a few hundred bytes per
+target); in memory it holds the chunks being computed, one warm start per grid row, and blocks of
+about ``TARGET_BLOCK_SAMPLES`` cycles. A study that would not fit is refused up front with the
+estimate, rather than killed by the operating system half-way. The byte counts below were
+measured (``tracemalloc``, UR5 and gantry) and rounded up about twofold.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+from pathlib import Path
+
+from tribokin.errors import InputError
+from tribokin.study.spec import Study
+from tribokin.units import gib
+
+FLOAT = 8
+#: A map draws, propagates and measures its targets in blocks of about this many cycles: enough to
+#: share the per-call costs, few enough for the block's arrays (a few MiB) to stay small.
+TARGET_BLOCK_SAMPLES = 16384
+#: A map chunk holds about this many targets, rounded up to whole grid rows (``map.chunk_rows`` overrides).
+CHUNK_TARGETS = 256
+#: Bytes per cycle of a pose while the results are written (figures, the report's clouds).
+WRITTEN_PER_CYCLE = 800
+
+
+def kept_per_cycle(nv: int) -> int:
+    """Bytes per cycle of a pose kept until written: positions (3), angles (3), approach (1), mu and dq (2 nv)."""
+    return FLOAT * (7 + 2 * nv)
+
+
+def computed_per_cycle(nv: int) -> int:
+    """Bytes per cycle and approach direction while a pose is computed (draws, signs, engine intermediates)."""
+    return FLOAT * 8 * nv
+
+
+def map_bytes_per_target(nv: int, scenarios: int) -> int:
+    """Bytes per map target in its store: position (3), q (nv), reachable, closest IK errors (2), and per
+    scenario the figures (7), loads (nv) and dominant joint."""
+    return FLOAT * (5 + nv) + 1 + scenarios * FLOAT * (8 + nv)
+
+
+def grid_counts(spec: dict) -> list[int]:
+    """Targets along each axis of a validated ``[map]``, columns first."""
+    return spec["counts"] if spec["kind"] == "joint" else spec["resolution"]
+
+
+def size_key(spec: dict) -> str:
+    """The ``[map]`` key that sets its number of targets."""
+    return "map.counts" if spec["kind"] == "joint" else "map.resolution"
+
+
+def rows_per_chunk(spec: dict, row_length: int) -> int:
+    """Grid rows a map chunk computes: ``map.chunk_rows``, default about ``CHUNK_TARGETS`` targets."""
+    return spec["chunk_rows"] or math.ceil(CHUNK_TARGETS / row_length)
+
+
+def chunk_targets(spec: dict) -> int:
+    """Targets of the largest chunk of a validated ``[map]``."""
+    row_length = grid_counts(spec)[0]
+    return min(rows_per_chunk(spec, row_length) * row_length, map_target_count(spec))
+
+
+def grid_rows(spec: dict) -> int:
+    """Grid rows of a validated ``[map]`` (all layers)."""
+    return map_target_count(spec) // grid_counts(spec)[0]
+
+
+#: (limit, usage) files of a cgroup v2, then v1: a container's memory limit.
+CGROUP_FILES = (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
+                ("/sys/fs/cgroup/memory/memory.limit_in_bytes", "/sys/fs/cgroup/memory/memory.usage_in_bytes"))
+
+
+def available_bytes() -> int | None:
+    """Memory this process may still take [bytes]: ``MemAvailable``, capped by a cgroup (container)
+    limit; ``None`` when the system does not say."""
+    candidates = []
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                candidates.append(int(line.split()[1]) * 1024)
+    except (OSError, ValueError, IndexError):
+        pass
+    for limit, usage in CGROUP_FILES:
+        try:
+            candidates.append(int(Path(limit).read_text()) - int(Path(usage).read_text()))
+        except (OSError, ValueError):
+            continue  # no such cgroup, or no limit ("max")
+    if not candidates:
+        try:
+            candidates.append(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+        except (OSError, ValueError, AttributeError):
+            return None
+    return max(0, min(candidates))
+
+
+def map_target_count(spec: dict) -> int:
+    """Targets of a validated ``[map]`` table (every grid point, reachable or not)."""
+    return math.prod(grid_counts(spec))
+
+
+def _count(number: int, word: str) -> str:
+    """``"1,000 cycles"``, ``"1 pose"``."""
+    return f"{number:,} {word}{'' if number == 1 else 's'}"
+
+
+def check_disk(study: Study, nv: int, folder) -> None:
+    """An :class:`InputError` naming the map's size key if its store would not fit on the disk holding ``folder``."""
+    if study.map is None:
+        return
+    targets = map_target_count(study.map)
+    scenarios = max(1, len(study.scenarios))
+    needed = targets * map_bytes_per_target(nv, scenarios)
+    existing = Path(folder).absolute()
+    while not existing.exists():
+        existing = existing.parent
+    free = shutil.disk_usage(existing).free
+    if needed > free:
+        key = size_key(study.map)
+        raise InputError(f"this map needs about {gib(needed)} of disk space for its results ({_count(targets, 'map target')}"
+                         f" × {_count(scenarios, 'scenario')} × {_count(nv, 'joint')}), and {gib(free)} is available in "
+                         f"'{existing}': lower {key}, or split the map into several", study.source, key)
+
+
+def estimate(study: Study, nv: int, directions: list[int], workers: int = 1) -> list[tuple[float, str, str]]:
+    """The bytes a run needs, in parts: ``(bytes, key, what)``, ``key`` the study key to lower.
+
+    Args:
+        study: the validated study (poses, ``[map]``, scenarios).
+        nv: active joints.
+        directions: per pose to run, the approach directions tested (``cycles`` kept from each).
+        workers: local processes computing map chunks at once.
+    """
+    cycles = study.cycles
+    parts = []
+    if directions:
+        kept = sum(directions) * cycles * (kept_per_cycle(nv) + WRITTEN_PER_CYCLE)
+        computed = max(directions) * cycles * computed_per_cycle(nv)
+        parts.append((kept + computed, "study.cycles",
+                      f"{_count(cycles, 'cycle')} × {_count(len(directions), 'pose')} × {_count(nv, 'joint')}"))
+    if study.map is not None:
+        scenarios = max(1, len(study.scenarios))
+        cycles = max([s.study.cycles for s in study.scenarios] or [study.cycles])
+        key = size_key(study.map)
+        chunk = chunk_targets(study.map)
+        held = 2 * (max(1, workers) + 1) * chunk * map_bytes_per_target(nv, scenarios) + 3 * FLOAT * nv * grid_rows(
+            study.map)  # chunks computed, in transit and written; a warm start per row (kept, sent, solved)
+        parts.append((held, key, f"{_count(chunk, 'map target')} per chunk × {_count(scenarios, 'scenario')} × "
+                                 f"{_count(nv, 'joint')}, and {_count(grid_rows(study.map), 'grid row')}"))
+        block = max(cycles, TARGET_BLOCK_SAMPLES)  # cycles of the targets measured together
+        parts.append((max(1, workers) * block * (kept_per_cycle(nv) + computed_per_cycle(nv)), "study.cycles",
+                      f"{_count(cycles, 'cycle')} per map target × {_count(max(1, workers), 'worker')}"))
+    return parts
+
+
+def check_memory(study: Study, nv: int, directions: list[int], workers: int = 1,
+                 cycles_from_command_line: bool = False, available: int | None = None) -> None:
+    """An :class:`InputError` naming the key to lower if the run needs more memory than is available.
+
+    ``available`` [bytes] defaults to :func:`available_bytes` (no check when unknown).
+    """
+    parts = estimate(study, nv, directions, workers)
+    needed = sum(size for size, _, _ in parts)
+    available = available_bytes() if available is None else available
+    if available is None or needed <= available:
+        return
+    size, key, what = max(parts)
+    source = study.source
+    if key == "study.cycles" and cycles_from_command_line:
+        source, key = "command line", "--cycles"
+    raise InputError(f"this run needs about {gib(needed)} of memory (mostly {gib(size)} for {what}), and "
+                     f"{gib(available)} is available: lower {key}, or split the study into several", source, key)

@@ -1,0 +1,192 @@
+"""Results of a workspace map: every target's figures per scenario, read from the map's store."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from tribokin.maps.grid import TargetGrid
+from tribokin.maps.rows import unreachable_reason
+from tribokin.maps.store import ChunkStore
+from tribokin.maps.streaming import blocks, spread
+
+#: Scalar figures of every map target, in map.csv order (µm, mdeg; ``dominant_share`` in [0, 1]).
+MAP_FIGURES = ("RP_l_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg", "largest_semi_axis_um",
+               "dominant_share")
+
+
+def scenario_column(scenario: int, name: str) -> str:
+    """Store column of scenario number ``scenario``'s ``name`` (``figures``, ``normal_forces_N``, ``dominant_joint``)."""
+    return f"scenario{scenario}_{name}"
+
+
+@dataclass
+class ScenarioMap:
+    """One scenario's figures at every target of a map (NaN where unreachable), read from the map's store.
+
+    Attributes:
+        name: scenario name. cycles: cycles per target.
+        number: the scenario's place in the study (its columns in the store).
+        joint_names: active joints, in the order of ``q`` (the names of ``dominant_joint``'s indices).
+        store: where the columns are (:class:`~tribokin.maps.store.ChunkStore`).
+    """
+
+    name: str
+    cycles: int
+    number: int
+    joint_names: list[str]
+    store: ChunkStore = field(repr=False)
+
+    def read(self, name: str, targets=slice(None)) -> np.ndarray:
+        """Column ``name`` at ``targets``: ``figures`` (k, len(MAP_FIGURES)), ``normal_forces_N`` (k, nv)
+        bearing loads [N], ``dominant_joint`` (k,) index in ``joint_names`` of the joint with the largest share of
+        the position variance (-1: none)."""
+        return self.store.read(scenario_column(self.number, name), targets)
+
+    def figure(self, name: str, targets=slice(None)) -> np.ndarray:
+        """Column ``name`` of ``MAP_FIGURES`` at ``targets`` (default: all; read the whole column only for small maps)."""
+        return self.read("figures", targets)[:, MAP_FIGURES.index(name)]
+
+    @property
+    def figures(self) -> np.ndarray:
+        """(N, len(MAP_FIGURES)) figures of every target (the whole column, in memory)."""
+        return self.read("figures")
+
+    @property
+    def normal_forces_N(self) -> np.ndarray:
+        """(N, nv) bearing loads of every target [N]."""
+        return self.read("normal_forces_N")
+
+    @property
+    def dominant_joint(self) -> np.ndarray:
+        """(N,) index in ``joint_names`` of each target's dominant joint (-1: none); :meth:`dominant_joint_names`
+        gives the names."""
+        return self.read("dominant_joint")
+
+    def dominant_joint_names(self, targets=slice(None)) -> np.ndarray:
+        """Name of the dominant joint at each of ``targets`` (``""``: none, e.g. unreachable), as Python strings."""
+        return np.array([*self.joint_names, ""], dtype=object)[self.read("dominant_joint", targets)]
+
+
+@dataclass
+class MapResult:
+    """A workspace map: the targets, their configurations, and each scenario's figures there, kept on
+    disk in ``store`` and read back block by block (:meth:`blocks`), so its size is not bounded by memory.
+
+    Attributes:
+        grid: the targets (axes, held orientation).
+        joint_names: active joints, in the order of ``q``.
+        store: the per-target columns: ``position_m`` (N, 3) target positions [m], ``q`` (N, nv)
+            configurations [m or rad] (NaN where unreachable), ``reachable`` (N,), ``closest`` (N, 2) how
+            close the IK came to unreachable targets [m, rad], and each scenario's (:class:`ScenarioMap`).
+        scenarios: one :class:`ScenarioMap` per scenario, by name, in the study's order; the first is the
+            reference of comparisons.
+    """
+
+    grid: TargetGrid
+    joint_names: list[str]
+    store: ChunkStore = field(repr=False)
+    scenarios: dict[str, ScenarioMap]
+    _summary: dict | None = field(default=None, init=False, repr=False)
+
+    @property
+    def reference(self) -> ScenarioMap:
+        return next(iter(self.scenarios.values()))
+
+    def blocks(self) -> Iterator[slice]:
+        """The targets in consecutive blocks of bounded size."""
+        return blocks(self.grid.size)
+
+    def read(self, name: str, targets=slice(None)) -> np.ndarray:
+        """Store column ``name`` at ``targets``."""
+        return self.store.read(name, targets)
+
+    @property
+    def q(self) -> np.ndarray:
+        """(N, nv) configurations [m or rad] (the whole column, in memory)."""
+        return self.read("q")
+
+    @property
+    def reachable(self) -> np.ndarray:
+        return self.read("reachable")
+
+    @property
+    def positions_m(self) -> np.ndarray:
+        """(N, 3) target positions [m]: commanded (plane, box), or reached at the configurations (joint maps)."""
+        return self.read("position_m")
+
+    def reasons(self, targets=slice(None)) -> np.ndarray:
+        """Why each of ``targets`` is unreachable (``""`` when reachable), as Python strings."""
+        return np.array([unreachable_reason(*c) for c in self.read("closest", targets)], dtype=object)
+
+    def ratio_RP_l(self, scenario: ScenarioMap, targets=slice(None)) -> np.ndarray:
+        """RP_l of ``scenario`` over the reference's [-] (NaN where the reference's is 0 or unreachable)."""
+        reference = self.reference.figure("RP_l_um", targets)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(reference > 0, scenario.figure("RP_l_um", targets) / reference, np.nan)
+
+    def diff_RP_l_um(self, scenario: ScenarioMap, targets=slice(None)) -> np.ndarray:
+        """RP_l of ``scenario`` minus the reference's [µm]."""
+        return scenario.figure("RP_l_um", targets) - self.reference.figure("RP_l_um", targets)
+
+    def winners(self, targets=slice(None)) -> np.ndarray:
+        """Place in ``scenarios`` of the scenario with the smallest RP_l at each of ``targets``; -1 for a tie or
+        unreachable."""
+        rp = np.column_stack([s.figure("RP_l_um", targets) for s in self.scenarios.values()])
+        best = np.argmin(np.where(np.isnan(rp), np.inf, rp), axis=1)
+        ties = (rp == rp.min(axis=1, keepdims=True)).sum(axis=1) > 1
+        return np.where(self.read("reachable", targets) & ~ties, best, -1)
+
+    def _counts(self) -> tuple[int, np.ndarray, np.ndarray]:
+        """Reachable targets; per joint, the reachable targets it dominates; per scenario, the targets it wins."""
+        reachable, dominant, wins = 0, np.zeros(len(self.joint_names), dtype=int), np.zeros(len(self.scenarios) + 1,
+                                                                                           dtype=int)
+        for part in self.blocks():
+            flags = self.read("reachable", part)
+            reachable += int(flags.sum())
+            dominant += np.bincount(self.reference.read("dominant_joint", part)[flags] + 1,
+                                    minlength=len(self.joint_names) + 1)[1:]
+            if len(self.scenarios) > 1:
+                wins += np.bincount(self.winners(part)[flags] + 1, minlength=len(self.scenarios) + 1)
+        return reachable, dominant, wins
+
+    def summary(self) -> dict:
+        """The ``map`` block of ``summary.json`` (computed once)."""
+        if self._summary is None:
+            self._summary = self._summarise()
+        return self._summary
+
+    def _summarise(self) -> dict:
+        reference, size = self.reference, self.grid.size
+        reachable, dominant, wins = self._counts()
+        block = {
+            **self.grid.describe(),
+            "count": size,
+            "reachable": reachable,
+            "unreachable": size - reachable,
+            "cycles": reference.cycles,
+            "RP_l_um": spread(lambda part: reference.figure("RP_l_um", part), size),
+            "AP_p_um": spread(lambda part: reference.figure("AP_p_um", part), size),
+            "dominant_joint_counts": {name: int(count) for name, count in zip(self.joint_names, dominant)},
+        }
+        if len(self.scenarios) > 1:
+            block["scenarios"] = [{
+                "name": s.name,
+                "cycles": s.cycles,
+                "RP_l_um": spread(lambda part, s=s: s.figure("RP_l_um", part), size),
+                "RP_l_ratio": spread(lambda part, s=s: self.ratio_RP_l(s, part), size),
+                "RP_l_diff_um": spread(lambda part, s=s: self.diff_RP_l_um(s, part), size),
+            } for s in self.scenarios.values()]
+            block["wins"] = {name: int(count) for name, count in zip(self.scenarios, wins[1:])}
+            block["ties"] = int(wins[0])
+        return block
+
+    def first_reachable_q(self) -> np.ndarray | None:
+        """The configuration of the first reachable target [m or rad], ``None`` if none is."""
+        for part in self.blocks():
+            flags = self.read("reachable", part)
+            if flags.any():
+                return self.read("q", part.start + int(np.argmax(flags)))
+        return None

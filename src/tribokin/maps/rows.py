@@ -1,0 +1,186 @@
+"""The IK of a map's targets (:mod:`tribokin.maps.grid`), along grid rows and then into holes from neighbours.
+
+Cartesian targets are solved by inverse kinematics,
+warm-started from a neighbour in an order that does not depend on how the rows are later
+split into chunks: the first target of every row (the *row heads*) is solved in one sequence
+from the start posture (:func:`solve_row_heads`), then each row is solved along its columns
+from its head (:func:`solve_row`). So a row's configurations depend on the grid only.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import defaultdict
+
+import numpy as np
+import pinocchio as pin
+
+from tribokin.kinematics.ik import IKResult, solve_ik, solve_ik_with_restarts
+from tribokin.kinematics.robot import Robot
+from tribokin.maps.grid import TargetGrid, axis_steps, grid_neighbours
+
+#: Random restarts of the IK after a warm start fails (each costs up to 200 iterations).
+IK_RESTARTS = 4
+#: Reached targets a row's warm start extrapolates from (a polynomial of one degree less): an error of the
+#: order of the step to the fourth power, so one iteration usually converges on fine grids.
+EXTRAPOLATION_POINTS = 4
+#: Seed of the IK restarts: target ``index`` restarts from ``default_rng([IK_SEED, index])``.
+IK_SEED = 9283
+
+
+def _target(grid: TargetGrid, index: int) -> pin.SE3:
+    return pin.SE3(np.eye(3) if grid.rotation is None else grid.rotation, grid.positions_m([index])[0])
+
+
+def _solve_from(robot: Robot, grid: TargetGrid, index: int, q_start) -> IKResult:
+    """One IK solve of target ``index`` from ``q_start``, without restarts."""
+    return solve_ik(robot, _target(grid, index), q_start, position_only=grid.rotation is None)
+
+
+def _solve(robot: Robot, grid: TargetGrid, index: int, q_start) -> IKResult:
+    """IK of target ``index`` from ``q_start``, then from seeded random restarts."""
+    return solve_ik_with_restarts(robot, _target(grid, index), q_start, lambda: np.random.default_rng([IK_SEED, index]),
+                                  IK_RESTARTS, position_only=grid.rotation is None)
+
+
+def head_order(grid: TargetGrid) -> list[int]:
+    """Grid rows in the order their heads are solved: row by row, each layer back and forth (a snake)."""
+    layers, rows, _ = grid.shape
+    order = []
+    for layer in range(layers):
+        sweep = range(rows) if layer % 2 == 0 else range(rows - 1, -1, -1)
+        order += [layer * rows + row for row in sweep]
+    return order
+
+
+def solve_row_heads(robot: Robot, grid: TargetGrid) -> np.ndarray:
+    """(rows, nv) warm start of every grid row: its first target solved from the previous head
+    (the start posture for the first; the last reachable head after an unreachable one)."""
+    if grid.kind == "joint":
+        return grid.joint_q(np.arange(0, grid.size, grid.row_length))
+    heads = np.empty((grid.row_count, robot.model.nv))
+    q_start = grid.start_q
+    for row in head_order(grid):
+        result = _solve(robot, grid, row * grid.row_length, q_start)
+        heads[row] = result.q
+        if result.success:
+            q_start = result.q
+    return heads
+
+
+def extrapolate_row(q: np.ndarray, reachable: np.ndarray) -> np.ndarray | None:
+    """Warm start [m or rad] for the next target of a row: the polynomial through the configurations ``q``
+    (k, nv) of the last reached targets in a row (up to ``EXTRAPOLATION_POINTS``), one step further;
+    ``None`` when fewer than two targets right before the next one were reached."""
+    count = 0
+    while count < min(EXTRAPOLATION_POINTS, len(q)) and reachable[len(q) - 1 - count]:
+        count += 1
+    if count < 2:
+        return None
+    return sum((-1) ** (j + 1) * math.comb(count, j) * q[len(q) - j] for j in range(1, count + 1))
+
+
+def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Configurations of grid row ``row``, each target warm-started from the last reachable one (``head_q`` first),
+    extrapolated along the row when two or more targets right before it were reached (:func:`extrapolate_row`).
+
+    Returns:
+        q (columns, nv) [m or rad] (NaN where unreachable), reachable (columns,), and for unreachable
+        targets how close the IK came (columns, 2): position error [m], orientation error [rad] (NaN
+        for reachable targets, and the orientation when it is not held).
+    """
+    indices = grid.row_indices(row)
+    closest = np.full((len(indices), 2), np.nan)
+    if grid.kind == "joint":
+        return grid.joint_q(indices), np.ones(len(indices), dtype=bool), closest
+    q = np.full((len(indices), robot.model.nv), np.nan)
+    reachable = np.zeros(len(indices), dtype=bool)
+    q_start = np.asarray(head_q, dtype=float)
+    for k, index in enumerate(indices):
+        result = None
+        predicted = extrapolate_row(q[:k], reachable[:k])
+        if predicted is not None:
+            result = _solve_from(robot, grid, index, predicted)
+        if result is None or not result.success:
+            result = _solve(robot, grid, index, q_start)
+        reachable[k] = result.success
+        if result.success:
+            q[k] = q_start = result.q
+        else:
+            closest[k] = result.position_error_m, np.nan if grid.rotation is None else result.angle_error_rad
+    return q, reachable, closest
+
+
+#: Targets whose reachable flags are scanned at once when looking for holes beside reached targets.
+SCAN_TARGETS = 1 << 16
+
+
+def holes_beside_reached(grid: TargetGrid, read) -> list[int]:
+    """Unreachable targets with a reached neighbour, in increasing order; ``read("reachable", slice)``
+    gives the flags, read in blocks of ``SCAN_TARGETS`` (and the neighbours either side)."""
+    strides = axis_steps(grid.shape)
+    reach = max(step for size, step in strides if size > 1) if grid.size > 1 else 0
+    holes = []
+    for first in range(0, grid.size, SCAN_TARGETS):
+        indices = np.arange(first, min(first + SCAN_TARGETS, grid.size))
+        low = max(0, first - reach)
+        window = read("reachable", slice(low, min(grid.size, indices[-1] + 1 + reach)))
+        beside = np.zeros(len(indices), dtype=bool)
+        for position, (size, step) in zip(np.unravel_index(indices, grid.shape), strides):
+            for offset in (-1, 1):
+                inside = (position + offset >= 0) & (position + offset < size)
+                beside[inside] |= window[indices[inside] + offset * step - low]
+        holes += indices[beside & ~window[indices - low]].tolist()
+    return holes
+
+
+def fill_from_neighbours(robot: Robot, grid: TargetGrid, read) -> dict[int, np.ndarray]:
+    """Retry unreachable targets from the configurations of their reached neighbours.
+
+    Rows are solved independently, so a target missed along its row (the IK left for another
+    branch, or a joint limit cut the way) may still be reachable from the row beside it. Targets
+    are retried in index order, again whenever a neighbour is newly reached, until none changes:
+    the outcome depends on the grid only (not on how rows were split into chunks).
+
+    Args:
+        read: ``read(column, index)`` of the rows' results: ``"reachable"`` (N,) flags and ``"q"``
+            (N, nv) configurations [m or rad] (e.g. :meth:`~tribokin.maps.store.ChunkStore.read`).
+
+    Returns:
+        the configurations of the targets newly reached, by index in increasing order.
+    """
+    if grid.kind == "joint":
+        return {}
+    filled = {}
+
+    def reached(indices: list[int]) -> np.ndarray:
+        return read("reachable", indices) | np.isin(indices, list(filled))
+
+    pending = holes_beside_reached(grid, read)
+    tried = defaultdict(set)  # target -> neighbours it was tried from
+    while pending:
+        index = pending.pop(0)
+        neighbours = grid_neighbours(grid, index)
+        for neighbour, was_reached in zip(neighbours, reached(neighbours)):
+            if not was_reached or neighbour in tried[index]:
+                continue
+            tried[index].add(neighbour)
+            result = _solve_from(robot, grid, index, filled[neighbour] if neighbour in filled else read("q", neighbour))
+            if result.success:
+                filled[index] = result.q
+                around = grid_neighbours(grid, index)
+                pending += [other for other, done in zip(around, reached(around)) if not done and other not in pending]
+                pending.sort()
+                break
+    return dict(sorted(filled.items()))
+
+
+def unreachable_reason(position_error_m: float, angle_error_rad: float) -> str:
+    """Why IK failed, for the map's ``reason`` column: how close it came [m, rad] (angle NaN when
+    the orientation is not held; position NaN: the target was reached, no reason)."""
+    if np.isnan(position_error_m):
+        return ""
+    closest = f"closest {position_error_m * 1e3:.3g} mm"
+    if not np.isnan(angle_error_rad):
+        closest += f", {np.degrees(angle_error_rad):.3g} deg"
+    return f"no IK solution within the joint limits from the warm start and {IK_RESTARTS} restarts ({closest})"

@@ -1,0 +1,302 @@
+"""Workspace maps: the ISO 9283 figures at every target of a grid, computed in chunks of whole rows.
+
+Each target is measured like a single pose (:meth:`~tribokin.simulation.pose_run.PoseRunner.measure`,
+joint-space approach) from its own random stream ``pose_rng(seed, index, MAP_STREAM)``,
+and only its scalar figures are kept, on disk (:class:`~tribokin.maps.store.ChunkStore`): memory
+holds a chunk's targets and a block's cycles, whatever the grid's size. A chunk solves and measures whole grid rows from
+their heads (:mod:`tribokin.maps.rows`), so the numbers depend on neither the chunk size,
+nor the number of workers, nor where the chunks run, nor on a resume. Every scenario is
+measured at the same configurations with the same streams.
+"""
+
+from __future__ import annotations
+
+import math
+import shutil
+import tempfile
+import threading
+import uuid
+import weakref
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from tribokin.errors import InputError
+from tribokin.execution import run_chunks
+from tribokin.iso9283.metrics import orientation_repeatability, position_spread, variance_contributions
+from tribokin.kinematics.robot import Robot
+from tribokin.maps.budget import TARGET_BLOCK_SAMPLES, rows_per_chunk
+from tribokin.maps.grid import TargetGrid, make_grid, target_positions_m
+from tribokin.maps.result import MAP_FIGURES, MapResult, ScenarioMap, scenario_column
+from tribokin.maps.rows import fill_from_neighbours, solve_row, solve_row_heads
+from tribokin.maps.store import ChunkStore, fingerprint
+from tribokin.propagation.exact import tool_deviations_at_poses, tool_frames
+from tribokin.simulation.pose_run import PoseRunner, joint_space_task, pose_rng
+from tribokin.study.assembly import joint_models, load_robot
+from tribokin.study.spec import Study
+from tribokin.units import MDEG_PER_RAD, UM_PER_M
+
+#: Random stream of map targets: target i draws from ``pose_rng(seed, i, MAP_STREAM)``
+#: (poses use streams 0 and 1).
+MAP_STREAM = 2
+#: Chunks finished after the warm-up before the progress bar shows a rate and an ETA.
+ETA_SAMPLES = 4
+
+
+class ProgressBar(tqdm):
+    """tqdm whose rate, hence ETA, is the average since its first ``warm_up`` updates (the chunks that paid for
+    start-up: worker processes, first calls), shown once ``samples`` more are in (``?`` until then); and without
+    tqdm's monitor thread, which would outlive the bar and keep later runs from forking workers."""
+
+    monitor_interval = 0
+
+    def __init__(self, *args, warm_up: int = 1, samples: int = ETA_SAMPLES, **kwargs):
+        self.warm_up, self.samples, self.updates = warm_up, samples, 0
+        self.clock_start: tuple[float, float] | None = None  # (time [s], count) at the end of the warm-up
+        super().__init__(*args, **kwargs)
+
+    def update(self, n=1):
+        self.updates += 1
+        super().update(n)
+        if self.updates == self.warm_up and not self.disable:
+            self.clock_start = (self._time(), self.n)
+
+    @property
+    def format_dict(self) -> dict:
+        shown = super().format_dict
+        shown["rate"] = 0.0  # tqdm shows "?"
+        if self.clock_start is not None and self.updates >= self.warm_up + self.samples:
+            start_s, start_n = self.clock_start
+            shown["rate"] = (self.n - start_n) / max(self._time() - start_s, 1e-9)
+        return shown
+
+
+@dataclass(frozen=True)
+class MapJob:
+    """What a chunk needs besides its rows: the study (robot, ``[map]``) and each scenario's study.
+
+    ``token`` names the job, so each process builds the robot, grid and runners once per job.
+    """
+
+    token: str
+    study: Study
+    scenarios: tuple[Study, ...]
+
+
+#: Per thread (Pinocchio data is mutable, and a dask worker may run chunks in several threads):
+#: the last job's token and its (robot, grid, runners).
+_local = threading.local()
+
+
+def _job_context(job: MapJob):
+    """(robot, grid, runners) of ``job``, built once per thread."""
+    cache = getattr(_local, "cache", None)
+    if cache is None or cache[0] != job.token:
+        robot = load_robot(job.study)
+        runners = [PoseRunner(s, robot, joint_models(s, robot)) for s in job.scenarios]
+        _local.cache = (job.token, robot, make_grid(robot, job.study.map, job.study.source), runners)
+    return _local.cache[1:]
+
+
+def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twists: np.ndarray,
+                    translations: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Figures (targets, ``MAP_FIGURES``), bearing loads [N] (targets, nv) and dominant joint (-1: none)
+    of the targets ``indices`` at configurations ``qs`` (targets, nv), each drawn from its own stream
+    and measured like a single pose (joint-space approach); ``twists``, ``translations``: their
+    :func:`~tribokin.propagation.exact.tool_frames`. Targets go through in blocks of even sizes, of at most about
+    ``TARGET_BLOCK_SAMPLES`` cycles: few enough for the arrays to stay small, enough to share the
+    per-call costs."""
+    study = runner.study
+    task = joint_space_task("map target", np.zeros(qs.shape[1]))  # the draws use its approach directions only
+    forces = runner.normal_forces_at(qs)
+    figures = np.empty((len(qs), len(MAP_FIGURES)))
+    dominant = np.empty(len(qs), dtype=int)
+    blocks = math.ceil(len(qs) / max(1, TARGET_BLOCK_SAMPLES // study.cycles))
+    for b in range(blocks):  # blocks of even sizes: no small last one paying the per-call costs alone
+        members = slice(len(qs) * b // blocks, len(qs) * (b + 1) // blocks)
+        per_joint = np.empty((len(indices[members]), qs.shape[1], study.cycles))  # cycles contiguous
+        for k, (load, index) in enumerate(zip(forces[members], indices[members])):
+            per_joint[k] = runner.draw(task, load, study.cycles, study.approach,
+                                       pose_rng(study.seed, int(index), MAP_STREAM))[0].T
+        figures[members], dominant[members] = block_figures(runner, qs[members], np.swapaxes(per_joint, 1, 2),
+                                                            twists[members], translations[members])
+    return figures, forces, dominant
+
+
+def block_figures(runner: PoseRunner, qs: np.ndarray, dq: np.ndarray, twists: np.ndarray, translations: np.ndarray):
+    """``MAP_FIGURES`` (targets, 7) and dominant joint (targets,) of deviations ``dq`` (targets, n, nv)."""
+    positions, angles = tool_deviations_at_poses(runner.robot, qs, dq, runner.study.engine, twists, translations)
+    shares = variance_contributions(twists[:, :3], dq)
+    dominant = np.where(np.isnan(shares).all(axis=1), -1, np.argmax(np.nan_to_num(shares, nan=-1.0), axis=1))
+    spread = position_spread(positions)
+    figures = np.column_stack([
+        spread.RP_l_m * UM_PER_M,
+        np.linalg.norm(spread.barycenter_m - translations, axis=1) * UM_PER_M,
+        orientation_repeatability(angles) * MDEG_PER_RAD,
+        spread.largest_semi_axis_m * UM_PER_M,
+        np.where(dominant < 0, np.nan, np.take_along_axis(shares, np.maximum(dominant, 0)[:, None], axis=1)[:, 0]),
+    ])
+    return figures, dominant
+
+
+def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, np.ndarray]:
+    """Solve and measure grid rows ``rows`` from their ``heads`` (rows, nv), row by row (a row's reached targets
+    measured together, in blocks: :func:`measure_targets`).
+
+    Returns:
+        the chunk's targets' values of every column of :func:`map_columns`, in index order.
+    """
+    robot, grid, runners = _job_context(job)
+    arrays = empty_arrays(len(rows) * grid.row_length, robot.model.nv, len(runners))
+    for k, (row, head) in enumerate(zip(rows, heads)):
+        q, reachable, closest = solve_row(robot, grid, row, head)
+        span = slice(k * grid.row_length, (k + 1) * grid.row_length)
+        indices = grid.row_indices(row)
+        arrays["q"][span], arrays["reachable"][span], arrays["closest"][span] = q, reachable, closest
+        arrays["position_m"][span] = target_positions_m(robot, grid, indices, q)
+        measure_into(arrays, span.start + np.flatnonzero(reachable), robot, runners, q[reachable], indices[reachable])
+    return arrays
+
+
+def map_columns(nv: int, scenarios: int) -> dict[str, tuple[tuple, str]]:
+    """The per-target columns of a map (``name -> (shape of one target's value, dtype)``): ``position_m``,
+    ``q``, ``reachable``, ``closest`` (see :class:`~tribokin.maps.result.MapResult`), and per scenario its
+    ``figures``, ``normal_forces_N`` and ``dominant_joint`` (:class:`~tribokin.maps.result.ScenarioMap`)."""
+    columns = {"position_m": ((3,), "f8"), "q": ((nv,), "f8"), "reachable": ((), "?"), "closest": ((2,), "f8")}
+    for s in range(scenarios):
+        columns[scenario_column(s, "figures")] = ((len(MAP_FIGURES),), "f8")
+        columns[scenario_column(s, "normal_forces_N")] = ((nv,), "f8")
+        columns[scenario_column(s, "dominant_joint")] = ((), "i8")
+    return columns
+
+
+def empty_arrays(n: int, nv: int, scenarios: int) -> dict[str, np.ndarray]:
+    """The columns of ``n`` targets, all unreachable, before any is solved or measured."""
+    arrays = {name: np.full((n, *shape), np.nan if dtype == "f8" else 0, dtype=dtype)
+              for name, (shape, dtype) in map_columns(nv, scenarios).items()}
+    for s in range(scenarios):
+        arrays[scenario_column(s, "dominant_joint")][:] = -1
+    return arrays
+
+
+def measure_into(arrays: dict, slots: np.ndarray, robot: Robot, runners: list[PoseRunner], qs: np.ndarray,
+                 indices: np.ndarray) -> None:
+    """Measure targets ``indices`` at configurations ``qs`` for every scenario, into ``slots`` of ``arrays``."""
+    twists, translations = tool_frames(robot, qs)
+    for s, runner in enumerate(runners):
+        figures, forces, dominant = measure_targets(runner, qs, indices, twists, translations)
+        arrays[scenario_column(s, "figures")][slots] = figures
+        arrays[scenario_column(s, "normal_forces_N")][slots] = forces
+        arrays[scenario_column(s, "dominant_joint")][slots] = dominant
+
+
+def fill_holes(robot: Robot, grid, runners: list[PoseRunner], store: ChunkStore) -> None:
+    """Reach and measure, in ``store``, the targets that IK reaches from a neighbour's configuration
+    (:func:`~tribokin.maps.rows.fill_from_neighbours`) though not along their own row.
+
+    The outcome is kept as the record ``filled`` before the store is changed, so a run killed while
+    changing it writes the same values again on resume instead of searching anew from a changed store.
+    """
+    filled = store.load_record("filled")
+    if filled is None:
+        reached = fill_from_neighbours(robot, grid, store.read)
+        indices = np.fromiter(reached, dtype=int, count=len(reached))
+        filled = {"index": indices, **empty_arrays(len(indices), robot.model.nv, len(runners))}
+        if len(indices):
+            q = np.array(list(reached.values()))
+            filled["q"], filled["reachable"][:] = q, True
+            filled["position_m"] = target_positions_m(robot, grid, indices, q)
+            measure_into(filled, np.arange(len(indices)), robot, runners, q, indices)
+        store.save_record("filled", filled)
+    indices = filled.pop("index")
+    if len(indices):
+        store.write(indices, filled)
+
+
+def chunk_rows(study: Study, row_length: int, row_count: int) -> list[list[int]]:
+    """The grid rows of each chunk (:func:`~tribokin.maps.budget.rows_per_chunk`)."""
+    size = rows_per_chunk(study.map, row_length)
+    return [list(range(start, min(start + size, row_count))) for start in range(0, row_count, size)]
+
+
+def open_store(study: Study, studies: tuple[Study, ...], chunks: list[list[int]], size: int, nv: int, checkpoint,
+               resume: bool) -> ChunkStore:
+    """The map's store: in ``checkpoint`` (kept, for ``--resume``), else in a new temporary folder that
+    is deleted with the store."""
+    settings = {"study": study.mapping, "source": study.source, "chunks": chunks,
+                "scenarios": [[s.cycles, s.seed] for s in studies]}
+    columns = map_columns(nv, len(studies))
+    if checkpoint is not None:
+        return ChunkStore(checkpoint, fingerprint(settings), columns, size, resume)
+    folder = Path(tempfile.mkdtemp(prefix="tribokin-map-"))
+    store = ChunkStore(folder / "store", fingerprint(settings), columns, size)
+    weakref.finalize(store, shutil.rmtree, folder, True)
+    return store
+
+
+def chunk_order(count: int) -> list[int]:
+    """The order ``count`` chunks are computed in: by their index's bits reversed (0, 8, 4, 12, 2, ... of 16), so
+    that the chunks done first are spread evenly over the grid and their rate holds for the rest (in grid order, a
+    plane's far rows, mostly unreachable hence slow to search, all came first and the first ETA was many times too
+    long)."""
+    bits = max(1, (count - 1).bit_length())
+    return sorted(range(count), key=lambda k: f"{k:0{bits}b}"[::-1])
+
+
+def prepare_map(study: Study, robot: Robot) -> tuple[TargetGrid, list[PoseRunner], np.ndarray]:
+    """The grid of the study's ``[map]``, a runner per scenario (the study itself without scenarios) and each
+    grid row's starting posture (rows, nv), checked against ``robot`` before any work: the map's joints, ranges,
+    start posture and orientation, each scenario's joints and friction laws, and its loads at each row's start."""
+    grid = make_grid(robot, study.map, study.source)
+    heads = solve_row_heads(robot, grid)
+    runners = []
+    for i, scenario in enumerate(tuple(s.study for s in study.scenarios) or (study,)):
+        try:
+            runners.append(PoseRunner(scenario, robot, joint_models(scenario, robot)))
+            runners[-1].normal_forces_at(heads)  # the loads at each row's start, checked before any chunk runs
+        except InputError as error:
+            key = error.key if not study.scenarios else f"scenarios[{i}].{error.key}"
+            raise InputError(error.message, error.source, key) from None
+    return grid, runners, heads
+
+
+def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunner], heads: np.ndarray,
+            workers: int = 1, scheduler: str | None = None, checkpoint=None, resume: bool = False, progress: bool = False) -> MapResult:
+    """Measure the study's ``[map]`` for each scenario.
+
+    Args:
+        study: a study with a ``map`` (its ``scenarios``, if any, are measured instead of it).
+        robot: the study's robot.
+        grid, runners, heads: the map's grid, its scenarios' runners and its rows' starting postures
+            (:func:`prepare_map`).
+        workers, scheduler: where chunks run (see :func:`~tribokin.execution.run_chunks`).
+        checkpoint: folder where the results are kept as chunks finish (``None``: a temporary folder,
+            deleted with the result).
+        resume: reuse the chunks an interrupted run saved in ``checkpoint``.
+        progress: show a progress bar (when there is more than one chunk).
+    """
+    studies = tuple(runner.study for runner in runners)
+    names = [s.name for s in study.scenarios] or [study.name]
+    chunks = chunk_rows(study, grid.row_length, grid.row_count)
+    store = open_store(study, studies, chunks, grid.size, robot.model.nv, checkpoint, resume)
+    finished = set(store.finished())
+    job = MapJob(uuid.uuid4().hex, study, studies)
+    _local.cache = (job.token, robot, grid, runners)  # chunks run in this thread need not rebuild them
+    todo = {k: (job, chunks[k], heads[chunks[k]]) for k in chunk_order(len(chunks)) if k not in finished}
+    done_targets = sum(len(chunks[k]) for k in finished) * grid.row_length
+    try:
+        results = run_chunks(compute_chunk, todo, workers, scheduler)
+        with ProgressBar(total=grid.size, initial=done_targets, unit="target", desc=f"map {study.name}",
+                         disable=not progress or len(chunks) <= 1,
+                         warm_up=1 if scheduler is not None else max(1, min(workers, len(todo)))) as bar:
+            for chunk, arrays in results:
+                store.save(chunk, chunks[chunk][0] * grid.row_length, arrays)
+                bar.update(len(chunks[chunk]) * grid.row_length)
+    finally:
+        _local.cache = None
+    fill_holes(robot, grid, runners, store)
+    maps = {name: ScenarioMap(name, s.cycles, i, robot.joint_names, store)
+            for i, (name, s) in enumerate(zip(names, studies))}
+    return MapResult(grid, robot.joint_names, store, maps)

@@ -1,0 +1,212 @@
+"""A map's per-target results on disk: written as chunks finish, read back block by block.
+
+The store is a folder holding ``manifest.json`` (a fingerprint of the settings that determine the
+numbers), one ``<column>.npy`` per result column over all targets, a marker ``done/<k>`` per finished
+chunk (written once the chunk's rows are flushed to disk), and records of later steps
+(``<name>.npz``, each written under a temporary name and renamed, so complete or absent). A run
+killed at any point leaves only finished work marked, which ``--resume`` keeps.
+
+Columns are read through a memory map opened for each read and closed after it, so reading a
+large map never holds more of it in memory than the block asked for.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+from numpy.lib.format import open_memmap
+
+from tribokin.errors import InputError
+from tribokin.folders import DISK_FULL, disk_full, remove, temporary_sibling, temporary_siblings
+from tribokin.units import gib
+
+#: Rows of a column file a scattered read maps at once.
+READ_ROWS = 1 << 16
+
+
+def chunk_folder(out) -> Path:
+    """The chunk folder of output folder ``out``: ``<out>.chunks`` beside it."""
+    out = Path(out)
+    return out.with_name(out.name + ".chunks")
+
+
+def check_chunk_folder(folder, resume: bool) -> None:
+    """Refuse, without ``resume``, a chunk folder an interrupted run left (nothing is deleted unasked)."""
+    if Path(folder).exists() and not resume:
+        raise InputError("an interrupted run left its finished chunks here; pass --resume to finish it or --force "
+                         "to start over", folder, "--resume")
+
+
+def discard(folder) -> None:
+    """Delete a chunk folder (once the results are written, or to start over), and the temporary folders
+    a killed run left beside it. It is renamed aside first: a run killed meanwhile leaves it whole or gone."""
+    folder = Path(folder)
+    for leftover in temporary_siblings(folder, "new") + temporary_siblings(folder, "old"):
+        remove(leftover)
+    if folder.exists():
+        retired = temporary_sibling(folder, "old")
+        os.replace(folder, retired / folder.name)
+        remove(retired)
+
+
+def fingerprint(settings: dict) -> str:
+    """SHA-256 of ``settings`` as canonical JSON."""
+    return hashlib.sha256(json.dumps(settings, sort_keys=True, default=str).encode()).hexdigest()
+
+
+def _column_path(folder: Path, name: str) -> Path:
+    return folder / f"{name}.npy"
+
+
+def _reserve(path: Path) -> None:
+    """Allocate the disk space of file ``path`` now, so that writing into it through a memory map cannot
+    fail for lack of space later (the process would get SIGBUS, not an error)."""
+    if hasattr(os, "posix_fallocate"):
+        with open(path, "r+b") as handle:
+            os.posix_fallocate(handle.fileno(), 0, os.fstat(handle.fileno()).st_size)
+
+
+class ChunkStore:
+    """Per-target result columns of a map, in ``folder``.
+
+    The folder is built beside its place and renamed into it once its columns (their disk space
+    reserved) and manifest are written, so it is whole or absent. A folder deleted or damaged while a
+    run uses it, or a full disk, is an :class:`InputError`.
+
+    Args:
+        folder: the store's folder.
+        key: fingerprint of the settings the results are computed with.
+        columns: ``name -> (shape of one target's value, dtype)``, e.g. ``{"q": ((6,), "f8")}``.
+        size: number of targets.
+        resume: keep the chunks of an earlier, interrupted run with the same ``key``; without it an
+            existing folder is an error.
+    """
+
+    def __init__(self, folder, key: str, columns: dict[str, tuple[tuple, str]], size: int, resume: bool = False):
+        self.folder = Path(folder)
+        self.size = size
+        check_chunk_folder(self.folder, resume)
+        if self.folder.exists():
+            self._check_resumable(key, columns)
+        else:
+            self._create(key, columns)
+
+    def _check_resumable(self, key: str, columns: dict) -> None:
+        manifest = self.folder / "manifest.json"
+        saved = json.loads(manifest.read_text()).get("key") if manifest.is_file() else None
+        if saved is not None and saved != key:
+            raise InputError("these chunks were computed with other settings (study file, cycles, seed or "
+                             "chunk size); rerun with the same ones, or pass --force without --resume to "
+                             "start over", self.folder, "--resume")
+        parts = [manifest, self.folder / "done", *(_column_path(self.folder, name) for name in columns)]
+        missing = [path.name for path in parts if not path.exists()]
+        if missing:
+            raise InputError(f"this chunk folder lacks {', '.join(missing)} (damaged or partly deleted); pass "
+                             "--force without --resume to start over", self.folder, "--resume")
+
+    def _create(self, key: str, columns: dict) -> None:
+        discard(self.folder)  # the temporary folders of a killed creation
+        building = temporary_sibling(self.folder, "new")
+        try:
+            (building / "done").mkdir()
+            for name, (shape, dtype) in columns.items():
+                path = _column_path(building, name)
+                open_memmap(path, mode="w+", dtype=dtype, shape=(self.size, *shape))  # sparse until written
+                _reserve(path)
+            (building / "manifest.json").write_text(json.dumps({"key": key}) + "\n")
+            os.rename(building, self.folder)
+        except OSError as error:
+            if error.errno in DISK_FULL:
+                needed = sum(self.size * math.prod(shape) * np.dtype(dtype).itemsize
+                             for shape, dtype in columns.values())
+                raise disk_full(error, self.folder, f"about {gib(needed)} for the map's store") from None
+            raise
+        finally:
+            remove(building)
+
+    @contextmanager
+    def _intact(self):
+        """Turn a file of the store gone missing, or a full disk, into an :class:`InputError`."""
+        try:
+            yield
+        except FileNotFoundError as error:
+            raise InputError(f"{os.path.relpath(error.filename, self.folder)} is gone: the chunk folder was deleted "
+                             "or damaged while this run used it; run again (with --force to start over)",
+                             self.folder) from None
+        except OSError as error:
+            if error.errno in DISK_FULL:
+                raise disk_full(error, self.folder, "more than the space reserved for the map's store") from None
+            raise
+
+    def _path(self, name: str) -> Path:
+        return _column_path(self.folder, name)
+
+    def finished(self) -> list[int]:
+        """Indices of the chunks already saved."""
+        with self._intact():
+            return sorted(int(p.name) for p in (self.folder / "done").iterdir())
+
+    def write(self, index, arrays: dict[str, np.ndarray]) -> None:
+        """Write ``arrays`` (column name -> values) at targets ``index`` (a slice or indices), flushed to disk."""
+        with self._intact():
+            for name, values in arrays.items():
+                column = open_memmap(self._path(name), mode="r+")
+                column[index] = values
+                column.flush()
+                del column
+
+    def save(self, chunk: int, first: int, arrays: dict[str, np.ndarray]) -> None:
+        """Write chunk ``chunk``'s arrays (targets ``first`` on), then mark it finished."""
+        self.write(slice(first, first + len(next(iter(arrays.values())))), arrays)
+        with self._intact():
+            (self.folder / "done" / str(chunk)).touch()
+
+    def _mapped(self, name: str, take) -> np.ndarray:
+        """``take(column)`` of column ``name``, copied out of a memory map closed before returning, so
+        the column's pages it touched do not stay in this process's memory."""
+        with self._intact():
+            column = np.load(self._path(name), mmap_mode="r")
+        values = np.array(take(column))
+        del column
+        return values
+
+    def read(self, name: str, index=slice(None)) -> np.ndarray:
+        """Column ``name`` at targets ``index`` (a slice, an index, or indices), in memory. Scattered
+        indices are read ``READ_ROWS`` rows of the file at a time, so the pages a read touches stay bounded."""
+        if isinstance(index, slice) or np.ndim(index) == 0:
+            return self._mapped(name, lambda column: column[index])
+        index = np.asarray(index, dtype=np.intp)
+        order = np.argsort(index, kind="stable")
+        ordered = index[order]
+        bounds = np.searchsorted(ordered, np.arange(0, self.size + READ_ROWS, READ_ROWS))
+        pieces = [(lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:]) if hi > lo]
+        if not pieces:
+            return self._mapped(name, lambda column: column[index])
+        values = None
+        for lo, hi in pieces:
+            part = self._mapped(name, lambda column: column[ordered[lo:hi]])
+            if values is None:
+                values = np.empty((len(index), *part.shape[1:]), dtype=part.dtype)
+            values[order[lo:hi]] = part
+        return values
+
+    def save_record(self, name: str, arrays: dict[str, np.ndarray]) -> None:
+        """Keep ``arrays`` as record ``name``, atomically."""
+        temporary = self.folder / f".{name}.tmp.npz"
+        with self._intact():
+            np.savez(temporary, **arrays)
+            os.replace(temporary, self.folder / f"{name}.npz")
+
+    def load_record(self, name: str) -> dict[str, np.ndarray] | None:
+        """Record ``name``, or ``None`` if it was never saved."""
+        path = self.folder / f"{name}.npz"
+        if not path.is_file():
+            return None
+        with self._intact(), np.load(path) as saved:
+            return {key: saved[key] for key in saved.files}

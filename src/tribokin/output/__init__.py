@@ -1,0 +1,1 @@
+"""The output folder: written atomically, one run at a time, with CSV/JSON tables and figures."""

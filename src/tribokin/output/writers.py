@@ -1,0 +1,176 @@
+"""Writing a study's results into an output folder: ``summary.json``, ``poses.csv``, ``samples.npz``,
+the map's tables, the figures, the report and the scene."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+
+from tribokin.maps.result import MAP_FIGURES, MapResult, ScenarioMap
+from tribokin.output.folder import atomic_folder
+from tribokin.run import StudyResult
+from tribokin.study.names import map_table_file, pose_figure_file
+
+
+def write_summary(result: StudyResult, folder: Path) -> None:
+    """``summary.json``: settings and per-pose figures."""
+    (folder / "summary.json").write_text(json.dumps(result.summary(), indent=2) + "\n", encoding="utf-8")
+
+
+#: poses.csv columns of the vector figures that are not per joint or per base axis: key -> element names.
+POSE_VECTOR_COLUMNS = {"ellipsoid_semi_axes_um": ("ellipsoid_semi_axis_1_um", "ellipsoid_semi_axis_2_um",
+                                                  "ellipsoid_semi_axis_3_um"),
+                       "RP_l_95_um": ("RP_l_95_low_um", "RP_l_95_high_um")}
+
+
+def _pose_table_row(row: dict, joints: list[str]) -> dict:
+    """A flat poses.csv row: positions split into ``_x_m, _y_m, _z_m``, ``q`` into ``q_<joint>``, bearing
+    loads into ``normal_force_<joint>_N``, the other vectors as in ``POSE_VECTOR_COLUMNS``."""
+    flat = {}
+    for key, value in row.items():
+        if key == "q":
+            flat.update({f"q_{joint}": v for joint, v in zip(joints, value)})
+        elif key == "normal_forces_N":
+            flat.update({f"normal_force_{joint}_N": v for joint, v in zip(joints, value)})
+        elif key in POSE_VECTOR_COLUMNS:
+            flat.update(zip(POSE_VECTOR_COLUMNS[key], value))
+        elif isinstance(value, list) and key.endswith("_m"):
+            flat.update({f"{key[:-2]}_{axis}_m": v for axis, v in zip("xyz", value)})
+        else:
+            flat[key] = "" if value is None else value
+    return flat
+
+
+def write_pose_table(result: StudyResult, folder: Path) -> None:
+    """``poses.csv``: one row per pose and approach direction
+    (:meth:`~tribokin.simulation.pose_result.PoseResult.direction_rows`),
+    the scalar figures (µm, mdeg) and positions (m) flattened."""
+    joints = result.settings["joints"]
+    rows = [_pose_table_row(row, joints) for pose in result.poses for row in pose.direction_rows()]
+    columns = list(dict.fromkeys(key for row in rows for key in row))
+    with open(folder / "poses.csv", "w", newline="", encoding="utf-8") as handle:
+        writer = csv.DictWriter(handle, fieldnames=columns)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def write_samples(result: StudyResult, folder: Path) -> None:
+    """``samples.npz``: per pose ``<pose>/positions_m`` (n, 3), ``angles_rad``, ``dq``, ``mu`` (every direction's
+    cycles), ``approach`` (n,) each cycle's index into ``directions``, the approach directions' labels."""
+    arrays = {}
+    for pose in result.poses:
+        arrays[f"{pose.name}/positions_m"] = pose.positions_m
+        arrays[f"{pose.name}/angles_rad"] = pose.angles_rad
+        arrays[f"{pose.name}/dq"] = pose.dq
+        arrays[f"{pose.name}/mu"] = pose.mu
+        arrays[f"{pose.name}/approach"] = pose.approach
+        arrays[f"{pose.name}/directions"] = np.array(pose.directions)
+    np.savez_compressed(folder / "samples.npz", **arrays)
+
+
+def _csv_value(value) -> str:
+    """A map.csv cell: floats in full (repr), NaN as empty, booleans as true/false."""
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, (float, np.floating)):
+        return "" if np.isnan(value) else repr(float(value))
+    return str(value)
+
+
+def map_table_columns(workspace_map: MapResult, scenario: ScenarioMap, targets: slice) -> dict[str, np.ndarray]:
+    """The columns of :func:`write_map_table` at ``targets``, by header."""
+    names = workspace_map.joint_names
+    positions = workspace_map.read("position_m", targets)
+    figures = scenario.read("figures", targets)
+    columns = {"x_m": positions[:, 0], "y_m": positions[:, 1], "z_m": positions[:, 2],
+               "reachable": workspace_map.read("reachable", targets)}
+    columns.update({name: figures[:, i] for i, name in enumerate(MAP_FIGURES) if name != "dominant_share"})
+    columns["dominant_joint"] = scenario.dominant_joint_names(targets)
+    columns["dominant_share"] = figures[:, MAP_FIGURES.index("dominant_share")]
+    if scenario is not workspace_map.reference:
+        columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
+        columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario, targets)
+    columns.update(workspace_map.grid.coordinates(np.arange(targets.start, targets.stop)))
+    q, forces = workspace_map.read("q", targets), scenario.read("normal_forces_N", targets)
+    columns.update({f"q_{name}": q[:, i] for i, name in enumerate(names)})
+    columns.update({f"normal_force_{name}_N": forces[:, i] for i, name in enumerate(names)})
+    columns["reason"] = workspace_map.reasons(targets)
+    return columns
+
+
+def write_map_table(workspace_map: MapResult, scenario: ScenarioMap, path: Path) -> None:
+    """One scenario's map as CSV, one row per target in index order: position [m], reachable, the
+    figures (µm, mdeg), ratio and difference of RP_l to the reference scenario (other scenarios),
+    grid coordinates, q_<joint> [m or rad], normal_force_<joint>_N [N], and the reason a target is
+    unreachable; written block by block."""
+    with open(path, "w", newline="", encoding="utf-8") as handle:
+        writer = csv.writer(handle)
+        for part in workspace_map.blocks():
+            columns = map_table_columns(workspace_map, scenario, part)
+            if part.start == 0:
+                writer.writerow(columns)
+            for row in zip(*columns.values()):
+                writer.writerow([_csv_value(v) for v in row])
+
+
+def map_table_name(workspace_map: MapResult, scenario: ScenarioMap) -> str:
+    """``map.csv`` for the reference scenario, ``map_<scenario>.csv`` for the others."""
+    return map_table_file(None if scenario is workspace_map.reference else scenario.name)
+
+
+#: Most map targets the 3-D scene draws per scenario (larger maps draw every k-th target along each axis).
+SCENE_TARGETS = 50_000
+
+
+def map_scene_layers(workspace_map: MapResult) -> dict:
+    """The map's RP_l per scenario as scene layers (:class:`~tribokin.viz.scene.MapLayer`), at most
+    ``SCENE_TARGETS`` targets each, spread over the grid."""
+    from tribokin.viz.scene import MapLayer
+
+    shown, stride = workspace_map.grid.thinned(SCENE_TARGETS)
+    shown = shown.ravel()
+    points = workspace_map.read("position_m", shown)
+    return {s.name: MapLayer(points, s.figure("RP_l_um", shown), s.name, stride)
+            for s in workspace_map.scenarios.values()}
+
+
+def write_results(result: StudyResult, out, force: bool = False, report: str = "full", map_layers=None,
+                  cube=None) -> Path:
+    """Write summary.json, the pose files (poses.csv, samples.npz, one figure per pose) and the map
+    files (map*.csv, map_*.png) to ``out``, atomically.
+
+    With ``report`` ``"full"`` or ``"light"`` (robot visual or collision meshes) it also writes
+    ``report.html`` and ``scene.npz`` (for ``tribokin view``), drawing ``result.robot`` with
+    ``map_layers`` (:class:`~tribokin.viz.scene.MapLayer` by scenario; default: the study's map
+    scenarios) and ``cube`` (default: the study's ISO cube, if it has one).
+    """
+    from tribokin.viz.figures import save_repeatability_field
+    from tribokin.viz.maps import save_map_figures
+    from tribokin.viz.report import write_report
+    from tribokin.viz.scene import Cube
+    from tribokin.viz.scene_file import save_scene_inputs
+
+    iso_cube = result.settings.get("iso_cube")
+    if cube is None and iso_cube is not None:
+        cube = Cube(tuple(iso_cube["center_m"]), iso_cube["side_m"])
+    if map_layers is None and result.map is not None:
+        map_layers = map_scene_layers(result.map)
+
+    with atomic_folder(out, force) as folder:
+        write_summary(result, folder)
+        if result.poses:
+            write_pose_table(result, folder)
+            write_samples(result, folder)
+        for pose in result.poses:
+            save_repeatability_field(pose, folder / pose_figure_file(pose.name), title=f"{result.name} — {pose.name}")
+        if result.map is not None:
+            for scenario in result.map.scenarios.values():
+                write_map_table(result.map, scenario, folder / map_table_name(result.map, scenario))
+            save_map_figures(result.map, folder, result.name)
+        if report != "none":
+            _, info = write_report(result, result.robot, folder, map_layers, cube, variant=report)
+            save_scene_inputs(folder, result.display_configuration(), info.magnification, map_layers, cube)
+    return Path(out)

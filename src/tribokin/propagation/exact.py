@@ -1,0 +1,124 @@
+"""Propagation of joint deviations to the tool pose through Pinocchio kinematics."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+import pinocchio as pin
+
+from tribokin.kinematics.robot import Robot
+from tribokin.propagation.poe import DEFAULT_TOLERANCE, evaluate_polynomial, tool_deviations_fast, \
+    tool_twists, truncation_bound
+
+
+def tool_deviations_exact(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Tool poses by exact forward kinematics, one Pinocchio call per sample (the reference engine).
+
+    Args:
+        robot: the robot; its active joints are all 1-DoF, so q + dq is the configuration reached.
+        q: (nq,) commanded configuration [m or rad].
+        dq: (n, nv) joint deviations of each cycle [m or rad].
+
+    Returns:
+        positions (n, 3) of the tool frame in the world frame [m], and orientation
+        deviations (n, 3) [rad]: the rotation vector ``log3(R_j R_c^T)`` from the
+        commanded orientation R_c (at ``q``) to the reached one, in world axes.
+    """
+    model, data, frame = robot.model, robot.data, robot.tool_frame_id
+    commanded_rotation = robot.tool_placement(q).rotation
+    positions = np.empty((len(dq), 3))
+    angles = np.empty((len(dq), 3))
+    for j, q_reached in enumerate(np.asarray(q, dtype=float) + dq):
+        pin.forwardKinematics(model, data, q_reached)
+        placement = pin.updateFramePlacement(model, data, frame)
+        positions[j] = placement.translation
+        angles[j] = pin.log3(placement.rotation @ commanded_rotation.T)
+    return positions, angles
+
+
+
+def tool_deviations(robot: Robot, q: np.ndarray, dq: np.ndarray, engine: str = "fast"):
+    """Tool positions [m] and orientation deviations [rad] of each cycle, (n, 3) each.
+
+    ``engine = "fast"``: the truncated product of exponentials
+    (:mod:`tribokin.propagation.poe`), unless its truncation bound exceeds
+    ``DEFAULT_TOLERANCE`` (deviations far beyond friction's), then the exact engine.
+    ``engine = "exact"``: one Pinocchio forward-kinematics call per cycle.
+    """
+    q = np.asarray(q, dtype=float)
+    twists, translations = tool_frames(robot, q[None])
+    positions, angles = tool_deviations_at_poses(robot, q[None], np.asarray(dq, dtype=float)[None], engine,
+                                                 twists, translations)
+    return positions[0], angles[0]
+
+
+def tool_frames(robot: Robot, qs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Joint twists about the tool origin (poses, 6, nv) and tool positions (poses, 3) [m] at configurations (poses, nq)."""
+    return (np.array([tool_twists(robot, q) for q in qs]).reshape(len(qs), 6, robot.model.nv),
+            np.array([robot.tool_placement(q).translation for q in qs]).reshape(len(qs), 3))
+
+
+def tool_deviations_at_poses(robot: Robot, qs: np.ndarray, dq: np.ndarray, engine: str, twists: np.ndarray,
+                             translations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`tool_deviations` at several poses at once; each pose's values depend on its own inputs only.
+
+    Args:
+        qs: (poses, nq) commanded configurations; dq: (poses, n, nv) deviations [m or rad].
+        twists, translations: the poses' :func:`tool_frames`.
+
+    Returns:
+        positions [m] and angles [rad], (poses, n, 3) each (views of (poses, 3, n) arrays).
+    """
+    poses, n = dq.shape[:2]  # outputs: (poses, n, 3) views of (poses, 3, n) memory, as the fast engine gives
+    positions, angles = np.swapaxes(np.empty((poses, 3, n)), 1, 2), np.swapaxes(np.empty((poses, 3, n)), 1, 2)
+    exact = np.ones(len(qs), dtype=bool)
+    if engine == "fast":
+        bound = truncation_bound(twists, dq)
+        exact = (bound.position_m > DEFAULT_TOLERANCE) | (bound.angle_rad > DEFAULT_TOLERANCE)
+        fast = ~exact
+        positions[fast], angles[fast] = evaluate_polynomial(twists[fast], translations[fast], dq[fast],
+                                                            np.atleast_1d(bound.order)[fast])
+    for p in np.flatnonzero(exact):
+        positions[p], angles[p] = tool_deviations_exact(robot, qs[p], dq[p])
+    return positions, angles
+
+
+class ExactDiscrepancy(NamedTuple):
+    """Largest difference between the fast and the exact engine on checked samples.
+
+    Attributes:
+        position_m: max over samples of |fast - exact| tool position [m].
+        angle_rad: max over samples of |fast - exact| rotation vector [rad].
+        samples: number of samples compared.
+    """
+
+    position_m: float
+    angle_rad: float
+    samples: int
+
+
+def max_deviation_from_exact(robot: Robot, q: np.ndarray, dq: np.ndarray, m: int = 32,
+                             tolerance_m: float = DEFAULT_TOLERANCE, tolerance_rad: float = DEFAULT_TOLERANCE
+                             ) -> ExactDiscrepancy:
+    """Check the fast engine against exact Pinocchio FK on the first ``m`` samples of a batch.
+
+    The fast engine runs at the order it would choose for the whole batch.
+
+    Args:
+        robot, q, dq: as for :func:`tool_deviations_fast` (``dq`` is the whole batch).
+        m: number of samples to check.
+        tolerance_m, tolerance_rad: as for :func:`tool_deviations_fast`.
+
+    Returns:
+        the largest position [m] and rotation-vector [rad] differences, and the sample count.
+    """
+    dq = np.asarray(dq, dtype=float)
+    order = truncation_bound(tool_twists(robot, q), dq, None, tolerance_m, tolerance_rad).order
+    checked = dq[:m]
+    fast = tool_deviations_fast(robot, q, checked, order=order)
+    positions, angles = tool_deviations_exact(robot, q, checked)
+    if not len(checked):
+        return ExactDiscrepancy(0.0, 0.0, 0)
+    return ExactDiscrepancy(float(np.linalg.norm(fast.positions - positions, axis=1).max()),
+                            float(np.linalg.norm(fast.angles - angles, axis=1).max()), len(checked))

@@ -1,0 +1,119 @@
+"""A study's run: its poses, then its map, into a :class:`StudyResult`."""
+
+from __future__ import annotations
+
+import tempfile
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+import numpy as np
+
+from tribokin.errors import InputError
+from tribokin.execution import check_executor
+from tribokin.kinematics.robot import Robot
+from tribokin.maps.budget import check_disk, check_memory
+from tribokin.maps.result import MapResult
+from tribokin.maps.run import prepare_map, run_map
+from tribokin.provenance import software_versions
+from tribokin.simulation.pose_result import PoseResult
+from tribokin.simulation.pose_run import PoseRunner
+from tribokin.study.assembly import check_names, joint_models, load_robot, pose_tasks, robot_spec
+from tribokin.study.reading import load_study
+
+
+@dataclass
+class StudyResult:
+    """Results of a whole study: ``poses`` in file order, the workspace ``map`` (if any), and what
+    produced them (``robot``, for views; ``reproduce``: seed, study file hash, versions, command line)."""
+
+    name: str
+    poses: list[PoseResult]
+    settings: dict
+    robot: Robot | None = field(default=None, repr=False)
+    map: MapResult | None = None
+    reproduce: dict = field(default_factory=dict)
+
+    def display_configuration(self) -> np.ndarray:
+        """Where to draw the robot [m or rad]: the first pose, else the first reachable map target,
+        else the robot's reference posture."""
+        if self.poses:
+            return self.poses[0].q
+        first = None if self.map is None else self.map.first_reachable_q()
+        return self.robot.reference_q if first is None else first
+
+    def pose(self, name: str) -> PoseResult:
+        """The pose called ``name``."""
+        return next(p for p in self.poses if p.name == name)
+
+    def table(self) -> dict[str, np.ndarray]:
+        """Figures per pose and approach direction as columns: ``{"direction": array([...]), "RP_l_um":
+        array([...]), ...}`` (scalar figures only; :meth:`PoseResult.direction_rows`)."""
+        rows = [row for p in self.poses for row in p.direction_rows()]
+        if not rows:
+            return {}
+        return {key: np.array([r[key] if r[key] is not None else np.nan for r in rows])
+                for key, value in rows[0].items() if value is None or isinstance(value, (int, float, str))}
+
+    def summary(self) -> dict:
+        """The content of ``summary.json``."""
+        summary = {"study": self.settings, "reproduce": self.reproduce, "poses": [p.report_row() for p in self.poses]}
+        if self.map is not None:
+            summary["map"] = self.map.summary()
+        return summary
+
+
+def run_study(study, cycles: int | None = None, seed: int | None = None, *, workers: int = 1,
+              scheduler: str | None = None, checkpoint=None, resume: bool = False,
+              progress: bool = False) -> StudyResult:
+    """Run a study from a TOML path, a mapping or a :class:`Study`.
+
+    Args:
+        study: the study; relative paths in a mapping resolve against the current folder.
+        cycles, seed: override the file's values.
+        workers, scheduler: where the map's chunks run: local processes, or a dask scheduler's address.
+        checkpoint, resume: folder where the map's finished chunks are saved, and whether to reuse them.
+        progress: show a progress bar for the map.
+
+    Returns:
+        the per-pose samples and ISO 9283 figures, and the map's per-target figures.
+    """
+    check_executor(workers, scheduler)
+    study = load_study(study, cycles, seed)
+    if resume and study.map is None and checkpoint is not None and Path(checkpoint).exists():
+        raise InputError("this study has no [map], so these chunks are another run's; run that study with "
+                         "--resume, or pass --force without --resume to start over", checkpoint, "--resume")
+    robot = load_robot(study)
+    models = joint_models(study, robot)
+    tasks, cube = pose_tasks(study, robot)
+    check_names(study, tasks)
+    check_memory(study, robot.model.nv, [len(t.tested(study.approach).labels) for t in tasks], workers,
+                 cycles_from_command_line=cycles is not None)
+    check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None else checkpoint)
+    prepared_map = None if study.map is None else prepare_map(study, robot)
+    runner = PoseRunner(study, robot, models)
+    for task in tasks:  # every pose's loads, checked before any is sampled
+        runner.normal_forces(task)
+    poses = [runner.run(task, index) for index, task in enumerate(tasks)]
+    workspace_map = None
+    if prepared_map is not None:
+        workspace_map = run_map(study, robot, *prepared_map, workers, scheduler, checkpoint, resume, progress)
+    settings = {
+        "name": study.name,
+        "source": study.source,
+        "robot": robot.label,
+        "robot_spec": robot_spec(study),
+        "tool_frame": robot.tool_frame,
+        "joints": robot.joint_names,
+        "cycles": study.cycles,
+        "seed": study.seed,
+        "approach": study.approach,
+        "engine": study.engine,
+        "payload_kg": study.robot["payload_kg"],
+        "iso_cube": cube,
+        "friction": {name: m.friction.describe() for name, m in zip(robot.joint_names, models)},
+        "joint_models": {name: {f.name: getattr(m, f.name) for f in fields(m) if f.name != "friction"}
+                         for name, m in zip(robot.joint_names, models)},
+        "scenarios": [{"name": s.name, "overrides": s.overrides} for s in study.scenarios],
+    }
+    reproduce = {"seed": study.seed, "study_sha256": study.sha256, "versions": software_versions(), "command": None}
+    return StudyResult(study.name, poses, settings, robot, workspace_map, reproduce)

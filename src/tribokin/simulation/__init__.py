@@ -1,0 +1,1 @@
+"""Simulation: the joint error model and the run of one pose."""

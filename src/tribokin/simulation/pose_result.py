@@ -1,0 +1,90 @@
+"""Results of one pose: its samples and ISO 9283 figures, in SI inside, µm/mdeg in reports."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from tribokin.iso9283.metrics import DirectionalMetrics
+from tribokin.units import MDEG_PER_RAD, UM_PER_M
+
+
+@dataclass
+class PoseResult:
+    """Everything sampled and measured at one commanded pose, from each of its approach directions.
+
+    Attributes:
+        name: pose name. q: (nv,) commanded configuration [m or rad].
+        commanded_position_m: (3,) [m]. commanded_rotation: (3, 3).
+        reference_position_m: (3,) tool position with the joint offsets only (epsilon_t), no friction [m].
+        positions_m: (n, 3) reached tool positions [m], every direction's cycles.
+        angles_rad: (n, 3) orientation deviations a, b, c from the commanded orientation [rad].
+        directions: label of each approach direction tested (``"+"``, ``"+x"``...).
+        approach: (n,) index into ``directions`` of each cycle's approach direction.
+        mu: (n, nv) friction coefficients drawn [-]. dq: (n, nv) joint deviations [m or rad].
+        normal_forces_N: (nv,) bearing loads [N].
+        metrics: the ISO 9283 figures, per direction and across directions.
+        extra: further figures of the pose. direction_extra: further figures per direction label.
+    """
+
+    name: str
+    q: np.ndarray
+    commanded_position_m: np.ndarray
+    commanded_rotation: np.ndarray
+    reference_position_m: np.ndarray
+    positions_m: np.ndarray
+    angles_rad: np.ndarray
+    directions: tuple[str, ...]
+    approach: np.ndarray
+    mu: np.ndarray
+    dq: np.ndarray
+    normal_forces_N: np.ndarray
+    metrics: DirectionalMetrics
+    extra: dict = field(default_factory=dict)
+    direction_extra: dict[str, dict] = field(default_factory=dict)
+
+    @property
+    def cycles(self) -> int:
+        """Cycles at the pose, all directions together."""
+        return len(self.positions_m)
+
+    def direction_figures(self, label: str) -> dict:
+        """The ISO 9283 figures (µm, mdeg) of the cycles from approach direction ``label``."""
+        m = self.metrics.directions[label]
+        figures = {
+            "cycles": int(np.count_nonzero(self.approach == self.directions.index(label))),
+            "barycenter_m": m.barycenter_m.tolist(),
+            "AP_p_um": m.AP_p_m * UM_PER_M,
+            "RP_l_um": m.RP_l_m * UM_PER_M,
+        }
+        for axis, ap in zip("abc", m.AP_abc_rad):
+            figures[f"AP_{axis}_mdeg"] = float(ap * MDEG_PER_RAD)
+        for axis, rp in zip("abc", m.RP_abc_rad):
+            figures[f"RP_{axis}_mdeg"] = float(rp * MDEG_PER_RAD)
+        figures.update(self.direction_extra.get(label, {}))
+        return figures
+
+    def report_row(self) -> dict:
+        """The pose's figures under the report names (µm, mdeg), as in ``summary.json``: the pose's own,
+        those across its directions, and ``directions``, label -> :meth:`direction_figures`."""
+        m = self.metrics
+        return {
+            "name": self.name,
+            "cycles": self.cycles,
+            "commanded_position_m": self.commanded_position_m.tolist(),
+            "vAP_p_um": None if m.vAP_p_m is None else m.vAP_p_m * UM_PER_M,
+            "RP_l_all_directions_um": m.RP_l_all_directions_m * UM_PER_M,
+            "q": self.q.tolist(),
+            "normal_forces_N": self.normal_forces_N.tolist(),
+            **self.extra,
+            "directions": {label: self.direction_figures(label) for label in m.directions},
+        }
+
+    def direction_rows(self) -> list[dict]:
+        """One flat row per approach direction: ``name``, ``direction``, that direction's figures, then
+        the pose's (its ``cycles`` those of the direction), as in ``poses.csv``."""
+        pose = self.report_row()
+        directions = pose.pop("directions")
+        del pose["name"], pose["cycles"]
+        return [{"name": self.name, "direction": label, **figures, **pose} for label, figures in directions.items()]

@@ -1,0 +1,195 @@
+"""One pose's run: sample the cycles of each approach direction, propagate them, take their ISO 9283 figures."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Protocol
+
+import numpy as np
+
+from tribokin.iso9283.metrics import covariance_semi_axes, directional_metrics, position_repeatability, \
+    variance_contributions
+from tribokin.kinematics.loads import BearingLoads
+from tribokin.kinematics.robot import Robot
+from tribokin.propagation.exact import max_deviation_from_exact, tool_deviations
+from tribokin.simulation.joint_errors import JointErrorModel, approach_signs, check_travel, joint_travel, \
+    sample_joint_deviations
+from tribokin.simulation.pose_result import PoseResult
+from tribokin.tribology.laws import FrictionLaw
+from tribokin.units import UM_PER_M
+
+#: Replicate tests simulated for the 95 % interval of RP_l (fewer when they would exceed
+#: REPLICATE_SAMPLES cycles in all, never fewer than 20).
+RP_REPLICATES = 200
+REPLICATE_SAMPLES = 200_000
+
+
+class RunSettings(Protocol):
+    """What a :class:`PoseRunner` reads of a study (a :class:`tribokin.study.spec.Study` has it)."""
+
+    cycles: int
+    seed: int
+    approach: str
+    engine: str
+    robot: dict  # its "payload_kg" [kg]
+    joint_overrides: dict  # joint name -> its [joints.<name>] keys (names the key a refusal points to)
+    source: str  # the study file (named by a refusal)
+
+
+def pose_rng(seed: int, index: int, stream: int = 0) -> np.random.Generator:
+    """Random stream ``stream`` of pose ``index``: depends on the seed, the index and the stream only."""
+    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, stream)))
+
+
+#: Approach directions of a joint-space pose: every joint travelling +, then every joint travelling -.
+JOINT_SPACE_DIRECTIONS = ("+", "-")
+
+
+@dataclass
+class PoseTask:
+    """A pose to run: configuration [m or rad] and its approach directions: the joints' signs of
+    travel (m, nv) and a label for each (``"+"``, ``"-"`` in joint space; ``"+x"``... for a cube pose)."""
+
+    name: str
+    q: np.ndarray
+    directions: np.ndarray
+    labels: tuple[str, ...]
+    normal_force_N: float | None = None
+    friction: FrictionLaw | None = None
+
+    def tested(self, mode: str) -> PoseTask:
+        """The task with the directions an ``approach`` mode tests: the + ones (unidirectional) or all
+        (bidirectional, random)."""
+        if mode != "unidirectional":
+            return self
+        keep = [k for k, label in enumerate(self.labels) if label.startswith("+")]
+        return replace(self, directions=self.directions[keep], labels=tuple(self.labels[k] for k in keep))
+
+
+def joint_space_task(name: str, q: np.ndarray, normal_force_N: float | None = None,
+                     friction: FrictionLaw | None = None) -> PoseTask:
+    """A pose approached in joint space: every joint travelling + (or - for the second direction)."""
+    return PoseTask(name, q, np.vstack([np.ones(len(q)), -np.ones(len(q))]), JOINT_SPACE_DIRECTIONS,
+                    normal_force_N=normal_force_N, friction=friction)
+
+
+class PoseRunner:
+    """Runs poses of one study: samples the cycles, propagates them, measures them."""
+
+    def __init__(self, study: RunSettings, robot: Robot, models: list[JointErrorModel]):
+        self.study, self.robot, self.models = study, robot, models
+        self.offsets = np.array([m.offset for m in models])
+        self.loads = None
+        if any(m.normal_force_N is None for m in models):
+            self.loads = BearingLoads(robot, study.robot["payload_kg"], [m.bearing_span_m for m in models])
+        self.travel = joint_travel(robot.lower_limits, robot.upper_limits, robot.joint_is_prismatic)
+
+    def normal_forces(self, task: PoseTask) -> np.ndarray:
+        """Bearing loads [N]: the pose's value, else each joint's fixed value, else statics at the pose;
+        refused (:meth:`check_travel`) if they would move a joint beyond its range."""
+        if task.normal_force_N is not None:
+            forces = np.full(len(self.models), task.normal_force_N)
+        else:
+            forces = self._loads_at(task.q)
+        self.check_travel(forces, self.models_at(task))
+        return forces
+
+    def normal_forces_at(self, q: np.ndarray) -> np.ndarray:
+        """Bearing loads [N] at configuration ``q`` (nq,) or configurations (poses, nq): each joint's
+        fixed value, else statics; refused (:meth:`check_travel`) if they would move a joint beyond its range."""
+        forces = self._loads_at(q)
+        self.check_travel(forces, self.models)
+        return forces
+
+    def _loads_at(self, q: np.ndarray) -> np.ndarray:
+        fixed = np.array([np.nan if m.normal_force_N is None else m.normal_force_N for m in self.models])
+        if self.loads is None:
+            return np.broadcast_to(fixed, np.shape(q)[:-1] + fixed.shape).copy()
+        return np.where(np.isnan(fixed), self.loads(q), fixed)
+
+    def check_travel(self, forces_N: np.ndarray, models: list[JointErrorModel]) -> None:
+        """Refuse loads ``forces_N`` (..., nv) [N] under which a joint's deviation could exceed its range."""
+        overrides = self.study.joint_overrides
+
+        def key_of(joint: str, part: str) -> str:
+            return f"joints.{joint}.{part}" if part in overrides.get(joint, {}) else f"joints.{part}"
+
+        check_travel(models, self.robot.joint_is_prismatic, forces_N, self.travel, self.robot.joint_names,
+                     self.study.source, key_of)
+
+    def models_at(self, task: PoseTask) -> list[JointErrorModel]:
+        """The joint error models at a pose: the study's, with the pose's friction law if it has one."""
+        return self.models if task.friction is None else [replace(m, friction=task.friction) for m in self.models]
+
+    def draw(self, task: PoseTask, forces_N, cycles: int, mode: str, rng):
+        """Joint deviations of the cycles at one pose: (dq (n, nv) [m or rad], mu (n, nv), approach index (n,))."""
+        signs, group = approach_signs(mode, cycles, task.directions, rng)
+        dq, mu = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs, rng)
+        return dq, mu, group
+
+    def approach_sequence(self, task: PoseTask, rng) -> tuple[np.ndarray, np.ndarray]:
+        """The joints' signs of travel (n, nv) and the approach index (n,) of every cycle at a pose:
+        ``study.cycles`` from each direction, one series after another (unidirectional) or in turn
+        (bidirectional); or as many cycles in all, each from a direction drawn at random (random)."""
+        mode, count, cycles = self.study.approach, len(task.directions), self.study.cycles
+        if mode == "unidirectional":
+            group = np.repeat(np.arange(count), cycles)
+            return task.directions[group].astype(float), group
+        return approach_signs(mode, count * cycles, task.directions, rng)
+
+    def measure(self, task: PoseTask, rng: np.random.Generator) -> PoseResult:
+        """Sample the cycles of every approach direction the study's ``approach`` mode tests at ``task`` from
+        ``rng`` and take their ISO 9283 figures."""
+        task = task.tested(self.study.approach)
+        forces = self.normal_forces(task)
+        signs, group = self.approach_sequence(task, rng)
+        dq, mu = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces, signs, rng)
+        positions, angles = tool_deviations(self.robot, task.q, dq, self.study.engine)
+        commanded = self.robot.tool_placement(task.q)
+        metrics = directional_metrics(positions, angles, commanded.translation, group, task.labels)
+        reference = self.robot.tool_placement(task.q + self.offsets)
+        return PoseResult(task.name, task.q, commanded.translation.copy(), commanded.rotation.copy(),
+                          reference.translation.copy(), positions, angles, task.labels, group, mu, dq, forces,
+                          metrics)
+
+    def run(self, task: PoseTask, index: int) -> PoseResult:
+        """Measure pose ``index`` (ISO 9283 per approach direction and across them, and beyond)."""
+        result = self.measure(task, pose_rng(self.study.seed, index))
+        if task.friction is not None:
+            result.extra["friction"] = task.friction.describe()
+        result.direction_extra = self.beyond_iso(task, result.normal_forces_N, result, index)
+        if self.study.engine == "fast":
+            check = max_deviation_from_exact(self.robot, task.q, result.dq)
+            result.extra["engine_check_cycles"] = check.samples
+            result.extra["engine_max_deviation_nm"] = check.position_m * 1e9
+            result.extra["engine_max_angle_deviation_nrad"] = check.angle_rad * 1e9
+        return result
+
+    def beyond_iso(self, task: PoseTask, forces_N, result: PoseResult, index: int) -> dict[str, dict]:
+        """Per approach direction with ISO figures: joint shares of the position variance, 1-sigma
+        ellipsoid semi-axes [µm], 95 % interval of RP_l [µm].
+
+        The interval comes from replicate tests of ``study.cycles`` cycles each from that direction
+        (fresh random streams), propagated to first order through the position Jacobian: how much
+        a test of this length can vary.
+        """
+        jacobian = self.robot.tool_jacobian(task.q)[:3]
+        cycles = self.study.cycles
+        replicates = int(np.clip(REPLICATE_SAMPLES // cycles, 20, RP_REPLICATES))
+        rng = pose_rng(self.study.seed, index, stream=1)
+        figures = {}
+        for label in result.metrics.directions:
+            mine = result.approach == result.directions.index(label)
+            shares = variance_contributions(jacobian, result.dq[mine])
+            extra = {f"contribution_{name}": None if np.isnan(share) else float(share)
+                     for name, share in zip(self.robot.joint_names, shares)}
+            extra["ellipsoid_semi_axes_um"] = (covariance_semi_axes(result.positions_m[mine]) * UM_PER_M).tolist()
+            signs = np.broadcast_to(task.directions[task.labels.index(label)].astype(float), (cycles, len(task.q)))
+            rp = np.empty(replicates)
+            for j in range(replicates):
+                dq, _ = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs,
+                                                rng)
+                rp[j] = position_repeatability(dq @ jacobian.T)[0]
+            extra["RP_l_95_um"] = (np.percentile(rp, [2.5, 97.5]) * UM_PER_M).tolist()
+            figures[label] = extra
+        return figures

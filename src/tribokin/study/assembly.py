@@ -1,0 +1,83 @@
+"""Assembly of a study's parts: its robot, one joint error model per joint, the poses to run."""
+
+from __future__ import annotations
+
+from tribokin.errors import InputError, closest_hint
+from tribokin.iso9283.cube import APPROACH_DIRECTIONS, place_cube
+from tribokin.kinematics.robot import Robot, load_example_robot, load_urdf
+from tribokin.simulation.joint_errors import JointErrorModel
+from tribokin.simulation.pose_run import PoseTask, joint_space_task
+from tribokin.study.names import check_file_name_part, check_files_apart, check_name, pose_figure_file, scenario_files
+from tribokin.study.spec import Study
+from tribokin.tribology.spec import law_from_spec
+
+
+def robot_spec(study: Study) -> dict:
+    """The study's ``[robot]`` table with absolute paths: loads the same robot from any folder."""
+    spec = dict(study.robot)
+    if spec["urdf"] is not None:
+        spec["urdf"] = str((study.base_dir / spec["urdf"]).absolute())
+    spec["package_dirs"] = [str((study.base_dir / p).absolute()) for p in spec["package_dirs"]]
+    return spec
+
+
+def load_robot_spec(spec: dict, source=None) -> Robot:
+    """The robot a ``[robot]`` table with absolute paths names (see :func:`robot_spec`)."""
+    if spec["name"] is not None:
+        return load_example_robot(spec["name"], spec["tool_frame"], source)
+    return load_urdf(spec["urdf"], spec["tool_frame"], spec["package_dirs"], source)
+
+
+def load_robot(study: Study) -> Robot:
+    """The robot a study names, reduced to its tool frame's chain."""
+    return load_robot_spec(robot_spec(study), study.source)
+
+
+def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
+    """One error model per active joint: the ``[joints]`` defaults with ``[joints.<name>]`` overrides."""
+    names = robot.joint_names
+    for joint in study.joint_overrides:
+        if joint not in names:
+            raise InputError(f"unknown joint '{joint}'{closest_hint(joint, names)}; joints of {robot.label}: "
+                             f"{', '.join(names)}", study.source, f"joints.{joint}")
+    models = []
+    for name in names:
+        values = {**study.joints, **study.joint_overrides.get(name, {})}
+        for key in ("friction", "stiffness"):
+            if values[key] is None:
+                raise InputError(f"joint '{name}' has no {key}: set joints.{key} or joints.{name}.{key}",
+                                 study.source, f"joints.{key}")
+        key = f"joints.{name}.friction" if "friction" in study.joint_overrides.get(name, {}) else "joints.friction"
+        values["friction"] = law_from_spec(values["friction"], study.source, key, study.base_dir)
+        models.append(JointErrorModel(**values))
+    return models
+
+
+def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]:
+    """The study's joint-space poses, then the ISO cube's P1-P5 (solved by IK)."""
+    tasks = [joint_space_task(p.name, robot.check_configuration(p.q, study.source, f"poses[{i}].q"),
+                              p.normal_force_N,
+                              None if p.friction is None else
+                              law_from_spec(p.friction, study.source, f"poses[{i}].friction", study.base_dir))
+             for i, p in enumerate(study.poses)]
+    cube = None
+    if study.iso_cube is not None:
+        cube_poses, cube = place_cube(robot, study.iso_cube["center_m"], study.iso_cube["side_m"],
+                                      study.iso_cube["rpy_deg"], study.source)
+        tasks += [PoseTask(p.name, p.q, p.approach_signs, tuple(APPROACH_DIRECTIONS)) for p in cube_poses]
+    return tasks, cube
+
+
+def check_names(study: Study, tasks: list[PoseTask]) -> None:
+    """Refuse names that cannot name what they name (:mod:`tribokin.study.names`), and poses (``tasks``: the study's
+    poses, then the ISO cube's) or scenarios whose files would be the same (a clash with an ISO cube pose
+    names the study's pose, the one to rename)."""
+    check_name(study.name, study.source, "study.name")
+    poses = [(f"poses[{i}].name", pose.name) for i, pose in enumerate(study.poses)]
+    scenarios = [(f"scenarios[{i}].name", scenario.name) for i, scenario in enumerate(study.scenarios)]
+    for key, name in poses + scenarios:
+        check_file_name_part(name, study.source, key)
+    cube = [("iso_cube", task.name) for task in tasks[len(study.poses):]]
+    files = [(key, pose_figure_file(name)) for key, name in cube + poses]
+    files += [(key, file) for key, name in scenarios[1:] for file in scenario_files(name)]  # [0]: the reference
+    check_files_apart(files, study.source)

@@ -1,0 +1,56 @@
+"""Reading a study: a TOML file, a mapping or a :class:`Study`, with the command line's overrides."""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+from tribokin.checks import seed_int
+from tribokin.errors import InputError
+from tribokin.study.spec import Study, cycle_count, parse_study
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+
+def read_study_file(path) -> Study:
+    """Read and validate a TOML study file."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("study file not found", path)
+    content = path.read_bytes()
+    try:
+        mapping = tomllib.loads(content.decode("utf-8"))
+    except ValueError as error:  # also a number of more than 4300 digits
+        raise InputError(f"not valid TOML: {error}", path) from None
+    study = parse_study(mapping, str(path), path.parent)
+    study.sha256 = hashlib.sha256(content).hexdigest()
+    return study
+
+
+def load_study(study, cycles: int | None = None, seed: int | None = None) -> Study:
+    """A :class:`Study` from a path, a mapping or a Study, with ``cycles``/``seed`` overriding the file."""
+    if isinstance(study, Study):
+        study = copy.copy(study)
+    elif isinstance(study, dict):
+        study = parse_study(study, "<mapping>", Path.cwd())
+    else:
+        study = read_study_file(study)
+    if cycles is not None:
+        study.cycles = cycle_count(cycles, "command line", "--cycles")
+    if seed is not None:
+        study.seed = seed_int(seed, "command line", "--seed")
+    study.scenarios = [replace(s, study=_with_run_overrides(s.study, s.overrides.get("study", {}), study))
+                       for s in study.scenarios]
+    return study
+
+
+def _with_run_overrides(scenario: Study, own: dict, base: Study) -> Study:
+    """A scenario's study with the base's ``cycles`` and ``seed`` (command-line overrides included),
+    unless the scenario sets its own."""
+    return replace(scenario, cycles=own.get("cycles", base.cycles), seed=own.get("seed", base.seed))

@@ -1,0 +1,377 @@
+"""Study files: validation of the mapping into a :class:`Study`.
+
+Every key is checked here, before anything runs; a bad one raises an
+:class:`~tribokin.errors.InputError` naming the file and the key. The keys,
+their units and defaults are documented in the README.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import partial
+from pathlib import Path
+
+from tribokin.checks import finite, non_negative, number_list, one_of, positive, positive_int, seed_int, \
+    string_list, table, text, whole_number, within
+from tribokin.errors import InputError, closest_hint
+from tribokin.simulation.joint_errors import APPROACH_MODES
+
+
+# -- ranges: physically meaningful bounds, each with the reason a value outside is refused ---------------------
+
+cycle_count = within(whole_number, 2, 10 ** 15, "cycles", "ISO 9283 needs at least 2 (S_l divides by n - 1); "
+                     "1e15 cycles at one a second would take 30 million years")
+grid_count = within(positive_int, 1, 10 ** 7, "", "ten million points along one axis are 0.1 µm apart over a "
+                    "metre, far finer than any figure varies")
+payload = within(non_negative, 0.0, 1e4, "kg", "the heaviest industrial robots carry about 2.3 t")
+normal_force = within(non_negative, 0.0, 1e7, "N", "1e7 N (1000 t) is beyond what any joint's bearing carries")
+stiffness = within(positive, 1e-3, 1e12, "N/m or N·m/rad", "below, a newton of friction would move a joint a "
+                   "kilometre; above, stiffer than any drive (for a rigid joint, set its friction to 0)")
+chunk_count = within(positive_int, 1, 10 ** 7, "rows", "a chunk is held in memory, and ten million rows outgrow it")
+friction_radius = within(positive, 1e-4, 10.0, "m", "bearing raceways run from 0.1 mm to the few metres of the "
+                         "largest slewing rings")
+_drive_fault = "m or rad", "more than 0.1 m or 0.1 rad (5.7°) is a broken drive, not an imprecise one"
+backlash = within(non_negative, 0.0, 0.1, *_drive_fault)
+offset = within(finite, -0.1, 0.1, *_drive_fault)
+noise_std = within(non_negative, 0.0, 0.1, *_drive_fault)
+bearing_span = within(positive, 1e-3, 10.0, "m", "a joint's guide pads or bearings sit between 1 mm and a few "
+                      "metres apart")
+side = within(positive, 1e-3, 100.0, "m", "ISO 9283's cube spans the most-used part of a workspace; below 1 mm its "
+              "poses are hardly distinct places")
+coordinate = within(finite, -1e3, 1e3, "m", "no robot reaches a kilometre")
+joint_value = within(finite, -1e3, 1e3, "m or rad", "no joint travels a kilometre or turns 160 times")
+angle_deg = within(finite, -360.0, 360.0, "deg", "write each angle within one turn either way")
+
+
+# -- schema: key -> (check, default); REQUIRED marks keys without a default -------------------------------------
+
+REQUIRED = object()
+
+STUDY_KEYS = {
+    "name": (text, None),
+    "cycles": (cycle_count, 30),
+    "seed": (seed_int, 0),
+    "approach": (one_of(*APPROACH_MODES), "unidirectional"),
+    "engine": (one_of("fast", "exact"), "fast"),
+}
+ROBOT_KEYS = {
+    "urdf": (text, None),
+    "name": (text, None),
+    "tool_frame": (text, None),
+    "package_dirs": (string_list, []),
+    "payload_kg": (payload, 0.0),
+}
+JOINT_KEYS = {
+    "friction": (table, None),
+    "normal_force_N": (normal_force, None),
+    "stiffness": (stiffness, None),
+    "friction_radius_m": (friction_radius, 0.02),
+    "backlash": (backlash, 0.0),
+    "offset": (offset, 0.0),
+    "noise_std": (noise_std, 0.0),
+    "bearing_span_m": (bearing_span, 0.1),
+}
+def vector3(value, source, key, element=finite) -> list[float]:
+    values = number_list(value, source, key, element)
+    if len(values) != 3:
+        raise InputError(f"needs 3 numbers (got {len(values)})", source, key)
+    return values
+
+
+def unit_vector3(value, source, key) -> list[float]:
+    values = vector3(value, source, key)
+    norm = math.sqrt(sum(v * v for v in values))
+    if abs(norm - 1) > 1e-6:
+        raise InputError(f"must be a unit vector (its norm is {norm:g}); divide it by its norm", source, key)
+    return values
+
+
+def interval(value, source, key, element=finite) -> list[float]:
+    values = number_list(value, source, key, element)
+    if len(values) != 2 or values[0] > values[1]:
+        raise InputError(f"must be [low, high] with low <= high (got {value!r})", source, key)
+    return values
+
+
+def interval_list(value, source, key, element=finite) -> list[list[float]]:
+    if not isinstance(value, list) or not value:
+        raise InputError(f"must be a list of [low, high] pairs (got {value!r})", source, key)
+    return [interval(v, source, f"{key}[{i}]", element) for i, v in enumerate(value)]
+
+
+def count_list(value, source, key) -> list[int]:
+    if not isinstance(value, list) or not value:
+        raise InputError(f"must be a list of whole numbers >= 1 (got {value!r})", source, key)
+    return [grid_count(v, source, f"{key}[{i}]") for i, v in enumerate(value)]
+
+
+position3 = partial(vector3, element=coordinate)
+angles3 = partial(vector3, element=angle_deg)
+
+
+ISO_CUBE_KEYS = {
+    "center_m": (position3, None),
+    "side_m": (side, None),
+    "rpy_deg": (angles3, None),
+}
+POSE_KEYS = {
+    "name": (text, None),
+    "q": (partial(number_list, element=joint_value), REQUIRED),
+    "normal_force_N": (normal_force, None),
+    "friction": (table, None),
+}
+MAP_KINDS = {
+    "plane": {
+        "origin_m": (position3, REQUIRED),
+        "axis_u": (unit_vector3, REQUIRED),
+        "axis_v": (unit_vector3, REQUIRED),
+        "extent_u_m": (partial(interval, element=coordinate), REQUIRED),
+        "extent_v_m": (partial(interval, element=coordinate), REQUIRED),
+        "resolution": (count_list, REQUIRED),
+        "rpy_deg": (angles3, None),
+    },
+    "box": {
+        "min_m": (position3, REQUIRED),
+        "max_m": (position3, REQUIRED),
+        "resolution": (count_list, REQUIRED),
+        "rpy_deg": (angles3, None),
+    },
+    "joint": {
+        "joints": (string_list, REQUIRED),
+        "ranges": (partial(interval_list, element=joint_value), REQUIRED),
+        "counts": (count_list, REQUIRED),
+    },
+}
+MAP_COMMON_KEYS = {
+    "kind": (one_of(*MAP_KINDS), REQUIRED),
+    "start_q": (partial(number_list, element=joint_value), None),
+    "chunk_rows": (chunk_count, None),
+}
+#: Study sections a scenario may override; of [robot], only the payload (the targets stay the same).
+SCENARIO_SECTIONS = ("study", "robot", "joints")
+SCENARIO_ROBOT_KEYS = ("payload_kg",)
+TOP_KEYS = ("study", "robot", "joints", "poses", "iso_cube", "map", "scenarios")
+
+
+def check_table(mapping: dict, schema: dict, source, prefix: str, extra_ok=()) -> dict:
+    """Validate ``mapping`` against ``schema``; return every key with its value or default.
+
+    Keys in ``extra_ok`` are left for the caller; any other unknown key is an error.
+    """
+    for key in mapping:
+        if key not in schema and key not in extra_ok:
+            valid = list(schema) + list(extra_ok)
+            raise InputError(f"unknown key '{key}'{closest_hint(key, valid)}; valid keys: {', '.join(valid)}",
+                             source, f"{prefix}.{key}")
+    clean = {}
+    for key, (check, default) in schema.items():
+        if key in mapping:
+            clean[key] = check(mapping[key], source, f"{prefix}.{key}")
+        elif default is REQUIRED:
+            raise InputError("missing: this key is required", source, f"{prefix}.{key}")
+        else:
+            clean[key] = default
+    return clean
+
+
+@dataclass
+class PoseSpec:
+    """A commanded configuration to test.
+
+    ``q`` in [m or rad], one value per active joint; ``normal_force_N`` [N] and
+    ``friction`` (a law spec), when set, apply to every joint at this pose (overriding ``[joints]``).
+    """
+
+    name: str
+    q: list[float]
+    normal_force_N: float | None = None
+    friction: dict | None = None
+
+
+@dataclass
+class Scenario:
+    """A what-if variant of a study's map: ``overrides`` (nested tables, as in the file) applied
+    to the study, validated into ``study``."""
+
+    name: str
+    overrides: dict
+    study: "Study"
+
+
+@dataclass
+class Study:
+    """A validated study: what to load, how joints err, where to test.
+
+    ``joints`` holds the defaults for every joint; ``joint_overrides`` the
+    per-joint tables ``[joints.<name>]``, checked against the robot's joint
+    names when it is loaded. ``source`` is the file (for messages) and
+    ``base_dir`` what relative paths in it are resolved against. ``sha256`` is the hash of the
+    file's bytes (``None`` for a study given as a mapping).
+    """
+
+    name: str
+    cycles: int
+    seed: int
+    approach: str
+    robot: dict
+    joints: dict
+    joint_overrides: dict[str, dict]
+    poses: list[PoseSpec]
+    iso_cube: dict | None
+    engine: str
+    source: str
+    base_dir: Path
+    mapping: dict = field(repr=False, default_factory=dict)
+    map: dict | None = None
+    scenarios: list[Scenario] = field(default_factory=list)
+    sha256: str | None = None
+
+
+def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(".")) -> Study:
+    """Validate a study mapping (as read from TOML) into a :class:`Study`."""
+    table(mapping, source, "study file")
+    for key in mapping:
+        if key not in TOP_KEYS:
+            raise InputError(f"unknown section [{key}]{closest_hint(key, TOP_KEYS)}; valid sections: "
+                             f"{', '.join(TOP_KEYS)}", source, key)
+    for required in ("robot", "joints"):
+        if required not in mapping:
+            raise InputError(f"missing [{required}] section", source, required)
+    if not {"poses", "iso_cube", "map"} & set(mapping):
+        raise InputError("nothing to test: add [[poses]] entries, an [iso_cube] or a [map] section", source, "poses")
+    study = check_table(table(mapping.get("study", {}), source, "study"), STUDY_KEYS, source, "study")
+    robot = check_table(table(mapping["robot"], source, "robot"), ROBOT_KEYS, source, "robot")
+    if (robot["urdf"] is None) == (robot["name"] is None):
+        raise InputError("give exactly one of urdf = \"path/to/robot.urdf\" or name = \"ur5\"", source, "robot")
+    joints_table = table(mapping["joints"], source, "joints")
+    overrides = {k: v for k, v in joints_table.items() if k not in JOINT_KEYS and isinstance(v, dict)}
+    joints = check_table(joints_table, JOINT_KEYS, source, "joints", extra_ok=tuple(overrides))
+    joint_overrides = {}
+    for joint, values in overrides.items():
+        checked = check_table(values, {k: (c, None) for k, (c, _) in JOINT_KEYS.items()}, source, f"joints.{joint}")
+        joint_overrides[joint] = {k: v for k, v in checked.items() if k in values}
+    iso_cube = None
+    if "iso_cube" in mapping:
+        iso_cube = check_table(table(mapping["iso_cube"], source, "iso_cube"), ISO_CUBE_KEYS, source, "iso_cube")
+    map_spec = check_map(table(mapping["map"], source, "map"), source) if "map" in mapping else None
+    poses_list = mapping.get("poses", [])
+    if not isinstance(poses_list, list) or (not poses_list and iso_cube is None and map_spec is None):
+        raise InputError("needs at least one [[poses]] entry with q = [...]", source, "poses")
+    poses = []
+    for i, pose in enumerate(poses_list):
+        checked = check_table(table(pose, source, f"poses[{i}]"), POSE_KEYS, source, f"poses[{i}]")
+        poses.append(PoseSpec(checked["name"] or f"P{i + 1}", checked["q"], checked["normal_force_N"],
+                              checked["friction"]))
+    names = [p.name for p in poses] + (["P1", "P2", "P3", "P4", "P5"] if iso_cube is not None else [])
+    duplicate = next((n for n in names if names.count(n) > 1), None)
+    if duplicate:
+        raise InputError(f"pose name '{duplicate}' is used twice; names must be unique", source, "poses.name")
+    if "scenarios" in mapping and map_spec is None:
+        raise InputError("scenarios compare maps: add a [map] section", source, "scenarios")
+    parsed = Study(
+        name=study["name"] or Path(source).stem,
+        cycles=study["cycles"],
+        seed=study["seed"],
+        approach=study["approach"],
+        robot=robot,
+        joints=joints,
+        joint_overrides=joint_overrides,
+        poses=poses,
+        iso_cube=iso_cube,
+        engine=study["engine"],
+        source=source,
+        base_dir=Path(base_dir),
+        mapping=mapping,
+        map=map_spec,
+    )
+    parsed.scenarios = parse_scenarios(mapping, source, base_dir)
+    return parsed
+
+
+def check_map(mapping: dict, source) -> dict:
+    """Validate the ``[map]`` table: the keys of its ``kind``, and how they fit together."""
+    if "kind" not in mapping:
+        raise InputError(f"missing: this key is required ({', '.join(MAP_KINDS)})", source, "map.kind")
+    kind = one_of(*MAP_KINDS)(mapping["kind"], source, "map.kind")
+    spec = check_table(mapping, {**MAP_COMMON_KEYS, **MAP_KINDS[kind]}, source, "map")
+    if kind == "plane":
+        _check_counts(spec["resolution"], 2, "[nu, nv]", source)
+        dot = sum(a * b for a, b in zip(spec["axis_u"], spec["axis_v"]))
+        if abs(dot) > 1e-6:
+            raise InputError(f"must be perpendicular to map.axis_u (their dot product is {dot:g})", source,
+                             "map.axis_v")
+        for name, count in zip(("extent_u_m", "extent_v_m"), spec["resolution"]):
+            _check_width(spec[name], count, source, f"map.{name}")
+    elif kind == "box":
+        _check_counts(spec["resolution"], 3, "[nx, ny, nz]", source)
+        for axis, (low, high, count) in enumerate(zip(spec["min_m"], spec["max_m"], spec["resolution"])):
+            _check_width([low, high], count, source, f"map.max_m[{axis}]")
+    else:
+        joints, ranges, counts = spec["joints"], spec["ranges"], spec["counts"]
+        if not 1 <= len(joints) <= 3 or len(set(joints)) != len(joints):
+            raise InputError(f"must name 1 to 3 different joints (got {joints!r})", source, "map.joints")
+        for key, values in (("ranges", ranges), ("counts", counts)):
+            if len(values) != len(joints):
+                raise InputError(f"needs one entry per joint in map.joints ({len(joints)}); got {len(values)}",
+                                 source, f"map.{key}")
+        for i, (bounds, count) in enumerate(zip(ranges, counts)):
+            _check_width(bounds, count, source, f"map.ranges[{i}]")
+    return spec
+
+
+def _check_counts(counts: list[int], length: int, shape: str, source) -> None:
+    if len(counts) != length:
+        raise InputError(f"needs {length} whole numbers {shape} (got {len(counts)})", source, "map.resolution")
+
+
+def _check_width(bounds: list[float], count: int, source, key: str) -> None:
+    if count > 1 and not bounds[0] < bounds[1]:
+        raise InputError(f"spans nothing ({bounds[0]:g} to {bounds[1]:g}) but {count} points are asked for; "
+                         "widen it or ask for 1 point", source, key)
+
+
+def parse_scenarios(mapping: dict, source, base_dir) -> list[Scenario]:
+    """Validate ``[[scenarios]]``: each a ``name`` and overrides of ``[study]``, ``[joints]`` and
+    ``robot.payload_kg``, merged into the study (a joint table merges key by key; any other value replaces)."""
+    entries = mapping.get("scenarios", [])
+    if not isinstance(entries, list):
+        raise InputError("must be a list of tables: write [[scenarios]]", source, "scenarios")
+    base = {key: value for key, value in mapping.items() if key != "scenarios"}
+    scenarios = []
+    for i, entry in enumerate(entries):
+        key = f"scenarios[{i}]"
+        entry = table(entry, source, key)
+        name = text(entry.get("name"), source, f"{key}.name")
+        if not all(c.isalnum() or c in "-_." for c in name):
+            raise InputError(f"'{name}' must use letters, digits, '-', '_' or '.' only (it names files)", source,
+                             f"{key}.name")
+        if name in [s.name for s in scenarios]:
+            raise InputError(f"scenario name '{name}' is used twice; names must be unique", source, f"{key}.name")
+        overrides = {k: v for k, v in entry.items() if k != "name"}
+        for section, values in overrides.items():
+            if section not in SCENARIO_SECTIONS:
+                raise InputError(f"a scenario may override {', '.join(SCENARIO_SECTIONS)} only (the targets stay "
+                                 f"the same){closest_hint(section, SCENARIO_SECTIONS)}", source, f"{key}.{section}")
+            table(values, source, f"{key}.{section}")
+        for robot_key in overrides.get("robot", {}):
+            if robot_key not in SCENARIO_ROBOT_KEYS:
+                raise InputError("a scenario may change the payload only, not the robot's kinematics", source,
+                                 f"{key}.robot.{robot_key}")
+        try:
+            study = parse_study(merge_overrides(base, overrides), source, base_dir)
+        except InputError as error:
+            raise InputError(error.message, error.source, f"{key}.{error.key}") from None
+        scenarios.append(Scenario(name, overrides, study))
+    return scenarios
+
+
+def merge_overrides(mapping: dict, overrides: dict) -> dict:
+    """``mapping`` with each section's keys replaced by ``overrides``; ``joints.<joint>`` tables merge key by key."""
+    merged = {**mapping}
+    for section, values in overrides.items():
+        merged[section] = {**mapping.get(section, {})}
+        for key, value in values.items():
+            joint_table = section == "joints" and key not in JOINT_KEYS and isinstance(value, dict)
+            merged[section][key] = {**merged[section].get(key, {}), **value} if joint_table else value
+    return merged

@@ -1,0 +1,577 @@
+"""Bad input through the `tribokin` command, as a table: study files, URDFs, tribometer logs, surface
+profiles and command-line options.
+
+Every case must give exit status 2 and exactly one line on stderr (``tribokin: error: ...``) naming the
+file and the key at fault, no traceback, and leave the folder it ran in exactly as it was: no output
+folder, no temporary or chunk folder, no lock file, pre-existing files untouched.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import AXIS_STUDY_TOML, AXIS_URDF, GANTRY_MAP_TOML, ROOT
+from tribokin.cli import main
+from tribokin.simulation.pose_run import PoseRunner
+
+
+def _replace(text: str, old: str, new: str) -> str:
+    assert old in text, old  # a case whose edit does not apply would test nothing
+    return text.replace(old, new)
+
+
+class Symlink(str):
+    """A file of a case that is a symbolic link to this target."""
+
+
+STUDY = AXIS_STUDY_TOML
+GANTRY_MAP = _replace(_replace(GANTRY_MAP_TOML, "cycles = 400", "cycles = 5"), "resolution = [25, 40]",
+                      "resolution = [4, 3]")
+
+#: GANTRY_MAP with a pose, and a joint-space map of the axis after its pose: refusals of these must come before
+#: the pose runs.
+GANTRY_MAP_AND_POSE = GANTRY_MAP + '\n[[poses]]\nname = "P1"\nq = [0.3, 0.2, 0.1]\n'
+AXIS_JOINT_MAP = STUDY + '\n[map]\nkind = "joint"\njoints = ["x"]\nranges = [[0.0, 0.3]]\ncounts = [4]\n'
+SCENARIOS = '[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "b"\n\n[[scenarios]]\nname = "ratio_b"\n\n[map]'
+
+MESHY_URDF = """<?xml version="1.0"?>
+<robot name="meshy">
+  <link name="base"><visual><geometry><mesh filename="package://pkg/../../evil.stl"/></geometry></visual></link>
+  <joint name="x" type="prismatic"><parent link="base"/><child link="tool"/><axis xyz="1 0 0"/>
+    <limit lower="0" upper="0.4" effort="100" velocity="1"/></joint>
+  <link name="tool"/>
+</robot>
+"""
+#: The gantry whose base is drawn from the mesh ``{mesh}``.
+MESHY_GANTRY_URDF = _replace((ROOT / "urdf" / "cartesian_xyz.urdf").read_text(),
+                             '<geometry><box size="0.90 0.06 1.00"/></geometry>\n      <material',
+                             '<geometry><mesh filename="{mesh}"/></geometry>\n      <material')
+MESHY_GANTRY_MAP = _replace(GANTRY_MAP, f'urdf = "{ROOT / "urdf" / "cartesian_xyz.urdf"}"',
+                            'urdf = "share/pkg/gantry.urdf"\npackage_dirs = ["share"]')
+STL = ("solid t\nfacet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 0 1 0\n endloop\n"
+       "endfacet\nendsolid t\n")
+
+GOOD_LOG = "cycle,mu\n" + "\n".join(f"{i},{0.12 + 0.01 * np.sin(i)}" for i in range(1, 41)) + "\n"
+GOOD_PROFILE = "x_m,z_m\n" + "\n".join(f"{i * 1e-6},{1e-6 * np.sin(i / 3)}" for i in range(200)) + "\n"
+TURNED = AXIS_URDF.parents[1] / "src" / "tribokin" / "data" / "profiles" / "turned.csv"
+SURFACE_LAW = (f'{{ surface = "{TURNED}", normal_force_N = 150.0, contact_area_m2 = 1e-6, '
+               'film_thickness_m = 1.2e-6 }')
+
+
+def study(old: str | None = None, new: str = "", *options, expected, id, base=STUDY, files=None,
+          at_fault="study.toml"):
+    """A `tribokin run` case: ``base`` with ``old`` replaced by ``new``; stderr must name the file ``at_fault``."""
+    text = base if old is None else _replace(base, old, new)
+    return pytest.param({"study.toml": text, **(files or {})},
+                        ["run", "{tmp}/study.toml", "--out", "{tmp}/out", "--report", "none", *options],
+                        (f"{{tmp}}/{at_fault}", *expected), id=id)
+
+
+def friction(law: str, *, expected, id):
+    """A `tribokin run` case with ``joints.friction = law``."""
+    return study('{ preset = "42CD4-raw" }', law, expected=expected, id=id)
+
+
+def measurement(command: str, content, *options, expected, id, at_fault="{tmp}/in.csv", files=None):
+    """A `tribokin fit-friction` or `tribokin surface` case on ``in.csv`` (``None``: no such file)."""
+    files = {**({} if content is None else {"in.csv": content}), **(files or {})}
+    return pytest.param(files, [command, "{tmp}/in.csv", "--out", "{tmp}/out", *options],
+                        (at_fault, *expected), id=id)
+
+
+def command(argv, *, expected, id, files=None):
+    """A case given as a whole command line."""
+    return pytest.param({"study.toml": STUDY, **(files or {})}, argv, expected, id=id)
+
+
+RUN = ["run", "{tmp}/study.toml", "--out", "{tmp}/out", "--report", "none"]
+
+# issue 19: names and pre-checks: refused before any pose or map target is measured
+PRE_CHECKS = [
+    study('name = "gantry-resume"', 'name = "gantry/resume"', base=GANTRY_MAP_AND_POSE,
+          expected=("study.name", "'/'"), id="study-name-slash"),
+    study('name = "P1"', 'name = "a/b"', expected=("poses[0].name", "'/'"), id="pose-name-slash"),
+    study('name = "P1"', 'name = "a\\u0000b"', expected=("poses[0].name", "'a\\x00b'", "not printable"),
+          id="pose-name-nul"),
+    study('name = "P1"', 'name = "a\\tb"', expected=("poses[0].name", "not printable"), id="pose-name-tab"),
+    study('name = "P1"', 'name = "' + "p" * 300 + '"', expected=("poses[0].name", "300 characters", "at most 100"),
+          id="pose-name-300-characters"),
+    study('name = "P1"', 'name = "' + "€" * 90 + '"', expected=("poses[0].name", "280 bytes", "255"),
+          id="pose-name-too-many-bytes"),
+    study('name = "P1"', 'name = ".P1"', expected=("poses[0].name", "starts with '.'"), id="pose-name-hidden"),
+    study('[[poses]]\nname = "P1"', '[[poses]]\nname = "p1"\nq = [0.1]\n[[poses]]\nname = "P1"',
+          expected=("poses[1].name", "writes field_P1.png, as poses[0].name does (field_p1.png", "case"),
+          id="pose-names-differ-in-case"),
+    study('name = "P1"', 'name = "p1"',
+          base=_replace(GANTRY_MAP_AND_POSE, "[map]", "[iso_cube]\ncenter_m = [0.4, 0.3, 0.3]\nside_m = 0.1\n\n[map]"),
+          expected=("poses[0].name", "writes field_p1.png, as iso_cube does (field_P1.png"),
+          id="pose-name-clashes-with-iso-cube"),
+    study("[map]", SCENARIOS, base=GANTRY_MAP_AND_POSE,
+          expected=("scenarios[2].name", "writes map_RP_l_ratio_b.png, as scenarios[1].name does"),
+          id="scenario-files-collide"),
+    study('name = "ratio_b"', 'name = ".b"', base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
+          expected=("scenarios[2].name", "starts with '.'"), id="scenario-name-hidden"),
+    study('name = "ratio_b"', 'name = "c"\njoints = { w = { stiffness = 1.0 } }',
+          base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
+          expected=("scenarios[2].joints.w", "unknown joint 'w'"), id="scenario-joint-unknown"),
+    study('joints = ["x"]', 'joints = ["w"]', base=AXIS_JOINT_MAP, expected=("map.joints[0]", "unknown joint 'w'"),
+          id="map-joint-unknown"),
+    study("ranges = [[0.0, 0.3]]", "ranges = [[0.0, 0.5]]", base=AXIS_JOINT_MAP,
+          expected=("map.ranges[0]", "leaves the limits"), id="map-range-outside-limits"),
+    study("[map]", "[map]\nrpy_deg = [0, 0, 0]", base=GANTRY_MAP_AND_POSE,
+          expected=("map.rpy_deg", "cannot hold the tool's orientation"), id="map-rpy-without-orientation"),
+    study("[map]", "[map]\nstart_q = [0.1, 0.1]", base=GANTRY_MAP_AND_POSE, expected=("map.start_q",),
+          id="map-start-q-wrong-length"),
+]
+
+CASES = [
+    # -- study files: syntax, sections and keys
+    study("[study]", "[study", expected=("not valid TOML",), id="toml-unclosed-table"),
+    study("seed = 3", 'seed = 3\nseed = 4', expected=("not valid TOML",), id="toml-duplicate-key"),
+    pytest.param({"study.toml": b"\xff\xfe[study]\n"}, RUN, ("{tmp}/study.toml", "not valid TOML"), id="toml-not-utf8"),
+    pytest.param({}, RUN, ("{tmp}/study.toml", "not found"), id="study-file-missing"),
+    study("[study]", "[stduy]", expected=("stduy", "did you mean 'study'"), id="unknown-section"),
+    study("seed = 3", "seed = 3\nsede = 4", expected=("study.sede", "did you mean 'seed'"), id="unknown-study-key"),
+    study("stiffness = 2.0e6", "stifness = 2.0e6", expected=("joints.stifness", "did you mean 'stiffness'"),
+          id="unknown-joint-key"),
+    study("tool_frame =", "tool_fram =", expected=("robot.tool_fram", "did you mean 'tool_frame'"),
+          id="unknown-robot-key"),
+    study('name = "P1"', 'name = "P1"\nnormal_force = 3.0', expected=("poses[0].normal_force",
+                                                                        "did you mean 'normal_force_N'"),
+          id="unknown-pose-key"),
+    study("[joints]", "[joints]\n[robots]", expected=("did you mean 'robot'",), id="unknown-section-robots"),
+    study("[[poses]]\nname = \"P1\"\nq = [0.25]", "", expected=("poses", "nothing to test"), id="no-poses"),
+    study("stiffness = 2.0e6", "", expected=("joints.stiffness", "no stiffness"), id="stiffness-missing"),
+    # -- wrong types, NaN and infinities
+    study("cycles = 12", 'cycles = "12"', expected=("study.cycles", "whole number"), id="cycles-string"),
+    study("cycles = 12", "cycles = 12.5", expected=("study.cycles",), id="cycles-float"),
+    study("seed = 3", "seed = -1", expected=("study.seed",), id="seed-negative"),
+    study("stiffness = 2.0e6", 'stiffness = "stiff"', expected=("joints.stiffness", "number"), id="stiffness-string"),
+    study("stiffness = 2.0e6", "stiffness = nan", expected=("joints.stiffness", "finite"), id="stiffness-nan"),
+    study("normal_force_N = 150.0", "normal_force_N = inf", expected=("joints.normal_force_N", "finite"),
+          id="normal-force-inf"),
+    study("stiffness = 2.0e6", "stiffness = 2.0e6\noffset = -inf", expected=("joints.offset", "finite"),
+          id="offset-minus-inf"),
+    study("q = [0.25]", "q = [nan]", expected=("poses[0].q[0]", "finite"), id="pose-q-nan"),
+    study("q = [0.25]", 'q = "0.25"', expected=("poses[0].q",), id="pose-q-string"),
+    study("seed = 3", 'seed = 3\napproach = "bidirectionnal"',
+          expected=("study.approach", "did you mean 'bidirectional'"), id="approach-misspelt"),
+    # -- values out of range
+    study("cycles = 12", "cycles = 0", expected=("study.cycles", "between 2 and"), id="cycles-zero"),
+    study("stiffness = 2.0e6", "stiffness = 0.0", expected=("joints.stiffness", "> 0"), id="stiffness-zero"),
+    study("stiffness = 2.0e6", "stiffness = -2.0e6", expected=("joints.stiffness", "> 0"), id="stiffness-negative"),
+    study("stiffness = 2.0e6", "stiffness = 2.0e6\nbacklash = -1e-6", expected=("joints.backlash", ">= 0"),
+          id="backlash-negative"),
+    study("normal_force_N = 150.0", "normal_force_N = -150.0", expected=("joints.normal_force_N", ">= 0"),
+          id="normal-force-negative"),
+    study("[[poses]]", "[joints.x]\nstiffness = 0\n\n[[poses]]", expected=("joints.x.stiffness", "> 0"),
+          id="joint-override-stiffness-zero"),
+    # -- friction laws
+    friction('{ law = "gaussian", mean = 0.1, std = -0.1 }', expected=("joints.friction.std", ">= 0"),
+             id="gaussian-std-negative"),
+    friction('{ law = "gaussian", mean = nan, std = 0.01 }', expected=("joints.friction.mean", "finite"),
+             id="gaussian-mean-nan"),
+    friction('{ law = "uniform", low = 0.2, high = 0.1 }', expected=("joints.friction.low", "swap"),
+             id="uniform-inverted-bounds"),
+    friction('{ law = "uniform", low = -0.1, high = 0.1 }', expected=("joints.friction.low", "never negative"),
+             id="uniform-negative-support"),
+    friction('{ law = "constant", mu = -0.1 }', expected=("joints.friction.mu", "never negative"),
+             id="constant-negative"),
+    friction('{ law = "lognormal", mean = 0.0, std = 0.01 }', expected=("joints.friction.mean", "> 0"),
+             id="lognormal-mean-zero"),
+    friction('{ law = "empirical", values = [0.1, -0.2] }', expected=("joints.friction.values", "never negative"),
+             id="empirical-negative-value"),
+    friction('{ law = "empirical", values = ["a", "b"] }', expected=("joints.friction.values", "number"),
+             id="empirical-strings"),
+    friction('{ law = "empirical", values = 0.1 }', expected=("joints.friction.values", "list"),
+             id="empirical-not-a-list"),
+    friction('{ law = "uniform", low = "0.1", high = 0.2 }', expected=("joints.friction.low", "finite number"),
+             id="uniform-low-string"),
+    friction('{ law = "uniform", low = 0.1 }', expected=("joints.friction.high", "needs high"),
+             id="uniform-high-missing"),
+    friction('{ law = "gausian", mean = 0.1, std = 0.01 }', expected=("joints.friction.law", "did you mean 'gaussian'"),
+             id="law-misspelt"),
+    friction('{ law = "gaussian", mean = 0.1, sigma = 0.01 }', expected=("joints.friction.sigma", "unknown key"),
+             id="law-unknown-key"),
+    friction('{ preset = "42CD4-rw" }', expected=("joints.friction.preset", "42CD4-raw"), id="preset-misspelt"),
+    friction("0.12", expected=("joints.friction", "table"), id="friction-not-a-table"),
+    friction('{ file = "nope.toml" }', expected=("joints.friction.file", "not found"), id="law-file-missing"),
+    study('{ preset = "42CD4-raw" }', '{ file = "law.toml" }', files={"law.toml": 'law = "uniform"\nlow = 0.3\n'
+                                                                                   "high = 0.1\n"},
+          at_fault="law.toml", expected=("low", "swap"), id="law-file-inverted-bounds"),
+    study('{ preset = "42CD4-raw" }', '{ log = "log.csv" }', files={"log.csv": "cycle,mu\n1,0.1\n"},
+          at_fault="log.csv", expected=("mu", "at least 20"), id="law-log-too-short"),
+    # -- robots, frames, joints, URDFs, meshes
+    study(f'urdf = "{AXIS_URDF}"', 'name = "ur55"', expected=("robot.name", "did you mean 'ur5'"),
+          id="unknown-robot"),
+    study('tool_frame = "tool"', 'tool_frame = "tol"', expected=("robot.tool_frame", "did you mean 'tool'"),
+          id="unknown-frame"),
+    study("[[poses]]", "[joints.y]\nstiffness = 1.0\n\n[[poses]]", expected=("joints.y", "unknown joint 'y'"),
+          id="unknown-joint"),
+    study(f'urdf = "{AXIS_URDF}"', f'urdf = "{AXIS_URDF}"\nname = "ur5"', expected=("robot", "exactly one"),
+          id="urdf-and-name"),
+    study(f'urdf = "{AXIS_URDF}"', 'urdf = "missing.urdf"', expected=("robot.urdf", "not found"), id="urdf-missing"),
+    study(f'urdf = "{AXIS_URDF}"', 'urdf = "robot.urdf"', files={"robot.urdf": "<robot name='r'><link "},
+          expected=("robot.urdf", "cannot read URDF"), id="urdf-malformed"),
+    study(f'urdf = "{AXIS_URDF}"', 'urdf = "robot.urdf"', files={"robot.urdf": ""},
+          expected=("robot.urdf", "cannot read URDF"), id="urdf-empty"),
+    study(f'urdf = "{AXIS_URDF}"', 'urdf = "share/pkg/meshy.urdf"\npackage_dirs = ["share"]',
+          "--report", "full", files={"share/pkg/meshy.urdf": MESHY_URDF, "evil.stl": STL},
+          expected=("robot.package_dirs", "evil.stl", "{tmp}/share"), id="mesh-outside-package"),
+    study(f'urdf = "{AXIS_URDF}"', 'urdf = "share/pkg/meshy.urdf"\npackage_dirs = ["share"]',
+          files={"share/pkg/meshy.urdf": MESHY_URDF.replace("evil.stl", "evil"), "evil": STL},
+          expected=("robot.package_dirs", "evil'", "{tmp}/share"), id="mesh-outside-no-extension-report-none"),
+    study(None, base=MESHY_GANTRY_MAP, files={"share/pkg/gantry.urdf": MESHY_GANTRY_URDF.format(mesh="../evil.stl"),
+                                              "evil.stl": STL},
+          expected=("robot.package_dirs", "evil.stl", "{tmp}/share"), id="mesh-outside-map-study"),
+    # -- poses, the ISO cube and maps that cannot be reached
+    study("q = [0.25]", "q = [0.25, 0.1]", expected=("poses[0].q", "needs 1 values"), id="pose-q-wrong-length"),
+    study("q = [0.25]", "q = [0.75]", expected=("poses[0].q", "outside its limits"), id="pose-unreachable"),
+    study("[[poses]]\nname = \"P1\"", "[[poses]]\nname = \"P1\"\nq = [0.1]\n[[poses]]\nname = \"P1\"",
+          expected=("poses.name", "twice"), id="pose-name-twice"),
+    study("[map]", "[iso_cube]\ncenter_m = [3.0, 0.3, 0.4]\nside_m = 0.1\n\n[map]", base=GANTRY_MAP,
+          expected=("iso_cube", "unreachable"), id="iso-cube-unreachable"),
+    study("[map]", "[iso_cube]\nside_m = 0.0\n\n[map]", base=GANTRY_MAP, expected=("iso_cube.side_m", "> 0"),
+          id="iso-cube-side-zero"),
+    study("resolution = [4, 3]", "resolution = [0, 3]", base=GANTRY_MAP, expected=("map.resolution[0]", ">= 1"),
+          id="map-resolution-zero"),
+    study("axis_u = [1, 0, 0]", "axis_u = [1, 1, 0]", base=GANTRY_MAP, expected=("map.axis_u", "unit vector"),
+          id="map-axis-not-unit"),
+    study('kind = "plane"', 'kind = "plain"', base=GANTRY_MAP, expected=("map.kind", "did you mean 'plane'"),
+          id="map-kind-misspelt"),
+    study("extent_u_m = [0.0, 0.6]", "extent_u_m = [0.6, 0.0]", base=GANTRY_MAP, expected=("map.extent_u_m",),
+          id="map-extent-inverted"),
+    study("[map]", '[[scenarios]]\nname = "a"\njoints = { stifness = 1.0 }\n\n[map]', base=GANTRY_MAP,
+          expected=("scenarios[0].joints.stifness", "did you mean 'stiffness'"), id="scenario-unknown-key"),
+    *PRE_CHECKS,  # issue 19: names and pre-checks
+    # -- command-line options
+    command([*RUN, "--cycles", "0"], expected=("command line", "--cycles", "between 2 and"), id="option-cycles-zero"),
+    command([*RUN, "--cycles", "many"], expected=("command line", "--cycles", "invalid int"),
+            id="option-cycles-not-int"),
+    command([*RUN, "--seed", "-4"], expected=("command line", "--seed", ">= 0"), id="option-seed-negative"),
+    command([*RUN, "--workers", "0"], expected=("command line", "--workers", ">= 1"), id="option-workers-zero"),
+    command([*RUN, "--workers", "2", "--scheduler", "tcp://127.0.0.1:9"], expected=("command line", "--scheduler"),
+            id="option-workers-and-scheduler"),
+    command([*RUN, "--scheduler", "tcp://127.0.0.1:9"], files={"study.toml": GANTRY_MAP},
+            expected=("command line", "--scheduler", "cannot reach", "127.0.0.1:9"), id="scheduler-closed-port"),
+    command([*RUN, "--scheduler", "not a url"], files={"study.toml": GANTRY_MAP},
+            expected=("command line", "--scheduler", "'not a url' is not a scheduler address", "tcp://host:port"),
+            id="scheduler-not-an-address"),
+    command(["run", "{tmp}/study.toml", "--out", "{tmp}/out", "--report", "fancy"],
+            expected=("command line", "--report", "invalid choice"), id="option-report-unknown"),
+    command(["run", "{tmp}/study.toml"], expected=("command line", "--out"), id="option-out-missing"),
+    command(["rnu", "{tmp}/study.toml"], expected=("command line", "invalid choice"), id="unknown-command"),
+    command(["run", "{tmp}/study.toml", "--out", "/proc/tribokin-out", "--report", "none"],
+            expected=("/proc/tribokin-out", "--out", "cannot write"), id="out-parent-unwritable"),
+    command(["run", "{tmp}/study.toml", "--out", "{tmp}/no/such/out", "--report", "none"],
+            expected=("{tmp}/no/such/out", "--out", "does not exist"), id="out-parent-missing"),
+    command(RUN, files={"out/mine.txt": "precious"}, expected=("{tmp}/out", "--out", "--force"),
+            id="out-exists-without-force"),
+    command([*RUN, "--force"], files={"out": "a file"}, expected=("{tmp}/out", "--out", "is a file"),
+            id="out-is-a-file"),
+    command(RUN, files={"out": Symlink("gone")}, expected=("{tmp}/out", "--out", "symbolic link", "gone"),
+            id="out-dangling-symlink"),
+    command(["run", "{tmp}/study.toml", "--out", ".", "--report", "none", "--force"],
+            expected=("tribokin: error: .: --out: ", "current folder or one of its parents"), id="out-here-force"),
+    command(["run", "{tmp}/study.toml", "--out", "..", "--report", "none", "--force"],
+            expected=("tribokin: error: ..: --out: ", "current folder or one of its parents"), id="out-parent-force"),
+    command(RUN, files={"out.chunks/manifest.json": '{"key": "x"}'}, expected=("{tmp}/out.chunks", "--resume"),
+            id="leftover-chunks-without-resume"),
+    command([*RUN, "--resume"], files={"out.chunks/manifest.json": '{"key": "x"}'},
+            expected=("{tmp}/out.chunks", "--resume", "no [map]"), id="resume-without-map"),
+    study(None, "", "--resume", base=GANTRY_MAP, files={"out.chunks/manifest.json": '{"key": "x"}'},
+          at_fault="out.chunks", expected=("--resume", "other settings"), id="resume-other-settings"),
+    study(None, "", "--resume", "--force", base=GANTRY_MAP, files={"out.chunks/done/0": "", "out/old.txt": "old"},
+          at_fault="out.chunks", expected=("--resume", "lacks manifest.json", "--force without --resume"),
+          id="resume-damaged-chunks"),
+    # -- tribometer logs (tribokin fit-friction)
+    measurement("fit-friction", None, expected=("file not found",), id="log-missing"),
+    measurement("fit-friction", "cycle,friction\n1,0.1\n", expected=("mu", "columns"), id="log-wrong-columns"),
+    measurement("fit-friction", "cycle,mu\n" + "\n".join(f"{i},0.1" for i in range(5)) + "\n",
+                expected=("mu", "at least 20"), id="log-too-short"),
+    measurement("fit-friction", GOOD_LOG.replace("\n8,", "\n8,x"), expected=("mu", "data row 8"),
+                id="log-not-a-number"),
+    measurement("fit-friction", GOOD_LOG.replace("\n8,", "\n8,nan\n#"), expected=("mu", "data row 8", "finite"),
+                id="log-nan"),
+    measurement("fit-friction", GOOD_LOG.replace("\n8,", "\n8,-"), expected=("mu", "data row 8", "never negative"),
+                id="log-negative-mu"),
+    measurement("fit-friction", "friction_force_N,normal_force_N\n" + "5,50\n" * 30 + "5,0\n",
+                expected=("normal_force_N", "data row 31"), id="log-zero-normal-force"),
+    measurement("fit-friction", b"\xff\xfe\x00c", expected=("not a text CSV",), id="log-binary"),
+    measurement("fit-friction", GOOD_LOG, "--running-in", "35", expected=("running_in", "fewer than 20"),
+                id="log-running-in-too-long"),
+    measurement("fit-friction", GOOD_LOG, "--running-in", "-1", expected=("running_in", ">= 0"),
+                id="log-running-in-negative"),
+    # -- surface profiles (tribokin surface)
+    measurement("surface", "x_m,height\n1,2\n", expected=("x_m, z_m",), id="profile-wrong-columns"),
+    measurement("surface", GOOD_PROFILE.replace("\n2e-06,", "\n2e-06,abc,"), expected=("z_m", "data row 3"),
+                id="profile-not-a-number"),
+    measurement("surface", GOOD_PROFILE.replace("x_m,z_m\n", "x_m,z_m\nfoo,1\n"), expected=("x_m", "data row 1"),
+                id="profile-x-not-a-number"),
+    measurement("surface", "x_m,z_m\n0,1\n1,2\n", expected=("x_m", "at least 50"), id="profile-too-short"),
+    measurement("surface", GOOD_PROFILE.replace("\n3e-06,", "\n1e-06,"), expected=("x_m", "increase strictly"),
+                id="profile-x-not-increasing"),
+    measurement("surface", "x_m,z_m\n" + "\n".join(f"{i * 1e-6},0" for i in range(100)) + "\n",
+                expected=("peaks",), id="profile-without-peaks"),
+    measurement("surface", GOOD_PROFILE, "--area-m2=-1e-6", at_fault="command line", expected=("--area-m2", "> 0"),
+                id="surface-area-negative"),
+    measurement("surface", GOOD_PROFILE, "--area-m2", "nan", at_fault="command line", expected=("--area-m2", "finite"),
+                id="surface-area-nan"),
+    measurement("surface", GOOD_PROFILE, "--z-range-m", "1e-6", "0", at_fault="command line",
+                expected=("--z-range-m", "low <= high"), id="surface-z-range-inverted"),
+    measurement("surface", GOOD_PROFILE, "--radius-range-m", "0", "nan", at_fault="command line",
+                expected=("--radius-range-m[1]", "not nan"), id="surface-radius-nan"),
+    measurement("fit-friction", GOOD_LOG, files={"out/law.toml": "mine"}, at_fault="{tmp}/out",
+                expected=("--out", "--force"), id="fit-out-exists-without-force"),
+    measurement("surface", GOOD_PROFILE, files={"out": "a file"}, at_fault="{tmp}/out", expected=("--out", "exists"),
+                id="surface-out-is-a-file"),
+    # issue 19: numeric extremes (each key's range, its reason in the error; lost motion beyond a joint's range)
+    study("cycles = 12", "cycles = 1", expected=("study.cycles", "ISO 9283 needs at least 2"), id="cycles-one"),
+    study("cycles = 12", "cycles = 1000000000000001", expected=("study.cycles", "30 million years"),
+          id="cycles-beyond-1e15"),
+    command([*RUN, "--cycles", "1"], expected=("command line", "--cycles", "at least 2"), id="option-cycles-one"),
+    command([*RUN, "--cycles", "9" * 400], expected=("command line", "--cycles", "digits", "between 2 and"),
+            id="option-cycles-400-digits"),
+    study("seed = 3", "seed = 18446744073709551616", expected=("study.seed", "64-bit"), id="seed-beyond-64-bits"),
+    command([*RUN, "--seed", "9" * 400], expected=("command line", "--seed", "digits", "64-bit"),
+            id="option-seed-400-digits"),
+    study("seed = 3", "seed = " + "9" * 5000, expected=("not valid TOML", "digits"), id="toml-5000-digit-number"),
+    study('tool_frame = "tool"', 'tool_frame = "tool"\npayload_kg = 1e308', expected=("robot.payload_kg", "2.3 t"),
+          id="payload-1e308"),
+    study("normal_force_N = 150.0", "normal_force_N = 1e308", expected=("joints.normal_force_N", "1000 t"),
+          id="normal-force-1e308"),
+    study('name = "P1"', 'name = "P1"\nnormal_force_N = 1.1e7', expected=("poses[0].normal_force_N", "1000 t"),
+          id="pose-normal-force-beyond-1e7"),
+    study("stiffness = 2.0e6", "stiffness = 1e-300", expected=("joints.stiffness", "between 0.001 and 1e+12",
+                                                                "kilometre"), id="stiffness-1e-300"),
+    study("stiffness = 2.0e6", "stiffness = 1e13", expected=("joints.stiffness", "set its friction to 0"),
+          id="stiffness-beyond-1e12"),
+    study("stiffness = 2.0e6", "stiffness = " + "9" * 400, expected=("joints.stiffness", "finite", "digits"),
+          id="stiffness-400-digits"),
+    study("stiffness = 2.0e6", "stiffness = 2.0e6\nfriction_radius_m = 1e308",
+          expected=("joints.friction_radius_m", "slewing rings"), id="friction-radius-1e308"),
+    study("stiffness = 2.0e6", "stiffness = 2.0e6\nfriction_radius_m = 1e-300",
+          expected=("joints.friction_radius_m", "0.1 mm"), id="friction-radius-1e-300"),
+    study("stiffness = 2.0e6", "stiffness = 2.0e6\nbacklash = 1e308", expected=("joints.backlash", "broken drive"),
+          id="backlash-1e308"),
+    study("stiffness = 2.0e6", "stiffness = 2.0e6\noffset = 1e308", expected=("joints.offset", "broken drive"),
+          id="offset-1e308"),
+    study("stiffness = 2.0e6", "stiffness = 2.0e6\noffset = -0.2", expected=("joints.offset", "between -0.1 and 0.1"),
+          id="offset-below-minus-0.1"),
+    study("stiffness = 2.0e6", "stiffness = 2.0e6\nnoise_std = 1e200", expected=("joints.noise_std", "broken drive"),
+          id="noise-1e200"),
+    study("bearing_span_m = 0.2", "bearing_span_m = 1e-300", base=GANTRY_MAP,
+          expected=("joints.bearing_span_m", "1 mm"), id="bearing-span-1e-300"),
+    study("bearing_span_m = 0.2", "bearing_span_m = 100.0", base=GANTRY_MAP,
+          expected=("joints.bearing_span_m", "between 0.001 and 10 m"), id="bearing-span-beyond-10-m"),
+    study("q = [0.25]", "q = [1e308]", expected=("poses[0].q[0]", "kilometre"), id="pose-q-1e308"),
+    study("[map]", "[iso_cube]\ncenter_m = [1e308, 0.3, 0.4]\n\n[map]", base=GANTRY_MAP,
+          expected=("iso_cube.center_m[0]", "kilometre"), id="iso-cube-center-1e308"),
+    study("[map]", "[iso_cube]\nside_m = 1e308\n\n[map]", base=GANTRY_MAP, expected=("iso_cube.side_m", "100 m"),
+          id="iso-cube-side-1e308"),
+    study("[map]", "[iso_cube]\nside_m = 1e-300\n\n[map]", base=GANTRY_MAP, expected=("iso_cube.side_m", "1 mm"),
+          id="iso-cube-side-1e-300"),
+    study("[map]", "[iso_cube]\nrpy_deg = [0, 1e308, 0]\n\n[map]", base=GANTRY_MAP,
+          expected=("iso_cube.rpy_deg[1]", "one turn"), id="iso-cube-rpy-1e308"),
+    study("origin_m = [0.2, 0.0, 0.4]", "origin_m = [0.2, 0.0, 1e308]", base=GANTRY_MAP,
+          expected=("map.origin_m[2]", "kilometre"), id="map-origin-1e308"),
+    study("extent_u_m = [0.0, 0.6]", "extent_u_m = [-1e308, 1e308]", base=GANTRY_MAP,
+          expected=("map.extent_u_m[0]", "kilometre"), id="map-extent-1e308"),
+    study("chunk_rows = 1", "chunk_rows = 1\nrpy_deg = [-400, 0, 0]", base=GANTRY_MAP,
+          expected=("map.rpy_deg[0]", "between -360 and 360"), id="map-rpy-beyond-a-turn"),
+    study("chunk_rows = 1", "chunk_rows = 1\nstart_q = [0.1, 0.1, -1e308]", base=GANTRY_MAP,
+          expected=("map.start_q[2]", "kilometre"), id="map-start-q-1e308"),
+    study("resolution = [4, 3]", "resolution = [4, " + "9" * 400 + "]", base=GANTRY_MAP,
+          expected=("map.resolution[1]", "digits", "0.1 µm"), id="map-resolution-400-digits"),
+    study("chunk_rows = 1", "chunk_rows = 100000000", base=GANTRY_MAP, expected=("map.chunk_rows", "memory"),
+          id="map-chunk-rows-beyond-1e7"),
+    friction('{ law = "constant", mu = 11.0 }', expected=("joints.friction.mu", "at most 10", "sliding friction"),
+             id="constant-mu-beyond-10"),
+    friction('{ law = "constant", mu = ' + "9" * 400 + " }", expected=("joints.friction.mu", "at most 10"),
+             id="constant-mu-400-digits"),
+    friction('{ law = "gaussian", mean = 0.1, std = 1e308 }', expected=("joints.friction.std", "at most 10"),
+             id="gaussian-std-1e308"),
+    friction('{ law = "uniform", low = 0.1, high = 1e308 }', expected=("joints.friction.high", "at most 10"),
+             id="uniform-high-1e308"),
+    friction('{ law = "lognormal", mean = 1e-300, std = 1.0 }', expected=("joints.friction.mean", "superlubric"),
+             id="lognormal-mean-1e-300"),
+    friction('{ law = "empirical", values = [0.1, 1e308] }', expected=("joints.friction.values", "at most 10"),
+             id="empirical-value-1e308"),
+    study('{ preset = "42CD4-raw" }', '{ file = "law.toml" }', files={"law.toml": 'file = "law.toml"\n'},
+          at_fault="law.toml", expected=("file", "not another law file"), id="law-file-includes-itself"),
+    study('{ preset = "42CD4-raw" }', '{ log = "log.csv" }',
+          files={"log.csv": GOOD_LOG.replace("\n8,", "\n8,1e308\n#")},
+          at_fault="log.csv", expected=("mu", "data row 8", "above 10"), id="law-log-mu-1e308"),
+    friction(SURFACE_LAW.replace("contact_area_m2 = 1e-6", "contact_area_m2 = 1e300"),
+             expected=("joints.friction.contact_area_m2", "100 cm²"), id="surface-area-1e300"),
+    friction(SURFACE_LAW.replace("contact_area_m2 = 1e-6", "contact_area_m2 = 1e-2, cycles = 1000000"),
+             expected=("joints.friction.contact_area_m2", "summits", "fewer cycles"), id="surface-too-many-summits"),
+    friction(SURFACE_LAW.replace("film_thickness_m = 1.2e-6", "film_thickness_m = 1e-300"),
+             expected=("joints.friction.film_thickness_m", "nanometres"), id="surface-film-1e-300"),
+    friction(SURFACE_LAW.replace("normal_force_N = 150.0", "normal_force_N = 1e-300"),
+             expected=("joints.friction.normal_force_N", "millinewtons"), id="surface-normal-force-1e-300"),
+    friction(SURFACE_LAW.replace(" }", ", modulus_Pa = 1e308 }"), expected=("joints.friction.modulus_Pa", "diamond"),
+             id="surface-modulus-1e308"),
+    friction(SURFACE_LAW.replace(" }", ", mu_film = 11.0 }"),
+             expected=("joints.friction.mu_film", "between 1e-06 and 10"),
+             id="surface-mu-film-beyond-10"),
+    friction(SURFACE_LAW.replace(" }", ", cycles = 10000000 }"), expected=("joints.friction.cycles", "between 1 and"),
+             id="surface-cycles-beyond-1e6"),
+    study("stiffness = 2.0e6", "stiffness = 1.0", expected=("joints.stiffness", "joint 'x': lost motion up to 24 m",
+                                                             "exceeds the joint's range 0.4 m", "raise stiffness"),
+          id="lost-motion-beyond-the-axis"),
+    study("stiffness = 2.0e6", "stiffness = 2.0e6\nnoise_std = 0.1",
+          expected=("joints.noise_std", "6 noise_std 0.6 m) up to 0.6 m exceeds the joint's range 0.4 m",
+                    "lower noise_std"),
+          id="noise-beyond-the-axis"),
+    study("[[poses]]", "[joints.x]\nstiffness = 1.0\n\n[[poses]]", expected=("joints.x.stiffness", "lost motion up to"),
+          id="joint-override-lost-motion-beyond-the-axis"),
+    study("stiffness = 2.0e7", "stiffness = 1.0", base=GANTRY_MAP, expected=("joints.stiffness", "joint 'x'",
+                                                                             "range 0.6 m"),
+          id="map-computed-loads-lost-motion-beyond-the-axis"),
+    study("[map]", '[[scenarios]]\nname = "soft"\njoints = { stiffness = 1.0 }\n\n[map]', base=GANTRY_MAP,
+          expected=("scenarios[0].joints.stiffness", "lost motion up to"), id="scenario-lost-motion-beyond-the-axis"),
+    measurement("fit-friction", GOOD_LOG.replace("\n8,", "\n8,1e308\n#"), expected=("mu", "data row 8", "above 10"),
+                id="log-mu-1e308"),
+    measurement("fit-friction", "friction_force_N,normal_force_N\n" + "5e300,1e-10\n" * 30,
+                expected=("friction_force_N", "data row 1", "mu = inf"), id="log-force-ratio-overflows"),
+    measurement("fit-friction", "cycle,mu\n" + "\n".join(f"{i},{1e-320 * (1 + i % 3)}" for i in range(1, 41)) + "\n",
+                expected=("mu", "steady-state mean"), id="log-mu-subnormal"),
+    measurement("fit-friction", "cycle,mu\n" + "\n".join(f"{i},0.12" for i in range(1, 41)) + "\n",
+                expected=("mu", "no spread to fit", 'law = "constant", mu = 0.12'), id="log-constant-mu"),
+    measurement("fit-friction", GOOD_LOG, "--running-in", "9" * 400, expected=("running_in", "more than all"),
+                id="log-running-in-400-digits"),
+    measurement("surface", GOOD_PROFILE.replace("\n2e-06,", "\n2e-06,1e308\n#"), expected=("z_m", "data row 3",
+                                                                                            "micrometres"),
+                id="profile-z-1e308"),
+    measurement("surface", "x_m,z_m\n" + "\n".join(f"{i * 1e-320},{1e-6 * np.sin(i / 3)}" for i in range(200)) + "\n",
+                expected=("x_m", "data row 2", "atomic"), id="profile-spacing-1e-320"),
+    measurement("surface", "x_m,z_m\n" + "\n".join(f"{i * 1e-6},{1e-310 * np.sin(i / 3)}" for i in range(200)) + "\n",
+                expected=("z_m", "summit statistics"), id="profile-heights-subnormal"),
+    measurement("surface", GOOD_PROFILE, "--area-m2", "1e300", at_fault="command line",
+                expected=("--area-m2", "square metre"), id="surface-area-option-1e300"),
+    measurement("surface", GOOD_PROFILE, "--area-m2", "1e-300", at_fault="command line",
+                expected=("--area-m2", "between 1e-12 and 1"), id="surface-area-option-1e-300"),
+    measurement("surface", GOOD_PROFILE, "--z-range-m", "0", "1e300", at_fault="command line",
+                expected=("--z-range-m[1]", "inf for no bound"), id="surface-z-range-1e300"),
+    measurement("surface", GOOD_PROFILE, "--radius-range-m", "0", "1e300", at_fault="command line",
+                expected=("--radius-range-m[1]", "far below a metre"), id="surface-radius-range-1e300"),
+]
+
+
+def _create(tmp: Path, files: dict) -> None:
+    for name, content in files.items():
+        path = tmp / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if isinstance(content, Symlink):
+            path.symlink_to(content)
+        else:
+            path.write_bytes(content if isinstance(content, bytes) else content.encode())
+
+
+def _tree(folder: Path) -> dict[str, bytes | str | None]:
+    """Every file (its bytes), symbolic link (its target) and folder (``None``) below ``folder``."""
+    return {str(p.relative_to(folder)): (os.readlink(p) if p.is_symlink() else p.read_bytes() if p.is_file() else None)
+            for p in sorted(folder.rglob("*"))}
+
+
+def test_bad_input_table_is_large_and_unambiguous():
+    ids = [case.id for case in CASES]
+    assert len(ids) >= 40 and len(set(ids)) == len(ids)
+
+
+def _assert_refused(tmp: Path, before: dict, status: int, out: str, err: str, expected) -> None:
+    lines = err.splitlines()
+    assert status == 2, (out, err)
+    assert len(lines) == 1 and lines[0].startswith("tribokin: error: "), err
+    assert "Traceback" not in err and out == ""
+    for text in expected:
+        assert text.format(tmp=tmp) in lines[0], (text, lines[0])
+    assert _tree(tmp) == before  # no output, temporary, chunk or lock file; nothing changed
+    assert not Path("/proc/tribokin-out").exists()
+
+
+def _run_refused(tmp: Path, capsys, monkeypatch, files, argv, expected) -> None:
+    monkeypatch.chdir(tmp)  # also where the default output folders of fit-friction and surface would go
+    _create(tmp, files)
+    before = _tree(tmp)
+    status = main([arg.format(tmp=tmp) for arg in argv])
+    captured = capsys.readouterr()
+    _assert_refused(tmp, before, status, captured.out, captured.err, expected)
+
+
+@pytest.mark.parametrize("files, argv, expected", CASES)
+def test_bad_input_is_one_line_exit_2_nothing_written(tmp_path, capsys, monkeypatch, files, argv, expected):
+    _run_refused(tmp_path, capsys, monkeypatch, files, argv, expected)
+
+
+@pytest.mark.parametrize("files, argv, expected", PRE_CHECKS)
+def test_refused_before_any_pose_or_target_is_measured(tmp_path, capsys, monkeypatch, files, argv, expected):
+    def measured(*args):
+        raise AssertionError("a pose or map target was measured before the refusal")
+
+    monkeypatch.setattr(PoseRunner, "draw", measured)
+    _run_refused(tmp_path, capsys, monkeypatch, files, argv, expected)
+
+
+@pytest.mark.parametrize("files, argv, expected", [case for case in CASES if case.id in (
+    "toml-unclosed-table", "option-workers-zero", "log-not-a-number", "mesh-outside-package")])
+def test_bad_input_through_python_m_tribokin(tmp_path, files, argv, expected):
+    _create(tmp_path, files)
+    before = _tree(tmp_path)
+    done = subprocess.run([sys.executable, "-m", "tribokin", *(arg.format(tmp=tmp_path) for arg in argv)],
+                          capture_output=True, text=True, cwd=tmp_path)
+    _assert_refused(tmp_path, before, done.returncode, done.stdout, done.stderr, expected)
+
+
+def _watch_opens(path: Path) -> int:
+    """A non-blocking Linux inotify descriptor that records every opening of ``path``."""
+    libc = ctypes.CDLL(None, use_errno=True)
+    descriptor = libc.inotify_init1(os.O_NONBLOCK)
+    assert descriptor >= 0 and libc.inotify_add_watch(descriptor, bytes(path), 0x20) >= 0  # IN_OPEN
+    return descriptor
+
+
+def _opened(descriptor: int) -> bool:
+    try:
+        return len(os.read(descriptor, 4096)) > 0
+    except BlockingIOError:
+        return False
+
+
+def test_outside_mesh_is_refused_before_anything_opens_it(tmp_path):
+    """A map study through the command line, with no report: the outside mesh is never opened (the
+    watch sees every open, Pinocchio's included), and nothing is left behind."""
+    _create(tmp_path, {"study.toml": MESHY_GANTRY_MAP, "evil.stl": STL,
+                       "share/pkg/gantry.urdf": MESHY_GANTRY_URDF.format(mesh=tmp_path / "evil.stl")})
+    before = _tree(tmp_path)
+    opens = _watch_opens(tmp_path / "evil.stl")
+    try:
+        assert not _opened(opens)
+        done = subprocess.run([sys.executable, "-m", "tribokin", *(arg.format(tmp=tmp_path) for arg in RUN)],
+                              capture_output=True, text=True, cwd=tmp_path)
+        assert not _opened(opens)
+        (tmp_path / "evil.stl").read_bytes()
+        assert _opened(opens)  # the watch works
+    finally:
+        os.close(opens)
+    _assert_refused(tmp_path, before, done.returncode, done.stdout, done.stderr,
+                    ("{tmp}/study.toml: robot.package_dirs: mesh '{tmp}/evil.stl'", "{tmp}/share"))
+
+
+def test_output_parent_that_cannot_hold_folders(tmp_path, capsys):
+    """Refused for root too (unlike a read-only folder): the parent of --out is a file."""
+    (tmp_path / "study.toml").write_text(STUDY)
+    (tmp_path / "notes.txt").write_text("mine")
+    status = main(["run", str(tmp_path / "study.toml"), "--out", str(tmp_path / "notes.txt" / "out"), "--report", "none"])
+    error = capsys.readouterr().err
+    assert status == 2 and "--out" in error and len(error.strip().splitlines()) == 1
+    assert (tmp_path / "notes.txt").read_text() == "mine" and sorted(p.name for p in tmp_path.iterdir()) == [
+        "notes.txt", "study.toml"]

@@ -1,0 +1,275 @@
+"""Maps give the same bytes whatever the chunk size, the workers, the executor, or an interruption."""
+
+import json
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from contextlib import suppress
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import GANTRY_MAP_TOML
+from tribokin import InputError, run_study
+from tribokin.cli import main
+from tribokin.maps.store import ChunkStore
+from tribokin.output.writers import map_table_name, write_map_table, write_results, write_summary
+
+UR5_MAP = {
+    "study": {"name": "ur5-map", "cycles": 60, "seed": 5},
+    "robot": {"name": "ur5", "payload_kg": 2.0},
+    "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5, "bearing_span_m": 0.08},
+    # reaches out of the workspace at large u: some targets are unreachable
+    "map": {"kind": "plane", "origin_m": [0.0, -0.5, 0.1], "axis_u": [0, -1, 0], "axis_v": [0, 0, 1],
+            "extent_u_m": [-0.2, 0.45], "extent_v_m": [0.0, 0.3], "resolution": [7, 5], "chunk_rows": 1},
+    "scenarios": [{"name": "raw"}, {"name": "treated-shoulder",
+                                    "joints": {"shoulder_lift_joint": {"friction": {"preset": "42CD4-treated"}}}}],
+}
+MAP_FILES = ("map.csv", "map_treated-shoulder.csv", "summary.json")
+
+
+def written(result, folder):
+    """The map tables and summary.json as write_results writes them (figures left out, for speed)."""
+    folder.mkdir()
+    write_summary(result, folder)
+    for scenario in result.map.scenarios.values():
+        write_map_table(result.map, scenario, folder / map_table_name(result.map, scenario))
+    return {name: (folder / name).read_bytes() for name in MAP_FILES}
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    return written(run_study(UR5_MAP), tmp_path_factory.mktemp("reference") / "out")
+
+
+def with_chunk_rows(rows):
+    return {**UR5_MAP, "map": {**UR5_MAP["map"], "chunk_rows": rows}}
+
+
+def test_reference_map_has_unreachable_targets_and_both_scenarios(reference):
+    summary = json.loads(reference["summary.json"])["map"]
+    assert 0 < summary["unreachable"] < summary["count"] == 35
+    assert [s["name"] for s in summary["scenarios"]] == ["raw", "treated-shoulder"]
+    assert summary["wins"]["raw"] + summary["wins"]["treated-shoulder"] + summary["ties"] == summary["reachable"]
+
+
+@pytest.mark.parametrize("rows", [2, 5])
+def test_chunk_size_changes_nothing(reference, tmp_path, rows):
+    assert written(run_study(with_chunk_rows(rows)), tmp_path / "out") == reference
+
+
+def test_reading_results_in_small_blocks_changes_nothing(reference, tmp_path, monkeypatch):
+    """Tables and summary (exact medians) are built block by block from the store: the block size is invisible."""
+    result = run_study(UR5_MAP)
+    monkeypatch.setattr("tribokin.maps.streaming.BLOCK_TARGETS", 4)
+    monkeypatch.setattr("tribokin.maps.streaming.BINS", 3)
+    assert written(result, tmp_path / "out") == reference
+    rp = result.map.reference.figure("RP_l_um")
+    assert json.loads(reference["summary.json"])["map"]["RP_l_um"]["median"] == np.nanmedian(rp)
+
+
+def test_two_local_workers_change_nothing(reference, tmp_path, monkeypatch):
+    import multiprocessing
+    import threading
+
+    alone = threading.active_count() == 1  # the whole suite runs in one thread unless a test left one behind
+    started = []
+    real_context = multiprocessing.get_context
+    monkeypatch.setattr(multiprocessing, "get_context", lambda method=None: started.append(method) or
+                        real_context(method))
+    assert written(run_study(with_chunk_rows(2), workers=2), tmp_path / "out") == reference
+    assert started == ["fork" if alone else "spawn"]  # forked when this process runs no other thread
+
+
+def test_workers_are_spawned_when_another_thread_runs(reference, tmp_path, monkeypatch):
+    """Forking a process that runs threads can deadlock: the workers start clean instead."""
+    import multiprocessing
+    import threading
+
+    started = []
+    real_context = multiprocessing.get_context
+    monkeypatch.setattr(multiprocessing, "get_context", lambda method=None: started.append(method) or
+                        real_context(method))
+    stop = threading.Event()
+    other = threading.Thread(target=stop.wait)
+    other.start()
+    try:
+        assert written(run_study(with_chunk_rows(2), workers=2), tmp_path / "out") == reference
+    finally:
+        stop.set()
+        other.join()
+    assert started == ["spawn"]
+
+
+def test_dask_cluster_changes_nothing(reference, tmp_path):
+    from dask.distributed import LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=2, processes=True, dashboard_address=None) as cluster:
+        result = run_study(UR5_MAP, scheduler=cluster.scheduler_address)
+    assert written(result, tmp_path / "out") == reference
+
+
+def test_unreachable_scheduler_is_refused_before_any_work(tmp_path):
+    with pytest.raises(InputError, match="cannot reach") as error:
+        run_study(UR5_MAP, scheduler="tcp://127.0.0.1:9", checkpoint=tmp_path / "chunks")
+    assert error.value.key == "--scheduler" and list(tmp_path.iterdir()) == []
+
+
+def test_finished_chunks_are_reused_on_resume_others_recomputed_and_settings_checked(tmp_path):
+    study = tmp_path / "study.toml"
+    study.write_text(GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 5"))
+    folder = tmp_path / "chunks"
+    first = run_study(study, checkpoint=folder)
+    rp_first = first.map.reference.figure("RP_l_um")
+    column = folder / "scenario0_figures.npy"
+    figures = np.load(column)
+    row_3, row_5 = slice(3 * 25, 4 * 25), slice(5 * 25, 6 * 25)
+    figures[row_3, 0] = figures[row_5, 0] = 42.0
+    np.save(column, figures)
+    (folder / "done" / "5").unlink()  # chunk 5 (one row each) as if the run died while writing it
+    resumed = run_study(study, checkpoint=folder, resume=True)
+    rp_resumed = resumed.map.reference.figure("RP_l_um")
+    assert np.all(rp_resumed[row_3] == 42.0)  # taken from the finished chunk, not recomputed
+    np.testing.assert_array_equal(np.delete(rp_resumed, row_3), np.delete(rp_first, row_3))  # row 5 recomputed
+    with pytest.raises(InputError, match="other settings"):
+        run_study(study, seed=9, checkpoint=folder, resume=True)
+    with pytest.raises(InputError, match="--resume"):
+        run_study(study, checkpoint=folder)
+
+
+def finished(chunks) -> int:
+    """Chunks a run has marked finished in its store."""
+    return len(list((chunks / "done").glob("*"))) if (chunks / "done").is_dir() else 0
+
+
+def killed_after(command, chunks, count: int) -> int:
+    """Start ``command``, SIGKILL it once the store ``chunks`` has ``count`` finished chunks; the number finished then."""
+    run = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 60
+    while finished(chunks) < count and run.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.005)
+    run.send_signal(signal.SIGKILL)
+    run.wait()
+    assert run.returncode == -signal.SIGKILL  # killed, not finished
+    return finished(chunks)
+
+
+def children(pid: int) -> list[int]:
+    """The processes whose parent is ``pid``."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        with suppress(OSError):
+            if int(stat.read_text().rsplit(")", 1)[1].split()[1]) == pid:
+                found.append(int(stat.parent.name))
+    return found
+
+
+def alive(pid: int) -> bool:
+    """Whether process ``pid`` runs (a zombie has ended: only its exit status waits to be collected)."""
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except FileNotFoundError:
+        return False
+
+
+def test_workers_end_with_a_killed_run_and_leave_its_lock_free(tmp_path):
+    study = tmp_path / "study.toml"
+    study.write_text(GANTRY_MAP_TOML)
+    command = [sys.executable, "-m", "tribokin", "run", study, "--out", tmp_path / "out", "--workers", "2",
+               "--report", "none"]
+    run = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 60
+    while finished(tmp_path / "out.chunks") < 2 and run.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.005)
+    workers = children(run.pid)
+    run.send_signal(signal.SIGKILL)
+    run.wait()
+    assert run.returncode == -signal.SIGKILL and len(workers) >= 2
+    deadline = time.monotonic() + 10  # the kernel kills them at once; this only bounds a failing test
+    while any(alive(worker) for worker in workers) and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert not any(alive(worker) for worker in workers)
+    resumed = subprocess.run(command + ["--resume"], capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "study.toml"]
+
+
+def without_command(summary: bytes) -> dict:
+    """summary.json without the command line it records (which says --resume, and names the folder)."""
+    summary = json.loads(summary)
+    assert summary["reproduce"].pop("command") is not None
+    return summary
+
+
+def test_run_killed_at_random_points_resumes_to_the_same_bytes(tmp_path):
+    study = tmp_path / "study.toml"
+    study.write_text(GANTRY_MAP_TOML)
+    out, chunks = tmp_path / "out", tmp_path / "out.chunks"
+    command = [sys.executable, "-m", "tribokin", "run", study, "--out", out]
+    saved = 0
+    for kill, steps in enumerate(np.random.default_rng(9283).integers(2, 9, size=3)):  # 3 kill points, 40 chunks
+        before = saved
+        saved = killed_after(command + (["--resume"] if kill else []), chunks, saved + steps)
+        assert before + steps <= saved < 40 and not out.exists()
+        if not kill:
+            refused = subprocess.run(command, capture_output=True, text=True)
+            assert refused.returncode == 2 and "--resume" in refused.stderr
+    assert (tmp_path / "out.lock").exists()  # left by the killed run; it locks nothing
+    resumed = subprocess.run(command + ["--resume"], capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    assert "1000 of 1000 targets reachable" in resumed.stdout
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "study.toml"]  # no chunks, lock or partial folder
+
+    write_results(run_study(study), tmp_path / "uninterrupted")
+    names = sorted(p.name for p in out.iterdir())
+    assert names == sorted(p.name for p in (tmp_path / "uninterrupted").iterdir()) and "report.html" in names
+    for name in set(names) - {"summary.json"}:  # every file, the report included
+        assert (out / name).read_bytes() == (tmp_path / "uninterrupted" / name).read_bytes(), name
+    uninterrupted = json.loads((tmp_path / "uninterrupted" / "summary.json").read_bytes())
+    assert uninterrupted["reproduce"].pop("command") is None
+    assert without_command((out / "summary.json").read_bytes()) == uninterrupted
+
+
+SMALL_MAP = GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 5")
+
+
+def test_chunk_folder_deleted_during_a_run_ends_in_one_line(tmp_path, monkeypatch, capsys):
+    study = tmp_path / "study.toml"
+    study.write_text(SMALL_MAP)
+    real = ChunkStore.save
+
+    def save_then_lose_the_folder(store, chunk, first, arrays):
+        real(store, chunk, first, arrays)
+        if chunk == 2:
+            shutil.rmtree(store.folder)
+
+    monkeypatch.setattr(ChunkStore, "save", save_then_lose_the_folder)
+    status = main(["run", str(study), "--out", str(tmp_path / "out"), "--report", "none"])
+    error = capsys.readouterr().err
+    last = error.splitlines()[-1]  # after the progress bar
+    assert status == 2 and "Traceback" not in error and last.startswith("tribokin: error: "), error
+    assert last.startswith(f"tribokin: error: {tmp_path / 'out.chunks'}: ") and "deleted or damaged" in last
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]
+
+
+def test_a_refusal_after_the_map_ran_removes_only_the_chunks_of_this_run(tmp_path, monkeypatch, capsys):
+    """Chunks this run created hold nothing a later run needs; chunks an interrupted run left are kept for --resume."""
+    study = tmp_path / "study.toml"
+    study.write_text(SMALL_MAP)
+    command = ["run", str(study), "--out", str(tmp_path / "out"), "--report", "none"]
+    answers = iter([InputError("refused", "a file"), KeyboardInterrupt(), InputError("refused", "a file")])
+
+    def refuses(*args, **options):
+        raise next(answers)
+
+    monkeypatch.setattr("tribokin.output.writers.write_results", refuses)
+    assert main(command) == 2  # refused after the map ran: its chunks go
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]
+    assert main(command) == 130  # interrupted: its chunks stay for --resume
+    assert main([*command, "--resume"]) == 2  # refused while resuming: the interrupted run's chunks stay
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.chunks", "study.toml"]
+    assert len(list((tmp_path / "out.chunks" / "done").iterdir())) == 40
+    assert "refused" in capsys.readouterr().err

@@ -1,0 +1,70 @@
+"""The ISO 9283 cube: positions where the standard puts them, IK to < 1 µm, approach signs."""
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from conftest import ROOT
+from tribokin.errors import InputError
+from tribokin.iso9283.cube import APPROACH_DIRECTIONS, joint_approach_signs, place_cube
+from tribokin.iso9283.metrics import cube_test_positions
+from tribokin.kinematics.ik import solve_ik
+from tribokin.kinematics.robot import load_example_robot, load_urdf
+
+
+def test_cube_points_follow_the_standard():
+    center, side = np.array([0.4, -0.1, 0.5]), 0.3
+    points = cube_test_positions(center, side)
+    assert points["P1"] == pytest.approx(center)
+    diagonal = side * np.sqrt(3)
+    corners = [center + side / 2 * np.array(c) for c in [(-1, -1, 1), (1, 1, 1), (1, 1, -1), (-1, -1, -1)]]
+    for name, corner in zip(["P2", "P3", "P4", "P5"], corners):
+        assert np.linalg.norm(points[name] - corner) == pytest.approx(0.1 * diagonal)  # 10 % of the diagonal
+        assert np.linalg.norm(points[name] - center) == pytest.approx(0.4 * diagonal)
+    # P2-P5 are coplanar, on the plane x = y through the centre (a diagonal plane of the cube)
+    for name in ["P2", "P3", "P4", "P5"]:
+        offset = points[name] - center
+        assert offset[0] == pytest.approx(offset[1])
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_ik_reaches_cube_points_to_below_a_micrometre(name):
+    robot = load_example_robot(name)
+    poses, cube = place_cube(robot, side_m=0.1)
+    rotation = pin.rpy.rpyToMatrix(*np.radians(cube["rpy_deg"]))
+    for pose in poses:
+        placement = robot.tool_placement(pose.q)
+        assert np.linalg.norm(placement.translation - pose.position_m) < 1e-6
+        assert np.linalg.norm(pin.log3(placement.rotation.T @ rotation)) < 1e-6
+        assert np.all(pose.q >= robot.lower_limits) and np.all(pose.q <= robot.upper_limits)
+
+
+def test_unreachable_cube_is_an_error_naming_the_pose():
+    gantry = load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf")
+    with pytest.raises(InputError, match="ISO pose P1") as error:
+        place_cube(gantry, center_m=[3.0, 0.3, 0.4], side_m=0.1, source="s.toml")
+    assert error.value.key == "iso_cube"
+
+
+def test_ik_respects_joint_limits():
+    gantry = load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf")
+    target = pin.SE3(np.eye(3), np.array([0.5, 0.3, 0.4]))
+    assert solve_ik(gantry, target, np.zeros(3)).q == pytest.approx([0.3, 0.3, 0.2], abs=1e-9)
+    outside = pin.SE3(np.eye(3), np.array([0.5, 0.3, 0.9]))  # would need q_z = 0.7 > 0.5
+    result = solve_ik(gantry, outside, np.zeros(3))
+    assert not result.success and result.q[2] == pytest.approx(0.5)
+
+
+def test_gantry_approach_signs_follow_the_axes():
+    gantry = load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf")
+    signs = joint_approach_signs(gantry, [0.3, 0.3, 0.2], -np.eye(3))
+    assert signs.tolist() == [[-1, 1, 1], [1, -1, 1], [1, 1, -1]]
+
+
+def test_cube_poses_carry_signs_for_each_labelled_direction_and_its_opposite():
+    """Rows in the order of APPROACH_DIRECTIONS: each axis both ways; a joint that does not move keeps +."""
+    gantry = load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf")
+    poses, _ = place_cube(gantry, [0.3, 0.3, 0.25], 0.1)
+    assert list(APPROACH_DIRECTIONS) == ["+x", "-x", "+y", "-y", "+z", "-z"]
+    for pose in poses:
+        assert pose.approach_signs.tolist() == [[1, 1, 1], [-1, 1, 1], [1, 1, 1], [1, -1, 1], [1, 1, 1], [1, 1, -1]]

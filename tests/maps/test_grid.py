@@ -1,0 +1,80 @@
+"""Map grids: neighbours, positions and thinning, and values that are the decimals written."""
+
+import numpy as np
+import pytest
+
+from conftest import STUDIES
+from tribokin.maps.grid import grid_neighbours, make_grid
+from tribokin.study.assembly import load_robot
+from tribokin.study.reading import load_study
+
+
+def ur5_plane(resolution):
+    return load_study({
+        "study": {"cycles": 10},
+        "robot": {"name": "ur5"},
+        "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5},
+        "map": {"kind": "plane", "origin_m": [0.0, -0.5, 0.2], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
+                "extent_u_m": [-0.1, 0.1], "extent_v_m": [0.0, 0.1], "resolution": resolution, "rpy_deg": [180, 0, 90]},
+    })
+
+
+def test_neighbours_along_each_axis():
+    class Box:  # only the shape matters: 2 layers x 3 rows x 4 columns
+        shape = (2, 3, 4)
+
+    assert grid_neighbours(Box, 0) == [1, 4, 12]
+    assert grid_neighbours(Box, 17) == [5, 13, 16, 18, 21]
+    assert grid_neighbours(Box, 23) == [11, 19, 22]
+
+
+def test_grid_positions_coordinates_and_thinning():
+    study = ur5_plane([5, 4])
+    grid = make_grid(load_robot(study), study.map, study.source)  # 4 rows (v) x 5 columns (u), origin (0, -0.5, 0.2), u along x, v along y
+    np.testing.assert_allclose(grid.positions_m([0, 7]), [[-0.1, -0.5, 0.2], [0.0, -0.5 + 0.1 / 3, 0.2]])
+    coordinates = grid.coordinates([7])
+    np.testing.assert_allclose([coordinates["u_m"][0], coordinates["v_m"][0]], [0.0, 0.1 / 3])
+    np.testing.assert_array_equal(grid.every((1, 2, 3)), [[[0, 3], [10, 13]]])
+    shown, stride = grid.thinned(6)
+    assert stride == 2 and shown.size <= 6
+    np.testing.assert_array_equal(shown, grid.every((2, 2, 2)))
+    assert grid.thinned(20) == (pytest.approx(np.arange(20).reshape(1, 4, 5)), 1)
+
+
+def _short(values) -> bool:
+    return all(v == float(f"{v:.9g}") for v in np.ravel(values))
+
+
+@pytest.mark.parametrize("name", sorted(p.stem for p in STUDIES.glob("*.toml") if "[map]" in p.read_text()))
+def test_shipped_map_grids_are_the_decimals_written(name):
+    study = load_study(STUDIES / f"{name}.toml")
+    grid = make_grid(load_robot(study), study.map, study.source)
+    positions = grid.positions_m(np.arange(grid.size))
+    values = grid.axis_values(np.arange(grid.size))
+    assert _short(positions) and _short(values)
+    assert not np.signbit(positions[positions == 0]).any() and not np.signbit(values[values == 0]).any()
+    spec = study.map
+    if spec["kind"] == "plane":
+        lows, highs = [spec["extent_u_m"][0], spec["extent_v_m"][0]], [spec["extent_u_m"][1], spec["extent_v_m"][1]]
+        assert values[0, :2].tolist() == lows and values[-1, :2].tolist() == highs
+        directions = np.array([spec["axis_u"], spec["axis_v"]])
+        corners = [np.asarray(spec["origin_m"]) + np.array(b) @ directions for b in (lows, highs)]
+        assert positions[[0, -1]].tolist() == np.round(corners, 12).tolist()
+    else:
+        assert positions[0].tolist() == spec["min_m"] and positions[-1].tolist() == spec["max_m"]
+
+
+def test_joint_and_line_grids_are_the_decimals_written():
+    study = load_study({
+        "study": {"cycles": 10},
+        "robot": {"name": "ur5"},
+        "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5},
+        "map": {"kind": "joint", "joints": ["shoulder_pan_joint", "elbow_joint"],
+                "ranges": [[-0.55, 0.45], [-2.0, 0.4]], "counts": [21, 7]},
+    })
+    grid = make_grid(load_robot(study), study.map, study.source)
+    values = grid.axis_values(np.arange(grid.size))[:, :2]
+    assert _short(values) and values[0].tolist() == [-0.55, -2.0] and values[-1].tolist() == [0.45, 0.4]
+    assert 0.0 in values[:, 1] and not np.signbit(values[values == 0]).any()  # -2 + 5 · 0.4 rounds to -0.0
+    line = make_grid(load_robot(study), ur5_plane([21, 1]).map)
+    assert _short(line.positions_m(np.arange(line.size))) and line.axes[1].values.tolist() == [0.0]

@@ -1,0 +1,245 @@
+"""Fast engine against exact per-sample Pinocchio FK, finite differences and its own bounds."""
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from conftest import AXIS_URDF
+from tribokin.kinematics.robot import load_example_robot, load_urdf
+from tribokin.propagation.exact import max_deviation_from_exact, tool_deviations_exact
+from tribokin.propagation.poe import _exp_tail, _log_tail, tool_deviations_fast, tool_twists
+
+NANOMETRE = 1e-9
+
+GANTRY_URDF = """<?xml version="1.0"?>
+<robot name="gantry">
+  <link name="frame"/>
+  <joint name="x" type="prismatic"><parent link="frame"/><child link="bridge"/>
+    <origin xyz="0 0 1.0"/><axis xyz="1 0 0"/><limit lower="0" upper="2" effort="1" velocity="1"/></joint>
+  <link name="bridge"/>
+  <joint name="y" type="prismatic"><parent link="bridge"/><child link="carriage"/>
+    <origin xyz="0 0 0.1" rpy="0 0 0.3"/><axis xyz="0 1 0"/><limit lower="0" upper="1" effort="1" velocity="1"/></joint>
+  <link name="carriage"/>
+  <joint name="z" type="prismatic"><parent link="carriage"/><child link="ram"/>
+    <origin xyz="0.05 0 0"/><axis xyz="0 0 -1"/><limit lower="0" upper="0.5" effort="1" velocity="1"/></joint>
+  <link name="ram"/>
+  <joint name="ram_end" type="fixed"><parent link="ram"/><child link="flange"/><origin xyz="0 0 -0.2"/></joint>
+  <link name="flange"/>
+  <joint name="c" type="revolute"><parent link="flange"/><child link="spindle"/>
+    <origin xyz="0 0 0"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <link name="spindle"/>
+  <joint name="tool_joint" type="fixed"><parent link="spindle"/><child link="tool"/>
+    <origin xyz="0.15 0 -0.1"/></joint>
+  <link name="tool"/>
+</robot>
+"""
+
+
+@pytest.fixture(scope="module")
+def robots():
+    return {name: load_example_robot(name) for name in ("ur5", "panda")}
+
+
+@pytest.fixture
+def gantry_urdf(tmp_path):
+    path = tmp_path / "gantry.urdf"
+    path.write_text(GANTRY_URDF)
+    return path
+
+
+def random_configurations(robot, count, rng):
+    """Configurations drawn uniformly within the joint limits (revolute limits capped to ±π)."""
+    lower, upper = np.maximum(robot.lower_limits, -np.pi), np.minimum(robot.upper_limits, np.pi)
+    return [rng.uniform(lower, upper) for _ in range(count)]
+
+
+def errors(robot, q, dq, **options):
+    """Largest fast-vs-exact position [m] and angle [rad] differences, and the fast engine's bound."""
+    fast = tool_deviations_fast(robot, q, dq, **options)
+    positions, angles = tool_deviations_exact(robot, q, dq)
+    return (np.linalg.norm(fast.positions - positions, axis=1).max(),
+            np.linalg.norm(fast.angles - angles, axis=1).max(), fast.bound)
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_fast_matches_exact_on_arms(robots, name):
+    robot = robots[name]
+    rng = np.random.default_rng(7)
+    for q in random_configurations(robot, 4, rng):
+        dq = rng.uniform(-1e-3, 1e-3, (64, robot.model.nv))
+        position_error, angle_error, bound = errors(robot, q, dq)
+        assert position_error <= NANOMETRE  # measured ≈ 1e-12 m at order 3
+        assert angle_error <= 1e-9  # measured ≈ 5e-13 rad at order 3
+        assert bound.order == 3  # 1e-3 rad on every joint needs the cubic terms for 1e-10
+        assert position_error <= bound.position_m and angle_error <= bound.angle_rad
+
+
+def test_prismatic_axis_is_exact_at_first_order():
+    robot = load_urdf(AXIS_URDF, tool_frame="tool")
+    dq = np.random.default_rng(1).uniform(-1e-3, 1e-3, (50, 1))
+    position_error, angle_error, bound = errors(robot, np.array([0.2]), dq)
+    assert bound == (1, 0.0, 0.0)  # a translation is linear in dq: nothing truncated
+    assert position_error <= 1e-15 and angle_error <= 1e-15  # float64 rounding
+
+
+def test_gantry_with_rotary_wrist(gantry_urdf):
+    robot = load_urdf(gantry_urdf, tool_frame="tool")
+    rng = np.random.default_rng(2)
+    q = np.array([0.7, 0.4, 0.2, 0.5])
+    dq = rng.uniform(-1e-3, 1e-3, (64, 4))
+    position_error, angle_error, bound = errors(robot, q, dq)
+    assert position_error <= NANOMETRE and angle_error <= 1e-9
+    assert position_error <= bound.position_m and angle_error <= bound.angle_rad
+
+
+def test_gantry_translation_axes_need_no_truncation(gantry_urdf):
+    robot = load_urdf(gantry_urdf, tool_frame="flange")  # the x, y, z axes only
+    dq = np.random.default_rng(3).uniform(-1e-3, 1e-3, (64, 3))
+    position_error, angle_error, bound = errors(robot, np.array([0.7, 0.4, 0.2]), dq)
+    assert bound == (1, 0.0, 0.0)
+    assert position_error <= 1e-15 and angle_error <= 1e-15  # float64 rounding
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_twists_are_finite_differences_of_pinocchio_fk(robots, name):
+    robot = robots[name]
+    step = 1e-6
+    for q in random_configurations(robot, 3, np.random.default_rng(4)):
+        commanded = robot.tool_placement(q)
+        for i in range(robot.model.nv):
+            shift = np.zeros(robot.model.nv)
+            shift[i] = step
+            plus, minus = robot.tool_placement(q + shift), robot.tool_placement(q - shift)
+            velocity = (plus.translation - minus.translation) / (2 * step)
+            rotation = (pin.log3(plus.rotation @ commanded.rotation.T)
+                        - pin.log3(minus.rotation @ commanded.rotation.T)) / (2 * step)
+            np.testing.assert_allclose(tool_twists(robot, q)[:, i], np.concatenate([velocity, rotation]),
+                                       rtol=0, atol=1e-8)
+
+
+@pytest.mark.parametrize("order", [1, 2, 3])
+def test_error_shrinks_like_the_next_power_and_stays_below_the_bound(robots, order):
+    robot = robots["ur5"]
+    rng = np.random.default_rng(5)
+    q = random_configurations(robot, 1, rng)[0]
+    direction = rng.uniform(-1.0, 1.0, (16, robot.model.nv))
+    measured = []
+    for scale in (1e-2, 5e-3):
+        position_error, angle_error, bound = errors(robot, q, scale * direction, order=order)
+        assert position_error <= bound.position_m and angle_error <= bound.angle_rad
+        measured.append((position_error, angle_error))
+    (position_big, angle_big), (position_half, angle_half) = measured
+    expected = 2.0 ** (order + 1)
+    assert expected * 0.85 <= position_big / position_half <= expected * 1.15
+    assert expected * 0.85 <= angle_big / angle_half <= expected * 1.15
+
+
+def test_bound_holds_for_large_deviations(robots):
+    robot = robots["panda"]
+    rng = np.random.default_rng(6)
+    for q in random_configurations(robot, 3, rng):
+        dq = rng.uniform(-0.05, 0.05, (32, robot.model.nv))
+        for order in (1, 2, 3):
+            position_error, angle_error, bound = errors(robot, q, dq, order=order)
+            assert position_error <= bound.position_m and angle_error <= bound.angle_rad
+
+
+@pytest.mark.parametrize("s", [0.01, 0.1, 0.3])
+def test_bound_series_tails_match_their_closed_forms(s):
+    """Series of coefficients (1/m!, Fubini numbers) against e^s and -log(2 - e^s) minus their first terms."""
+    assert _exp_tail(s, 2) == pytest.approx(np.expm1(s) - s, rel=1e-12)
+    assert _log_tail(s, 2) == pytest.approx(-np.log(2.0 - np.exp(s)) - s, rel=1e-9)
+    assert _log_tail(s, 4) == pytest.approx(-np.log(2.0 - np.exp(s)) - s - s**2 - s**3, rel=1e-6)
+
+
+def test_bound_series_tails_of_several_orders_at_once_are_each_orders_sum():
+    """Tails for an array of starts (a last axis) against the series summed term by term, for each start."""
+    import math
+
+    s = np.array([[0.01, 0.3], [0.05, 2.0]])
+    starts = np.array([2, 3, 4])
+    tails = _exp_tail(s, starts)
+    for k, start in enumerate(starts):
+        for index, value in np.ndenumerate(s):
+            expected = math.fsum(value ** m / math.factorial(m) for m in range(start, 120))
+            assert tails[index + (k,)] == pytest.approx(expected, rel=1e-12)
+    logs = _log_tail(s, starts)
+    assert np.isinf(logs[1, 1]).all() and not np.isinf(logs[0]).any()
+    for k, start in enumerate(starts):
+        assert logs[..., k][np.isfinite(logs[..., k])] == pytest.approx(
+            [float(_log_tail(value, int(start))) for value in s.ravel() if value < math.log(2.0)], rel=1e-12)
+
+
+def test_angle_bound_is_infinite_past_the_log_series_radius(robots):
+    robot = robots["ur5"]
+    dq = np.full((1, robot.model.nv), 0.2)  # Σ|ω_i||dq_i| = 1.2 rad > ln 2
+    assert tool_deviations_fast(robot, np.zeros(robot.model.nv), dq).bound.angle_rad == np.inf
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_zero_deviation_gives_exactly_the_commanded_pose(robots, name):
+    robot = robots[name]
+    q = random_configurations(robot, 1, np.random.default_rng(8))[0]
+    fast = tool_deviations_fast(robot, q, np.zeros((30, robot.model.nv)))
+    assert np.array_equal(fast.positions, np.tile(robot.tool_placement(q).translation, (30, 1)))
+    assert np.array_equal(fast.angles, np.zeros((30, 3)))
+    assert fast.bound.position_m == 0.0 and fast.bound.angle_rad == 0.0
+
+
+def test_empty_batch(robots):
+    fast = tool_deviations_fast(robots["ur5"], np.zeros(6), np.zeros((0, 6)))
+    assert fast.positions.shape == (0, 3) and fast.angles.shape == (0, 3)
+
+
+def test_max_deviation_from_exact_checks_the_first_samples(robots):
+    robot = robots["panda"]
+    rng = np.random.default_rng(9)
+    q = random_configurations(robot, 1, rng)[0]
+    dq = rng.uniform(-2e-3, 2e-3, (100, robot.model.nv))
+    fast = tool_deviations_fast(robot, q, dq)
+    positions, angles = tool_deviations_exact(robot, q, dq[:10])
+    discrepancy = max_deviation_from_exact(robot, q, dq, m=10)
+    assert discrepancy.samples == 10
+    assert discrepancy.position_m == pytest.approx(np.linalg.norm(fast.positions[:10] - positions, axis=1).max())
+    assert discrepancy.angle_rad == pytest.approx(np.linalg.norm(fast.angles[:10] - angles, axis=1).max())
+    assert 0.0 < discrepancy.position_m <= fast.bound.position_m
+
+
+def test_dq_of_the_wrong_width_is_refused(robots):
+    with pytest.raises(ValueError, match=r"\(n, 6\)"):
+        tool_deviations_fast(robots["ur5"], np.zeros(6), np.zeros((3, 7)))
+
+
+@pytest.mark.parametrize("engine", ["fast", "exact"])
+def test_poses_propagated_together_match_each_alone(robots, engine):
+    """A batch mixing orders (and, for "fast", one pose past the bound, sent to exact FK) gives
+    every pose what it gets on its own."""
+    from tribokin.propagation.exact import tool_deviations, tool_deviations_at_poses, tool_frames
+
+    robot = robots["ur5"]
+    rng = np.random.default_rng(4)
+    qs = np.array(random_configurations(robot, 4, rng))
+    dq = np.stack([scale * rng.standard_normal((50, robot.model.nv)) for scale in (1e-7, 1e-5, 1e-4, 0.2)])
+    twists, translations = tool_frames(robot, qs)
+    positions, angles = tool_deviations_at_poses(robot, qs, dq, engine, twists, translations)
+    for q, samples, p, a in zip(qs, dq, positions, angles):
+        alone_p, alone_a = tool_deviations(robot, q, samples, engine)
+        np.testing.assert_allclose(p, alone_p, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(a, alone_a, rtol=0, atol=1e-15)
+
+
+def test_bounds_of_several_poses_are_each_poses_bound(robots):
+    from tribokin.propagation.poe import truncation_bound
+
+    robot = robots["panda"]
+    rng = np.random.default_rng(5)
+    qs = random_configurations(robot, 3, rng)
+    twists = np.array([tool_twists(robot, q) for q in qs])
+    dq = np.stack([scale * rng.standard_normal((40, robot.model.nv)) for scale in (1e-6, 1e-4, 0.5)])
+    together = truncation_bound(twists, dq)
+    for k in range(3):
+        alone = truncation_bound(twists[k], dq[k])
+        assert together.order[k] == alone.order
+        assert together.position_m[k] == pytest.approx(alone.position_m, rel=1e-12)
+        assert together.angle_rad[k] == pytest.approx(alone.angle_rad, rel=1e-12)
+    assert list(together.order) == [2, 3, 3] and np.isinf(together.angle_rad[2])

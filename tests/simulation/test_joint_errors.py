@@ -1,0 +1,86 @@
+"""Joint error model: friction draws and lost motion against the closed form of DESIGN §2."""
+
+import numpy as np
+import pytest
+
+from conftest import axis_study
+from tribokin.errors import InputError
+from tribokin.run import run_study
+from tribokin.simulation.joint_errors import (JointErrorModel, approach_signs, check_travel, deviation_parts,
+                                              draw_friction, joint_travel, largest_mu, sample_joint_deviations)
+from tribokin.tribology import Constant, Gaussian, Uniform
+
+
+def test_each_joint_draws_from_its_own_law():
+    models = [JointErrorModel(Uniform(0.1, 0.2), 1e5), JointErrorModel(Uniform(0.5, 0.6), 1e5),
+              JointErrorModel(Constant(0.3), 1e5)]
+    mu = draw_friction(models, 2000, np.random.default_rng(1))
+    assert mu.shape == (2000, 3)
+    assert 0.1 <= mu[:, 0].min() and mu[:, 0].max() <= 0.2
+    assert 0.5 <= mu[:, 1].min() and mu[:, 1].max() <= 0.6
+    assert np.all(mu[:, 2] == 0.3)
+
+
+def test_joints_sharing_a_law_draw_joint_by_joint_from_one_stream():
+    models = [JointErrorModel(Uniform(0.1, 0.2), 1e5) for _ in range(4)]  # equal laws, distinct objects
+    mu = draw_friction(models, 100, np.random.default_rng(2))
+    expected = np.random.default_rng(2).uniform(0.1, 0.2, (4, 100)).T
+    np.testing.assert_array_equal(mu, expected)
+
+
+@pytest.mark.parametrize("mode", ["unidirectional", "bidirectional"])
+def test_lost_motion_is_the_closed_form(mode):
+    """dq = offset + s (mu N r / k + backlash / 2) for a revolute and a prismatic joint."""
+    models = [JointErrorModel(Constant(0.12), 2e4, friction_radius_m=0.03, backlash=2e-5, offset=1e-4),
+              JointErrorModel(Constant(0.12), 2e6, friction_radius_m=0.5, backlash=0.0, offset=-1e-5)]
+    prismatic, forces = np.array([False, True]), np.array([300.0, 40.0])
+    directions = np.array([[1.0, 1.0], [-1.0, -1.0]])
+    signs, group = approach_signs(mode, 6, directions, np.random.default_rng(0))
+    dq, mu = sample_joint_deviations(models, prismatic, forces, signs, np.random.default_rng(0))
+    lost = np.array([0.12 * 300 * 0.03 / 2e4 + 1e-5, 0.12 * 40 / 2e6])
+    np.testing.assert_allclose(dq, np.array([1e-4, -1e-5]) + directions[group] * lost, rtol=1e-14, atol=0)
+    assert np.all(mu == 0.12)
+
+
+def test_largest_mu_is_the_upper_bound_else_six_standard_deviations_above_the_mean():
+    assert largest_mu(Uniform(0.09, 0.16)) == 0.16
+    assert largest_mu(Constant(0.12)) == 0.12
+    law = Gaussian(0.1375, 0.0075)
+    assert largest_mu(law) == pytest.approx(law.mean() + 6 * law.std())
+
+
+def test_deviation_parts_take_each_joints_largest_load():
+    models = [JointErrorModel(Uniform(0.1, 0.2), 2e4, friction_radius_m=0.03, backlash=2e-3, offset=-1e-3,
+                              noise_std=1e-4),
+              JointErrorModel(Constant(0.1), 1e3)]
+    forces = np.array([[300.0, 10.0], [100.0, 50.0]])  # two configurations
+    parts = deviation_parts(models, np.array([False, True]), forces)
+    np.testing.assert_allclose(parts, [[0.2 * 300 * 0.03 / 2e4, 1e-3, 1e-3, 6e-4], [0.1 * 50 / 1e3, 0, 0, 0]])
+
+
+def test_a_revolute_joint_travels_at_most_a_full_turn():
+    travel = joint_travel(np.array([0.0, -10.0, -1.0]), np.array([0.4, 10.0, 1.0]), np.array([True, False, False]))
+    np.testing.assert_allclose(travel, [0.4, 2 * np.pi, 2.0])
+
+
+def test_travel_check_names_the_joint_the_figures_and_the_key_to_change():
+    models = [JointErrorModel(Constant(0.1), 1e6), JointErrorModel(Constant(0.16), 1.0, backlash=0.01)]
+    keys = []
+    with pytest.raises(InputError) as error:
+        check_travel(models, np.array([True, True]), np.array([150.0, 105.0]), np.array([0.4, 0.4]), ["x", "slide"],
+                     "s.toml", lambda joint, part: keys.append((joint, part)) or f"joints.{joint}.{part}")
+    assert keys == [("slide", "stiffness")] and error.value.key == "joints.slide.stiffness"
+    assert ("joint 'slide': deviation (lost motion 16.8 m, backlash/2 0.005 m) up to 16.8 m exceeds the joint's "
+            "range 0.4 m; raise stiffness") in error.value.message
+    check_travel(models[:1], np.array([True]), np.array([150.0]), np.array([0.4]), ["x"], "s.toml", None)  # fits
+
+
+def test_pose_loads_beyond_a_joints_range_are_refused_before_any_pose_is_sampled(monkeypatch):
+    study = axis_study(friction={"law": "constant", "mu": 0.1})
+    study["poses"] = [{"name": "light", "q": [0.2], "normal_force_N": 1.0},
+                      {"name": "heavy", "q": [0.2], "normal_force_N": 1e7}]
+    sampled = []
+    monkeypatch.setattr("tribokin.simulation.pose_run.sample_joint_deviations", lambda *args: sampled.append(args))
+    with pytest.raises(InputError, match="lost motion up to 1 m exceeds the joint's range 0.4 m") as error:
+        run_study(study)
+    assert error.value.key == "joints.stiffness" and sampled == []

@@ -1,0 +1,116 @@
+"""Multi-axis studies: every robot, loads from statics, the ISO cube and the figures beyond ISO."""
+
+import copy
+
+import numpy as np
+import pytest
+
+from conftest import ROOT
+from tribokin import run_study
+from tribokin.iso9283.metrics import position_repeatability
+from tribokin.kinematics.robot import TESTED_ROBOTS
+
+
+def arm_study(robot, **joints):
+    return {
+        "study": {"cycles": 30, "seed": 4},
+        "robot": robot,
+        "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5, **joints},
+        "iso_cube": {"side_m": 0.1},
+    }
+
+
+@pytest.mark.parametrize("name", TESTED_ROBOTS)
+def test_frictionless_is_perfectly_repeatable_on_every_robot(name):
+    study = arm_study({"name": name}, friction={"preset": "frictionless"})
+    study["iso_cube"]["side_m"] = 0.04  # small enough for the so100's reach
+    result = run_study(study, cycles=10)
+    for row in (row for pose in result.poses for row in pose.direction_rows()):
+        assert row["RP_l_um"] == 0.0 and row["RP_a_mdeg"] == 0.0
+        assert row["AP_p_um"] < 1e-3  # IK residual only
+
+
+def test_repeatability_scales_as_one_over_k_and_linearly_in_fixed_load():
+    study = arm_study({"name": "ur5"}, normal_force_N=300.0)
+    base = run_study(study).table()["RP_l_um"]
+    stiffer = copy.deepcopy(study)
+    stiffer["joints"]["stiffness"] = 2.0e5
+    heavier = copy.deepcopy(study)
+    heavier["joints"]["normal_force_N"] = 900.0
+    # exact to first order; forward kinematics adds terms relatively of the order of dq (~1e-5)
+    assert run_study(stiffer).table()["RP_l_um"] == pytest.approx(base / 2, rel=1e-4)
+    assert run_study(heavier).table()["RP_l_um"] == pytest.approx(base * 3, rel=1e-4)
+
+
+def test_cube_poses_report_iso_and_beyond():
+    result = run_study(arm_study({"name": "ur5", "payload_kg": 3.0}))
+    assert [p.name for p in result.poses] == ["P1", "P2", "P3", "P4", "P5"]
+    for pose in result.poses:
+        assert pose.directions == ("+x", "+y", "+z")
+        rows = pose.direction_rows()
+        assert [row["direction"] for row in rows] == ["+x", "+y", "+z"] and [row["cycles"] for row in rows] == [30] * 3
+        for row in rows:
+            shares = [row[f"contribution_{j}"] for j in result.settings["joints"]]
+            assert sum(shares) == pytest.approx(1.0)
+            assert row["vAP_p_um"] is not None and row["vAP_p_um"] > 0
+            low, high = row["RP_l_95_um"]
+            assert low < high
+            axes = row["ellipsoid_semi_axes_um"]
+            assert axes == sorted(axes, reverse=True) and axes[0] > 0
+    loads = np.array([p.normal_forces_N for p in result.poses])
+    assert np.ptp(loads, axis=0).max() > 1.0  # bearing loads depend on where the arm is
+
+
+@pytest.mark.parametrize("approach, labels", [("unidirectional", ["+x", "+y", "+z"]),
+                                              ("bidirectional", ["+x", "-x", "+y", "-y", "+z", "-z"])])
+def test_cube_poses_give_iso_figures_per_approach_direction(approach, labels):
+    """Each direction's figures are those of its own cycles; vAP_p and the pooled RP_l span all of them,
+    and the pooled cloud's RP_l is far above any one direction's (its barycenters lie apart)."""
+    study = arm_study({"name": "ur5", "payload_kg": 3.0})
+    study["study"]["approach"] = approach
+    pose = run_study(study, cycles=20).poses[0]
+    assert list(pose.directions) == labels and pose.cycles == 20 * len(labels)
+    assert np.bincount(pose.approach).tolist() == [20] * len(labels)
+    if approach == "unidirectional":
+        assert pose.approach.tolist() == np.repeat(np.arange(3), 20).tolist()  # one series after another
+    row = pose.report_row()
+    centres = []
+    for k, label in enumerate(labels):
+        mine = pose.positions_m[pose.approach == k]
+        figures = row["directions"][label]
+        centres.append(mine.mean(axis=0))
+        assert figures["barycenter_m"] == pytest.approx(centres[-1].tolist(), abs=1e-15)
+        assert figures["RP_l_um"] == pytest.approx(position_repeatability(mine)[0] * 1e6, rel=1e-12)
+        assert figures["AP_p_um"] == pytest.approx(np.linalg.norm(centres[-1] - pose.commanded_position_m) * 1e6)
+    gaps = [np.linalg.norm(a - b) for a in centres for b in centres]
+    assert row["vAP_p_um"] == pytest.approx(max(gaps) * 1e6, rel=1e-9)
+    assert row["RP_l_all_directions_um"] == pytest.approx(position_repeatability(pose.positions_m)[0] * 1e6)
+    assert row["RP_l_all_directions_um"] > 3 * max(f["RP_l_um"] for f in row["directions"].values())
+
+
+def test_payload_raises_loads_and_dispersion():
+    light = run_study(arm_study({"name": "ur5"}))
+    heavy = run_study(arm_study({"name": "ur5", "payload_kg": 5.0}))
+    assert np.all(heavy.poses[0].normal_forces_N[:3] > light.poses[0].normal_forces_N[:3])
+    assert heavy.table()["RP_l_um"][0] > light.table()["RP_l_um"][0]
+
+
+def test_rp_interval_brackets_the_long_run_value():
+    study = {"study": {"cycles": 30, "seed": 2}, "robot": {"urdf": str(ROOT / "urdf" / "prismatic_axis.urdf")},
+             "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 2e6, "normal_force_N": 150.0},
+             "poses": [{"q": [0.2]}]}
+    low, high = run_study(study).poses[0].direction_figures("+")["RP_l_95_um"]
+    w = 150 * 0.07 / (2 * 2e6) * 1e6
+    # the long-run value 1.366 w lies inside a 30-cycle test's 95 % range, which is wide
+    assert low < 1.366 * w < high and high - low > 0.1 * w
+
+
+def test_fast_and_exact_engines_give_the_same_study_figures():
+    fast = arm_study({"name": "panda", "payload_kg": 1.0})
+    exact = copy.deepcopy(fast)
+    exact["study"]["engine"] = "exact"
+    fast_result, exact_result = run_study(fast), run_study(exact)
+    for a, b in zip(fast_result.poses, exact_result.poses):
+        assert np.abs(a.positions_m - b.positions_m).max() < 1e-9  # 1 nm
+        assert a.report_row()["engine_max_deviation_nm"] < 1.0
+    assert fast_result.table()["RP_l_um"] == pytest.approx(exact_result.table()["RP_l_um"], abs=1e-3)
