@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy import special
 
-from tribokin.errors import InputError
+from tribokin.errors import InputError, LawError, TribokinError
 from tribokin.tribology import PRESETS, Constant, Empirical, Gaussian, Lognormal, Uniform, law_from_spec, preset
 
 N = 200_000
@@ -94,10 +94,10 @@ def test_same_generator_state_same_draws():
     (lambda: Empirical([0.1, 1e308]), "values"),
     (lambda: Empirical([0.1, 10 ** 400]), "values"),
 ])
-def test_bad_parameters_name_the_key(make, key):
-    with pytest.raises(InputError) as error:
+def test_bad_parameters_raise_a_law_error_naming_the_parameter(make, key):
+    with pytest.raises(LawError) as error:
         make()
-    assert error.value.key == key
+    assert error.value.parameter == key and isinstance(error.value, TribokinError)
 
 
 def test_presets_carry_provenance():

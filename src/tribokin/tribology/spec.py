@@ -17,23 +17,15 @@ from pathlib import Path
 
 import numpy as np
 
-from tribokin.errors import InputError, closest_hint
-from tribokin.tribology.laws import (MU_MAX, MU_MIN, Constant, Empirical, FrictionLaw, Gaussian,
-                                     Lognormal, Uniform)
+from tribokin.errors import InputError, LawError, closest_hint
+from tribokin.tribology import laws
+from tribokin.tribology.laws import MU_MAX, MU_MIN, Constant, Empirical, FrictionLaw
 from tribokin.tribology.presets import preset
 
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover
     import tomli as tomllib
-
-LAWS = {
-    "constant": (Constant, ("mu",)),
-    "uniform": (Uniform, ("low", "high")),
-    "gaussian": (Gaussian, ("mean", "std")),
-    "lognormal": (Lognormal, ("mean", "std")),
-    "empirical": (Empirical, ("values",)),
-}
 
 
 def _from_preset(spec: dict, base_dir: Path) -> FrictionLaw:
@@ -42,24 +34,16 @@ def _from_preset(spec: dict, base_dir: Path) -> FrictionLaw:
 
 
 def _from_law(spec: dict, base_dir: Path) -> FrictionLaw:
-    name = spec["law"]
-    if name not in LAWS:
-        raise InputError(f"unknown law '{name}'{closest_hint(str(name), list(LAWS))}; valid laws: {', '.join(LAWS)}",
-                         key="law")
-    cls, keys = LAWS[name]
-    _only_keys(spec, ("law",) + keys)
-    missing = [k for k in keys if k not in spec]
+    name, known = spec["law"], laws.LAWS
+    if name not in known:
+        raise InputError(f"unknown law '{name}'{closest_hint(str(name), list(known))}; valid laws: "
+                         f"{', '.join(known)}", key="law")
+    law = known[name]
+    _only_keys(spec, ("law",) + law.parameters)
+    missing = [k for k in law.parameters if k not in spec]
     if missing:
         raise InputError(f"law '{name}' needs {', '.join(missing)}", key=missing[0])
-    if name == "empirical":
-        _check_values(spec["values"])
-    return cls(*(spec[k] for k in keys))  # checks the parameters
-
-
-def _check_values(values) -> None:
-    """Measured values must be a list of numbers (the law checks they are finite and >= 0)."""
-    if not isinstance(values, list) or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in values):
-        raise InputError(f"must be a list of numbers (got {values!r})", key="values")
+    return law(*(spec[k] for k in law.parameters))  # checks the parameters
 
 
 def _from_file(spec: dict, base_dir: Path) -> FrictionLaw:
@@ -184,6 +168,8 @@ def law_from_spec(spec, source: str | Path | None = None, key: str = "friction",
         raise InputError(f"needs one of the keys {', '.join(SPEC_KINDS)}", source, key)
     try:
         return SPEC_KINDS[kind](spec, Path(base_dir))
+    except LawError as error:
+        raise InputError(error.message, source, ".".join(part for part in (key, error.parameter) if part)) from None
     except InputError as error:
         if error.source is not None:
             raise  # already names its own file (a law file, a log, a profile) and the key inside it
