@@ -18,7 +18,8 @@ import numbers
 import numpy as np
 from scipy import stats
 
-from tribokin.errors import LawError
+from tribokin.checks import finite, within
+from tribokin.errors import InputError, LawError
 
 
 #: Largest friction coefficient a law may hold [-]: above, it is not sliding friction (clean metals in
@@ -29,19 +30,18 @@ MU_MAX = 10.0
 MU_MIN = 1e-6
 
 
+#: A friction coefficient: a finite number in [0, ``MU_MAX``].
+coefficient = within(finite, 0.0, MU_MAX, "", f"friction coefficients are never negative, and above {MU_MAX:g} they are "
+                     "not sliding friction (clean metals in vacuum reach a few)")
+
+
 def _check_coefficient(**values: float) -> None:
-    """Each value a friction coefficient: a finite number in [0, ``MU_MAX``]."""
+    """Each value a friction coefficient (:data:`coefficient`), else a :class:`LawError` naming it."""
     for key, value in values.items():
-        # (a whole number, however long, compares exactly below; math.isfinite would overflow on it)
-        if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                or isinstance(value, float) and not math.isfinite(value):
-            raise LawError(f"must be a finite number (got {value!r})", key)
-        if value < 0:
-            raise LawError(f"must be >= 0: friction coefficients are never negative (got {value})", key)
-        if value > MU_MAX:
-            shown = f"{value:g}" if isinstance(value, float) or value < 1e300 else "a number past 1e300"
-            raise LawError(f"must be at most {MU_MAX:g} (got {shown}): friction coefficients above that are not "
-                           "sliding friction (clean metals in vacuum reach a few)", key)
+        try:
+            coefficient(value, None, key)
+        except InputError as error:
+            raise LawError(error.message, key) from None
 
 
 #: Every friction law by the name study files give it, in the order the classes are defined.
@@ -250,11 +250,8 @@ class Empirical(FrictionLaw):
             raise LawError(f"needs at least 2 measured values (got {values.size})", "values")
         if not np.all(np.isfinite(values)):
             raise LawError("must all be finite numbers", "values")
-        if np.any(values < 0):
-            raise LawError(f"must be >= 0: friction coefficients are never negative (min {values.min()})", "values")
-        if np.any(values > MU_MAX):
-            raise LawError(f"must be at most {MU_MAX:g} (max {values.max():g}): friction coefficients above that are "
-                           "not sliding friction", "values")
+        _check_coefficient(values=float(values.min()))
+        _check_coefficient(values=float(values.max()))
         self.values = values
         super().__init__(stats.rv_histogram(np.histogram(values, bins="auto"), density=True),
                          {"values": values.tolist()}, provenance)
