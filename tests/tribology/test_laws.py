@@ -168,3 +168,10 @@ def test_a_law_defined_in_one_class_parses_from_a_study_and_is_fitted(monkeypatc
     mu = model.friction.rvs(size=2000, random_state=np.random.default_rng(0))
     fit = next(f for f in fitting.fit_laws(mu) if f.law == "triangular")
     assert type(fit.to_law()) is Triangular and fit.params["mode"] == pytest.approx(0.1, abs=0.01)
+
+
+def test_truncated_gaussian_moments_are_within_one_percent_of_the_parameters_from_three_std():
+    law = Gaussian(0.03, 0.01)  # mean = 3 std: the docstring's bound
+    assert law.mean() == pytest.approx(0.03, rel=0.01) and law.std() == pytest.approx(0.01, rel=0.01)
+    assert law.std() != pytest.approx(0.01, rel=1e-3)  # truncated: not the parameter itself
+    assert Gaussian(0.01, 0.01).mean() != pytest.approx(0.01, rel=0.01)  # nearer zero the bound does not hold

@@ -31,8 +31,10 @@ class PoseMetrics:
         barycenter_m: (3,) barycenter of the reached positions [m].
         AP_p_m: position accuracy |barycenter - commanded| [m].
         RP_l_m: position repeatability l_bar + 3 S_l [m].
-        AP_abc_rad: (3,) orientation accuracy a_bar - a_c, b_bar - b_c, c_bar - c_c [rad].
-        RP_abc_rad: (3,) orientation repeatability 3 S_a, 3 S_b, 3 S_c [rad] (the standard's +/- value).
+        AP_abc_rad: (3,) orientation accuracy: the mean deviation a, b, c [rad] (the standard's a_bar - a_c,
+            b_bar - b_c, c_bar - c_c where the two agree, see the module).
+        RP_abc_rad: (3,) orientation repeatability 3 S_a, 3 S_b, 3 S_c [rad] of the deviations a, b, c (the
+            standard's +/- value).
         distances_m: (n,) l_j = |x_j - barycenter| [m].
     """
 

@@ -168,8 +168,8 @@ class Gaussian(FrictionLaw):
 
     Friction cannot be negative, so the normal law is truncated at zero
     (``scipy.stats.truncnorm``); ``mean()`` and ``std()`` are those of the
-    truncated law, equal to the parameters when ``mean`` is a few ``std``
-    above zero. Asperity-dominated contacts (paper §4.2).
+    truncated law, within 1 % of the parameters when ``mean`` >= 3 ``std``.
+    Asperity-dominated contacts (paper §4.2).
     """
 
     law = "gaussian"
