@@ -50,9 +50,14 @@ def positive_int(value, source, key) -> int:
     return value
 
 
-def seed_int(value, source, key) -> int:
+def count(value, source, key) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or value < 0:
         raise InputError(f"must be a whole number >= 0 (got {value!r})", source, key)
+    return value
+
+
+def seed_int(value, source, key) -> int:
+    value = count(value, source, key)
     if value > SEED_MAX:
         raise InputError(f"must be at most 2**64 - 1 (got {_shown(value)}): seeds are 64-bit numbers", source, key)
     return value
@@ -75,6 +80,17 @@ def within(check, low: float, high: float, unit: str, why: str):
                              f"{_shown(value)}): {why}", source, key)
         return value
     return bounded
+
+
+def finite_cell(cell: str, where: str, source, key) -> float:
+    """The text of a table's cell as a finite number; ``where`` names its row (``line 4``, ``data row 3``)."""
+    try:
+        value = float(cell)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise InputError(f"{where} holds {cell!r}, not a finite number; fix or remove that row", source, key)
+    return value
 
 
 def text(value, source, key) -> str:

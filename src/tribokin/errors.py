@@ -1,17 +1,32 @@
-"""Errors that tell the user what to fix.
+"""Errors: one base class, :class:`TribokinError`, that library users can catch.
 
-Every error raised on bad input is an :class:`InputError`: it names the file,
-the key inside it and what to do, and the command line prints it as one line
-and exits with status 2.
+The physics (robots, configurations, friction laws, joint ranges) raises plain, specific errors that
+say what is wrong and name the argument at fault, never a file. The study layer knows the file and the
+key a value came from: :func:`located` turns those errors into an :class:`InputError`, which names the
+file, the key inside it and what to do; the command line prints it as one line and exits with status 2.
 """
 
 from __future__ import annotations
 
+import contextlib
 import difflib
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 
-class InputError(ValueError):
+class TribokinError(Exception):
+    """Base class of every error tribokin raises on purpose.
+
+    Args:
+        message: what is wrong and what to do about it.
+    """
+
+    def __init__(self, message: str):
+        self.message = message
+        super().__init__(message)
+
+
+class InputError(TribokinError, ValueError):
     """Bad input: a file, a key in it, and what to fix.
 
     Args:
@@ -21,16 +36,75 @@ class InputError(ValueError):
     """
 
     def __init__(self, message: str, source: str | Path | None = None, key: str | None = None):
-        self.message = message
         self.source = str(source) if source is not None else None
         self.key = key
-        super().__init__(self.one_line())
+        super().__init__(message)
+        self.args = (self.one_line(),)
 
     def one_line(self) -> str:
         """The message as ``source: key: message`` on a single line."""
         parts = [p for p in (self.source, self.key) if p]
         text = ": ".join(parts + [self.message])
         return " ".join(text.split())
+
+
+class ConfigurationError(TribokinError, ValueError):
+    """A joint configuration of the wrong size, not finite, or outside the joint limits."""
+
+
+class RobotDescriptionError(TribokinError, ValueError):
+    """A robot that cannot be loaded: an unknown name, a missing or malformed URDF, a mesh outside the package
+    folders, an unknown tool frame, a joint tribokin cannot model.
+
+    Args:
+        message: what is wrong and what to do about it.
+        argument: the loader's argument at fault (``"name"``, ``"path"``, ``"tool_frame"``, ``"package_dirs"``),
+            or ``None`` for the robot as a whole.
+    """
+
+    def __init__(self, message: str, argument: str | None = None):
+        self.argument = argument
+        super().__init__(message)
+
+
+class LawError(TribokinError, ValueError):
+    """Bad parameters of a friction law, or an unknown law or preset.
+
+    Args:
+        message: what is wrong and what to do about it.
+        parameter: the parameter at fault (``"mean"``, ``"low"``, ``"values"``, ``"preset"``...).
+    """
+
+    def __init__(self, message: str, parameter: str | None = None):
+        self.parameter = parameter
+        super().__init__(message)
+
+
+class JointRangeError(TribokinError, ValueError):
+    """A joint's deviation that could exceed its range.
+
+    Args:
+        message: the joint, the figures and what to change.
+        joint: the joint's name.
+        part: the part of the deviation that is largest, named as the joint error model's field
+            (``"stiffness"``, ``"backlash"``, ``"offset"``, ``"noise_std"``).
+    """
+
+    def __init__(self, message: str, joint: str, part: str):
+        self.joint, self.part = joint, part
+        super().__init__(message)
+
+
+@contextlib.contextmanager
+def located(source: str | Path | None, key: str | Callable[[TribokinError], str]) -> Iterator[None]:
+    """Turn a :class:`TribokinError` raised inside the block into an :class:`InputError` naming ``source`` and
+    ``key`` (a key, or a function of the error giving one); an ``InputError`` passes unchanged."""
+    try:
+        yield
+    except InputError:
+        raise
+    except TribokinError as error:
+        raise InputError(error.message, source, key(error) if callable(key) else key) from None
 
 
 def closest_hint(word: str, valid: list[str] | tuple[str, ...]) -> str:

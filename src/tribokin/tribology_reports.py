@@ -13,16 +13,13 @@ from pathlib import Path
 import numpy as np
 
 from tribokin.checks import positive, within
-from tribokin.errors import InputError
+from tribokin.errors import InputError, LawError
 from tribokin.output.folder import atomic_folder, check_output_folder
 from tribokin.tribology.columns import quiet_numerics
 from tribokin.tribology.fitting import Fit, fit_laws
-from tribokin.tribology.laws import MU_MIN
+from tribokin.tribology.laws import LAWS, MU_MIN
 from tribokin.tribology.surfaces import find_peaks, level, profile_statistics, read_profile
 from tribokin.tribology.tribometer import read_log, steady_state
-
-LAW_KEYS = {"gaussian": ("mean", "std"), "lognormal": ("mean", "std"), "uniform": ("low", "high")}
-
 
 def _toml_number(value: float) -> str:
     return repr(float(f"{value:.6g}"))
@@ -30,7 +27,7 @@ def _toml_number(value: float) -> str:
 
 def inline_law(fit: Fit) -> str:
     """The fitted law as a study-file inline table, e.g. ``{ law = "gaussian", mean = 0.1375, std = 0.0075 }``."""
-    keys = ", ".join(f"{key} = {_toml_number(fit.params[key])}" for key in LAW_KEYS[fit.law])
+    keys = ", ".join(f"{key} = {_toml_number(fit.params[key])}" for key in LAWS[fit.law].parameters)
     return f'{{ law = "{fit.law}", {keys} }}'
 
 
@@ -43,7 +40,7 @@ def law_toml(fit: Fit, fits: list[Fit], provenance: str) -> str:
                + ", ".join(f"{k} = {_toml_number(v)}" for k, v in f.params.items()) for f in fits),
              '# Use it in a study: friction = { file = "law.toml" } (path relative to the study file).',
              f'law = "{fit.law}"',
-             *(f"{key} = {_toml_number(fit.params[key])}" for key in LAW_KEYS[fit.law])]
+             *(f"{key} = {_toml_number(fit.params[key])}" for key in LAWS[fit.law].parameters)]
     return "\n".join(lines) + "\n"
 
 
@@ -88,11 +85,11 @@ def _checked_fits(mu: np.ndarray, source: str) -> list[Fit]:
     for fit in fits:
         try:
             if not all(math.isfinite(v) for v in [*fit.params.values(), fit.aic]):
-                raise InputError(f"parameters {fit.params}, AIC {fit.aic}", key=fit.law)
+                raise LawError(f"parameters {fit.params}, AIC {fit.aic}", fit.law)
             fit.to_law()
-        except InputError as error:
+        except LawError as error:
             raise InputError(f"the {fit.law} fit to the {mu.size} steady-state cycles is not a valid law "
-                             f"({error.key}: {error.message}); check the values", source, "mu") from None
+                             f"({error.parameter}: {error.message}); check the values", source, "mu") from None
     return fits
 
 

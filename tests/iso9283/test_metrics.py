@@ -1,6 +1,7 @@
 """ISO 9283 formulas against a hand-computed example."""
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 from tribokin.iso9283.metrics import directional_metrics, multidirectional_variation, pose_metrics, \
@@ -89,3 +90,29 @@ def test_position_spread_of_a_batch_matches_each_cloud_alone():
         assert spread.RP_l_m[k] == pytest.approx(position_repeatability(cloud)[0], rel=1e-12)
         largest = np.sqrt(np.linalg.eigvalsh(np.cov(cloud.T)).max())
         assert spread.largest_semi_axis_m[k] == pytest.approx(largest, rel=1e-9)
+
+
+def _rotation_vector_and_rpy(commanded, theta, axis):
+    """(log3(R_j R_c^T), rpy(R_j R_c^T), rpy(R_j) - rpy(R_c)) for a rotation of theta [rad] about ``axis``."""
+    deviation = pin.exp3(theta * axis)
+    reached = deviation @ commanded
+    return (pin.log3(reached @ commanded.T), pin.rpy.matrixToRpy(deviation),
+            pin.rpy.matrixToRpy(reached) - pin.rpy.matrixToRpy(commanded))
+
+
+def test_rotation_vector_and_roll_pitch_yaw_agree_to_second_order():
+    """The module docstring's claim: |log3 - rpy| of the deviation is O(theta²) (at most theta²/4) at any
+    commanded orientation; the difference of the absolute angles agrees as well only at R_c = I."""
+    axis = np.array([0.6, -0.48, 0.64])
+    general = pin.rpy.rpyToMatrix(0.3, -0.5, 1.2)
+    for commanded in (np.eye(3), general):
+        ratios = []
+        for theta in (1e-2, 1e-3, 1e-4):
+            vector, rpy, _ = _rotation_vector_and_rpy(commanded, theta, axis)
+            ratios.append(np.abs(vector - rpy).max() / theta ** 2)
+        assert max(ratios) <= 0.25 and min(ratios) > 0.05  # second order: the ratio to theta² stays put
+    for theta in (1e-2, 1e-3):
+        vector, _, differences = _rotation_vector_and_rpy(np.eye(3), theta, axis)
+        assert np.abs(vector - differences).max() <= 0.25 * theta ** 2
+        vector, _, differences = _rotation_vector_and_rpy(general, theta, axis)
+        assert np.abs(vector - differences).max() > 0.1 * theta  # first order away from the base's axes

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
-from tribokin.errors import InputError
+from tribokin.errors import RobotDescriptionError
 from tribokin.kinematics.robot import TESTED_ROBOTS, load_example_robot, load_urdf
 
 
@@ -23,20 +23,21 @@ def test_panda_fingers_are_locked():
 
 
 def test_unknown_robot_and_frame_list_the_valid_ones():
-    with pytest.raises(InputError, match="did you mean 'ur5'.*valid names: .*panda.*ur10") as error:
+    with pytest.raises(RobotDescriptionError, match="did you mean 'ur5'.*valid names: .*panda.*ur10") as error:
         load_example_robot("ur55")
-    assert error.value.key == "robot.name" and "\n" not in str(error.value)
-    with pytest.raises(InputError, match="tool0") as error:
+    assert error.value.argument == "name" and "\n" not in str(error.value)
+    with pytest.raises(RobotDescriptionError, match="tool0") as error:
         load_example_robot("ur5", tool_frame="tool9")
-    assert error.value.key == "robot.tool_frame"
+    assert error.value.argument == "tool_frame"
 
 
 def test_missing_and_malformed_urdf(tmp_path):
-    with pytest.raises(InputError, match="not found"):
+    with pytest.raises(RobotDescriptionError, match="not found") as error:
         load_urdf(tmp_path / "none.urdf")
+    assert error.value.argument == "path"
     bad = tmp_path / "bad.urdf"
     bad.write_text("<robot name='x'><link name='a'></robot>")
-    with pytest.raises(InputError, match="cannot read URDF"):
+    with pytest.raises(RobotDescriptionError, match="cannot read URDF"):
         load_urdf(bad)
 
 

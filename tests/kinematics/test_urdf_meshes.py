@@ -10,11 +10,12 @@ import pinocchio as pin
 import pytest
 
 from tribokin.cli import main
-from tribokin.errors import InputError
+from tribokin.errors import InputError, RobotDescriptionError
 from tribokin.kinematics.robot import load_urdf
 from tribokin.kinematics.urdf_meshes import resolve_mesh
 from tribokin.output.writers import write_results
 from tribokin.run import run_study
+from tribokin.study.assembly import load_robot_spec
 
 TETRAHEDRON_STL = """solid t
 facet normal 0 0 -1
@@ -103,7 +104,8 @@ def test_mesh_outside_the_package_is_refused_while_loading(tmp_path, monkeypatch
     for loader in ("buildModelFromUrdf", "buildModelFromXML", "buildGeomFromUrdf", "buildGeomFromUrdfString"):
         monkeypatch.setattr(pin, loader, lambda *args, name=loader: read.append(name))
     with pytest.raises(InputError) as error:
-        load_urdf(urdf, "tool", [tmp_path / "share"], source="study.toml")
+        load_robot_spec({"name": None, "urdf": urdf, "tool_frame": "tool", "package_dirs": [tmp_path / "share"]},
+                        "study.toml")
     line = error.value.one_line()
     assert line.startswith("study.toml: robot.package_dirs: mesh ") and mesh.split("/")[-1] in line
     assert str(urdf) in line and str((tmp_path / "share").resolve()) in line
@@ -116,7 +118,7 @@ def test_collada_mesh_whose_image_lies_outside_is_refused(tmp_path, image):
     urdf = meshy_urdf(tmp_path, "package://pkg/meshes/textured.dae")
     (tmp_path / "outside" / "evil.png").write_bytes(b"secret")
     (tmp_path / "share/pkg/meshes/textured.dae").write_text(TRIANGLE_DAE.format(image=image.format(tmp=tmp_path)))
-    with pytest.raises(InputError, match="textured.dae.* reads the image '.*/outside/evil.png', outside"):
+    with pytest.raises(RobotDescriptionError, match="textured.dae.* reads the image '.*/outside/evil.png', outside"):
         load_urdf(urdf, "tool", [tmp_path / "share"])
 
 
@@ -145,7 +147,7 @@ def test_view_refuses_a_mesh_moved_outside_before_starting_its_server(tmp_path, 
 def test_default_package_folders_are_the_urdf_folder_and_its_parent(tmp_path):
     urdf = meshy_urdf(tmp_path, "package://pkg/meshes/inside.stl")
     assert load_urdf(urdf, "tool").visual_model.ngeoms == 2
-    with pytest.raises(InputError, match="evil.stl"):
+    with pytest.raises(RobotDescriptionError, match="evil.stl"):
         load_urdf(meshy_urdf(tmp_path / "t", "package://pkg/../../outside/evil.stl"), "tool")
 
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from conftest import axis_study
-from tribokin.errors import InputError
+from tribokin.errors import InputError, JointRangeError
 from tribokin.run import run_study
 from tribokin.simulation.joint_errors import (JointErrorModel, approach_signs, check_travel, deviation_parts,
                                               draw_friction, joint_travel, largest_mu, sample_joint_deviations)
@@ -65,14 +65,12 @@ def test_a_revolute_joint_travels_at_most_a_full_turn():
 
 def test_travel_check_names_the_joint_the_figures_and_the_key_to_change():
     models = [JointErrorModel(Constant(0.1), 1e6), JointErrorModel(Constant(0.16), 1.0, backlash=0.01)]
-    keys = []
-    with pytest.raises(InputError) as error:
-        check_travel(models, np.array([True, True]), np.array([150.0, 105.0]), np.array([0.4, 0.4]), ["x", "slide"],
-                     "s.toml", lambda joint, part: keys.append((joint, part)) or f"joints.{joint}.{part}")
-    assert keys == [("slide", "stiffness")] and error.value.key == "joints.slide.stiffness"
+    with pytest.raises(JointRangeError) as error:
+        check_travel(models, np.array([True, True]), np.array([150.0, 105.0]), np.array([0.4, 0.4]), ["x", "slide"])
+    assert (error.value.joint, error.value.part) == ("slide", "stiffness")
     assert ("joint 'slide': deviation (lost motion 16.8 m, backlash/2 0.005 m) up to 16.8 m exceeds the joint's "
             "range 0.4 m; raise stiffness") in error.value.message
-    check_travel(models[:1], np.array([True]), np.array([150.0]), np.array([0.4]), ["x"], "s.toml", None)  # fits
+    check_travel(models[:1], np.array([True]), np.array([150.0]), np.array([0.4]), ["x"])  # fits
 
 
 def test_pose_loads_beyond_a_joints_range_are_refused_before_any_pose_is_sampled(monkeypatch):

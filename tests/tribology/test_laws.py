@@ -4,10 +4,14 @@ import math
 
 import numpy as np
 import pytest
-from scipy import special
+from scipy import special, stats
 
-from tribokin.errors import InputError
-from tribokin.tribology import PRESETS, Constant, Empirical, Gaussian, Lognormal, Uniform, law_from_spec, preset
+from conftest import axis_study
+from tribokin.errors import InputError, LawError, TribokinError
+from tribokin.study.assembly import joint_models, load_robot
+from tribokin.study.reading import load_study
+from tribokin.tribology import (PRESETS, Constant, Empirical, FrictionLaw, Gaussian, Lognormal, Uniform, fitting,
+                                law_from_spec, laws, preset)
 
 N = 200_000
 
@@ -94,10 +98,10 @@ def test_same_generator_state_same_draws():
     (lambda: Empirical([0.1, 1e308]), "values"),
     (lambda: Empirical([0.1, 10 ** 400]), "values"),
 ])
-def test_bad_parameters_name_the_key(make, key):
-    with pytest.raises(InputError) as error:
+def test_bad_parameters_raise_a_law_error_naming_the_parameter(make, key):
+    with pytest.raises(LawError) as error:
         make()
-    assert error.value.key == key
+    assert error.value.parameter == key and isinstance(error.value, TribokinError)
 
 
 def test_presets_carry_provenance():
@@ -130,3 +134,44 @@ def test_gaussian_sampler_follows_the_truncated_law(mean, std):
     assert x.shape == (400, 50) and x.min() >= 0
     truncated = stats.truncnorm(a=-mean / std, b=np.inf, loc=mean, scale=std)
     assert stats.kstest(x.ravel(), truncated.cdf).pvalue > 1e-3
+
+
+def test_the_registry_lists_every_law_by_its_name():
+    assert list(laws.LAWS) == ["constant", "uniform", "gaussian", "lognormal", "empirical"]
+    assert all(law.law == name and law.parameters for name, law in laws.LAWS.items())
+
+
+def test_a_law_defined_in_one_class_parses_from_a_study_and_is_fitted(monkeypatch):
+    monkeypatch.setattr(laws, "LAWS", dict(laws.LAWS))  # the class below registers itself for this test only
+
+    class Triangular(FrictionLaw):
+        law = "triangular"
+        parameters = ("low", "mode", "high")
+
+        def __init__(self, low, mode, high, provenance=None):
+            dist = stats.triang((mode - low) / (high - low), loc=low, scale=high - low)
+            super().__init__(dist, {"low": low, "mode": mode, "high": high}, provenance)
+
+        @classmethod
+        def maximum_likelihood(cls, mu):
+            c, loc, scale = stats.triang.fit(mu)
+            return stats.triang(c, loc, scale), {"low": loc, "mode": loc + c * scale, "high": loc + scale}
+
+    spec = {"law": "triangular", "low": 0.09, "mode": 0.1, "high": 0.14}
+    study = load_study(axis_study(friction=spec))
+    (model,) = joint_models(study, load_robot(study))
+    assert model.friction == Triangular(0.09, 0.1, 0.14)
+    assert model.friction.describe()["mean"] == pytest.approx((0.09 + 0.1 + 0.14) / 3)
+    with pytest.raises(InputError, match="law 'triangular' needs high") as error:
+        law_from_spec({"law": "triangular", "low": 0.09, "mode": 0.1}, "s.toml", "joints.friction")
+    assert error.value.key == "joints.friction.high"
+    mu = model.friction.rvs(size=2000, random_state=np.random.default_rng(0))
+    fit = next(f for f in fitting.fit_laws(mu) if f.law == "triangular")
+    assert type(fit.to_law()) is Triangular and fit.params["mode"] == pytest.approx(0.1, abs=0.01)
+
+
+def test_truncated_gaussian_moments_are_within_one_percent_of_the_parameters_from_three_std():
+    law = Gaussian(0.03, 0.01)  # mean = 3 std: the docstring's bound
+    assert law.mean() == pytest.approx(0.03, rel=0.01) and law.std() == pytest.approx(0.01, rel=0.01)
+    assert law.std() != pytest.approx(0.01, rel=1e-3)  # truncated: not the parameter itself
+    assert Gaussian(0.01, 0.01).mean() != pytest.approx(0.01, rel=0.01)  # nearer zero the bound does not hold

@@ -13,7 +13,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from tribokin.errors import InputError
+from tribokin.errors import LawError
 from tribokin.tribology.laws import Constant, Empirical, Gaussian, Lognormal, Uniform
 
 DRAWS = 50_000
@@ -63,16 +63,16 @@ def test_negative_parameters_are_refused_naming_them(negative, valid):
     for make, key in ((lambda: Uniform(negative, valid), "low"), (lambda: Gaussian(valid, negative), "std"),
                       (lambda: Gaussian(negative, 0.01), "mean"), (lambda: Constant(negative), "mu"),
                       (lambda: Lognormal(negative, 0.01), "mean"), (lambda: Empirical([valid, negative]), "values")):
-        with pytest.raises(InputError) as error:
+        with pytest.raises(LawError) as error:
             make()
-        assert error.value.key == key
+        assert error.value.parameter == key
 
 
 @given(mu, mu)
 def test_inverted_bounds_are_refused(a, b):
     if a == b:
         return
-    with pytest.raises(InputError, match="swap"):
+    with pytest.raises(LawError, match="swap"):
         Uniform(max(a, b), min(a, b))
 
 

@@ -4,8 +4,14 @@ RP and AP are figures of one unidirectional series (:func:`pose_metrics`); a pos
 several directions has them per direction, and vAP across directions (:func:`directional_metrics`).
 Positions in [m], angles in [rad]. Orientation deviations a, b, c are the
 components, about the base x, y, z axes, of the rotation vector taking the
-commanded orientation to the reached one (``log3(R_j R_c^T)``): for the small
-deviations at stake they equal the standard's angle differences.
+commanded orientation to the reached one (``log3(R_j R_c^T)``). They agree with
+the roll-pitch-yaw angles of that deviation rotation ``R_j R_c^T`` to first order:
+each component differs by at most about theta²/4 [rad], theta its angle (under 3e-9 rad
+for deviations up to 100 µrad). The standard differences the
+roll-pitch-yaw angles of the reached and commanded orientations themselves
+(a_j - a_c); those agree with a, b, c to the same order only where the commanded
+orientation is close to the base's axes. Elsewhere they differ at first order, by
+the Jacobian of the roll-pitch-yaw angles at R_c, which mixes the axes.
 """
 
 from __future__ import annotations
@@ -25,8 +31,10 @@ class PoseMetrics:
         barycenter_m: (3,) barycenter of the reached positions [m].
         AP_p_m: position accuracy |barycenter - commanded| [m].
         RP_l_m: position repeatability l_bar + 3 S_l [m].
-        AP_abc_rad: (3,) orientation accuracy a_bar - a_c, b_bar - b_c, c_bar - c_c [rad].
-        RP_abc_rad: (3,) orientation repeatability 3 S_a, 3 S_b, 3 S_c [rad] (the standard's +/- value).
+        AP_abc_rad: (3,) orientation accuracy: the mean deviation a, b, c [rad] (the standard's a_bar - a_c,
+            b_bar - b_c, c_bar - c_c where the two agree, see the module).
+        RP_abc_rad: (3,) orientation repeatability 3 S_a, 3 S_b, 3 S_c [rad] of the deviations a, b, c (the
+            standard's +/- value).
         distances_m: (n,) l_j = |x_j - barycenter| [m].
     """
 

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from tribokin.errors import InputError, closest_hint
+from tribokin.errors import ConfigurationError, RobotDescriptionError, closest_hint
 from tribokin.kinematics.urdf_meshes import confine_meshes
 
 #: example-robot-data names tested with tribokin (any fixed-base arm it ships should load).
@@ -90,22 +90,21 @@ class Robot:
                                             pin.LOCAL_WORLD_ALIGNED)
         return np.asarray(jacobian).reshape(6, self.model.nv)
 
-    def check_configuration(self, q, source=None, key: str = "q") -> np.ndarray:
-        """``q`` as an array, or an :class:`InputError` if its length or limits are wrong."""
+    def check_configuration(self, q) -> np.ndarray:
+        """``q`` as an array, or a :class:`ConfigurationError` if its length or limits are wrong."""
         try:
             q = np.asarray(q, dtype=float)
         except (TypeError, ValueError):
-            raise InputError(f"must be a list of numbers (got {q!r})", source, key) from None
+            raise ConfigurationError(f"must be a list of numbers (got {q!r})") from None
         names = self.joint_names
         if q.shape != (len(names),):
-            raise InputError(f"needs {len(names)} values, one per joint ({', '.join(names)}); got {q.size}",
-                             source, key)
+            raise ConfigurationError(f"needs {len(names)} values, one per joint ({', '.join(names)}); got {q.size}")
         if not np.all(np.isfinite(q)):
-            raise InputError("must be finite numbers", source, key)
+            raise ConfigurationError("must be finite numbers")
         for i, name in enumerate(names):
             if not self.lower_limits[i] <= q[i] <= self.upper_limits[i]:
-                raise InputError(f"joint '{name}' = {q[i]:g} is outside its limits "
-                                 f"[{self.lower_limits[i]:g}, {self.upper_limits[i]:g}]", source, key)
+                raise ConfigurationError(f"joint '{name}' = {q[i]:g} is outside its limits "
+                                         f"[{self.lower_limits[i]:g}, {self.upper_limits[i]:g}]")
         return q
 
 
@@ -129,15 +128,15 @@ def _make_frame_names_unique(model: pin.Model) -> None:
             model.frames[index] = frame
 
 
-def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, source) -> Robot:
+def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label) -> Robot:
     """Lock every joint that does not move ``tool_frame``; check the rest are 1-DoF."""
     _make_frame_names_unique(model)
     frames = [f.name for f in model.frames]
     if tool_frame is None:
         tool_frame = frames[-1]
     elif tool_frame not in frames:
-        raise InputError(f"unknown frame '{tool_frame}'{closest_hint(tool_frame, frames)}; frames of {label}: "
-                         f"{', '.join(frames[1:])}", source, "robot.tool_frame")
+        raise RobotDescriptionError(f"unknown frame '{tool_frame}'{closest_hint(tool_frame, frames)}; frames of "
+                                    f"{label}: {', '.join(frames[1:])}", "tool_frame")
     full = model
     chain = set(model.supports[model.frames[model.getFrameId(tool_frame)].parentJoint])
     locked = [j for j in range(1, model.njoints) if j not in chain or model.joints[j].shortname() == "JointModelFreeFlyer"]
@@ -148,15 +147,15 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, s
             model, (visual, collision) = pin.buildReducedModel(model, [visual, collision], locked, reference_q)
     for joint, name in zip(model.joints[1:], list(model.names)[1:]):
         if joint.nq != 1 or joint.nv != 1:
-            raise InputError(f"joint '{name}' ({joint.shortname()}) moves the tool but is not a 1-DoF revolute or "
-                             "prismatic joint; tribokin cannot model it", source, "robot")
+            raise RobotDescriptionError(f"joint '{name}' ({joint.shortname()}) moves the tool but is not a 1-DoF "
+                                        "revolute or prismatic joint; tribokin cannot model it")
     if model.nq == 0:
-        raise InputError(f"frame '{tool_frame}' is not moved by any joint", source, "robot.tool_frame")
+        raise RobotDescriptionError(f"frame '{tool_frame}' is not moved by any joint", "tool_frame")
     kept_q = np.array([reference_q[full.joints[full.getJointId(name)].idx_q] for name in list(model.names)[1:]])
     return Robot(model, tool_frame, label, kept_q, visual, collision)
 
 
-def load_urdf(path, tool_frame: str | None = None, package_dirs=(), source=None) -> Robot:
+def load_urdf(path, tool_frame: str | None = None, package_dirs=()) -> Robot:
     """Load a robot from a URDF file, after checking its meshes lie inside ``package_dirs``.
 
     Args:
@@ -164,27 +163,27 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), source=None)
         tool_frame: frame whose pose is measured (default: the model's last frame).
         package_dirs: folders that ``package://`` mesh URIs resolve against, and the only folders
             meshes may be read from (default: the URDF's folder and its parent).
-        source: file that named the URDF, for error messages.
 
     Raises:
-        InputError: a missing or malformed URDF, or a mesh outside ``package_dirs``
-            (:func:`tribokin.kinematics.urdf_meshes.confine_meshes`, before Pinocchio reads any file).
+        RobotDescriptionError: a missing or malformed URDF, a mesh outside ``package_dirs``
+            (:func:`tribokin.kinematics.urdf_meshes.confine_meshes`, before Pinocchio reads any file), an
+            unknown tool frame, a joint moving the tool that is not 1-DoF.
     """
     path = Path(path)
     if not path.is_file():
-        raise InputError(f"URDF file '{path}' not found", source, "robot.urdf")
+        raise RobotDescriptionError(f"URDF file '{path}' not found", "path")
     dirs = [Path(p) for p in package_dirs] or [path.parent, path.parent.parent]
     try:
         urdf = ET.fromstring(path.read_bytes())
     except ET.ParseError as error:
-        raise InputError(f"cannot read URDF '{path}': {error}", source, "robot.urdf") from None
-    confine_meshes(urdf, path, dirs, source)
+        raise RobotDescriptionError(f"cannot read URDF '{path}': {error}", "path") from None
+    confine_meshes(urdf, path, dirs)
     text = ET.tostring(urdf, encoding="unicode")
     try:
         model = _quiet(pin.buildModelFromXML, text)
     except (RuntimeError, ValueError) as error:
         first = str(error).strip().splitlines()[0] if str(error).strip() else "unreadable"
-        raise InputError(f"cannot read URDF '{path}': {first}", source, "robot.urdf") from None
+        raise RobotDescriptionError(f"cannot read URDF '{path}': {first}", "path") from None
     visual = collision = None
     try:
         visual = _quiet(pin.buildGeomFromUrdfString, model, text, pin.GeometryType.VISUAL, None, list(map(str, dirs)))
@@ -195,17 +194,17 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), source=None)
     lower, upper = model.lowerPositionLimit, model.upperPositionLimit
     mid_range = np.where(np.isfinite(lower) & np.isfinite(upper) & (upper - lower < 1e3), (lower + upper) / 2,
                          pin.neutral(model))
-    return _reduce_to_chain(model, visual, collision, mid_range, tool_frame, str(path), source)
+    return _reduce_to_chain(model, visual, collision, mid_range, tool_frame, str(path))
 
 
-def load_example_robot(name: str, tool_frame: str | None = None, source=None) -> Robot:
+def load_example_robot(name: str, tool_frame: str | None = None) -> Robot:
     """Load a robot that example-robot-data ships, by name (e.g. ``"ur5"``)."""
     names = example_robot_names()
     if name not in names:
-        raise InputError(f"unknown robot '{name}'{closest_hint(name, names)}; valid names: {', '.join(names)}",
-                         source, "robot.name")
+        raise RobotDescriptionError(f"unknown robot '{name}'{closest_hint(name, names)}; valid names: "
+                                    f"{', '.join(names)}", "name")
     model, visual, collision, reference_q = _example_robot(name)
-    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name, source)
+    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name)
 
 
 @functools.lru_cache(maxsize=None)

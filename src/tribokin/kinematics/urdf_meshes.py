@@ -17,7 +17,7 @@ import os
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from tribokin.errors import InputError
+from tribokin.errors import RobotDescriptionError
 
 #: URI schemes Pinocchio resolves against its package folders.
 PACKAGE_SCHEMES = ("package", "model")
@@ -53,7 +53,7 @@ def collada_images(mesh: Path) -> list[Path]:
             for image in library.iter() if "init_from" in image.tag and image.text]
 
 
-def confine_meshes(urdf: ET.Element, urdf_path: Path, package_dirs: list[Path], source=None,
+def confine_meshes(urdf: ET.Element, urdf_path: Path, package_dirs: list[Path],
                    allowed_dirs: list[Path] | None = None) -> None:
     """Point every ``<mesh filename=...>`` of ``urdf`` (in place) at the real path of its file, after
     checking that file, and the images of a Collada mesh, lie inside ``allowed_dirs`` (default:
@@ -62,10 +62,9 @@ def confine_meshes(urdf: ET.Element, urdf_path: Path, package_dirs: list[Path], 
     Args:
         urdf: the root element of the URDF at ``urdf_path``.
         package_dirs: the folders Pinocchio searches, in order.
-        source: the file that named the URDF, for the error (default: the URDF itself).
 
     Raises:
-        InputError: naming the first mesh (or image) that resolves outside ``allowed_dirs``.
+        RobotDescriptionError: naming the first mesh (or image) that resolves outside ``allowed_dirs``.
     """
     roots = [Path(folder).resolve() for folder in (package_dirs if allowed_dirs is None else allowed_dirs)]
     for element in urdf.iter("mesh"):
@@ -75,7 +74,7 @@ def confine_meshes(urdf: ET.Element, urdf_path: Path, package_dirs: list[Path], 
             continue
         for path, role in [(mesh, "resolves to"), *((image, "reads the image") for image in collada_images(mesh))]:
             if not any(path.is_relative_to(root) for root in roots):
-                raise InputError(f"mesh '{reference}' of {urdf_path} {role} '{path}', outside the package folders "
-                                 f"({', '.join(map(str, roots))}); move it under one of them or list its folder in "
-                                 "robot.package_dirs", urdf_path if source is None else source, "robot.package_dirs")
+                raise RobotDescriptionError(f"mesh '{reference}' of {urdf_path} {role} '{path}', outside the package "
+                                            f"folders ({', '.join(map(str, roots))}); move it under one of them or "
+                                            "list its folder in robot.package_dirs", "package_dirs")
         element.set("filename", str(mesh))

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from tribokin.errors import InputError, closest_hint
+from tribokin.errors import InputError, closest_hint, located
 from tribokin.iso9283.cube import candidate_postures, holds_orientation
 from tribokin.kinematics.robot import Robot
 
@@ -147,7 +147,8 @@ def _grid_values(bounds, count: int) -> np.ndarray:
 def make_grid(robot: Robot, spec: dict, source=None) -> TargetGrid:
     """The targets a validated ``[map]`` table describes, for ``robot``."""
     if spec["start_q"] is not None:
-        start = robot.check_configuration(spec["start_q"], source, "map.start_q")
+        with located(source, "map.start_q"):
+            start = robot.check_configuration(spec["start_q"])
     elif spec["kind"] == "joint":
         start = robot.reference_q.copy()
     else:

@@ -24,6 +24,7 @@ from collections.abc import Collection
 
 import numpy as np
 
+from tribokin.checks import finite_cell
 from tribokin.errors import InputError, closest_hint
 
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
@@ -204,16 +205,8 @@ class _Table:
 
     def numbers(self, name: str, factor: float = 1.0) -> np.ndarray:
         """Column ``name`` as finite floats times ``factor``."""
-        values = []
-        for number, cell in zip(self.lines, self.texts(name)):
-            try:
-                value = float(cell)
-            except ValueError:
-                value = np.nan
-            if not np.isfinite(value):
-                raise InputError(f"line {number} holds {cell!r}, not a finite number; fix or remove that row",
-                                 self.path, name)
-            values.append(value)
+        values = [finite_cell(cell, f"line {number}", self.path, name)
+                  for number, cell in zip(self.lines, self.texts(name))]
         return np.array(values) * factor
 
     def triple(self, key: str, required: bool = False) -> tuple[np.ndarray | None, tuple[str, ...]]:

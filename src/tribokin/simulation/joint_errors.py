@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tribokin.errors import InputError
+from tribokin.errors import JointRangeError
 from tribokin.tribology.laws import FrictionLaw
 
 APPROACH_MODES = ("unidirectional", "bidirectional", "random")
@@ -82,12 +82,14 @@ def deviation_parts(models: list[JointErrorModel], prismatic: np.ndarray, forces
 
 
 def check_travel(models: list[JointErrorModel], prismatic: np.ndarray, forces_N: np.ndarray, travel: np.ndarray,
-                 names: list[str], source, key_of) -> None:
+                 names: list[str]) -> None:
     """Refuse a joint whose deviation could exceed its range ``travel`` [m or rad], with the figures.
 
     Args:
         forces_N: (..., nv) bearing loads [N] the joints will carry.
-        key_of: ``key_of(joint name, part)`` -> the key of the study file that sets that part.
+
+    Raises:
+        JointRangeError: naming the first such joint and its largest part (a key of ``DEVIATION_PARTS``).
     """
     parts = deviation_parts(models, prismatic, forces_N)
     for i in np.flatnonzero(parts.sum(axis=1) > travel):
@@ -96,8 +98,8 @@ def check_travel(models: list[JointErrorModel], prismatic: np.ndarray, forces_N:
         labels = ("lost motion", "backlash/2", "offset", f"{TAIL_STDS} noise_std")
         shown = [f"{label} {value:.3g} {unit}" for label, value in zip(labels, parts[i]) if value]
         what = labels[int(np.argmax(parts[i]))] if len(shown) == 1 else f"deviation ({', '.join(shown)})"
-        raise InputError(f"joint '{names[i]}': {what} up to {parts[i].sum():.3g} {unit} exceeds the joint's range "
-                         f"{travel[i]:.3g} {unit}; {DEVIATION_PARTS[part]}", source, key_of(names[i], part))
+        raise JointRangeError(f"joint '{names[i]}': {what} up to {parts[i].sum():.3g} {unit} exceeds the joint's "
+                              f"range {travel[i]:.3g} {unit}; {DEVIATION_PARTS[part]}", names[i], part)
 
 
 def approach_signs(mode: str, cycles: int, directions: np.ndarray, rng: np.random.Generator):

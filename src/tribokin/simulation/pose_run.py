@@ -7,6 +7,7 @@ from typing import Protocol
 
 import numpy as np
 
+from tribokin.errors import located
 from tribokin.iso9283.metrics import covariance_semi_axes, directional_metrics, position_repeatability, \
     variance_contributions
 from tribokin.kinematics.loads import BearingLoads
@@ -114,8 +115,8 @@ class PoseRunner:
         def key_of(joint: str, part: str) -> str:
             return f"joints.{joint}.{part}" if part in overrides.get(joint, {}) else f"joints.{part}"
 
-        check_travel(models, self.robot.joint_is_prismatic, forces_N, self.travel, self.robot.joint_names,
-                     self.study.source, key_of)
+        with located(self.study.source, lambda error: key_of(error.joint, error.part)):
+            check_travel(models, self.robot.joint_is_prismatic, forces_N, self.travel, self.robot.joint_names)
 
     def models_at(self, task: PoseTask) -> list[JointErrorModel]:
         """The joint error models at a pose: the study's, with the pose's friction law if it has one."""

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from tribokin.errors import InputError, closest_hint
+from tribokin.errors import InputError, closest_hint, located
 from tribokin.iso9283.cube import APPROACH_DIRECTIONS, place_cube
 from tribokin.kinematics.robot import Robot, load_example_robot, load_urdf
 from tribokin.simulation.joint_errors import JointErrorModel
@@ -21,11 +21,18 @@ def robot_spec(study: Study) -> dict:
     return spec
 
 
+#: The key of a ``[robot]`` table that sets each argument of the robot loaders (``None``: the robot as a whole).
+ROBOT_KEYS = {"name": "robot.name", "path": "robot.urdf", "tool_frame": "robot.tool_frame",
+              "package_dirs": "robot.package_dirs", None: "robot"}
+
+
 def load_robot_spec(spec: dict, source=None) -> Robot:
-    """The robot a ``[robot]`` table with absolute paths names (see :func:`robot_spec`)."""
-    if spec["name"] is not None:
-        return load_example_robot(spec["name"], spec["tool_frame"], source)
-    return load_urdf(spec["urdf"], spec["tool_frame"], spec["package_dirs"], source)
+    """The robot a ``[robot]`` table with absolute paths names (see :func:`robot_spec`); an error names
+    ``source`` and the key at fault."""
+    with located(source, lambda error: ROBOT_KEYS[error.argument]):
+        if spec["name"] is not None:
+            return load_example_robot(spec["name"], spec["tool_frame"])
+        return load_urdf(spec["urdf"], spec["tool_frame"], spec["package_dirs"])
 
 
 def load_robot(study: Study) -> Robot:
@@ -55,11 +62,12 @@ def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
 
 def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]:
     """The study's joint-space poses, then the ISO cube's P1-P5 (solved by IK)."""
-    tasks = [joint_space_task(p.name, robot.check_configuration(p.q, study.source, f"poses[{i}].q"),
-                              p.normal_force_N,
-                              None if p.friction is None else
-                              law_from_spec(p.friction, study.source, f"poses[{i}].friction", study.base_dir))
-             for i, p in enumerate(study.poses)]
+    tasks = []
+    for i, p in enumerate(study.poses):
+        with located(study.source, f"poses[{i}].q"):
+            q = robot.check_configuration(p.q)
+        tasks.append(joint_space_task(p.name, q, p.normal_force_N, None if p.friction is None else
+                                      law_from_spec(p.friction, study.source, f"poses[{i}].friction", study.base_dir)))
     cube = None
     if study.iso_cube is not None:
         cube_poses, cube = place_cube(robot, study.iso_cube["center_m"], study.iso_cube["side_m"],

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from tribokin.checks import finite_cell
 from tribokin.errors import InputError
 
 
@@ -50,17 +51,8 @@ def read_columns(path, layouts: tuple[tuple[str, ...], ...], min_rows: int,
     columns = {}
     for name in layout + tuple(name for name in optional if name in header):
         index = header.index(name)
-        values = np.empty(len(data))
-        for line, row in enumerate(data):
-            try:
-                values[line] = float(row[index])
-            except (IndexError, ValueError):
-                cell = row[index] if index < len(row) else ""
-                raise InputError(f"data row {line + 1} holds {cell!r}, not a number; fix or remove that row",
-                                 path, name) from None
-            if not np.isfinite(values[line]):
-                raise InputError(f"data row {line + 1} holds {values[line]}, not a finite number", path, name)
-        columns[name] = values
+        columns[name] = np.array([finite_cell(row[index] if index < len(row) else "", f"data row {line + 1}", path,
+                                              name) for line, row in enumerate(data)])
     return columns
 
 

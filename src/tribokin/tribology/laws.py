@@ -4,16 +4,22 @@ Each law has the shape of a frozen ``scipy.stats`` distribution --
 ``rvs(size, random_state)``, ``mean()``, ``std()``, ``support()``, ``pdf(x)``
 -- so users need no new vocabulary; most delegate to ``scipy.stats``.
 Friction coefficients are dimensionless, never negative and at most ``MU_MAX``.
+
+Every subclass that names its ``law`` is registered in ``LAWS`` as it is defined: study files
+(``{ law = "<name>", <parameters> }``), ``describe()``, fitting (when it defines ``maximum_likelihood``)
+and ``tribokin fit-friction``'s law files find it there, so a new law is one class.
 """
 
 from __future__ import annotations
 
 import math
+import numbers
 
 import numpy as np
 from scipy import stats
 
-from tribokin.errors import InputError
+from tribokin.checks import finite, within
+from tribokin.errors import InputError, LawError
 
 
 #: Largest friction coefficient a law may hold [-]: above, it is not sliding friction (clean metals in
@@ -24,30 +30,47 @@ MU_MAX = 10.0
 MU_MIN = 1e-6
 
 
+#: A friction coefficient: a finite number in [0, ``MU_MAX``].
+coefficient = within(finite, 0.0, MU_MAX, "", f"friction coefficients are never negative, and above {MU_MAX:g} they are "
+                     "not sliding friction (clean metals in vacuum reach a few)")
+
+
 def _check_coefficient(**values: float) -> None:
-    """Each value a friction coefficient: a finite number in [0, ``MU_MAX``]."""
+    """Each value a friction coefficient (:data:`coefficient`), else a :class:`LawError` naming it."""
     for key, value in values.items():
-        # (a whole number, however long, compares exactly below; math.isfinite would overflow on it)
-        if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                or isinstance(value, float) and not math.isfinite(value):
-            raise InputError(f"must be a finite number (got {value!r})", key=key)
-        if value < 0:
-            raise InputError(f"must be >= 0: friction coefficients are never negative (got {value})", key=key)
-        if value > MU_MAX:
-            shown = f"{value:g}" if isinstance(value, float) or value < 1e300 else "a number past 1e300"
-            raise InputError(f"must be at most {MU_MAX:g} (got {shown}): friction coefficients above that are not "
-                             "sliding friction (clean metals in vacuum reach a few)", key=key)
+        try:
+            coefficient(value, None, key)
+        except InputError as error:
+            raise LawError(error.message, key) from None
+
+
+#: Every friction law by the name study files give it, in the order the classes are defined.
+LAWS: dict[str, type[FrictionLaw]] = {}
 
 
 class FrictionLaw:
     """Base class: a law of the friction coefficient mu [-].
 
-    Subclasses pass ``dist`` (a frozen scipy distribution, or ``None`` for a law of zero width:
-    every draw is ``value``) and ``params``, and may draw faster than scipy in :meth:`_draw`;
-    ``provenance`` says where the numbers come from.
+    Subclasses set ``law`` (the name in study files; a subclass that sets it is registered in ``LAWS``) and
+    ``parameters`` (the keys a study file gives, in the order of the constructor's arguments), pass ``dist`` (a
+    frozen scipy distribution, or ``None`` for a law of zero width: every draw is ``value``) and ``params``, and
+    may draw faster than scipy in :meth:`_draw`; ``provenance`` says where the numbers come from. A law that can
+    be fitted to measured mu defines ``maximum_likelihood``.
     """
 
     law: str = ""
+    parameters: tuple[str, ...] = ()
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if cls.law:
+            LAWS[cls.law] = cls
+
+    @classmethod
+    def maximum_likelihood(cls, mu: np.ndarray):
+        """(frozen scipy distribution, the law's parameters) fitted to the friction coefficients ``mu`` [-] by
+        maximum likelihood, or ``None`` when the law is not fitted (this base: never) or cannot fit ``mu``."""
+        return None
 
     def __init__(self, dist, params: dict, provenance: str | None = None, value: float | None = None):
         self._dist = dist
@@ -111,6 +134,7 @@ class Constant(FrictionLaw):
     """The same mu every cycle (the paper's Fig. 11 uses mu = 0.12, Fig. 10 mu = 0)."""
 
     law = "constant"
+    parameters = ("mu",)
 
     def __init__(self, mu: float, provenance: str | None = None):
         _check_coefficient(mu=mu)
@@ -121,16 +145,22 @@ class Uniform(FrictionLaw):
     """mu uniform on [low, high]: grease-dominated contacts (paper §4.2)."""
 
     law = "uniform"
+    parameters = ("low", "high")
 
     def __init__(self, low: float, high: float, provenance: str | None = None):
         _check_coefficient(low=low, high=high)
         if low > high:
-            raise InputError(f"low ({low}) is above high ({high}): swap them", key="low")
+            raise LawError(f"low ({low}) is above high ({high}): swap them", "low")
         super().__init__(stats.uniform(loc=low, scale=high - low) if high > low else None,
                          {"low": float(low), "high": float(high)}, provenance, value=float(low))
 
     def _draw(self, size, rng: np.random.Generator) -> np.ndarray:
         return rng.uniform(self.params["low"], self.params["high"], size)
+
+    @classmethod
+    def maximum_likelihood(cls, mu: np.ndarray):
+        loc, scale = stats.uniform.fit(mu)
+        return stats.uniform(loc, scale), {"low": float(loc), "high": float(loc + scale)}
 
 
 class Gaussian(FrictionLaw):
@@ -138,11 +168,12 @@ class Gaussian(FrictionLaw):
 
     Friction cannot be negative, so the normal law is truncated at zero
     (``scipy.stats.truncnorm``); ``mean()`` and ``std()`` are those of the
-    truncated law, equal to the parameters when ``mean`` is a few ``std``
-    above zero. Asperity-dominated contacts (paper §4.2).
+    truncated law, within 1 % of the parameters when ``mean`` >= 3 ``std``.
+    Asperity-dominated contacts (paper §4.2).
     """
 
     law = "gaussian"
+    parameters = ("mean", "std")
 
     def __init__(self, mean: float, std: float, provenance: str | None = None):
         _check_coefficient(mean=mean, std=std)
@@ -160,17 +191,24 @@ class Gaussian(FrictionLaw):
             rejected = rejected[mu.flat[rejected] < 0]
         return mu
 
+    @classmethod
+    def maximum_likelihood(cls, mu: np.ndarray):
+        """The untruncated normal fit (the law truncates it at mu = 0, which changes nothing when mean >> std)."""
+        loc, scale = stats.norm.fit(mu)
+        return stats.norm(loc, scale), {"mean": float(loc), "std": float(scale)}
+
 
 class Lognormal(FrictionLaw):
     """mu lognormal with the given ``mean`` and ``std`` of mu itself (not of log mu)."""
 
     law = "lognormal"
+    parameters = ("mean", "std")
 
     def __init__(self, mean: float, std: float, provenance: str | None = None):
         _check_coefficient(mean=mean, std=std)
         if mean < MU_MIN:
-            raise InputError(f"must be > 0, at least {MU_MIN:g}, for a lognormal law (got {mean}): "
-                             "no sliding contact has less friction (superlubric ones reach about 1e-4)", key="mean")
+            raise LawError(f"must be > 0, at least {MU_MIN:g}, for a lognormal law (got {mean}): "
+                           "no sliding contact has less friction (superlubric ones reach about 1e-4)", "mean")
         sigma_log = math.sqrt(math.log1p((std / mean) ** 2))
         median = mean / math.sqrt(1 + (std / mean) ** 2)
         super().__init__(stats.lognorm(s=sigma_log, scale=median) if std > 0 else None,
@@ -179,6 +217,15 @@ class Lognormal(FrictionLaw):
 
     def _draw(self, size, rng: np.random.Generator) -> np.ndarray:
         return rng.lognormal(self._log_median, self._sigma_log, size)
+
+    @classmethod
+    def maximum_likelihood(cls, mu: np.ndarray):
+        """Location fixed at 0; ``None`` when a value is <= 0 (outside the law's support)."""
+        if np.any(mu <= 0):
+            return None
+        s, _, scale = stats.lognorm.fit(mu, floc=0)
+        mean = scale * math.exp(s * s / 2)
+        return stats.lognorm(s, 0, scale), {"mean": float(mean), "std": float(mean * math.sqrt(math.expm1(s * s)))}
 
 
 class Empirical(FrictionLaw):
@@ -189,21 +236,22 @@ class Empirical(FrictionLaw):
     """
 
     law = "empirical"
+    parameters = ("values",)
 
     def __init__(self, values, provenance: str | None = None):
+        if not isinstance(values, np.ndarray) and (not isinstance(values, (list, tuple)) or any(
+                isinstance(v, bool) or not isinstance(v, numbers.Real) for v in values)):
+            raise LawError(f"must be a list of numbers (got {values!r})", "values")
         try:
             values = np.asarray(values, dtype=float).ravel()
-        except (TypeError, ValueError, OverflowError):
-            raise InputError("must be a list of numbers", key="values") from None
+        except (ValueError, OverflowError):  # a ragged list, a whole number past 1e308
+            raise LawError("must be a list of numbers", "values") from None
         if values.size < 2:
-            raise InputError(f"needs at least 2 measured values (got {values.size})", key="values")
+            raise LawError(f"needs at least 2 measured values (got {values.size})", "values")
         if not np.all(np.isfinite(values)):
-            raise InputError("must all be finite numbers", key="values")
-        if np.any(values < 0):
-            raise InputError(f"must be >= 0: friction coefficients are never negative (min {values.min()})", key="values")
-        if np.any(values > MU_MAX):
-            raise InputError(f"must be at most {MU_MAX:g} (max {values.max():g}): friction coefficients above that are "
-                             "not sliding friction", key="values")
+            raise LawError("must all be finite numbers", "values")
+        _check_coefficient(values=float(values.min()))
+        _check_coefficient(values=float(values.max()))
         self.values = values
         super().__init__(stats.rv_histogram(np.histogram(values, bins="auto"), density=True),
                          {"values": values.tolist()}, provenance)

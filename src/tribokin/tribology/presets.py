@@ -8,7 +8,7 @@ analysis and friction exploitation ... industrial robot repeatability", §3-4):
 
 from __future__ import annotations
 
-from tribokin.errors import InputError, closest_hint
+from tribokin.errors import LawError, closest_hint
 from tribokin.tribology.laws import Constant, FrictionLaw, Gaussian, Uniform
 
 _CAMPAIGN = "paper's tribometer campaign (42CD4 plate / 100C6 pin, Mobilux EP2 grease, 40 N and 150 N)"
@@ -37,8 +37,7 @@ PRESETS: dict[str, tuple[str, callable]] = {
 def preset(name: str) -> FrictionLaw:
     """The friction law called ``name`` (see ``PRESETS``), with its provenance."""
     if name not in PRESETS:
-        raise InputError(
-            f"unknown friction preset '{name}'{closest_hint(name, list(PRESETS))}; "
-            f"valid presets: {', '.join(PRESETS)}", key="preset")
+        raise LawError(f"unknown friction preset '{name}'{closest_hint(name, list(PRESETS))}; "
+                       f"valid presets: {', '.join(PRESETS)}", "preset")
     provenance, make = PRESETS[name]
     return make(f"preset '{name}': {provenance}")

@@ -17,23 +17,16 @@ from pathlib import Path
 
 import numpy as np
 
-from tribokin.errors import InputError, closest_hint
-from tribokin.tribology.laws import (MU_MAX, MU_MIN, Constant, Empirical, FrictionLaw, Gaussian,
-                                     Lognormal, Uniform)
+from tribokin.checks import finite, seed_int, whole_number, within
+from tribokin.errors import InputError, LawError, closest_hint
+from tribokin.tribology import laws
+from tribokin.tribology.laws import MU_MAX, MU_MIN, Constant, Empirical, FrictionLaw
 from tribokin.tribology.presets import preset
 
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover
     import tomli as tomllib
-
-LAWS = {
-    "constant": (Constant, ("mu",)),
-    "uniform": (Uniform, ("low", "high")),
-    "gaussian": (Gaussian, ("mean", "std")),
-    "lognormal": (Lognormal, ("mean", "std")),
-    "empirical": (Empirical, ("values",)),
-}
 
 
 def _from_preset(spec: dict, base_dir: Path) -> FrictionLaw:
@@ -42,24 +35,16 @@ def _from_preset(spec: dict, base_dir: Path) -> FrictionLaw:
 
 
 def _from_law(spec: dict, base_dir: Path) -> FrictionLaw:
-    name = spec["law"]
-    if name not in LAWS:
-        raise InputError(f"unknown law '{name}'{closest_hint(str(name), list(LAWS))}; valid laws: {', '.join(LAWS)}",
-                         key="law")
-    cls, keys = LAWS[name]
-    _only_keys(spec, ("law",) + keys)
-    missing = [k for k in keys if k not in spec]
+    name, known = spec["law"], laws.LAWS
+    if name not in known:
+        raise InputError(f"unknown law '{name}'{closest_hint(str(name), list(known))}; valid laws: "
+                         f"{', '.join(known)}", key="law")
+    law = known[name]
+    _only_keys(spec, ("law",) + law.parameters)
+    missing = [k for k in law.parameters if k not in spec]
     if missing:
         raise InputError(f"law '{name}' needs {', '.join(missing)}", key=missing[0])
-    if name == "empirical":
-        _check_values(spec["values"])
-    return cls(*(spec[k] for k in keys))  # checks the parameters
-
-
-def _check_values(values) -> None:
-    """Measured values must be a list of numbers (the law checks they are finite and >= 0)."""
-    if not isinstance(values, list) or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in values):
-        raise InputError(f"must be a list of numbers (got {values!r})", key="values")
+    return law(*(spec[k] for k in law.parameters))  # checks the parameters
 
 
 def _from_file(spec: dict, base_dir: Path) -> FrictionLaw:
@@ -91,39 +76,34 @@ def _from_log(spec: dict, base_dir: Path) -> FrictionLaw:
 
 
 SURFACE_REQUIRED = ("normal_force_N", "contact_area_m2", "film_thickness_m")
-#: key -> (smallest, largest, unit, what lies outside) of the numbers of a surface law.
-SURFACE_RANGES = {
-    "normal_force_N": (1e-3, 1e7, "N", "tribometers load from millinewtons; no bearing carries 1000 t"),
-    "contact_area_m2": (1e-12, 1e-2, "m²", "a pin's apparent contact spans a square micrometre to 100 cm²"),
-    "film_thickness_m": (1e-9, 1e-3, "m", "lubricant films run from nanometres to a tenth of a millimetre"),
-    "mu_boundary": (MU_MIN, MU_MAX, "", "the friction coefficients a law may hold"),
-    "mu_film": (MU_MIN, MU_MAX, "", "the friction coefficients a law may hold"),
-    "modulus_Pa": (1e6, 1.2e12, "Pa", "contact moduli run from rubber's megapascals to diamond's 1.2e12 Pa"),
+#: key -> check of the numbers of a surface law: each within its physical range.
+SURFACE_NUMBERS = {
+    "normal_force_N": within(finite, 1e-3, 1e7, "N", "tribometers load from millinewtons; no bearing carries 1000 t"),
+    "contact_area_m2": within(finite, 1e-12, 1e-2, "m²", "a pin's apparent contact spans a square micrometre to 100 cm²"),
+    "film_thickness_m": within(finite, 1e-9, 1e-3, "m", "lubricant films run from nanometres to a tenth of a millimetre"),
+    "mu_boundary": within(finite, MU_MIN, MU_MAX, "", "the friction coefficients a law may hold"),
+    "mu_film": within(finite, MU_MIN, MU_MAX, "", "the friction coefficients a law may hold"),
+    "modulus_Pa": within(finite, 1e6, 1.2e12, "Pa", "contact moduli run from rubber's megapascals to diamond's 1.2e12 Pa"),
 }
-#: key -> (default, smallest, largest) of the whole numbers of a surface law.
-SURFACE_COUNTS = {"cycles": (1000, 1, 10 ** 6), "seed": (0, 0, 2 ** 64 - 1)}
+#: key -> (default, check) of the whole numbers of a surface law.
+SURFACE_COUNTS = {"cycles": (1000, within(whole_number, 1, 10 ** 6, "", "a surface law simulates up to a million "
+                                                                          "cycles")),
+                  "seed": (0, seed_int)}
 #: Most summits a surface law may draw (contacts per cycle × cycles): about a minute's work.
 MAX_SUMMIT_DRAWS = 1e8
 
 
 def _number(spec: dict, key: str, default: float | None = None) -> float:
-    """``spec[key]`` (else ``default``), a number within its ``SURFACE_RANGES``."""
+    """``spec[key]`` (else ``default``), a number within its range (``SURFACE_NUMBERS``)."""
     value = spec.get(key, default)
     if value is None:
         raise InputError("is required for a surface friction law", key=key)
-    low, high, unit, why = SURFACE_RANGES[key]
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
-        raise InputError(f"must be a number between {low:g} and {high:g}{' ' + unit if unit else ''} (got {value!r}): "
-                         f"{why}", key=key)
-    return float(value)
+    return SURFACE_NUMBERS[key](value, None, key)
 
 
 def _count(spec: dict, key: str) -> int:
-    default, smallest, largest = SURFACE_COUNTS[key]
-    value = spec.get(key, default)
-    if isinstance(value, bool) or not isinstance(value, int) or not smallest <= value <= largest:
-        raise InputError(f"must be a whole number between {smallest} and {largest} (got {value!r})", key=key)
-    return value
+    default, check = SURFACE_COUNTS[key]
+    return check(spec.get(key, default), None, key)
 
 
 def _from_surface(spec: dict, base_dir: Path) -> FrictionLaw:
@@ -184,6 +164,8 @@ def law_from_spec(spec, source: str | Path | None = None, key: str = "friction",
         raise InputError(f"needs one of the keys {', '.join(SPEC_KINDS)}", source, key)
     try:
         return SPEC_KINDS[kind](spec, Path(base_dir))
+    except LawError as error:
+        raise InputError(error.message, source, ".".join(part for part in (key, error.parameter) if part)) from None
     except InputError as error:
         if error.source is not None:
             raise  # already names its own file (a law file, a log, a profile) and the key inside it

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 import numpy as np
 
+from tribokin.checks import count
 from tribokin.errors import InputError
 from tribokin.tribology.columns import read_columns
 from tribokin.tribology.laws import MU_MAX
@@ -75,8 +76,7 @@ def steady_state(log: TribometerLog, running_in: int | None = None) -> tuple[np.
     ``running_in`` overrides the detected count (``running_in_cycles``).
     """
     trimmed = running_in_cycles(log.mu) if running_in is None else running_in
-    if isinstance(trimmed, bool) or not isinstance(trimmed, (int, np.integer)) or trimmed < 0:
-        raise InputError(f"must be a whole number >= 0 (got {trimmed!r})", log.source, "running_in")
+    count(trimmed, log.source, "running_in")
     if log.mu.size - trimmed < MIN_CYCLES:
         shown = trimmed if trimmed <= log.mu.size else "more than all"
         raise InputError(f"trimming {shown} of {log.mu.size} cycles leaves fewer than {MIN_CYCLES}; "
