@@ -54,14 +54,14 @@ def test_shipped_map_grids_are_the_decimals_written(name):
     assert _short(positions) and _short(values)
     assert not np.signbit(positions[positions == 0]).any() and not np.signbit(values[values == 0]).any()
     spec = study.map
-    if spec["kind"] == "plane":
-        lows, highs = [spec["extent_u_m"][0], spec["extent_v_m"][0]], [spec["extent_u_m"][1], spec["extent_v_m"][1]]
+    if spec.kind == "plane":
+        lows, highs = [spec.extent_u_m[0], spec.extent_v_m[0]], [spec.extent_u_m[1], spec.extent_v_m[1]]
         assert values[0, :2].tolist() == lows and values[-1, :2].tolist() == highs
-        directions = np.array([spec["axis_u"], spec["axis_v"]])
-        corners = [np.asarray(spec["origin_m"]) + np.array(b) @ directions for b in (lows, highs)]
+        directions = np.array([spec.axis_u, spec.axis_v])
+        corners = [np.asarray(spec.origin_m) + np.array(b) @ directions for b in (lows, highs)]
         assert positions[[0, -1]].tolist() == np.round(corners, 12).tolist()
     else:
-        assert positions[0].tolist() == spec["min_m"] and positions[-1].tolist() == spec["max_m"]
+        assert positions[0].tolist() == list(spec.min_m) and positions[-1].tolist() == list(spec.max_m)
 
 
 def test_joint_and_line_grids_are_the_decimals_written():

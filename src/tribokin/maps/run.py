@@ -27,7 +27,7 @@ from tribokin.errors import InputError
 from tribokin.execution import run_chunks
 from tribokin.iso9283.metrics import orientation_repeatability, position_spread, variance_contributions
 from tribokin.kinematics.robot import Robot
-from tribokin.maps.budget import TARGET_BLOCK_SAMPLES, rows_per_chunk
+from tribokin.maps.budget import TARGET_BLOCK_SAMPLES
 from tribokin.maps.grid import TargetGrid, make_grid, target_positions_m
 from tribokin.maps.result import MAP_FIGURES, MapResult, ScenarioMap, scenario_column
 from tribokin.maps.rows import fill_from_neighbours, solve_row, solve_row_heads
@@ -215,9 +215,9 @@ def fill_holes(robot: Robot, grid, runners: list[PoseRunner], store: ChunkStore)
         store.write(indices, filled)
 
 
-def chunk_rows(study: Study, row_length: int, row_count: int) -> list[list[int]]:
-    """The grid rows of each chunk (:func:`~tribokin.maps.budget.rows_per_chunk`)."""
-    size = rows_per_chunk(study.map, row_length)
+def chunk_rows(study: Study, row_count: int) -> list[list[int]]:
+    """The grid rows of each chunk (:attr:`~tribokin.study.map_spec.MapSpec.rows_per_chunk`)."""
+    size = study.map.rows_per_chunk
     return [list(range(start, min(start + size, row_count))) for start in range(0, row_count, size)]
 
 
@@ -279,7 +279,7 @@ def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunn
     """
     studies = tuple(runner.study for runner in runners)
     names = [s.name for s in study.scenarios] or [study.name]
-    chunks = chunk_rows(study, grid.row_length, grid.row_count)
+    chunks = chunk_rows(study, grid.row_count)
     store = open_store(study, studies, chunks, grid.size, robot.model.nv, checkpoint, resume)
     finished = set(store.finished())
     job = MapJob(uuid.uuid4().hex, study, studies)
