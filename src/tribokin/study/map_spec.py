@@ -56,18 +56,11 @@ class MapSpec:
 
 
 @dataclass(frozen=True, kw_only=True)
-class PlaneMap(MapSpec):
-    """Tool positions on a plane: ``origin_m + u·axis_u + v·axis_v`` [m], ``u`` and ``v`` spanning ``extent_u_m``
-    and ``extent_v_m`` [m] in ``resolution`` = (nu, nv) points, at tool orientation ``rpy_deg`` [deg]."""
+class CartesianMap(MapSpec):
+    """Tool positions: ``resolution`` points along each axis, at tool orientation ``rpy_deg`` [deg] (``None``: the
+    start posture's)."""
 
-    kind: ClassVar[str] = "plane"
-
-    origin_m: Vector3
-    axis_u: Vector3
-    axis_v: Vector3
-    extent_u_m: tuple[float, float]
-    extent_v_m: tuple[float, float]
-    resolution: tuple[int, int]
+    resolution: tuple[int, ...]
     rpy_deg: Vector3 | None = None
 
     @property
@@ -77,21 +70,27 @@ class PlaneMap(MapSpec):
 
 
 @dataclass(frozen=True, kw_only=True)
-class BoxMap(MapSpec):
-    """Tool positions in a box from ``min_m`` to ``max_m`` [m], ``resolution`` = (nx, ny, nz) points, at tool
-    orientation ``rpy_deg`` [deg]."""
+class PlaneMap(CartesianMap):
+    """Tool positions on a plane: ``origin_m + u·axis_u + v·axis_v`` [m], ``u`` and ``v`` spanning ``extent_u_m``
+    and ``extent_v_m`` [m] in ``resolution`` = (nu, nv) points."""
+
+    kind: ClassVar[str] = "plane"
+
+    origin_m: Vector3
+    axis_u: Vector3
+    axis_v: Vector3
+    extent_u_m: tuple[float, float]
+    extent_v_m: tuple[float, float]
+
+
+@dataclass(frozen=True, kw_only=True)
+class BoxMap(CartesianMap):
+    """Tool positions in a box from ``min_m`` to ``max_m`` [m], ``resolution`` = (nx, ny, nz) points."""
 
     kind: ClassVar[str] = "box"
 
     min_m: Vector3
     max_m: Vector3
-    resolution: tuple[int, int, int]
-    rpy_deg: Vector3 | None = None
-
-    @property
-    def counts(self) -> tuple[int, ...]:
-        """Targets along each axis, columns first."""
-        return self.resolution
 
 
 @dataclass(frozen=True, kw_only=True)
