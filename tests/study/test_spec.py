@@ -6,8 +6,8 @@ import hashlib
 import pytest
 
 from conftest import GANTRY_MAP_TOML, axis_study
+from tribokin import IsoCubeSpec, JointSpec, PoseSpec, RobotSpec, ScenarioSpec, Study  # exported for users
 from tribokin.study.reading import load_study, read_study_file
-from tribokin.study.spec import IsoCubeSpec, JointSpec, PoseSpec, RobotSpec, ScenarioSpec, Study
 
 SCENARIOS = [{"name": "stiff", "joints": {"stiffness": 2.0e6}}, {"name": "own-seed", "study": {"seed": 9}}]
 
