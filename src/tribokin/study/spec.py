@@ -1,8 +1,9 @@
-"""Study files: validation of the mapping into a :class:`Study`.
+"""Study files: validation of the mapping into a frozen :class:`Study` of frozen specs.
 
 Every key is checked here, before anything runs; a bad one raises an
 :class:`~tribokin.errors.InputError` naming the file and the key. The keys,
-their units and defaults are documented in the README.
+their units and defaults are documented in the README. Overrides (the command line's
+``cycles`` and ``seed``, scenarios) make new specs with :func:`dataclasses.replace`.
 """
 
 from __future__ import annotations
@@ -295,7 +296,8 @@ class Study:
         return replace(self.joints, **self.joint_overrides.get(name, {}))
 
     def joint_key(self, name: str, part: str) -> str:
-        """The study key that sets ``part`` (``"stiffness"``...) of joint ``name``: its own table's, else ``[joints]``'s."""
+        """The study key that sets ``part`` (``"stiffness"``...) of joint ``name``: in its own table, else in
+        ``[joints]``."""
         return f"joints.{name}.{part}" if part in self.joint_overrides.get(name, {}) else f"joints.{part}"
 
 
