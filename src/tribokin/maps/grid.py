@@ -22,6 +22,15 @@ from tribokin.study.map_spec import JointMap, MapSpec, PlaneMap
 GRID_DECIMALS = 12
 
 
+class GridError(ValueError):
+    """A map spec that does not fit the robot; ``key`` names the spec's field at fault (``"rpy_deg"``,
+    ``"joints[0]"``), for a study to name its file and key."""
+
+    def __init__(self, message: str, key: str):
+        super().__init__(message)
+        self.key = key
+
+
 @dataclass(frozen=True)
 class GridAxis:
     """One axis of a grid: ``name`` (``"u"``, ``"x"``, a joint name), ``unit`` (``"m"``, ``"rad"``) and values."""
@@ -145,23 +154,27 @@ def _grid_values(bounds, count: int) -> np.ndarray:
     return grid_rounded(low + np.arange(count) * step)
 
 
-def make_grid(robot: Robot, spec: MapSpec, source=None) -> TargetGrid:
-    """The targets a validated ``[map]`` describes, for ``robot``."""
+def make_grid(robot: Robot, spec: MapSpec) -> TargetGrid:
+    """The targets a validated ``[map]`` describes, for ``robot``; a :class:`GridError` if they do not fit it (its
+    joints, their limits, the start posture, a tool orientation it cannot hold)."""
     if spec.start_q is not None:
-        start = robot.check_configuration(spec.start_q, source, "map.start_q")
+        try:
+            start = robot.check_configuration(spec.start_q)
+        except InputError as error:
+            raise GridError(error.message, "start_q") from None
     elif isinstance(spec, JointMap):
         start = robot.reference_q.copy()
     else:
         start = candidate_postures(robot, keep=1)[0]
     if isinstance(spec, JointMap):
-        return _joint_grid(robot, spec, start, source)
+        return _joint_grid(robot, spec, start)
     rotation = None
     if holds_orientation(robot, start):
         rpy = spec.rpy_deg
         rotation = robot.tool_placement(start).rotation.copy() if rpy is None else pin.rpy.rpyToMatrix(*np.radians(rpy))
     elif spec.rpy_deg is not None:
-        raise InputError(f"{robot.label} cannot hold the tool's orientation (fewer than 6 independent joints at the "
-                         "start posture); remove map.rpy_deg", source, "map.rpy_deg")
+        raise GridError(f"{robot.label} cannot hold the tool's orientation (fewer than 6 independent joints at the "
+                        "start posture); remove map.rpy_deg", "rpy_deg")
     if isinstance(spec, PlaneMap):
         u = GridAxis("u", "m", _grid_values(spec.extent_u_m, spec.resolution[0]))
         v = GridAxis("v", "m", _grid_values(spec.extent_v_m, spec.resolution[1]))
@@ -173,18 +186,18 @@ def make_grid(robot: Robot, spec: MapSpec, source=None) -> TargetGrid:
     return TargetGrid("box", (x, y, z), rotation, start, np.zeros(3), np.eye(3))
 
 
-def _joint_grid(robot: Robot, spec: JointMap, start: np.ndarray, source) -> TargetGrid:
+def _joint_grid(robot: Robot, spec: JointMap, start: np.ndarray) -> TargetGrid:
     names = robot.joint_names
     axes = []
     for i, (joint, bounds, count) in enumerate(zip(spec.joints, spec.ranges, spec.counts)):
         if joint not in names:
-            raise InputError(f"unknown joint '{joint}'{closest_hint(joint, names)}; joints of {robot.label}: "
-                             f"{', '.join(names)}", source, f"map.joints[{i}]")
+            raise GridError(f"unknown joint '{joint}'{closest_hint(joint, names)}; joints of {robot.label}: "
+                            f"{', '.join(names)}", f"joints[{i}]")
         k = names.index(joint)
         low, high = robot.lower_limits[k], robot.upper_limits[k]
         if bounds[0] < low or bounds[1] > high:
-            raise InputError(f"[{bounds[0]:g}, {bounds[1]:g}] leaves the limits of joint '{joint}' "
-                             f"[{low:g}, {high:g}]", source, f"map.ranges[{i}]")
+            raise GridError(f"[{bounds[0]:g}, {bounds[1]:g}] leaves the limits of joint '{joint}' "
+                            f"[{low:g}, {high:g}]", f"ranges[{i}]")
         axes.append(GridAxis(joint, "m" if robot.joint_is_prismatic[k] else "rad", _grid_values(bounds, count)))
     columns = tuple(names.index(axis.name) for axis in axes)
     return TargetGrid("joint", tuple(axes + [None] * (3 - len(axes))), None, start, joint_columns=columns)
