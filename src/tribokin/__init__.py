@@ -14,8 +14,10 @@ from tribokin.maps.result import MapResult
 from tribokin.provenance import __version__
 from tribokin.run import StudyResult, run_study
 from tribokin.simulation.pose_result import PoseResult
+from tribokin.study.map_spec import BoxMap, JointMap, PlaneMap
 from tribokin.study.reading import load_study
-from tribokin.study.spec import Study
+from tribokin.study.spec import IsoCubeSpec, JointSpec, PoseSpec, RobotSpec, ScenarioSpec, Study
 
-__all__ = ["run_study", "load_study", "Study", "StudyResult", "PoseResult", "MapResult", "TribokinError",
+__all__ = ["run_study", "load_study", "Study", "RobotSpec", "JointSpec", "PoseSpec", "IsoCubeSpec", "PlaneMap",
+           "BoxMap", "JointMap", "ScenarioSpec", "StudyResult", "PoseResult", "MapResult", "TribokinError",
            "InputError", "ConfigurationError", "RobotDescriptionError", "LawError", "JointRangeError", "__version__"]

@@ -5,8 +5,7 @@ import pinocchio as pin
 import pytest
 
 from conftest import ROOT
-from tribokin.errors import InputError
-from tribokin.iso9283.cube import APPROACH_DIRECTIONS, joint_approach_signs, place_cube
+from tribokin.iso9283.cube import APPROACH_DIRECTIONS, UnreachableCube, joint_approach_signs, place_cube
 from tribokin.iso9283.metrics import cube_test_positions
 from tribokin.kinematics.ik import solve_ik
 from tribokin.kinematics.robot import load_example_robot, load_urdf
@@ -41,9 +40,8 @@ def test_ik_reaches_cube_points_to_below_a_micrometre(name):
 
 def test_unreachable_cube_is_an_error_naming_the_pose():
     gantry = load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf")
-    with pytest.raises(InputError, match="ISO pose P1") as error:
-        place_cube(gantry, center_m=[3.0, 0.3, 0.4], side_m=0.1, source="s.toml")
-    assert error.value.key == "iso_cube"
+    with pytest.raises(UnreachableCube, match=r"ISO pose P1 at \[3.0, 0.3, 0.4\] m is unreachable"):
+        place_cube(gantry, center_m=[3.0, 0.3, 0.4], side_m=0.1)
 
 
 def test_ik_respects_joint_limits():

@@ -16,6 +16,7 @@ from tribokin.kinematics.urdf_meshes import resolve_mesh
 from tribokin.output.writers import write_results
 from tribokin.run import run_study
 from tribokin.study.assembly import load_robot_spec
+from tribokin.study.spec import RobotSpec
 
 TETRAHEDRON_STL = """solid t
 facet normal 0 0 -1
@@ -104,8 +105,7 @@ def test_mesh_outside_the_package_is_refused_while_loading(tmp_path, monkeypatch
     for loader in ("buildModelFromUrdf", "buildModelFromXML", "buildGeomFromUrdf", "buildGeomFromUrdfString"):
         monkeypatch.setattr(pin, loader, lambda *args, name=loader: read.append(name))
     with pytest.raises(InputError) as error:
-        load_robot_spec({"name": None, "urdf": urdf, "tool_frame": "tool", "package_dirs": [tmp_path / "share"]},
-                        "study.toml")
+        load_robot_spec(RobotSpec(str(urdf), None, "tool", (str(tmp_path / "share"),), 0.0), "study.toml")
     line = error.value.one_line()
     assert line.startswith("study.toml: robot.package_dirs: mesh ") and mesh.split("/")[-1] in line
     assert str(urdf) in line and str((tmp_path / "share").resolve()) in line

@@ -8,7 +8,7 @@ import pytest
 from conftest import ROOT, axis_study
 from tribokin import InputError, load_study, run_study
 from tribokin.cli import main
-from tribokin.maps.budget import available_bytes, estimate, map_target_count
+from tribokin.maps.budget import available_bytes, estimate
 from tribokin.units import gib
 
 GANTRY_MAP = {
@@ -36,7 +36,7 @@ def test_estimate_counts_every_cycle_of_every_pose_and_every_map_target():
     (two_directions, _, _), = estimate(bigger, 1, [2])
     assert two_directions == 2 * size_3000  # every direction's cycles are kept and computed at once
     gantry = load_study(GANTRY_MAP)
-    assert map_target_count(gantry.map) == 24
+    assert gantry.map.target_count == 24
     parts = {key: size for size, key, _ in estimate(gantry, 3, [])}
     assert set(parts) == {"map.resolution", "study.cycles"}
     # the map's results are on disk: memory holds a chunk and a warm start per grid row, whatever the row length

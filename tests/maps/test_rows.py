@@ -16,7 +16,7 @@ from tribokin.study.assembly import load_robot
 def solved():
     study = ur5_plane([5, 4])
     robot = load_robot(study)
-    grid = make_grid(robot, study.map, study.source)
+    grid = make_grid(robot, study.map)
     heads = solve_row_heads(robot, grid)
     rows = [solve_row(robot, grid, row, heads[row]) for row in range(grid.row_count)]
     q = np.vstack([r[0] for r in rows])

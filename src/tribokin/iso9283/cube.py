@@ -7,7 +7,6 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from tribokin.errors import InputError
 from tribokin.iso9283.metrics import cube_test_positions
 from tribokin.kinematics.ik import solve_ik_with_restarts
 from tribokin.kinematics.robot import Robot
@@ -17,6 +16,11 @@ from tribokin.kinematics.robot import Robot
 #: directions for vAP), bidirectional and random tests all six.
 APPROACH_DIRECTIONS = {f"{sign}{axis}": sign_value * row for axis, row in zip("xyz", np.eye(3))
                        for sign, sign_value in (("+", 1.0), ("-", -1.0))}
+
+
+class UnreachableCube(ValueError):
+    """No cube with all of P1-P5 reachable: the message names the first pose out of reach (a study adds its file
+    and key)."""
 
 
 @dataclass(frozen=True)
@@ -75,7 +79,7 @@ def _solve_cube(robot, center, side, rotation, start, rng, position_only):
     return poses, None
 
 
-def place_cube(robot: Robot, center_m=None, side_m: float | None = None, rpy_deg=None, source=None,
+def place_cube(robot: Robot, center_m=None, side_m: float | None = None, rpy_deg=None,
                rng: np.random.Generator | None = None) -> tuple[list[CubePose], dict]:
     """Solve P1-P5 of the ISO cube by IK, with the tool held at one orientation.
 
@@ -83,7 +87,7 @@ def place_cube(robot: Robot, center_m=None, side_m: float | None = None, rpy_deg
     :func:`candidate_postures`), orientation the tool's there, side the largest of
     0.4, 0.3, 0.2, 0.1, 0.05 m with all five poses reachable. A robot that cannot
     hold its tool's orientation everywhere (fewer than 6 independent joints) is
-    solved for position only. An unreachable pose is an error naming it.
+    solved for position only. An unreachable pose is an :class:`UnreachableCube` naming it.
 
     Returns:
         the five poses and the cube actually used (``center_m``, ``side_m``, ``rpy_deg``,
@@ -106,6 +110,6 @@ def place_cube(robot: Robot, center_m=None, side_m: float | None = None, rpy_deg
                 return poses, {"center_m": center.tolist(), "side_m": side, "rpy_deg": rpy,
                                "orientation_held": not position_only}
     name, position, result = failure
-    raise InputError(f"ISO pose {name} at {np.round(position, 4).tolist()} m is unreachable with this tool "
-                     f"orientation within the joint limits (closest {result.position_error_m * 1e3:.3g} mm); "
-                     "move or shrink the cube", source, "iso_cube")
+    raise UnreachableCube(f"ISO pose {name} at {np.round(position, 4).tolist()} m is unreachable with this tool "
+                          f"orientation within the joint limits (closest {result.position_error_m * 1e3:.3g} mm); "
+                          "move or shrink the cube")

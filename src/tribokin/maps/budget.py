@@ -10,7 +10,6 @@ measured (``tracemalloc``, UR5 and gantry) and rounded up about twofold.
 
 from __future__ import annotations
 
-import math
 import os
 import shutil
 from pathlib import Path
@@ -23,8 +22,6 @@ FLOAT = 8
 #: A map draws, propagates and measures its targets in blocks of about this many cycles: enough to
 #: share the per-call costs, few enough for the block's arrays (a few MiB) to stay small.
 TARGET_BLOCK_SAMPLES = 16384
-#: A map chunk holds about this many targets, rounded up to whole grid rows (``map.chunk_rows`` overrides).
-CHUNK_TARGETS = 256
 #: Bytes per cycle of a pose while the results are written (figures, the report's clouds).
 WRITTEN_PER_CYCLE = 800
 
@@ -43,32 +40,6 @@ def map_bytes_per_target(nv: int, scenarios: int) -> int:
     """Bytes per map target in its store: position (3), q (nv), reachable, closest IK errors (2), and per
     scenario the figures (7), loads (nv) and dominant joint."""
     return FLOAT * (5 + nv) + 1 + scenarios * FLOAT * (8 + nv)
-
-
-def grid_counts(spec: dict) -> list[int]:
-    """Targets along each axis of a validated ``[map]``, columns first."""
-    return spec["counts"] if spec["kind"] == "joint" else spec["resolution"]
-
-
-def size_key(spec: dict) -> str:
-    """The ``[map]`` key that sets its number of targets."""
-    return "map.counts" if spec["kind"] == "joint" else "map.resolution"
-
-
-def rows_per_chunk(spec: dict, row_length: int) -> int:
-    """Grid rows a map chunk computes: ``map.chunk_rows``, default about ``CHUNK_TARGETS`` targets."""
-    return spec["chunk_rows"] or math.ceil(CHUNK_TARGETS / row_length)
-
-
-def chunk_targets(spec: dict) -> int:
-    """Targets of the largest chunk of a validated ``[map]``."""
-    row_length = grid_counts(spec)[0]
-    return min(rows_per_chunk(spec, row_length) * row_length, map_target_count(spec))
-
-
-def grid_rows(spec: dict) -> int:
-    """Grid rows of a validated ``[map]`` (all layers)."""
-    return map_target_count(spec) // grid_counts(spec)[0]
 
 
 #: (limit, usage) files of a cgroup v2, then v1: a container's memory limit.
@@ -99,11 +70,6 @@ def available_bytes() -> int | None:
     return max(0, min(candidates))
 
 
-def map_target_count(spec: dict) -> int:
-    """Targets of a validated ``[map]`` table (every grid point, reachable or not)."""
-    return math.prod(grid_counts(spec))
-
-
 def _count(number: int, word: str) -> str:
     """``"1,000 cycles"``, ``"1 pose"``."""
     return f"{number:,} {word}{'' if number == 1 else 's'}"
@@ -113,7 +79,7 @@ def check_disk(study: Study, nv: int, folder) -> None:
     """An :class:`InputError` naming the map's size key if its store would not fit on the disk holding ``folder``."""
     if study.map is None:
         return
-    targets = map_target_count(study.map)
+    targets = study.map.target_count
     scenarios = max(1, len(study.scenarios))
     needed = targets * map_bytes_per_target(nv, scenarios)
     existing = Path(folder).absolute()
@@ -121,7 +87,7 @@ def check_disk(study: Study, nv: int, folder) -> None:
         existing = existing.parent
     free = shutil.disk_usage(existing).free
     if needed > free:
-        key = size_key(study.map)
+        key = study.map.size_key
         raise InputError(f"this map needs about {gib(needed)} of disk space for its results ({_count(targets, 'map target')}"
                          f" × {_count(scenarios, 'scenario')} × {_count(nv, 'joint')}), and {gib(free)} is available in "
                          f"'{existing}': lower {key}, or split the map into several", study.source, key)
@@ -146,12 +112,11 @@ def estimate(study: Study, nv: int, directions: list[int], workers: int = 1) -> 
     if study.map is not None:
         scenarios = max(1, len(study.scenarios))
         cycles = max([s.study.cycles for s in study.scenarios] or [study.cycles])
-        key = size_key(study.map)
-        chunk = chunk_targets(study.map)
-        held = 2 * (max(1, workers) + 1) * chunk * map_bytes_per_target(nv, scenarios) + 3 * FLOAT * nv * grid_rows(
-            study.map)  # chunks computed, in transit and written; a warm start per row (kept, sent, solved)
+        key, chunk, rows = study.map.size_key, study.map.chunk_targets, study.map.grid_rows
+        held = 2 * (max(1, workers) + 1) * chunk * map_bytes_per_target(nv, scenarios) + 3 * FLOAT * nv * rows
+        # chunks computed, in transit and written; a warm start per row (kept, sent, solved)
         parts.append((held, key, f"{_count(chunk, 'map target')} per chunk × {_count(scenarios, 'scenario')} × "
-                                 f"{_count(nv, 'joint')}, and {_count(grid_rows(study.map), 'grid row')}"))
+                                 f"{_count(nv, 'joint')}, and {_count(rows, 'grid row')}"))
         block = max(cycles, TARGET_BLOCK_SAMPLES)  # cycles of the targets measured together
         parts.append((max(1, workers) * block * (kept_per_cycle(nv) + computed_per_cycle(nv)), "study.cycles",
                       f"{_count(cycles, 'cycle')} per map target × {_count(max(1, workers), 'worker')}"))

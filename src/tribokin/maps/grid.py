@@ -12,13 +12,23 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from tribokin.errors import InputError, closest_hint, located
+from tribokin.errors import ConfigurationError, closest_hint
 from tribokin.iso9283.cube import candidate_postures, holds_orientation
 from tribokin.kinematics.robot import Robot
+from tribokin.study.map_spec import JointMap, MapSpec, PlaneMap
 
 #: Grid values and target positions are rounded to 1e-GRID_DECIMALS [m or rad], so that they are the decimals
 #: the user wrote (``-0.55``, not ``-0.5499999999999999``).
 GRID_DECIMALS = 12
+
+
+class GridError(ValueError):
+    """A map spec that does not fit the robot; ``key`` names the spec's field at fault (``"rpy_deg"``,
+    ``"joints[0]"``), for a study to name its file and key."""
+
+    def __init__(self, message: str, key: str):
+        super().__init__(message)
+        self.key = key
 
 
 @dataclass(frozen=True)
@@ -144,47 +154,50 @@ def _grid_values(bounds, count: int) -> np.ndarray:
     return grid_rounded(low + np.arange(count) * step)
 
 
-def make_grid(robot: Robot, spec: dict, source=None) -> TargetGrid:
-    """The targets a validated ``[map]`` table describes, for ``robot``."""
-    if spec["start_q"] is not None:
-        with located(source, "map.start_q"):
-            start = robot.check_configuration(spec["start_q"])
-    elif spec["kind"] == "joint":
+def make_grid(robot: Robot, spec: MapSpec) -> TargetGrid:
+    """The targets a validated ``[map]`` describes, for ``robot``; a :class:`GridError` if they do not fit it (its
+    joints, their limits, the start posture, a tool orientation it cannot hold)."""
+    if spec.start_q is not None:
+        try:
+            start = robot.check_configuration(spec.start_q)
+        except ConfigurationError as error:
+            raise GridError(str(error), "start_q") from None
+    elif isinstance(spec, JointMap):
         start = robot.reference_q.copy()
     else:
         start = candidate_postures(robot, keep=1)[0]
-    if spec["kind"] == "joint":
-        return _joint_grid(robot, spec, start, source)
+    if isinstance(spec, JointMap):
+        return _joint_grid(robot, spec, start)
     rotation = None
     if holds_orientation(robot, start):
-        rpy = spec["rpy_deg"]
+        rpy = spec.rpy_deg
         rotation = robot.tool_placement(start).rotation.copy() if rpy is None else pin.rpy.rpyToMatrix(*np.radians(rpy))
-    elif spec["rpy_deg"] is not None:
-        raise InputError(f"{robot.label} cannot hold the tool's orientation (fewer than 6 independent joints at the "
-                         "start posture); remove map.rpy_deg", source, "map.rpy_deg")
-    if spec["kind"] == "plane":
-        u = GridAxis("u", "m", _grid_values(spec["extent_u_m"], spec["resolution"][0]))
-        v = GridAxis("v", "m", _grid_values(spec["extent_v_m"], spec["resolution"][1]))
-        directions = np.array([spec["axis_u"], spec["axis_v"], [0.0, 0.0, 0.0]], dtype=float)
-        return TargetGrid("plane", (u, v, None), rotation, start, np.asarray(spec["origin_m"], dtype=float),
+    elif spec.rpy_deg is not None:
+        raise GridError(f"{robot.label} cannot hold the tool's orientation (fewer than 6 independent joints at the "
+                        "start posture); remove map.rpy_deg", "rpy_deg")
+    if isinstance(spec, PlaneMap):
+        u = GridAxis("u", "m", _grid_values(spec.extent_u_m, spec.resolution[0]))
+        v = GridAxis("v", "m", _grid_values(spec.extent_v_m, spec.resolution[1]))
+        directions = np.array([spec.axis_u, spec.axis_v, [0.0, 0.0, 0.0]], dtype=float)
+        return TargetGrid("plane", (u, v, None), rotation, start, np.asarray(spec.origin_m, dtype=float),
                           directions)
     x, y, z = (GridAxis(name, "m", _grid_values([low, high], count)) for name, low, high, count
-               in zip("xyz", spec["min_m"], spec["max_m"], spec["resolution"]))
+               in zip("xyz", spec.min_m, spec.max_m, spec.resolution))
     return TargetGrid("box", (x, y, z), rotation, start, np.zeros(3), np.eye(3))
 
 
-def _joint_grid(robot: Robot, spec: dict, start: np.ndarray, source) -> TargetGrid:
+def _joint_grid(robot: Robot, spec: JointMap, start: np.ndarray) -> TargetGrid:
     names = robot.joint_names
     axes = []
-    for i, (joint, bounds, count) in enumerate(zip(spec["joints"], spec["ranges"], spec["counts"])):
+    for i, (joint, bounds, count) in enumerate(zip(spec.joints, spec.ranges, spec.counts)):
         if joint not in names:
-            raise InputError(f"unknown joint '{joint}'{closest_hint(joint, names)}; joints of {robot.label}: "
-                             f"{', '.join(names)}", source, f"map.joints[{i}]")
+            raise GridError(f"unknown joint '{joint}'{closest_hint(joint, names)}; joints of {robot.label}: "
+                            f"{', '.join(names)}", f"joints[{i}]")
         k = names.index(joint)
         low, high = robot.lower_limits[k], robot.upper_limits[k]
         if bounds[0] < low or bounds[1] > high:
-            raise InputError(f"[{bounds[0]:g}, {bounds[1]:g}] leaves the limits of joint '{joint}' "
-                             f"[{low:g}, {high:g}]", source, f"map.ranges[{i}]")
+            raise GridError(f"[{bounds[0]:g}, {bounds[1]:g}] leaves the limits of joint '{joint}' "
+                            f"[{low:g}, {high:g}]", f"ranges[{i}]")
         axes.append(GridAxis(joint, "m" if robot.joint_is_prismatic[k] else "rad", _grid_values(bounds, count)))
     columns = tuple(names.index(axis.name) for axis in axes)
     return TargetGrid("joint", tuple(axes + [None] * (3 - len(axes))), None, start, joint_columns=columns)

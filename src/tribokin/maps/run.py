@@ -27,8 +27,8 @@ from tribokin.errors import InputError
 from tribokin.execution import run_chunks
 from tribokin.iso9283.metrics import orientation_repeatability, position_spread, variance_contributions
 from tribokin.kinematics.robot import Robot
-from tribokin.maps.budget import TARGET_BLOCK_SAMPLES, rows_per_chunk
-from tribokin.maps.grid import TargetGrid, make_grid, target_positions_m
+from tribokin.maps.budget import TARGET_BLOCK_SAMPLES
+from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
 from tribokin.maps.result import MAP_FIGURES, MapResult, ScenarioMap, scenario_column
 from tribokin.maps.rows import fill_from_neighbours, solve_row, solve_row_heads
 from tribokin.maps.store import ChunkStore, fingerprint
@@ -96,7 +96,7 @@ def _job_context(job: MapJob):
     if cache is None or cache[0] != job.token:
         robot = load_robot(job.study)
         runners = [PoseRunner(s, robot, joint_models(s, robot)) for s in job.scenarios]
-        _local.cache = (job.token, robot, make_grid(robot, job.study.map, job.study.source), runners)
+        _local.cache = (job.token, robot, make_grid(robot, job.study.map), runners)
     return _local.cache[1:]
 
 
@@ -215,9 +215,9 @@ def fill_holes(robot: Robot, grid, runners: list[PoseRunner], store: ChunkStore)
         store.write(indices, filled)
 
 
-def chunk_rows(study: Study, row_length: int, row_count: int) -> list[list[int]]:
-    """The grid rows of each chunk (:func:`~tribokin.maps.budget.rows_per_chunk`)."""
-    size = rows_per_chunk(study.map, row_length)
+def chunk_rows(study: Study, row_count: int) -> list[list[int]]:
+    """The grid rows of each chunk (:attr:`~tribokin.study.map_spec.MapSpec.rows_per_chunk`)."""
+    size = study.map.rows_per_chunk
     return [list(range(start, min(start + size, row_count))) for start in range(0, row_count, size)]
 
 
@@ -249,7 +249,10 @@ def prepare_map(study: Study, robot: Robot) -> tuple[TargetGrid, list[PoseRunner
     """The grid of the study's ``[map]``, a runner per scenario (the study itself without scenarios) and each
     grid row's starting posture (rows, nv), checked against ``robot`` before any work: the map's joints, ranges,
     start posture and orientation, each scenario's joints and friction laws, and its loads at each row's start."""
-    grid = make_grid(robot, study.map, study.source)
+    try:
+        grid = make_grid(robot, study.map)
+    except GridError as error:
+        raise InputError(str(error), study.source, f"map.{error.key}") from None
     heads = solve_row_heads(robot, grid)
     runners = []
     for i, scenario in enumerate(tuple(s.study for s in study.scenarios) or (study,)):
@@ -279,7 +282,7 @@ def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunn
     """
     studies = tuple(runner.study for runner in runners)
     names = [s.name for s in study.scenarios] or [study.name]
-    chunks = chunk_rows(study, grid.row_length, grid.row_count)
+    chunks = chunk_rows(study, grid.row_count)
     store = open_store(study, studies, chunks, grid.size, robot.model.nv, checkpoint, resume)
     finished = set(store.finished())
     job = MapJob(uuid.uuid4().hex, study, studies)

@@ -32,9 +32,11 @@ class RunSettings(Protocol):
     seed: int
     approach: str
     engine: str
-    robot: dict  # its "payload_kg" [kg]
-    joint_overrides: dict  # joint name -> its [joints.<name>] keys (names the key a refusal points to)
+    payload_kg: float  # the robot's payload [kg]
     source: str  # the study file (named by a refusal)
+
+    def joint_key(self, name: str, part: str) -> str:
+        """The study key that sets ``part`` (``"stiffness"``...) of joint ``name`` (named by a refusal)."""
 
 
 def pose_rng(seed: int, index: int, stream: int = 0) -> np.random.Generator:
@@ -82,7 +84,7 @@ class PoseRunner:
         self.offsets = np.array([m.offset for m in models])
         self.loads = None
         if any(m.normal_force_N is None for m in models):
-            self.loads = BearingLoads(robot, study.robot["payload_kg"], [m.bearing_span_m for m in models])
+            self.loads = BearingLoads(robot, study.payload_kg, [m.bearing_span_m for m in models])
         self.travel = joint_travel(robot.lower_limits, robot.upper_limits, robot.joint_is_prismatic)
 
     def normal_forces(self, task: PoseTask) -> np.ndarray:
@@ -110,12 +112,7 @@ class PoseRunner:
 
     def check_travel(self, forces_N: np.ndarray, models: list[JointErrorModel]) -> None:
         """Refuse loads ``forces_N`` (..., nv) [N] under which a joint's deviation could exceed its range."""
-        overrides = self.study.joint_overrides
-
-        def key_of(joint: str, part: str) -> str:
-            return f"joints.{joint}.{part}" if part in overrides.get(joint, {}) else f"joints.{part}"
-
-        with located(self.study.source, lambda error: key_of(error.joint, error.part)):
+        with located(self.study.source, lambda error: self.study.joint_key(error.joint, error.part)):
             check_travel(models, self.robot.joint_is_prismatic, forces_N, self.travel, self.robot.joint_names)
 
     def models_at(self, task: PoseTask) -> list[JointErrorModel]:

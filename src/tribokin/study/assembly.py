@@ -2,23 +2,21 @@
 
 from __future__ import annotations
 
+from dataclasses import asdict
+
 from tribokin.errors import InputError, closest_hint, located
-from tribokin.iso9283.cube import APPROACH_DIRECTIONS, place_cube
+from tribokin.iso9283.cube import APPROACH_DIRECTIONS, UnreachableCube, place_cube
 from tribokin.kinematics.robot import Robot, load_example_robot, load_urdf
 from tribokin.simulation.joint_errors import JointErrorModel
 from tribokin.simulation.pose_run import PoseTask, joint_space_task
 from tribokin.study.names import check_file_name_part, check_files_apart, check_name, pose_figure_file, scenario_files
-from tribokin.study.spec import Study
+from tribokin.study.spec import RobotSpec, Study
 from tribokin.tribology.spec import law_from_spec
 
 
-def robot_spec(study: Study) -> dict:
-    """The study's ``[robot]`` table with absolute paths: loads the same robot from any folder."""
-    spec = dict(study.robot)
-    if spec["urdf"] is not None:
-        spec["urdf"] = str((study.base_dir / spec["urdf"]).absolute())
-    spec["package_dirs"] = [str((study.base_dir / p).absolute()) for p in spec["package_dirs"]]
-    return spec
+def robot_spec(study: Study) -> RobotSpec:
+    """The study's ``[robot]`` with absolute paths: loads the same robot from any folder."""
+    return study.robot.absolute(study.base_dir)
 
 
 #: The key of a ``[robot]`` table that sets each argument of the robot loaders (``None``: the robot as a whole).
@@ -26,13 +24,13 @@ ROBOT_KEYS = {"name": "robot.name", "path": "robot.urdf", "tool_frame": "robot.t
               "package_dirs": "robot.package_dirs", None: "robot"}
 
 
-def load_robot_spec(spec: dict, source=None) -> Robot:
-    """The robot a ``[robot]`` table with absolute paths names (see :func:`robot_spec`); an error names
+def load_robot_spec(spec: RobotSpec, source=None) -> Robot:
+    """The robot a ``[robot]`` spec with absolute paths names (see :func:`robot_spec`); an error names
     ``source`` and the key at fault."""
     with located(source, lambda error: ROBOT_KEYS[error.argument]):
-        if spec["name"] is not None:
-            return load_example_robot(spec["name"], spec["tool_frame"])
-        return load_urdf(spec["urdf"], spec["tool_frame"], spec["package_dirs"])
+        if spec.name is not None:
+            return load_example_robot(spec.name, spec.tool_frame)
+        return load_urdf(spec.urdf, spec.tool_frame, list(spec.package_dirs))
 
 
 def load_robot(study: Study) -> Robot:
@@ -49,14 +47,13 @@ def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
                              f"{', '.join(names)}", study.source, f"joints.{joint}")
     models = []
     for name in names:
-        values = {**study.joints, **study.joint_overrides.get(name, {})}
+        spec = study.joint(name)
         for key in ("friction", "stiffness"):
-            if values[key] is None:
+            if getattr(spec, key) is None:
                 raise InputError(f"joint '{name}' has no {key}: set joints.{key} or joints.{name}.{key}",
                                  study.source, f"joints.{key}")
-        key = f"joints.{name}.friction" if "friction" in study.joint_overrides.get(name, {}) else "joints.friction"
-        values["friction"] = law_from_spec(values["friction"], study.source, key, study.base_dir)
-        models.append(JointErrorModel(**values))
+        friction = law_from_spec(spec.friction, study.source, study.joint_key(name, "friction"), study.base_dir)
+        models.append(JointErrorModel(**{**asdict(spec), "friction": friction}))
     return models
 
 
@@ -70,8 +67,10 @@ def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]
                                       law_from_spec(p.friction, study.source, f"poses[{i}].friction", study.base_dir)))
     cube = None
     if study.iso_cube is not None:
-        cube_poses, cube = place_cube(robot, study.iso_cube["center_m"], study.iso_cube["side_m"],
-                                      study.iso_cube["rpy_deg"], study.source)
+        try:
+            cube_poses, cube = place_cube(robot, study.iso_cube.center_m, study.iso_cube.side_m, study.iso_cube.rpy_deg)
+        except UnreachableCube as error:
+            raise InputError(str(error), study.source, "iso_cube") from None
         tasks += [PoseTask(p.name, p.q, p.approach_signs, tuple(APPROACH_DIRECTIONS)) for p in cube_poses]
     return tasks, cube
 

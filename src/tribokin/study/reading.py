@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 import hashlib
 import sys
 from dataclasses import replace
@@ -28,26 +27,23 @@ def read_study_file(path) -> Study:
         mapping = tomllib.loads(content.decode("utf-8"))
     except ValueError as error:  # also a number of more than 4300 digits
         raise InputError(f"not valid TOML: {error}", path) from None
-    study = parse_study(mapping, str(path), path.parent)
-    study.sha256 = hashlib.sha256(content).hexdigest()
-    return study
+    return replace(parse_study(mapping, str(path), path.parent), sha256=hashlib.sha256(content).hexdigest())
 
 
 def load_study(study, cycles: int | None = None, seed: int | None = None) -> Study:
-    """A :class:`Study` from a path, a mapping or a Study, with ``cycles``/``seed`` overriding the file."""
-    if isinstance(study, Study):
-        study = copy.copy(study)
-    elif isinstance(study, dict):
+    """A :class:`Study` from a path, a mapping or a Study, with ``cycles``/``seed`` overriding the file
+    (a new Study: the one given is left as it is)."""
+    if isinstance(study, dict):
         study = parse_study(study, "<mapping>", Path.cwd())
-    else:
+    elif not isinstance(study, Study):
         study = read_study_file(study)
     if cycles is not None:
-        study.cycles = cycle_count(cycles, "command line", "--cycles")
+        study = replace(study, cycles=cycle_count(cycles, "command line", "--cycles"))
     if seed is not None:
-        study.seed = seed_int(seed, "command line", "--seed")
-    study.scenarios = [replace(s, study=_with_run_overrides(s.study, s.overrides.get("study", {}), study))
-                       for s in study.scenarios]
-    return study
+        study = replace(study, seed=seed_int(seed, "command line", "--seed"))
+    scenarios = tuple(replace(s, study=_with_run_overrides(s.study, s.overrides.get("study", {}), study))
+                      for s in study.scenarios)
+    return replace(study, scenarios=scenarios)
 
 
 def _with_run_overrides(scenario: Study, own: dict, base: Study) -> Study:

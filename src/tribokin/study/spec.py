@@ -1,14 +1,15 @@
-"""Study files: validation of the mapping into a :class:`Study`.
+"""Study files: validation of the mapping into a frozen :class:`Study` of frozen specs.
 
 Every key is checked here, before anything runs; a bad one raises an
 :class:`~tribokin.errors.InputError` naming the file and the key. The keys,
-their units and defaults are documented in the README.
+their units and defaults are documented in the README. Overrides (the command line's
+``cycles`` and ``seed``, scenarios) make new specs with :func:`dataclasses.replace`.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from functools import partial
 from pathlib import Path
 
@@ -16,6 +17,7 @@ from tribokin.checks import finite, non_negative, number_list, one_of, positive,
     string_list, table, text, whole_number, within
 from tribokin.errors import InputError, closest_hint
 from tribokin.simulation.joint_errors import APPROACH_MODES
+from tribokin.study.map_spec import MAP_SPECS, MapSpec
 
 
 # -- ranges: physically meaningful bounds, each with the reason a value outside is refused ---------------------
@@ -175,7 +177,54 @@ def check_table(mapping: dict, schema: dict, source, prefix: str, extra_ok=()) -
     return clean
 
 
-@dataclass
+def _frozen(values):
+    """Lists (of lists) as tuples, for a frozen spec; any other value as it is."""
+    return tuple(_frozen(v) for v in values) if isinstance(values, list) else values
+
+
+def _spec(cls, checked: dict):
+    """A ``cls`` spec of a checked table (:func:`check_table`), its lists as tuples."""
+    return cls(**{key: _frozen(value) for key, value in checked.items()})
+
+
+@dataclass(frozen=True)
+class RobotSpec:
+    """The ``[robot]`` table: a ``urdf`` file (its meshes under ``package_dirs``) or an example-robot-data
+    ``name``, the ``tool_frame`` (``None``: the last frame) and the ``payload_kg`` [kg]."""
+
+    urdf: str | None
+    name: str | None
+    tool_frame: str | None
+    package_dirs: tuple[str, ...]
+    payload_kg: float
+
+    def absolute(self, base_dir: Path) -> RobotSpec:
+        """The spec with its paths made absolute against ``base_dir``: it loads the same robot from any folder."""
+        urdf = None if self.urdf is None else str((base_dir / self.urdf).absolute())
+        return replace(self, urdf=urdf, package_dirs=tuple(str((base_dir / p).absolute()) for p in self.package_dirs))
+
+    def as_settings(self) -> dict:
+        """The spec as ``summary.json`` records it (``robot_spec``)."""
+        return {**asdict(self), "package_dirs": list(self.package_dirs)}
+
+
+@dataclass(frozen=True)
+class JointSpec:
+    """One joint's keys of ``[joints]`` (see :class:`~tribokin.simulation.joint_errors.JointErrorModel`):
+    ``friction`` (a law's table), ``normal_force_N`` [N], ``stiffness`` [N/m or N·m/rad], ``friction_radius_m`` [m],
+    ``backlash``, ``offset``, ``noise_std`` [m or rad], ``bearing_span_m`` [m]; ``None`` where not set."""
+
+    friction: dict | None
+    normal_force_N: float | None
+    stiffness: float | None
+    friction_radius_m: float
+    backlash: float
+    offset: float
+    noise_std: float
+    bearing_span_m: float
+
+
+@dataclass(frozen=True)
 class PoseSpec:
     """A commanded configuration to test.
 
@@ -184,48 +233,72 @@ class PoseSpec:
     """
 
     name: str
-    q: list[float]
-    normal_force_N: float | None = None
-    friction: dict | None = None
+    q: tuple[float, ...]
+    normal_force_N: float | None
+    friction: dict | None
 
 
-@dataclass
-class Scenario:
+@dataclass(frozen=True)
+class IsoCubeSpec:
+    """The ``[iso_cube]`` table: centre [m], side [m] and tool orientation (roll, pitch, yaw) [deg]; ``None``:
+    chosen (:func:`~tribokin.iso9283.cube.place_cube`)."""
+
+    center_m: tuple[float, float, float] | None
+    side_m: float | None
+    rpy_deg: tuple[float, float, float] | None
+
+
+@dataclass(frozen=True)
+class ScenarioSpec:
     """A what-if variant of a study's map: ``overrides`` (nested tables, as in the file) applied
     to the study, validated into ``study``."""
 
     name: str
     overrides: dict
-    study: "Study"
+    study: Study
 
 
-@dataclass
+@dataclass(frozen=True)
 class Study:
     """A validated study: what to load, how joints err, where to test.
 
-    ``joints`` holds the defaults for every joint; ``joint_overrides`` the
-    per-joint tables ``[joints.<name>]``, checked against the robot's joint
-    names when it is loaded. ``source`` is the file (for messages) and
-    ``base_dir`` what relative paths in it are resolved against. ``sha256`` is the hash of the
-    file's bytes (``None`` for a study given as a mapping).
+    ``joints`` holds the defaults for every joint; ``joint_overrides`` the keys each
+    ``[joints.<name>]`` table sets, checked against the robot's joint names when it is loaded.
+    ``source`` is the file (for messages) and ``base_dir`` what relative paths in it are resolved
+    against; ``mapping`` the table it was parsed from (a map's chunk store is recognised by it).
+    ``sha256`` is the hash of the file's bytes (``None`` for a study given as a mapping).
     """
 
     name: str
     cycles: int
     seed: int
     approach: str
-    robot: dict
-    joints: dict
+    robot: RobotSpec
+    joints: JointSpec
     joint_overrides: dict[str, dict]
-    poses: list[PoseSpec]
-    iso_cube: dict | None
+    poses: tuple[PoseSpec, ...]
+    iso_cube: IsoCubeSpec | None
     engine: str
     source: str
     base_dir: Path
     mapping: dict = field(repr=False, default_factory=dict)
-    map: dict | None = None
-    scenarios: list[Scenario] = field(default_factory=list)
+    map: MapSpec | None = None
+    scenarios: tuple[ScenarioSpec, ...] = ()
     sha256: str | None = None
+
+    @property
+    def payload_kg(self) -> float:
+        """The robot's payload [kg]."""
+        return self.robot.payload_kg
+
+    def joint(self, name: str) -> JointSpec:
+        """Joint ``name``'s keys: the ``[joints]`` defaults with its ``[joints.<name>]`` overrides."""
+        return replace(self.joints, **self.joint_overrides.get(name, {}))
+
+    def joint_key(self, name: str, part: str) -> str:
+        """The study key that sets ``part`` (``"stiffness"``...) of joint ``name``: in its own table, else in
+        ``[joints]``."""
+        return f"joints.{name}.{part}" if part in self.joint_overrides.get(name, {}) else f"joints.{part}"
 
 
 def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(".")) -> Study:
@@ -253,7 +326,8 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         joint_overrides[joint] = {k: v for k, v in checked.items() if k in values}
     iso_cube = None
     if "iso_cube" in mapping:
-        iso_cube = check_table(table(mapping["iso_cube"], source, "iso_cube"), ISO_CUBE_KEYS, source, "iso_cube")
+        cube = check_table(table(mapping["iso_cube"], source, "iso_cube"), ISO_CUBE_KEYS, source, "iso_cube")
+        iso_cube = _spec(IsoCubeSpec, cube)
     map_spec = check_map(table(mapping["map"], source, "map"), source) if "map" in mapping else None
     poses_list = mapping.get("poses", [])
     if not isinstance(poses_list, list) or (not poses_list and iso_cube is None and map_spec is None):
@@ -261,7 +335,7 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
     poses = []
     for i, pose in enumerate(poses_list):
         checked = check_table(table(pose, source, f"poses[{i}]"), POSE_KEYS, source, f"poses[{i}]")
-        poses.append(PoseSpec(checked["name"] or f"P{i + 1}", checked["q"], checked["normal_force_N"],
+        poses.append(PoseSpec(checked["name"] or f"P{i + 1}", _frozen(checked["q"]), checked["normal_force_N"],
                               checked["friction"]))
     names = [p.name for p in poses] + (["P1", "P2", "P3", "P4", "P5"] if iso_cube is not None else [])
     duplicate = next((n for n in names if names.count(n) > 1), None)
@@ -269,28 +343,27 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         raise InputError(f"pose name '{duplicate}' is used twice; names must be unique", source, "poses.name")
     if "scenarios" in mapping and map_spec is None:
         raise InputError("scenarios compare maps: add a [map] section", source, "scenarios")
-    parsed = Study(
+    return Study(
         name=study["name"] or Path(source).stem,
         cycles=study["cycles"],
         seed=study["seed"],
         approach=study["approach"],
-        robot=robot,
-        joints=joints,
+        robot=_spec(RobotSpec, robot),
+        joints=JointSpec(**joints),
         joint_overrides=joint_overrides,
-        poses=poses,
+        poses=tuple(poses),
         iso_cube=iso_cube,
         engine=study["engine"],
         source=source,
         base_dir=Path(base_dir),
         mapping=mapping,
         map=map_spec,
+        scenarios=parse_scenarios(mapping, source, base_dir),
     )
-    parsed.scenarios = parse_scenarios(mapping, source, base_dir)
-    return parsed
 
 
-def check_map(mapping: dict, source) -> dict:
-    """Validate the ``[map]`` table: the keys of its ``kind``, and how they fit together."""
+def check_map(mapping: dict, source) -> MapSpec:
+    """Validate the ``[map]`` table into the spec of its ``kind``: its keys, and how they fit together."""
     if "kind" not in mapping:
         raise InputError(f"missing: this key is required ({', '.join(MAP_KINDS)})", source, "map.kind")
     kind = one_of(*MAP_KINDS)(mapping["kind"], source, "map.kind")
@@ -317,7 +390,7 @@ def check_map(mapping: dict, source) -> dict:
                                  source, f"map.{key}")
         for i, (bounds, count) in enumerate(zip(ranges, counts)):
             _check_width(bounds, count, source, f"map.ranges[{i}]")
-    return spec
+    return _spec(MAP_SPECS[kind], {key: value for key, value in spec.items() if key != "kind"})
 
 
 def _check_counts(counts: list[int], length: int, shape: str, source) -> None:
@@ -331,7 +404,7 @@ def _check_width(bounds: list[float], count: int, source, key: str) -> None:
                          "widen it or ask for 1 point", source, key)
 
 
-def parse_scenarios(mapping: dict, source, base_dir) -> list[Scenario]:
+def parse_scenarios(mapping: dict, source, base_dir) -> tuple[ScenarioSpec, ...]:
     """Validate ``[[scenarios]]``: each a ``name`` and overrides of ``[study]``, ``[joints]`` and
     ``robot.payload_kg``, merged into the study (a joint table merges key by key; any other value replaces)."""
     entries = mapping.get("scenarios", [])
@@ -362,8 +435,8 @@ def parse_scenarios(mapping: dict, source, base_dir) -> list[Scenario]:
             study = parse_study(merge_overrides(base, overrides), source, base_dir)
         except InputError as error:
             raise InputError(error.message, error.source, f"{key}.{error.key}") from None
-        scenarios.append(Scenario(name, overrides, study))
-    return scenarios
+        scenarios.append(ScenarioSpec(name, overrides, study))
+    return tuple(scenarios)
 
 
 def merge_overrides(mapping: dict, overrides: dict) -> dict:

@@ -63,12 +63,13 @@ def save_scene_inputs(folder: Path, q, magnification: float, map_layers: dict[st
 def load_scene_inputs(folder) -> SceneInputs:
     """Read the scene of an output folder written by ``tribokin run``."""
     from tribokin.study.assembly import load_robot_spec
+    from tribokin.study.spec import RobotSpec
 
     folder = Path(folder)
     for name in ("summary.json", SCENE_FILE):
         _require_file(folder, name)
     summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
-    robot = load_robot_spec(summary["study"]["robot_spec"], folder / "summary.json")
+    robot = load_robot_spec(RobotSpec(**summary["study"]["robot_spec"]), folder / "summary.json")
     poses = []
     if summary["poses"]:  # a map-only run writes no samples.npz
         _require_file(folder, "samples.npz")

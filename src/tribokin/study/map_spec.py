@@ -1,0 +1,109 @@
+"""The ``[map]`` kinds of a study: a plane or a box of tool positions, or a grid of joint values.
+
+Each kind knows its own grid: the targets along each axis (columns first), their count, its grid rows
+and the key that sets its size. The values are checked when the study is read (:mod:`tribokin.study.spec`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+#: A map chunk holds about this many targets, rounded up to whole grid rows (``map.chunk_rows`` overrides).
+CHUNK_TARGETS = 256
+
+Vector3 = tuple[float, float, float]
+
+
+@dataclass(frozen=True, kw_only=True)
+class MapSpec:
+    """What every ``[map]`` has: ``start_q`` [m or rad] (the IK's start posture, or the other joints' posture of
+    a joint grid; ``None``: chosen) and ``chunk_rows`` (grid rows per chunk; ``None``: about ``CHUNK_TARGETS``
+    targets). Each kind has ``counts``: the targets along each axis, columns first."""
+
+    kind: ClassVar[str]
+    #: The study key that sets the number of targets.
+    size_key: ClassVar[str] = "map.resolution"
+
+    start_q: tuple[float, ...] | None = None
+    chunk_rows: int | None = None
+
+    @property
+    def target_count(self) -> int:
+        """Every grid point, reachable or not."""
+        return math.prod(self.counts)
+
+    @property
+    def row_length(self) -> int:
+        """Targets of one grid row."""
+        return self.counts[0]
+
+    @property
+    def grid_rows(self) -> int:
+        """Grid rows (all layers)."""
+        return self.target_count // self.row_length
+
+    @property
+    def rows_per_chunk(self) -> int:
+        """Grid rows a chunk computes: ``chunk_rows``, default about ``CHUNK_TARGETS`` targets."""
+        return self.chunk_rows or math.ceil(CHUNK_TARGETS / self.row_length)
+
+    @property
+    def chunk_targets(self) -> int:
+        """Targets of the largest chunk."""
+        return min(self.rows_per_chunk * self.row_length, self.target_count)
+
+
+@dataclass(frozen=True, kw_only=True)
+class CartesianMap(MapSpec):
+    """Tool positions: ``resolution`` points along each axis, at tool orientation ``rpy_deg`` [deg] (``None``: the
+    start posture's)."""
+
+    resolution: tuple[int, ...]
+    rpy_deg: Vector3 | None = None
+
+    @property
+    def counts(self) -> tuple[int, ...]:
+        """Targets along each axis, columns first."""
+        return self.resolution
+
+
+@dataclass(frozen=True, kw_only=True)
+class PlaneMap(CartesianMap):
+    """Tool positions on a plane: ``origin_m + u·axis_u + v·axis_v`` [m], ``u`` and ``v`` spanning ``extent_u_m``
+    and ``extent_v_m`` [m] in ``resolution`` = (nu, nv) points."""
+
+    kind: ClassVar[str] = "plane"
+
+    origin_m: Vector3
+    axis_u: Vector3
+    axis_v: Vector3
+    extent_u_m: tuple[float, float]
+    extent_v_m: tuple[float, float]
+
+
+@dataclass(frozen=True, kw_only=True)
+class BoxMap(CartesianMap):
+    """Tool positions in a box from ``min_m`` to ``max_m`` [m], ``resolution`` = (nx, ny, nz) points."""
+
+    kind: ClassVar[str] = "box"
+
+    min_m: Vector3
+    max_m: Vector3
+
+
+@dataclass(frozen=True, kw_only=True)
+class JointMap(MapSpec):
+    """1 to 3 ``joints`` each over its ``ranges`` entry [m or rad] in ``counts`` values; the others at ``start_q``."""
+
+    kind: ClassVar[str] = "joint"
+    size_key: ClassVar[str] = "map.counts"
+
+    joints: tuple[str, ...]
+    ranges: tuple[tuple[float, float], ...]
+    counts: tuple[int, ...]
+
+
+#: ``map.kind`` -> its spec.
+MAP_SPECS = {cls.kind: cls for cls in (PlaneMap, BoxMap, JointMap)}
