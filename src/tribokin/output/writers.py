@@ -9,7 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from tribokin.maps.result import MAP_FIGURES, MapResult, ScenarioMap
+from tribokin.maps.result import MapResult, ScenarioMap
+from tribokin.maps.schema import figure_index, table_figures
 from tribokin.output.folder import atomic_folder
 from tribokin.run import StudyResult
 from tribokin.study.names import map_table_file, pose_figure_file
@@ -87,9 +88,8 @@ def map_table_columns(workspace_map: MapResult, scenario: ScenarioMap, targets: 
     figures = scenario.read("figures", targets)
     columns = {"x_m": positions[:, 0], "y_m": positions[:, 1], "z_m": positions[:, 2],
                "reachable": workspace_map.read("reachable", targets)}
-    columns.update({name: figures[:, i] for i, name in enumerate(MAP_FIGURES) if name != "dominant_share"})
-    columns["dominant_joint"] = scenario.dominant_joint_names(targets)
-    columns["dominant_share"] = figures[:, MAP_FIGURES.index("dominant_share")]
+    columns.update({name: scenario.dominant_joint_names(targets) if name == "dominant_joint"
+                    else figures[:, figure_index(name)] for name in table_figures()})
     if scenario is not workspace_map.reference:
         columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
         columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario, targets)
