@@ -62,9 +62,9 @@ class MapColumn:
 
     def shape(self, nv: int) -> tuple[int, ...]:
         """Shape of one target's value, with ``nv`` active joints."""
-        widths = {"joints": nv, "figures": len(MAP_FIGURES), None: None}
-        width = widths.get(self.width, self.width)
-        return () if width is None else (width,)
+        if self.width is None:
+            return ()
+        return ({"joints": nv, "figures": len(MAP_FIGURES)}.get(self.width, self.width),)
 
 
 #: Columns of every target (see :class:`~tribokin.maps.result.MapResult`).
