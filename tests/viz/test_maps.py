@@ -1,11 +1,14 @@
 """Large maps: heat maps, the 3-D scene and the report show every k-th target; the tables keep all."""
 
+import json
+
 import numpy as np
 import pytest
 
 from maps.test_workspace import gantry_map_study
 from tribokin import run_study
-from tribokin.output.writers import map_scene_layers, write_results
+from tribokin.output.writers import write_results
+from tribokin.viz.contents import map_scene_layers
 from tribokin.viz.maps import shown_targets
 
 
@@ -28,7 +31,7 @@ def test_heat_maps_show_every_target_up_to_their_limit_then_every_kth(gantry_map
 def test_scene_layers_hold_at_most_their_limit_with_the_values_of_the_targets_shown(gantry_map, monkeypatch):
     full = map_scene_layers(gantry_map)[gantry_map.reference.name]
     assert full.stride == 1 and len(full.points_m) == 63
-    monkeypatch.setattr("tribokin.output.writers.SCENE_TARGETS", 12)
+    monkeypatch.setattr("tribokin.viz.contents.SCENE_TARGETS", 12)
     layer = map_scene_layers(gantry_map)[gantry_map.reference.name]
     assert layer.stride == 3 and len(layer.points_m) == 9  # 3 x 3 of 7 x 9
     shown = gantry_map.grid.every((3, 3, 3)).ravel()
@@ -37,12 +40,16 @@ def test_scene_layers_hold_at_most_their_limit_with_the_values_of_the_targets_sh
 
 
 def test_report_of_a_thinned_map_says_so_and_its_table_keeps_every_target(gantry_map, monkeypatch, tmp_path):
-    monkeypatch.setattr("tribokin.output.writers.SCENE_TARGETS", 12)
+    monkeypatch.setattr("tribokin.viz.contents.SCENE_TARGETS", 12)
     monkeypatch.setattr("tribokin.viz.maps.PANEL_TARGETS", 4)
     result = run_study(gantry_map_study() | {"map": {**gantry_map_study()["map"], "resolution": [9, 7]}})
     out = write_results(result, tmp_path / "out", report="light")
     report = (out / "report.html").read_text()
-    assert "1 in 3 targets along each grid axis" in report and "9 / 9" in report
+    assert "the scene covers 1 in 3 targets along each grid axis" in report
+    summary = json.loads((out / "summary.json").read_text())["map"]  # the exact figures, not the 9 targets drawn
+    assert summary["count"] == 63
+    spread = "".join(f"<td>{summary['RP_l_um'][key]:.3f}</td>" for key in ("min", "median", "max"))
+    assert f"<td>{summary['reachable']} / 63</td>{spread}</tr>" in report
     assert len((out / "map.csv").read_text().splitlines()) == 1 + 63
 
 

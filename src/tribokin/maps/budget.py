@@ -15,6 +15,7 @@ import shutil
 from pathlib import Path
 
 from tribokin.errors import InputError
+from tribokin.maps.schema import map_bytes_per_target
 from tribokin.study.spec import Study
 from tribokin.units import gib
 
@@ -34,12 +35,6 @@ def kept_per_cycle(nv: int) -> int:
 def computed_per_cycle(nv: int) -> int:
     """Bytes per cycle and approach direction while a pose is computed (draws, signs, engine intermediates)."""
     return FLOAT * 8 * nv
-
-
-def map_bytes_per_target(nv: int, scenarios: int) -> int:
-    """Bytes per map target in its store: position (3), q (nv), reachable, closest IK errors (2), and per
-    scenario the figures (7), loads (nv) and dominant joint."""
-    return FLOAT * (5 + nv) + 1 + scenarios * FLOAT * (8 + nv)
 
 
 #: (limit, usage) files of a cgroup v2, then v1: a container's memory limit.

@@ -9,17 +9,9 @@ import numpy as np
 
 from tribokin.maps.grid import TargetGrid
 from tribokin.maps.rows import unreachable_reason
+from tribokin.maps.schema import MAP_FIGURES, figure_index, scenario_column
 from tribokin.maps.store import ChunkStore
 from tribokin.maps.streaming import blocks, spread
-
-#: Scalar figures of every map target, in map.csv order (µm, mdeg; ``dominant_share`` in [0, 1]).
-MAP_FIGURES = ("RP_l_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg", "largest_semi_axis_um",
-               "dominant_share")
-
-
-def scenario_column(scenario: int, name: str) -> str:
-    """Store column of scenario number ``scenario``'s ``name`` (``figures``, ``normal_forces_N``, ``dominant_joint``)."""
-    return f"scenario{scenario}_{name}"
 
 
 @dataclass
@@ -47,7 +39,7 @@ class ScenarioMap:
 
     def figure(self, name: str, targets=slice(None)) -> np.ndarray:
         """Column ``name`` of ``MAP_FIGURES`` at ``targets`` (default: all; read the whole column only for small maps)."""
-        return self.read("figures", targets)[:, MAP_FIGURES.index(name)]
+        return self.read("figures", targets)[:, figure_index(name)]
 
     @property
     def figures(self) -> np.ndarray:
@@ -167,8 +159,8 @@ class MapResult:
             "reachable": reachable,
             "unreachable": size - reachable,
             "cycles": reference.cycles,
-            "RP_l_um": spread(lambda part: reference.figure("RP_l_um", part), size),
-            "AP_p_um": spread(lambda part: reference.figure("AP_p_um", part), size),
+            **{f.name: spread(lambda part, f=f: reference.figure(f.name, part), size) for f in MAP_FIGURES
+               if f.summarised},
             "dominant_joint_counts": {name: int(count) for name, count in zip(self.joint_names, dominant)},
         }
         if len(self.scenarios) > 1:

@@ -29,8 +29,9 @@ from tribokin.iso9283.metrics import orientation_repeatability, position_spread,
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.budget import TARGET_BLOCK_SAMPLES
 from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
-from tribokin.maps.result import MAP_FIGURES, MapResult, ScenarioMap, scenario_column
+from tribokin.maps.result import MapResult, ScenarioMap
 from tribokin.maps.rows import fill_from_neighbours, solve_row, solve_row_heads
+from tribokin.maps.schema import MAP_FIGURES, map_columns, scenario_column
 from tribokin.maps.store import ChunkStore, fingerprint
 from tribokin.propagation.exact import tool_deviations_at_poses, tool_frames
 from tribokin.simulation.pose_run import PoseRunner, joint_space_task, pose_rng
@@ -146,7 +147,7 @@ def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, 
     measured together, in blocks: :func:`measure_targets`).
 
     Returns:
-        the chunk's targets' values of every column of :func:`map_columns`, in index order.
+        the chunk's targets' values of every column of :func:`~tribokin.maps.schema.map_columns`, in index order.
     """
     robot, grid, runners = _job_context(job)
     arrays = empty_arrays(len(rows) * grid.row_length, robot.model.nv, len(runners))
@@ -158,18 +159,6 @@ def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, 
         arrays["position_m"][span] = target_positions_m(robot, grid, indices, q)
         measure_into(arrays, span.start + np.flatnonzero(reachable), robot, runners, q[reachable], indices[reachable])
     return arrays
-
-
-def map_columns(nv: int, scenarios: int) -> dict[str, tuple[tuple, str]]:
-    """The per-target columns of a map (``name -> (shape of one target's value, dtype)``): ``position_m``,
-    ``q``, ``reachable``, ``closest`` (see :class:`~tribokin.maps.result.MapResult`), and per scenario its
-    ``figures``, ``normal_forces_N`` and ``dominant_joint`` (:class:`~tribokin.maps.result.ScenarioMap`)."""
-    columns = {"position_m": ((3,), "f8"), "q": ((nv,), "f8"), "reachable": ((), "?"), "closest": ((2,), "f8")}
-    for s in range(scenarios):
-        columns[scenario_column(s, "figures")] = ((len(MAP_FIGURES),), "f8")
-        columns[scenario_column(s, "normal_forces_N")] = ((nv,), "f8")
-        columns[scenario_column(s, "dominant_joint")] = ((), "i8")
-    return columns
 
 
 def empty_arrays(n: int, nv: int, scenarios: int) -> dict[str, np.ndarray]:

@@ -60,6 +60,11 @@ def fingerprint(settings: dict) -> str:
     return hashlib.sha256(json.dumps(settings, sort_keys=True, default=str).encode()).hexdigest()
 
 
+def row_bytes(columns: dict[str, tuple[tuple, str]]) -> int:
+    """Bytes one target takes in columns ``name -> (shape of one target's value, dtype)``."""
+    return sum(math.prod(shape) * np.dtype(dtype).itemsize for shape, dtype in columns.values())
+
+
 def _column_path(folder: Path, name: str) -> Path:
     return folder / f"{name}.npy"
 
@@ -123,8 +128,7 @@ class ChunkStore:
             os.rename(building, self.folder)
         except OSError as error:
             if error.errno in DISK_FULL:
-                needed = sum(self.size * math.prod(shape) * np.dtype(dtype).itemsize
-                             for shape, dtype in columns.values())
+                needed = self.size * row_bytes(columns)
                 raise disk_full(error, self.folder, f"about {gib(needed)} for the map's store") from None
             raise
         finally:

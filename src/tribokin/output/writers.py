@@ -9,10 +9,11 @@ from pathlib import Path
 
 import numpy as np
 
-from tribokin.maps.result import MAP_FIGURES, MapResult, ScenarioMap
+from tribokin.maps.result import MapResult, ScenarioMap
+from tribokin.maps.schema import figure_index, table_figures
 from tribokin.output.folder import atomic_folder
 from tribokin.run import StudyResult
-from tribokin.study.names import map_table_file, pose_figure_file
+from tribokin.study.names import map_table_file
 
 
 def write_summary(result: StudyResult, folder: Path) -> None:
@@ -87,9 +88,8 @@ def map_table_columns(workspace_map: MapResult, scenario: ScenarioMap, targets: 
     figures = scenario.read("figures", targets)
     columns = {"x_m": positions[:, 0], "y_m": positions[:, 1], "z_m": positions[:, 2],
                "reachable": workspace_map.read("reachable", targets)}
-    columns.update({name: figures[:, i] for i, name in enumerate(MAP_FIGURES) if name != "dominant_share"})
-    columns["dominant_joint"] = scenario.dominant_joint_names(targets)
-    columns["dominant_share"] = figures[:, MAP_FIGURES.index("dominant_share")]
+    columns.update({name: scenario.dominant_joint_names(targets) if name == "dominant_joint"
+                    else figures[:, figure_index(name)] for name in table_figures()})
     if scenario is not workspace_map.reference:
         columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
         columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario, targets)
@@ -121,56 +121,21 @@ def map_table_name(workspace_map: MapResult, scenario: ScenarioMap) -> str:
     return map_table_file(None if scenario is workspace_map.reference else scenario.name)
 
 
-#: Most map targets the 3-D scene draws per scenario (larger maps draw every k-th target along each axis).
-SCENE_TARGETS = 50_000
-
-
-def map_scene_layers(workspace_map: MapResult) -> dict:
-    """The map's RP_l per scenario as scene layers (:class:`~tribokin.viz.scene.MapLayer`), at most
-    ``SCENE_TARGETS`` targets each, spread over the grid."""
-    from tribokin.viz.scene import MapLayer
-
-    shown, stride = workspace_map.grid.thinned(SCENE_TARGETS)
-    shown = shown.ravel()
-    points = workspace_map.read("position_m", shown)
-    return {s.name: MapLayer(points, s.figure("RP_l_um", shown), s.name, stride)
-            for s in workspace_map.scenarios.values()}
-
-
 def write_results(result: StudyResult, out, force: bool = False, report: str = "full", map_layers=None,
                   cube=None) -> Path:
-    """Write summary.json, the pose files (poses.csv, samples.npz, one figure per pose) and the map
-    files (map*.csv, map_*.png) to ``out``, atomically.
-
-    With ``report`` ``"full"`` or ``"light"`` (robot visual or collision meshes) it also writes
-    ``report.html`` and ``scene.npz`` (for ``tribokin view``), drawing ``result.robot`` with
-    ``map_layers`` (:class:`~tribokin.viz.scene.MapLayer` by scenario; default: the study's map
-    scenarios) and ``cube`` (default: the study's ISO cube, if it has one).
+    """Write summary.json, the pose files (poses.csv, samples.npz) and the map tables (map*.csv) to ``out``,
+    atomically, with the figures and, unless ``report`` is ``"none"``, ``report.html`` and ``scene.npz``, as
+    :func:`~tribokin.viz.contents.write_views` decides (``report``, ``map_layers``, ``cube``: see there).
     """
-    from tribokin.viz.figures import save_repeatability_field
-    from tribokin.viz.maps import save_map_figures
-    from tribokin.viz.report import write_report
-    from tribokin.viz.scene import Cube
-    from tribokin.viz.scene_file import save_scene_inputs
-
-    iso_cube = result.settings.get("iso_cube")
-    if cube is None and iso_cube is not None:
-        cube = Cube(tuple(iso_cube["center_m"]), iso_cube["side_m"])
-    if map_layers is None and result.map is not None:
-        map_layers = map_scene_layers(result.map)
+    from tribokin.viz.contents import write_views
 
     with atomic_folder(out, force) as folder:
         write_summary(result, folder)
         if result.poses:
             write_pose_table(result, folder)
             write_samples(result, folder)
-        for pose in result.poses:
-            save_repeatability_field(pose, folder / pose_figure_file(pose.name), title=f"{result.name} — {pose.name}")
         if result.map is not None:
             for scenario in result.map.scenarios.values():
                 write_map_table(result.map, scenario, folder / map_table_name(result.map, scenario))
-            save_map_figures(result.map, folder, result.name)
-        if report != "none":
-            _, info = write_report(result, result.robot, folder, map_layers, cube, variant=report)
-            save_scene_inputs(folder, result.display_configuration(), info.magnification, map_layers, cube)
+        write_views(result, folder, report, map_layers, cube)
     return Path(out)

@@ -6,13 +6,12 @@ from pathlib import Path
 
 import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.patches import Circle  # noqa: E402
+import numpy as np
+from matplotlib.patches import Circle
 
-from tribokin.simulation.pose_result import PoseResult  # noqa: E402
-from tribokin.units import UM_PER_M  # noqa: E402
+from tribokin.simulation.pose_result import PoseResult
+from tribokin.units import UM_PER_M
+from tribokin.viz.canvas import agg_figure
 
 
 #: Colours of the approach directions' barycenters and RP_l circles, in the order of the directions.
@@ -45,7 +44,8 @@ def save_repeatability_field(pose: PoseResult, path: Path, title: str = "") -> N
     directions = pose.metrics.directions
     one = len(directions) == 1
     # several directions: the legend goes below both panels, on a taller figure
-    fig, (field, series) = plt.subplots(1, 2, figsize=(11, 4.8 if one else 6.2), gridspec_kw={"width_ratios": [1.1, 1]})
+    fig = agg_figure(figsize=(11, 4.8 if one else 6.2))
+    field, series = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.1, 1]})
     band_colour, ref_colour = "#f4a261", "#264653"
     field.add_patch(Circle((0, 0), eps_d2, color=band_colour, alpha=0.35, lw=0,
                            label=f"dispersion band ε_D1–ε_D2 = {eps_d1:.2f}–{eps_d2:.2f} µm"))
@@ -89,4 +89,3 @@ def save_repeatability_field(pose: PoseResult, path: Path, title: str = "") -> N
     fig.suptitle(title)
     fig.tight_layout(rect=(0, 0 if one else 0.15, 1, 1))
     fig.savefig(path, dpi=110)
-    plt.close(fig)

@@ -9,15 +9,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import matplotlib
+import numpy as np
+from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize, TwoSlopeNorm
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize, TwoSlopeNorm  # noqa: E402
-
-from tribokin.maps.grid import GridAxis, TargetGrid  # noqa: E402
-from tribokin.maps.result import MapResult  # noqa: E402
-from tribokin.study.names import map_figure_file  # noqa: E402
+from tribokin.maps.grid import GridAxis, TargetGrid
+from tribokin.maps.result import MapResult
+from tribokin.study.names import map_figure_file
+from tribokin.viz.canvas import agg_figure
 
 UNREACHABLE_GREY = "#c8c8c8"
 
@@ -139,13 +137,13 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
     n_layers = shown.shape[0]
     data = np.asarray(values(shown.ravel()), dtype=float).reshape(shown.shape)
     images = np.ma.masked_invalid(data)
-    cmap = plt.get_cmap(cmap).with_extremes(bad=UNREACHABLE_GREY)
+    cmap = matplotlib.colormaps.get_cmap(cmap).with_extremes(bad=UNREACHABLE_GREY)
     norm = norm or value_norm(data, centre)
     panels_across = math.ceil(math.sqrt(n_layers))
     panels_down = math.ceil(n_layers / panels_across)
     width_in = 1.5 + 4.6 * panels_across
-    fig, axes = plt.subplots(panels_down, panels_across, figsize=(width_in, 0.8 + 3.9 * panels_down),
-                             squeeze=False, constrained_layout=True)
+    fig = agg_figure(figsize=(width_in, 0.8 + 3.9 * panels_down), constrained_layout=True)
+    axes = fig.subplots(panels_down, panels_across, squeeze=False)
     frame = panel_frame(grid, columns, rows)
     mesh = None
     for layer, ax in enumerate(axes.flat):
@@ -180,12 +178,11 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
                  + (f", 1 in {strides[0]} layers" if strides[0] > 1 else "") + "; map.csv has them all")
     fig.suptitle(textwrap.fill(f"{title}{note}", int(TITLE_CHARACTERS_PER_IN * width_in)), fontsize=10)
     fig.savefig(path, dpi=110)
-    plt.close(fig)
 
 
 def _categorical(count: int) -> ListedColormap:
     """White for the value -1 (none, tie), then one tab10 colour per category 0 .. count - 1."""
-    return ListedColormap(["#ffffff"] + [plt.get_cmap("tab10")(i % 10) for i in range(count)])
+    return ListedColormap(["#ffffff"] + [matplotlib.colormaps["tab10"](i % 10) for i in range(count)])
 
 
 def rp_l_norm(workspace_map: MapResult) -> Normalize:

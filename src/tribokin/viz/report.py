@@ -18,10 +18,9 @@ import numpy as np
 
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.grid import TargetGrid
+from tribokin.maps.result import MapResult
 from tribokin.run import StudyResult
-from tribokin.study.names import pose_figure_file
 from tribokin.viz.colours import ColourScale
-from tribokin.viz.maps import map_figure_names
 from tribokin.viz.scene import Cube, MapLayer, SceneInfo, build_scene
 from tribokin.viz.static import static_visualizer
 
@@ -85,31 +84,32 @@ def iso_table(result: StudyResult) -> str:
     return _table([header for _, header in ISO_COLUMNS], rows)
 
 
-def map_statistics(layers: dict[str, MapLayer]) -> str:
-    """Per layer: reachable targets and min/median/max RP_l [µm]; with several layers, the change of the
-    median from the first layer (the baseline scenario)."""
-    baseline = None
+def map_statistics(workspace_map: MapResult) -> str:
+    """Per scenario: reachable targets and the min, exact median and max of RP_l [µm] over every target, as
+    ``summary.json`` gives them (:meth:`~tribokin.maps.result.MapResult.summary`); with several scenarios, the
+    change of the median from the first (the reference)."""
+    summary = workspace_map.summary()
+    spreads = [s["RP_l_um"] for s in summary["scenarios"]] if "scenarios" in summary else [summary["RP_l_um"]]
+    baseline = spreads[0]["median"]
     rows = []
-    for layer in layers.values():
-        finite = layer.values_um[np.isfinite(layer.values_um)]
-        stats = [finite.min(), np.median(finite), finite.max()] if finite.size else [None] * 3
-        baseline = stats[1] if baseline is None else baseline
-        change = (None if len(layers) < 2 or stats[1] is None or not baseline
-                  else f"{100 * (stats[1] / baseline - 1):+.1f} %")
-        rows.append([layer.label, f"{finite.size} / {len(layer.values_um)}", *stats, change])
+    for name, spread in zip(workspace_map.scenarios, spreads):
+        change = (None if spread["median"] is None or not baseline
+                  else f"{100 * (spread['median'] / baseline - 1):+.1f} %")
+        rows.append([name, f"{summary['reachable']} / {summary['count']}", spread["min"], spread["median"],
+                     spread["max"], change])
     headers = ["scenario", "reachable targets", "min RP_l [µm]", "median RP_l [µm]", "max RP_l [µm]",
                "median vs first"]
-    if len(layers) < 2:
+    if len(rows) < 2:
         headers, rows = headers[:-1], [row[:-1] for row in rows]
     return _table(headers, rows)
 
 
 def thinning_note(layers: dict[str, MapLayer]) -> str:
-    """Says so when the scene and the statistics cover every k-th target of a map only."""
-    stride = max(layer.stride for layer in layers.values())
+    """Says so when the scene shows every k-th target of a map only."""
+    stride = max((layer.stride for layer in layers.values()), default=1)
     if stride == 1:
         return ""
-    return (f"<p>The map is large: the scene and this table cover 1 in {stride} targets along each grid axis. "
+    return (f"<p>The map is large: the scene covers 1 in {stride} targets along each grid axis. This table, "
             "summary.json and map.csv cover all of them.</p>")
 
 
@@ -219,13 +219,6 @@ def inputs_section(result: StudyResult, prismatic) -> str:
     return "".join(parts)
 
 
-def figure_names(result: StudyResult) -> list[str]:
-    """The figures of ``result``'s output folder in reading order: each pose's field (poses in study order),
-    then the map's (reference, scenarios, ratios, differences, winner)."""
-    names = [pose_figure_file(pose.name) for pose in result.poses]
-    return names + (map_figure_names(result.map) if result.map is not None else [])
-
-
 def embedded_figures(folder: Path, names: list[str]) -> str:
     """The PNGs ``names`` of ``folder`` (those that exist), in that order, as ``<img>`` with base64 data URIs."""
     parts = []
@@ -240,12 +233,13 @@ def embedded_figures(folder: Path, names: list[str]) -> str:
 
 
 def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: dict[str, MapLayer],
-                folder: Path, variant: str, prismatic) -> str:
-    """The report page around ``scene_page`` (a full meshcat static page); ``prismatic``: per joint, True
-    for a prismatic one (the units of its model)."""
+                folder: Path, figures: list[str], variant: str, prismatic) -> str:
+    """The report page around ``scene_page`` (a full meshcat static page), embedding the PNGs ``figures`` of
+    ``folder``; ``prismatic``: per joint, True for a prismatic one (the units of its model)."""
     srcdoc = scene_page.replace("&", "&amp;").replace('"', "&quot;")
-    maps = (f"<h2>RP_l maps</h2>{colour_bar(info.colour_scale)}<h3>Map statistics</h3>{thinning_note(layers)}"
-            f"{map_statistics(layers)}" if layers else "")
+    statistics = (f"<h3>Map statistics</h3>{thinning_note(layers)}{map_statistics(result.map)}"
+                  if result.map is not None else "")
+    maps = f"<h2>RP_l maps</h2>{colour_bar(info.colour_scale)}{statistics}" if layers else ""
     notes = "".join(f"<p><b>Note:</b> {html.escape(n)}</p>" for n in info.notes)
     title = html.escape(f"tribokin — {result.name}")
     clouds = (f"Cycle clouds and their 3σ covariance ellipsoids are drawn around their barycenter, magnified "
@@ -264,19 +258,22 @@ def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: d
 {inputs_section(result, prismatic)}
 {maps}
 {poses}
-<h2>Figures</h2>{embedded_figures(folder, figure_names(result))}
+<h2>Figures</h2>{embedded_figures(folder, figures)}
 </body></html>
 """
 
 
-def write_report(result: StudyResult, robot: Robot, folder, map_layers: dict[str, MapLayer] | None = None,
-                 cube: Cube | None = None, variant: str = "full") -> tuple[Path, SceneInfo]:
+def write_report(result: StudyResult, robot: Robot, folder, figures: list[str] = (),
+                 map_layers: dict[str, MapLayer] | None = None, cube: Cube | None = None,
+                 variant: str = "full") -> tuple[Path, SceneInfo]:
     """Write ``folder/report.html`` (a temporary name, then renamed); returns its path and what the scene drew.
 
     Args:
-        result: the study's results; the robot is drawn at ``result.display_configuration()``.
+        result: the study's results; the robot is drawn at ``result.display_configuration()``; its map's
+            statistics are the exact ones of :meth:`~tribokin.maps.result.MapResult.summary`.
         robot: the robot the study ran.
-        folder: the output folder (its PNG figures are embedded).
+        folder: the output folder.
+        figures: its PNG figures to embed, in this order (those that exist).
         map_layers: RP_l maps by scenario. cube: the ISO 9283 test cube.
         variant: ``"full"`` (visual meshes) or ``"light"`` (collision meshes).
     """
@@ -284,7 +281,8 @@ def write_report(result: StudyResult, robot: Robot, folder, map_layers: dict[str
     layers = dict(map_layers or {})
     vis = static_visualizer()
     info = build_scene(vis, robot, result.display_configuration(), result.poses, layers, cube, variant=variant)
-    page = report_html(result, vis.static_html(), info, layers, folder, variant, robot.joint_is_prismatic)
+    page = report_html(result, vis.static_html(), info, layers, folder, list(figures), variant,
+                       robot.joint_is_prismatic)
     temporary = folder / f".{REPORT_FILE}.partial"
     temporary.write_text(page, encoding="utf-8")
     os.replace(temporary, folder / REPORT_FILE)

@@ -1,0 +1,58 @@
+"""What the views of a study's results show, decided in one place: the figures and their order, the map's
+layers in the scene (thinned), the test cube; :func:`write_views` writes them into an output folder."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from tribokin.maps.result import MapResult
+from tribokin.run import StudyResult
+from tribokin.study.names import pose_figure_file
+from tribokin.viz.figures import save_repeatability_field
+from tribokin.viz.maps import map_figure_names, save_map_figures
+from tribokin.viz.report import write_report
+from tribokin.viz.scene import Cube, MapLayer
+from tribokin.viz.scene_file import save_scene_inputs
+
+#: Most map targets the 3-D scene draws per scenario (larger maps draw every k-th target along each axis).
+SCENE_TARGETS = 50_000
+
+
+def map_scene_layers(workspace_map: MapResult) -> dict[str, MapLayer]:
+    """The map's RP_l per scenario as scene layers, at most ``SCENE_TARGETS`` targets each, spread over the grid."""
+    shown, stride = workspace_map.grid.thinned(SCENE_TARGETS)
+    shown = shown.ravel()
+    points = workspace_map.read("position_m", shown)
+    return {s.name: MapLayer(points, s.figure("RP_l_um", shown), s.name, stride)
+            for s in workspace_map.scenarios.values()}
+
+
+def study_cube(result: StudyResult) -> Cube | None:
+    """The study's ISO 9283 test cube, if it has one."""
+    iso_cube = result.settings.get("iso_cube")
+    return None if iso_cube is None else Cube(tuple(iso_cube["center_m"]), iso_cube["side_m"])
+
+
+def figure_names(result: StudyResult) -> list[str]:
+    """The figures of ``result``'s output folder in reading order: each pose's field (poses in study order),
+    then the map's (reference, scenarios, ratios, differences, winner)."""
+    names = [pose_figure_file(pose.name) for pose in result.poses]
+    return names + (map_figure_names(result.map) if result.map is not None else [])
+
+
+def write_views(result: StudyResult, folder: Path, report: str = "full", map_layers: dict[str, MapLayer] | None = None,
+                cube: Cube | None = None) -> None:
+    """Draw into ``folder`` one figure per pose and the map's figures; with ``report`` ``"full"`` or ``"light"``
+    (robot visual or collision meshes) also ``report.html`` and ``scene.npz`` (for ``tribokin view``), drawing
+    ``map_layers`` (default: the map's scenarios, :func:`map_scene_layers`) and ``cube`` (default: the study's)."""
+    for pose in result.poses:
+        save_repeatability_field(pose, folder / pose_figure_file(pose.name), title=f"{result.name} — {pose.name}")
+    if result.map is not None:
+        save_map_figures(result.map, folder, result.name)
+    if report == "none":
+        return
+    cube = study_cube(result) if cube is None else cube
+    if map_layers is None and result.map is not None:
+        map_layers = map_scene_layers(result.map)
+    _, info = write_report(result, result.robot, folder, figure_names(result), map_layers, cube, variant=report)
+    save_scene_inputs(folder, result.display_configuration(), info.magnification, map_layers, cube)

@@ -1,0 +1,40 @@
+"""One schema of map figures: the store's columns, the bytes a target takes and map.csv's columns follow it."""
+
+import csv
+
+import numpy as np
+
+from tribokin.maps import schema
+from tribokin.maps.budget import map_bytes_per_target
+from tribokin.maps.grid import GridAxis, TargetGrid
+from tribokin.maps.result import MapResult, ScenarioMap
+from tribokin.maps.schema import MapFigure, map_columns
+from tribokin.maps.store import ChunkStore
+from tribokin.output.writers import write_map_table
+
+
+def map_table_header(tmp_path, scenarios: int = 1) -> list[str]:
+    """The header of map.csv of a 2-target joint map with one joint, written through the store."""
+    tmp_path.mkdir()
+    grid = TargetGrid("joint", (GridAxis("x", "m", np.array([0.0, 0.1])), None, None), None, np.zeros(1),
+                      joint_columns=(0,))
+    store = ChunkStore(tmp_path / "store", "key", map_columns(1, scenarios), grid.size)
+    store.write(slice(None), {"reachable": np.ones(2, bool), "closest": np.zeros((2, 2)),
+                              "scenario0_dominant_joint": np.zeros(2, int)})
+    workspace_map = MapResult(grid, ["x"], store, {"raw": ScenarioMap("raw", 5, 0, ["x"], store)})
+    write_map_table(workspace_map, workspace_map.reference, tmp_path / "map.csv")
+    with open(tmp_path / "map.csv", newline="") as handle:
+        return next(csv.reader(handle))
+
+
+def test_the_store_the_estimate_and_map_csv_follow_the_figures_of_the_schema(tmp_path, monkeypatch):
+    assert map_columns(2, 3)["scenario2_figures"] == ((len(schema.MAP_FIGURES),), "f8")
+    assert map_bytes_per_target(2, 3) == 8 * (3 + 2 + 2) + 1 + 3 * 8 * (len(schema.MAP_FIGURES) + 2 + 1)
+    header = map_table_header(tmp_path / "before")
+    assert header[:12] == ["x_m", "y_m", "z_m", "reachable", "RP_l_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg",
+                           "RP_c_mdeg", "largest_semi_axis_um", "dominant_joint", "dominant_share"]
+
+    monkeypatch.setattr(schema, "MAP_FIGURES", (*schema.MAP_FIGURES, MapFigure("flatness_um")))
+    assert map_columns(2, 3)["scenario2_figures"] == ((8,), "f8")
+    assert map_bytes_per_target(2, 3) == 8 * (3 + 2 + 2) + 1 + 3 * 8 * (8 + 2 + 1)
+    assert map_table_header(tmp_path / "after") == header[:10] + ["flatness_um"] + header[10:]  # before the joint
