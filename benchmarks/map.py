@@ -92,8 +92,8 @@ def fk_loop_rates(samples: int) -> dict:
 def draw_rate(study: dict, targets: int) -> float:
     """Target-cycles/s of drawing a map's random numbers alone, as the map draws them: per target its
     own stream, the approach signs and every joint's friction coefficients, turned into deviations."""
-    from tribokin.maps.run import MAP_STREAM
-    from tribokin.simulation.pose_run import PoseRunner, joint_space_task, pose_rng
+    from tribokin.simulation.pose_run import PoseRunner, joint_space_task
+    from tribokin.streams import map_target_stream
     from tribokin.study.assembly import joint_models, load_robot
     from tribokin.study.reading import load_study
 
@@ -104,7 +104,7 @@ def draw_rate(study: dict, targets: int) -> float:
     forces = np.full(robot.model.nv, 100.0)
     start = time.perf_counter()
     for index in range(targets):
-        runner.draw(task, forces, loaded.cycles, loaded.approach, pose_rng(loaded.seed, index, MAP_STREAM))
+        runner.draw(task, forces, loaded.cycles, loaded.approach, map_target_stream(loaded.seed, index))
     return targets * loaded.cycles / (time.perf_counter() - start)
 
 

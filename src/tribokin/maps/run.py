@@ -1,7 +1,7 @@
 """Workspace maps: the ISO 9283 figures at every target of a grid, computed in chunks of whole rows.
 
 Each target is measured like a single pose (:meth:`~tribokin.simulation.pose_run.PoseRunner.measure`,
-joint-space approach) from its own random stream ``pose_rng(seed, index, MAP_STREAM)``,
+joint-space approach) from its own random stream (:func:`~tribokin.streams.map_target_stream`),
 and only its scalar figures are kept, on disk (:class:`~tribokin.maps.store.ChunkStore`): memory
 holds a chunk's targets and a block's cycles, whatever the grid's size. A chunk solves and measures whole grid rows from
 their heads (:mod:`tribokin.maps.rows`), so the numbers depend on neither the chunk size,
@@ -33,14 +33,12 @@ from tribokin.maps.result import MAP_FIGURES, MapResult, ScenarioMap, scenario_c
 from tribokin.maps.rows import fill_from_neighbours, solve_row, solve_row_heads
 from tribokin.maps.store import ChunkStore, fingerprint
 from tribokin.propagation.exact import tool_deviations_at_poses, tool_frames
-from tribokin.simulation.pose_run import PoseRunner, joint_space_task, pose_rng
+from tribokin.simulation.pose_run import PoseRunner, joint_space_task
+from tribokin.streams import map_target_stream
 from tribokin.study.assembly import joint_models, load_robot
 from tribokin.study.spec import Study
 from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
-#: Random stream of map targets: target i draws from ``pose_rng(seed, i, MAP_STREAM)``
-#: (poses use streams 0 and 1).
-MAP_STREAM = 2
 #: Chunks finished after the warm-up before the progress bar shows a rate and an ETA.
 ETA_SAMPLES = 4
 
@@ -119,7 +117,7 @@ def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twi
         per_joint = np.empty((len(indices[members]), qs.shape[1], study.cycles))  # cycles contiguous
         for k, (load, index) in enumerate(zip(forces[members], indices[members])):
             per_joint[k] = runner.draw(task, load, study.cycles, study.approach,
-                                       pose_rng(study.seed, int(index), MAP_STREAM))[0].T
+                                       map_target_stream(study.seed, int(index)))[0].T
         figures[members], dominant[members] = block_figures(runner, qs[members], np.swapaxes(per_joint, 1, 2),
                                                             twists[members], translations[members])
     return figures, forces, dominant
