@@ -59,9 +59,11 @@ def ur5_plane(side_u: int, side_v: int, cycles: int, engine: str = "fast") -> di
 
 def timed_map(study: dict, workers: int) -> tuple[float, object]:
     from tribokin import run_study
+    from tribokin.execution import executor_for
 
     start = time.perf_counter()
-    result = run_study(study, workers=workers)
+    with executor_for(workers) as executor:
+        result = run_study(study, executor=executor)
     return time.perf_counter() - start, result.map
 
 
