@@ -32,6 +32,7 @@ from tribokin.simulation.pose_run import PoseRunner
 from tribokin.study.assembly import joint_models, load_robot
 from tribokin.study.spec import Study
 
+
 @dataclass(frozen=True)
 class MapJob:
     """What a chunk needs besides its rows: the study (robot, ``[map]``) and each scenario's study.
