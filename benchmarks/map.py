@@ -59,9 +59,11 @@ def ur5_plane(side_u: int, side_v: int, cycles: int, engine: str = "fast") -> di
 
 def timed_map(study: dict, workers: int) -> tuple[float, object]:
     from tribokin import run_study
+    from tribokin.execution import executor_for
 
     start = time.perf_counter()
-    result = run_study(study, workers=workers)
+    with executor_for(workers) as executor:
+        result = run_study(study, executor=executor)
     return time.perf_counter() - start, result.map
 
 
@@ -92,8 +94,8 @@ def fk_loop_rates(samples: int) -> dict:
 def draw_rate(study: dict, targets: int) -> float:
     """Target-cycles/s of drawing a map's random numbers alone, as the map draws them: per target its
     own stream, the approach signs and every joint's friction coefficients, turned into deviations."""
-    from tribokin.maps.run import MAP_STREAM
-    from tribokin.simulation.pose_run import PoseRunner, joint_space_task, pose_rng
+    from tribokin.simulation.pose_run import PoseRunner, joint_space_task
+    from tribokin.streams import map_target_stream
     from tribokin.study.assembly import joint_models, load_robot
     from tribokin.study.reading import load_study
 
@@ -104,7 +106,7 @@ def draw_rate(study: dict, targets: int) -> float:
     forces = np.full(robot.model.nv, 100.0)
     start = time.perf_counter()
     for index in range(targets):
-        runner.draw(task, forces, loaded.cycles, loaded.approach, pose_rng(loaded.seed, index, MAP_STREAM))
+        runner.draw(task, forces, loaded.cycles, loaded.approach, map_target_stream(loaded.seed, index))
     return targets * loaded.cycles / (time.perf_counter() - start)
 
 

@@ -1,4 +1,4 @@
-"""The ``tribokin`` command.
+"""The ``tribokin`` command: arguments, printing, the map's progress bar.
 
 Bad input prints one line, ``tribokin: error: <file>: <key>: <what to fix>``,
 and exits with status 2; nothing is written.
@@ -9,6 +9,8 @@ from __future__ import annotations
 import argparse
 import sys
 from contextlib import contextmanager
+
+from tqdm import tqdm
 
 from tribokin.errors import InputError
 
@@ -36,12 +38,63 @@ def _claimed(out, force: bool):
         yield
 
 
-def _run(args) -> None:
-    from tribokin.execution import check_executor
+#: Chunks finished after the warm-up before the progress bar shows a rate and an ETA.
+ETA_SAMPLES = 4
 
-    check_executor(args.workers, args.scheduler)
-    with _claimed(args.out, args.force):
-        result, out = _compute_and_write(args)
+
+class ProgressBar(tqdm):
+    """tqdm whose rate, hence ETA, is the average since its first ``warm_up`` updates (the chunks that paid for
+    start-up: worker processes, first calls), shown once ``samples`` more are in (``?`` until then); and without
+    tqdm's monitor thread, which would outlive the bar and keep later runs from forking workers."""
+
+    monitor_interval = 0
+
+    def __init__(self, *args, warm_up: int = 1, samples: int = ETA_SAMPLES, **kwargs):
+        self.warm_up, self.samples, self.updates = warm_up, samples, 0
+        self.clock_start: tuple[float, float] | None = None  # (time [s], count) at the end of the warm-up
+        super().__init__(*args, **kwargs)
+
+    def update(self, n=1):
+        self.updates += 1
+        super().update(n)
+        if self.updates == self.warm_up and not self.disable:
+            self.clock_start = (self._time(), self.n)
+
+    @property
+    def format_dict(self) -> dict:
+        shown = super().format_dict
+        shown["rate"] = 0.0  # tqdm shows "?"
+        if self.clock_start is not None and self.updates >= self.warm_up + self.samples:
+            start_s, start_n = self.clock_start
+            shown["rate"] = (self.n - start_n) / max(self._time() - start_s, 1e-9)
+        return shown
+
+
+@contextmanager
+def map_progress(warm_up: int):
+    """A ``progress(done_targets, total_targets)`` callback drawing the map's :class:`ProgressBar`, made at
+    its first call; the bar is closed when the block ends."""
+    bar = None
+
+    def report(done: int, total: int) -> None:
+        nonlocal bar
+        if bar is None:
+            bar = ProgressBar(total=total, initial=done, unit="target", desc="map", warm_up=warm_up)
+        else:
+            bar.update(done - bar.n)
+
+    try:
+        yield report
+    finally:
+        if bar is not None:
+            bar.close()
+
+
+def _run(args) -> None:
+    from tribokin.execution import executor_for
+
+    with executor_for(args.workers, args.scheduler) as executor, _claimed(args.out, args.force):
+        result, out = _compute_and_write(args, executor)
     files = []
     if result.poses:
         _print_poses(result)
@@ -59,7 +112,7 @@ def _run(args) -> None:
               f"live viewer: tribokin view {out}")
 
 
-def _compute_and_write(args):
+def _compute_and_write(args, executor):
     """Run the study (resuming from ``<out>.chunks`` if asked) and write its output folder. A refusal
     deletes the chunk folder this run created, never one an interrupted run left for ``--resume``."""
     from tribokin.maps.store import check_chunk_folder, chunk_folder, discard
@@ -72,8 +125,9 @@ def _compute_and_write(args):
     check_chunk_folder(chunks, args.resume)
     resumed = chunks.exists()
     try:
-        result = run_study(args.study, cycles=args.cycles, seed=args.seed, workers=args.workers,
-                           scheduler=args.scheduler, checkpoint=chunks, resume=args.resume, progress=True)
+        with map_progress(warm_up=args.workers) as progress:
+            result = run_study(args.study, cycles=args.cycles, seed=args.seed, executor=executor, checkpoint=chunks,
+                               resume=args.resume, progress=progress)
         result.reproduce["command"] = ["tribokin", *args.argv]
         out = write_results(result, args.out, args.force, report=args.report)
     except InputError:

@@ -1,4 +1,5 @@
-"""Where chunks of work run: in this process, in local worker processes, or on a dask cluster.
+"""Where chunks of work run: one :class:`concurrent.futures.Executor` (local processes, a dask cluster's
+client), or ``None`` for this process.
 
 A chunk is a call ``function(*arguments)`` whose result depends on its arguments only, so
 where it runs changes nothing but the time taken. Results come back as chunks finish. Local
@@ -15,7 +16,8 @@ import socket
 import sys
 import threading
 from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor, ProcessPoolExecutor, ThreadPoolExecutor, as_completed
+from contextlib import contextmanager
 
 from tribokin.checks import positive_int
 from tribokin.errors import InputError
@@ -64,51 +66,63 @@ def _end_with(parent: int) -> None:
         os._exit(1)
 
 
-def run_chunks(function: Callable, chunks: dict, workers: int = 1, scheduler: str | None = None) -> Iterator:
-    """Yield ``(key, function(*arguments))`` for every ``key: arguments`` of ``chunks``, as they finish.
+@contextmanager
+def executor_for(workers: int = 1, scheduler: str | None = None) -> Iterator[Executor | None]:
+    """Where a run's chunks run, checked (:func:`check_executor`) and built once, shut down when the block ends.
 
-    Local worker processes start here, before the first result is asked for: forked from this
-    process when it runs no other thread (fast, and they inherit what it has loaded), else
-    spawned clean (forking a process with threads can deadlock). They end when this process
-    ends, even if it is killed. ``workers`` and ``scheduler`` are those :func:`check_executor` accepted.
-
-    Args:
-        workers: local processes (1: run here, in key order).
-        scheduler: address of a dask.distributed scheduler (``"tcp://host:8786"``); its workers
-            must be able to import tribokin.
+    Yields ``None`` (here, in key order) for one worker and no scheduler; else a
+    :class:`~concurrent.futures.ProcessPoolExecutor` of ``workers`` local processes: forked from this
+    process if it runs no other thread now (fast, and they inherit what it has loaded when the first
+    chunk is submitted), else spawned clean (forking a process with threads can deadlock); they end
+    when this process ends, even if it is killed. With ``scheduler``, the address of a
+    dask.distributed scheduler (``"tcp://host:8786"``, its workers able to import tribokin), its
+    client's executor.
     """
+    check_executor(workers, scheduler)
     if scheduler is not None:
-        return _run_on_dask(function, chunks, scheduler)
+        from dask.distributed import Client
+
+        try:
+            client = Client(scheduler, timeout=SCHEDULER_TIMEOUT_S, set_as_default=False)
+        except (OSError, TimeoutError, ValueError) as error:
+            raise InputError(f"cannot reach the dask scheduler at '{scheduler}' ({error})", "command line",
+                             "--scheduler") from None
+        with client:
+            yield client.get_executor(pure=False)
+        return
     if workers == 1:
-        return ((key, function(*arguments)) for key, arguments in chunks.items())
+        yield None
+        return
     start = "fork" if "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1 else "spawn"
     pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(start), initializer=_end_with,
                                initargs=(os.getpid(),))
-    futures = {pool.submit(function, *arguments): key for key, arguments in chunks.items()}
-    return _as_finished(pool, futures)
-
-
-def _as_finished(pool: ProcessPoolExecutor, futures: dict) -> Iterator:
     try:
-        for future in as_completed(futures):
-            yield futures[future], future.result()
+        yield pool
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _run_on_dask(function: Callable, chunks: dict, scheduler: str) -> Iterator:
-    from dask.distributed import Client
-    from dask.distributed import as_completed as dask_completed
+def local_workers(executor: Executor | None) -> int:
+    """Chunks ``executor`` computes at once in this machine's memory: a pool's workers, else 1 (this
+    process, or a cluster's own machines)."""
+    pool = isinstance(executor, (ProcessPoolExecutor, ThreadPoolExecutor))
+    return executor._max_workers if pool else 1  # the pools' size, as their constructor took it
 
-    try:
-        client = Client(scheduler, timeout=SCHEDULER_TIMEOUT_S, set_as_default=False)
-    except (OSError, TimeoutError, ValueError) as error:
-        raise InputError(f"cannot reach the dask scheduler at '{scheduler}' ({error})", "command line",
-                         "--scheduler") from None
-    try:
-        futures = {client.submit(function, *arguments, pure=False): key for key, arguments in chunks.items()}
-        for future in dask_completed(futures, loop=client.loop):
-            yield futures[future], future.result()
-            future.release()
+
+@contextmanager
+def run_chunks(function: Callable, chunks: dict, executor: Executor | None = None) -> Iterator[Iterator]:
+    """Within the block, an iterator of ``(key, function(*arguments))`` for every ``key: arguments`` of
+    ``chunks``, as they finish.
+
+    Every chunk is submitted to ``executor`` on entering the block, before the first result is asked
+    for; those not started when the block ends are cancelled. ``None``: run here, in key order.
+    """
+    if executor is None:
+        yield ((key, function(*arguments)) for key, arguments in chunks.items())
+        return
+    futures = {executor.submit(function, *arguments): key for key, arguments in chunks.items()}
+    try:  # a future is let go once its result is out: local memory and a cluster's hold no finished chunk
+        yield ((futures.pop(future), future.result()) for future in as_completed(futures))
     finally:
-        client.close()
+        for future in futures:
+            future.cancel()

@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import tempfile
+from collections.abc import Callable
+from concurrent.futures import Executor
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
 
 from tribokin.errors import InputError
-from tribokin.execution import check_executor
+from tribokin.execution import local_workers
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.budget import check_disk, check_memory
 from tribokin.maps.result import MapResult
@@ -62,22 +64,21 @@ class StudyResult:
         return summary
 
 
-def run_study(study, cycles: int | None = None, seed: int | None = None, *, workers: int = 1,
-              scheduler: str | None = None, checkpoint=None, resume: bool = False,
-              progress: bool = False) -> StudyResult:
+def run_study(study, cycles: int | None = None, seed: int | None = None, *, executor: Executor | None = None,
+              checkpoint=None, resume: bool = False, progress: Callable[[int, int], None] | None = None) -> StudyResult:
     """Run a study from a TOML path, a mapping or a :class:`Study`.
 
     Args:
         study: the study; relative paths in a mapping resolve against the current folder.
         cycles, seed: override the file's values.
-        workers, scheduler: where the map's chunks run: local processes, or a dask scheduler's address.
+        executor: where the map's chunks run (``None``: here; local processes or a dask cluster:
+            :func:`~tribokin.execution.executor_for`).
         checkpoint, resume: folder where the map's finished chunks are saved, and whether to reuse them.
-        progress: show a progress bar for the map.
+        progress: called with the map's targets done and in all (:func:`~tribokin.maps.run.run_map`).
 
     Returns:
         the per-pose samples and ISO 9283 figures, and the map's per-target figures.
     """
-    check_executor(workers, scheduler)
     study = load_study(study, cycles, seed)
     if resume and study.map is None and checkpoint is not None and Path(checkpoint).exists():
         raise InputError("this study has no [map], so these chunks are another run's; run that study with "
@@ -86,8 +87,8 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, work
     models = joint_models(study, robot)
     tasks, cube = pose_tasks(study, robot)
     check_names(study, tasks)
-    check_memory(study, robot.model.nv, [len(t.tested(study.approach).labels) for t in tasks], workers,
-                 cycles_from_command_line=cycles is not None)
+    check_memory(study, robot.model.nv, [len(t.tested(study.approach).labels) for t in tasks],
+                 local_workers(executor), ("command line", "--cycles") if cycles is not None else None)
     check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None else checkpoint)
     prepared_map = None if study.map is None else prepare_map(study, robot)
     runner = PoseRunner(study, robot, models)
@@ -96,7 +97,7 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, work
     poses = [runner.run(task, index) for index, task in enumerate(tasks)]
     workspace_map = None
     if prepared_map is not None:
-        workspace_map = run_map(study, robot, *prepared_map, workers, scheduler, checkpoint, resume, progress)
+        workspace_map = run_map(study, robot, *prepared_map, executor, checkpoint, resume, progress)
     settings = {
         "name": study.name,
         "source": study.source,

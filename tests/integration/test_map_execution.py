@@ -15,6 +15,7 @@ import pytest
 from conftest import GANTRY_MAP_TOML
 from tribokin import InputError, run_study
 from tribokin.cli import main
+from tribokin.execution import executor_for
 from tribokin.maps.store import ChunkStore
 from tribokin.output.writers import map_table_name, write_map_table, write_results, write_summary
 
@@ -80,7 +81,8 @@ def test_two_local_workers_change_nothing(reference, tmp_path, monkeypatch):
     real_context = multiprocessing.get_context
     monkeypatch.setattr(multiprocessing, "get_context", lambda method=None: started.append(method) or
                         real_context(method))
-    assert written(run_study(with_chunk_rows(2), workers=2), tmp_path / "out") == reference
+    with executor_for(workers=2) as executor:
+        assert written(run_study(with_chunk_rows(2), executor=executor), tmp_path / "out") == reference
     assert started == ["fork" if alone else "spawn"]  # forked when this process runs no other thread
 
 
@@ -97,7 +99,8 @@ def test_workers_are_spawned_when_another_thread_runs(reference, tmp_path, monke
     other = threading.Thread(target=stop.wait)
     other.start()
     try:
-        assert written(run_study(with_chunk_rows(2), workers=2), tmp_path / "out") == reference
+        with executor_for(workers=2) as executor:
+            assert written(run_study(with_chunk_rows(2), executor=executor), tmp_path / "out") == reference
     finally:
         stop.set()
         other.join()
@@ -108,14 +111,17 @@ def test_dask_cluster_changes_nothing(reference, tmp_path):
     from dask.distributed import LocalCluster
 
     with LocalCluster(n_workers=2, threads_per_worker=2, processes=True, dashboard_address=None) as cluster:
-        result = run_study(UR5_MAP, scheduler=cluster.scheduler_address)
+        with executor_for(scheduler=cluster.scheduler_address) as executor:
+            result = run_study(UR5_MAP, executor=executor)
     assert written(result, tmp_path / "out") == reference
 
 
-def test_unreachable_scheduler_is_refused_before_any_work(tmp_path):
+def test_unreachable_scheduler_is_refused_before_any_work(tmp_path, monkeypatch):
+    monkeypatch.setattr("dask.distributed.Client", lambda *args, **options: pytest.fail("a client was made"))
     with pytest.raises(InputError, match="cannot reach") as error:
-        run_study(UR5_MAP, scheduler="tcp://127.0.0.1:9", checkpoint=tmp_path / "chunks")
-    assert error.value.key == "--scheduler" and list(tmp_path.iterdir()) == []
+        with executor_for(scheduler="tcp://127.0.0.1:9"):
+            pytest.fail("an executor was made")
+    assert error.value.key == "--scheduler"
 
 
 def test_finished_chunks_are_reused_on_resume_others_recomputed_and_settings_checked(tmp_path):

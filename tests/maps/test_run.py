@@ -1,30 +1,10 @@
-"""Map runs: the progress bar's ETA and the order chunks are computed in (results: test_map_execution.py)."""
+"""Map runs: the order chunks are computed in and the progress they report (results: test_map_execution.py)."""
 
-import io
+from conftest import GANTRY_MAP_TOML
+from tribokin import run_study
+from tribokin.maps.run import chunk_order
 
-from tqdm import std as tqdm_std
-
-from tribokin.maps.run import ETA_SAMPLES, ProgressBar, chunk_order
-
-
-def test_eta_counts_only_the_chunks_after_each_workers_first(monkeypatch):
-    now = [0.0]
-    monkeypatch.setattr(tqdm_std, "time", lambda: now[0])  # the bar's clock
-    bar = ProgressBar(total=1000, warm_up=2, file=io.StringIO(), mininterval=0)
-
-    def chunk_done_at(time_s: float) -> str:
-        now[0] = time_s
-        bar.update(100)
-        return tqdm_std.tqdm.format_meter(**bar.format_dict)
-
-    assert "<?" in chunk_done_at(10.0)  # each worker's first chunk paid 10 s of start-up
-    assert "<?" in chunk_done_at(10.5)  # the clock starts here
-    for k in range(1, ETA_SAMPLES):
-        assert "<?" in chunk_done_at(10.5 + k)
-    shown = chunk_done_at(10.5 + ETA_SAMPLES)  # 100 targets/s since the start-up
-    done, interval = 200 + 100 * ETA_SAMPLES, tqdm_std.tqdm.format_interval
-    assert f"{done}/1000 [{interval(10.5 + ETA_SAMPLES)}<{interval((1000 - done) / 100)}, 100.00it/s]" in shown
-    bar.close()
+SMALL_MAP = GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 5")  # 1000 targets in 40 chunks of one row
 
 
 def test_chunks_run_spread_over_the_grid_so_the_first_are_a_fair_sample():
@@ -33,3 +13,24 @@ def test_chunks_run_spread_over_the_grid_so_the_first_are_a_fair_sample():
         order = chunk_order(count)
         assert sorted(order) == list(range(count))
         assert max(order[:4]) >= count * 3 // 4 or count < 4  # the first four reach the far quarter of the grid
+
+
+def test_progress_reports_the_targets_done_before_and_as_each_chunk_finishes_resumed_ones_included(tmp_path):
+    study = tmp_path / "study.toml"
+    study.write_text(SMALL_MAP)
+    calls = []
+    run_study(study, checkpoint=tmp_path / "chunks", progress=lambda done, total: calls.append((done, total)))
+    assert calls == [(25 * k, 1000) for k in range(41)]
+    (tmp_path / "chunks" / "done" / "7").unlink()
+    (tmp_path / "chunks" / "done" / "30").unlink()
+    calls.clear()
+    run_study(study, checkpoint=tmp_path / "chunks", resume=True, progress=lambda *call: calls.append(call))
+    assert calls == [(950, 1000), (975, 1000), (1000, 1000)]
+
+
+def test_a_map_of_one_chunk_reports_no_progress(tmp_path):
+    study = tmp_path / "study.toml"
+    study.write_text(SMALL_MAP.replace("chunk_rows = 1", "chunk_rows = 40"))
+    calls = []
+    assert run_study(study, progress=lambda *call: calls.append(call)).map.grid.size == 1000
+    assert calls == []

@@ -1,15 +1,17 @@
 """The map store: columns written by chunks and read back by blocks, finished chunks marked, records atomic."""
 
 import errno
+import gc
 import os
 import shutil
+import tempfile
 
 import numpy as np
 import pytest
 
 from conftest import killed_after
 from tribokin import InputError
-from tribokin.maps.store import ChunkStore, discard
+from tribokin.maps.store import ChunkStore, discard, temporary_store
 
 COLUMNS = {"q": ((2,), "f8"), "reachable": ((), "?")}
 
@@ -116,3 +118,13 @@ def test_a_store_reserves_its_disk_space_and_a_full_disk_is_refused_before_writi
     with pytest.raises(InputError, match="disk is full .* needed about 0.76 MiB for the map's store"):
         ChunkStore(tmp_path / "other", "key", {"q": ((1000,), "f8")}, size=100)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["store"]
+
+
+def test_a_temporary_store_lives_under_tmpdir_and_is_deleted_with_the_store(tmp_path, monkeypatch):
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    store = temporary_store("key", {"q": ((2,), "f8")}, 3)
+    store.save(0, 0, {"q": np.ones((3, 2))})
+    assert store.folder.parent.parent == tmp_path and store.read("q").sum() == 6
+    del store
+    gc.collect()
+    assert list(tmp_path.iterdir()) == []

@@ -8,8 +8,8 @@ import pytest
 
 from conftest import ROOT
 from tribokin import InputError, run_study
-from tribokin.maps.run import MAP_STREAM
-from tribokin.simulation.pose_run import PoseRunner, joint_space_task, pose_rng
+from tribokin.simulation.pose_run import PoseRunner, joint_space_task
+from tribokin.streams import map_target_stream
 from tribokin.study.assembly import joint_models, load_robot
 from tribokin.study.reading import load_study
 
@@ -106,7 +106,7 @@ def ur5_map_study(cycles=30):
 
 
 def test_arm_map_targets_equal_single_pose_runs():
-    """Each target is an ordinary pose: exactly so with its own stream (seed, index, MAP_STREAM) through
+    """Each target is an ordinary pose: exactly so with its own stream (map_target_stream(seed, index)) through
     the single-pose path, and statistically against `run_study` poses at the map's q (other streams)."""
     cycles = 4000
     workspace_map = run_study(ur5_map_study(cycles)).map
@@ -120,7 +120,7 @@ def test_arm_map_targets_equal_single_pose_runs():
     study = load_study(ur5_map_study(cycles))
     runner = PoseRunner(study, robot, joint_models(study, robot))
     for index in (0, 5):
-        pose = runner.measure(joint_space_task("P", workspace_map.q[index]), pose_rng(11, index, MAP_STREAM))
+        pose = runner.measure(joint_space_task("P", workspace_map.q[index]), map_target_stream(11, index))
         assert workspace_map.reference.figure("RP_l_um")[index] == pose.metrics.directions["+"].RP_l_m * 1e6
 
     poses = run_study(_poses_study(workspace_map.q, cycles))

@@ -10,6 +10,7 @@ import pinocchio as pin
 from tribokin.iso9283.metrics import cube_test_positions
 from tribokin.kinematics.ik import solve_ik_with_restarts
 from tribokin.kinematics.robot import Robot
+from tribokin.streams import posture_search
 
 #: Cartesian approach directions of a cube pose, each followed by its opposite: label -> the tool's
 #: direction of travel along the base axes. Unidirectional tests use the + ones (ISO 9283's three
@@ -42,8 +43,8 @@ def position_manipulability(robot: Robot, q) -> float:
 
 def candidate_postures(robot: Robot, samples: int = 256, keep: int = 4) -> list[np.ndarray]:
     """Well-conditioned working postures, best first: the reference posture and random
-    postures within the limits (fixed seed), ranked by the manipulability of the tool position."""
-    rng = np.random.default_rng(9283)
+    postures within the limits (:func:`~tribokin.streams.posture_search`), ranked by the manipulability of the tool position."""
+    rng = posture_search()
     lower, upper = robot.lower_limits, robot.upper_limits
     candidates = [robot.reference_q] + [rng.uniform(lower, upper) for _ in range(samples)]
     scores = np.round([position_manipulability(robot, q) for q in candidates], 9)
@@ -93,7 +94,7 @@ def place_cube(robot: Robot, center_m=None, side_m: float | None = None, rpy_deg
         the five poses and the cube actually used (``center_m``, ``side_m``, ``rpy_deg``,
         ``orientation_held``).
     """
-    rng = rng or np.random.default_rng(9283)
+    rng = rng or posture_search()
     sides = [side_m] if side_m is not None else [0.4, 0.3, 0.2, 0.1, 0.05]
     failure = None
     for start in candidate_postures(robot, keep=1 if center_m is not None else 4):

@@ -119,10 +119,12 @@ def estimate(study: Study, nv: int, directions: list[int], workers: int = 1) -> 
 
 
 def check_memory(study: Study, nv: int, directions: list[int], workers: int = 1,
-                 cycles_from_command_line: bool = False, available: int | None = None) -> None:
+                 cycles_set_by: tuple[str, str] | None = None, available: int | None = None) -> None:
     """An :class:`InputError` naming the key to lower if the run needs more memory than is available.
 
-    ``available`` [bytes] defaults to :func:`available_bytes` (no check when unknown).
+    ``cycles_set_by``: ``(source, key)`` named when the cycles are to lower, if not the study file's
+    ``study.cycles`` (``("command line", "--cycles")``); ``available`` [bytes] defaults to
+    :func:`available_bytes` (no check when unknown).
     """
     parts = estimate(study, nv, directions, workers)
     needed = sum(size for size, _, _ in parts)
@@ -131,7 +133,7 @@ def check_memory(study: Study, nv: int, directions: list[int], workers: int = 1,
         return
     size, key, what = max(parts)
     source = study.source
-    if key == "study.cycles" and cycles_from_command_line:
-        source, key = "command line", "--cycles"
+    if key == "study.cycles" and cycles_set_by is not None:
+        source, key = cycles_set_by
     raise InputError(f"this run needs about {gib(needed)} of memory (mostly {gib(size)} for {what}), and "
                      f"{gib(available)} is available: lower {key}, or split the study into several", source, key)

@@ -18,14 +18,13 @@ import pinocchio as pin
 from tribokin.kinematics.ik import IKResult, solve_ik, solve_ik_with_restarts
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.grid import TargetGrid, axis_steps, grid_neighbours
+from tribokin.streams import ik_restart_stream
 
 #: Random restarts of the IK after a warm start fails (each costs up to 200 iterations).
 IK_RESTARTS = 4
 #: Reached targets a row's warm start extrapolates from (a polynomial of one degree less): an error of the
 #: order of the step to the fourth power, so one iteration usually converges on fine grids.
 EXTRAPOLATION_POINTS = 4
-#: Seed of the IK restarts: target ``index`` restarts from ``default_rng([IK_SEED, index])``.
-IK_SEED = 9283
 
 
 def _target(grid: TargetGrid, index: int) -> pin.SE3:
@@ -39,7 +38,7 @@ def _solve_from(robot: Robot, grid: TargetGrid, index: int, q_start) -> IKResult
 
 def _solve(robot: Robot, grid: TargetGrid, index: int, q_start) -> IKResult:
     """IK of target ``index`` from ``q_start``, then from seeded random restarts."""
-    return solve_ik_with_restarts(robot, _target(grid, index), q_start, lambda: np.random.default_rng([IK_SEED, index]),
+    return solve_ik_with_restarts(robot, _target(grid, index), q_start, lambda: ik_restart_stream(index),
                                   IK_RESTARTS, position_only=grid.rotation is None)
 
 

@@ -1,7 +1,6 @@
 """Workspace maps: the ISO 9283 figures at every target of a grid, computed in chunks of whole rows.
 
-Each target is measured like a single pose (:meth:`~tribokin.simulation.pose_run.PoseRunner.measure`,
-joint-space approach) from its own random stream ``pose_rng(seed, index, MAP_STREAM)``,
+Each target is measured like a single pose from its own random stream (:mod:`tribokin.maps.measure`),
 and only its scalar figures are kept, on disk (:class:`~tribokin.maps.store.ChunkStore`): memory
 holds a chunk's targets and a block's cycles, whatever the grid's size. A chunk solves and measures whole grid rows from
 their heads (:mod:`tribokin.maps.rows`), so the numbers depend on neither the chunk size,
@@ -11,67 +10,27 @@ measured at the same configurations with the same streams.
 
 from __future__ import annotations
 
-import math
-import shutil
-import tempfile
 import threading
 import uuid
-import weakref
+from collections.abc import Callable
+from concurrent.futures import Executor
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
-from tqdm import tqdm
 
 from tribokin.errors import InputError
 from tribokin.execution import run_chunks
-from tribokin.iso9283.metrics import orientation_repeatability, position_spread, variance_contributions
 from tribokin.kinematics.robot import Robot
-from tribokin.maps.budget import TARGET_BLOCK_SAMPLES
 from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
+from tribokin.maps.measure import measure_targets
 from tribokin.maps.result import MapResult, ScenarioMap
 from tribokin.maps.rows import fill_from_neighbours, solve_row, solve_row_heads
-from tribokin.maps.schema import MAP_FIGURES, map_columns, scenario_column
-from tribokin.maps.store import ChunkStore, fingerprint
-from tribokin.propagation.exact import tool_deviations_at_poses, tool_frames
-from tribokin.simulation.pose_run import PoseRunner, joint_space_task, pose_rng
+from tribokin.maps.schema import map_columns, scenario_column
+from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
+from tribokin.propagation.exact import tool_frames
+from tribokin.simulation.pose_run import PoseRunner
 from tribokin.study.assembly import joint_models, load_robot
 from tribokin.study.spec import Study
-from tribokin.units import MDEG_PER_RAD, UM_PER_M
-
-#: Random stream of map targets: target i draws from ``pose_rng(seed, i, MAP_STREAM)``
-#: (poses use streams 0 and 1).
-MAP_STREAM = 2
-#: Chunks finished after the warm-up before the progress bar shows a rate and an ETA.
-ETA_SAMPLES = 4
-
-
-class ProgressBar(tqdm):
-    """tqdm whose rate, hence ETA, is the average since its first ``warm_up`` updates (the chunks that paid for
-    start-up: worker processes, first calls), shown once ``samples`` more are in (``?`` until then); and without
-    tqdm's monitor thread, which would outlive the bar and keep later runs from forking workers."""
-
-    monitor_interval = 0
-
-    def __init__(self, *args, warm_up: int = 1, samples: int = ETA_SAMPLES, **kwargs):
-        self.warm_up, self.samples, self.updates = warm_up, samples, 0
-        self.clock_start: tuple[float, float] | None = None  # (time [s], count) at the end of the warm-up
-        super().__init__(*args, **kwargs)
-
-    def update(self, n=1):
-        self.updates += 1
-        super().update(n)
-        if self.updates == self.warm_up and not self.disable:
-            self.clock_start = (self._time(), self.n)
-
-    @property
-    def format_dict(self) -> dict:
-        shown = super().format_dict
-        shown["rate"] = 0.0  # tqdm shows "?"
-        if self.clock_start is not None and self.updates >= self.warm_up + self.samples:
-            start_s, start_n = self.clock_start
-            shown["rate"] = (self.n - start_n) / max(self._time() - start_s, 1e-9)
-        return shown
 
 
 @dataclass(frozen=True)
@@ -99,47 +58,6 @@ def _job_context(job: MapJob):
         runners = [PoseRunner(s, robot, joint_models(s, robot)) for s in job.scenarios]
         _local.cache = (job.token, robot, make_grid(robot, job.study.map), runners)
     return _local.cache[1:]
-
-
-def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twists: np.ndarray,
-                    translations: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Figures (targets, ``MAP_FIGURES``), bearing loads [N] (targets, nv) and dominant joint (-1: none)
-    of the targets ``indices`` at configurations ``qs`` (targets, nv), each drawn from its own stream
-    and measured like a single pose (joint-space approach); ``twists``, ``translations``: their
-    :func:`~tribokin.propagation.exact.tool_frames`. Targets go through in blocks of even sizes, of at most about
-    ``TARGET_BLOCK_SAMPLES`` cycles: few enough for the arrays to stay small, enough to share the
-    per-call costs."""
-    study = runner.study
-    task = joint_space_task("map target", np.zeros(qs.shape[1]))  # the draws use its approach directions only
-    forces = runner.normal_forces_at(qs)
-    figures = np.empty((len(qs), len(MAP_FIGURES)))
-    dominant = np.empty(len(qs), dtype=int)
-    blocks = math.ceil(len(qs) / max(1, TARGET_BLOCK_SAMPLES // study.cycles))
-    for b in range(blocks):  # blocks of even sizes: no small last one paying the per-call costs alone
-        members = slice(len(qs) * b // blocks, len(qs) * (b + 1) // blocks)
-        per_joint = np.empty((len(indices[members]), qs.shape[1], study.cycles))  # cycles contiguous
-        for k, (load, index) in enumerate(zip(forces[members], indices[members])):
-            per_joint[k] = runner.draw(task, load, study.cycles, study.approach,
-                                       pose_rng(study.seed, int(index), MAP_STREAM))[0].T
-        figures[members], dominant[members] = block_figures(runner, qs[members], np.swapaxes(per_joint, 1, 2),
-                                                            twists[members], translations[members])
-    return figures, forces, dominant
-
-
-def block_figures(runner: PoseRunner, qs: np.ndarray, dq: np.ndarray, twists: np.ndarray, translations: np.ndarray):
-    """``MAP_FIGURES`` (targets, 7) and dominant joint (targets,) of deviations ``dq`` (targets, n, nv)."""
-    positions, angles = tool_deviations_at_poses(runner.robot, qs, dq, runner.study.engine, twists, translations)
-    shares = variance_contributions(twists[:, :3], dq)
-    dominant = np.where(np.isnan(shares).all(axis=1), -1, np.argmax(np.nan_to_num(shares, nan=-1.0), axis=1))
-    spread = position_spread(positions)
-    figures = np.column_stack([
-        spread.RP_l_m * UM_PER_M,
-        np.linalg.norm(spread.barycenter_m - translations, axis=1) * UM_PER_M,
-        orientation_repeatability(angles) * MDEG_PER_RAD,
-        spread.largest_semi_axis_m * UM_PER_M,
-        np.where(dominant < 0, np.nan, np.take_along_axis(shares, np.maximum(dominant, 0)[:, None], axis=1)[:, 0]),
-    ])
-    return figures, dominant
 
 
 def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, np.ndarray]:
@@ -219,10 +137,7 @@ def open_store(study: Study, studies: tuple[Study, ...], chunks: list[list[int]]
     columns = map_columns(nv, len(studies))
     if checkpoint is not None:
         return ChunkStore(checkpoint, fingerprint(settings), columns, size, resume)
-    folder = Path(tempfile.mkdtemp(prefix="tribokin-map-"))
-    store = ChunkStore(folder / "store", fingerprint(settings), columns, size)
-    weakref.finalize(store, shutil.rmtree, folder, True)
-    return store
+    return temporary_store(fingerprint(settings), columns, size)
 
 
 def chunk_order(count: int) -> list[int]:
@@ -255,7 +170,8 @@ def prepare_map(study: Study, robot: Robot) -> tuple[TargetGrid, list[PoseRunner
 
 
 def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunner], heads: np.ndarray,
-            workers: int = 1, scheduler: str | None = None, checkpoint=None, resume: bool = False, progress: bool = False) -> MapResult:
+            executor: Executor | None = None, checkpoint=None, resume: bool = False,
+            progress: Callable[[int, int], None] | None = None) -> MapResult:
     """Measure the study's ``[map]`` for each scenario.
 
     Args:
@@ -263,11 +179,12 @@ def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunn
         robot: the study's robot.
         grid, runners, heads: the map's grid, its scenarios' runners and its rows' starting postures
             (:func:`prepare_map`).
-        workers, scheduler: where chunks run (see :func:`~tribokin.execution.run_chunks`).
+        executor: where chunks run (:func:`~tribokin.execution.executor_for`; ``None``: here).
         checkpoint: folder where the results are kept as chunks finish (``None``: a temporary folder,
             deleted with the result).
         resume: reuse the chunks an interrupted run saved in ``checkpoint``.
-        progress: show a progress bar (when there is more than one chunk).
+        progress: called ``progress(done_targets, total_targets)`` before the chunks run (the targets of
+            resumed chunks done) and as each finishes, if the map has more than one chunk.
     """
     studies = tuple(runner.study for runner in runners)
     names = [s.name for s in study.scenarios] or [study.name]
@@ -278,14 +195,14 @@ def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunn
     _local.cache = (job.token, robot, grid, runners)  # chunks run in this thread need not rebuild them
     todo = {k: (job, chunks[k], heads[chunks[k]]) for k in chunk_order(len(chunks)) if k not in finished}
     done_targets = sum(len(chunks[k]) for k in finished) * grid.row_length
+    report = progress if progress is not None and len(chunks) > 1 else lambda done, total: None
     try:
-        results = run_chunks(compute_chunk, todo, workers, scheduler)
-        with ProgressBar(total=grid.size, initial=done_targets, unit="target", desc=f"map {study.name}",
-                         disable=not progress or len(chunks) <= 1,
-                         warm_up=1 if scheduler is not None else max(1, min(workers, len(todo)))) as bar:
+        with run_chunks(compute_chunk, todo, executor) as results:
+            report(done_targets, grid.size)
             for chunk, arrays in results:
                 store.save(chunk, chunks[chunk][0] * grid.row_length, arrays)
-                bar.update(len(chunks[chunk]) * grid.row_length)
+                done_targets += len(chunks[chunk]) * grid.row_length
+                report(done_targets, grid.size)
     finally:
         _local.cache = None
     fill_holes(robot, grid, runners, store)

@@ -16,6 +16,9 @@ import hashlib
 import json
 import math
 import os
+import shutil
+import tempfile
+import weakref
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -214,3 +217,11 @@ class ChunkStore:
             return None
         with self._intact(), np.load(path) as saved:
             return {key: saved[key] for key in saved.files}
+
+
+def temporary_store(key: str, columns: dict[str, tuple[tuple, str]], size: int) -> ChunkStore:
+    """A :class:`ChunkStore` in a new temporary folder (under ``$TMPDIR``), deleted with the store object."""
+    folder = Path(tempfile.mkdtemp(prefix="tribokin-map-"))
+    store = ChunkStore(folder / "store", key, columns, size)
+    weakref.finalize(store, shutil.rmtree, folder, True)
+    return store

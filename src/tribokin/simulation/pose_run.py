@@ -16,6 +16,7 @@ from tribokin.propagation.exact import max_deviation_from_exact, tool_deviations
 from tribokin.simulation.joint_errors import JointErrorModel, approach_signs, check_travel, joint_travel, \
     sample_joint_deviations
 from tribokin.simulation.pose_result import PoseResult
+from tribokin.streams import pose_stream, replicate_stream
 from tribokin.tribology.laws import FrictionLaw
 from tribokin.units import UM_PER_M
 
@@ -37,11 +38,6 @@ class RunSettings(Protocol):
 
     def joint_key(self, name: str, part: str) -> str:
         """The study key that sets ``part`` (``"stiffness"``...) of joint ``name`` (named by a refusal)."""
-
-
-def pose_rng(seed: int, index: int, stream: int = 0) -> np.random.Generator:
-    """Random stream ``stream`` of pose ``index``: depends on the seed, the index and the stream only."""
-    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, stream)))
 
 
 #: Approach directions of a joint-space pose: every joint travelling +, then every joint travelling -.
@@ -152,7 +148,7 @@ class PoseRunner:
 
     def run(self, task: PoseTask, index: int) -> PoseResult:
         """Measure pose ``index`` (ISO 9283 per approach direction and across them, and beyond)."""
-        result = self.measure(task, pose_rng(self.study.seed, index))
+        result = self.measure(task, pose_stream(self.study.seed, index))
         if task.friction is not None:
             result.extra["friction"] = task.friction.describe()
         result.direction_extra = self.beyond_iso(task, result.normal_forces_N, result, index)
@@ -174,7 +170,7 @@ class PoseRunner:
         jacobian = self.robot.tool_jacobian(task.q)[:3]
         cycles = self.study.cycles
         replicates = int(np.clip(REPLICATE_SAMPLES // cycles, 20, RP_REPLICATES))
-        rng = pose_rng(self.study.seed, index, stream=1)
+        rng = replicate_stream(self.study.seed, index)
         figures = {}
         for label in result.metrics.directions:
             mine = result.approach == result.directions.index(label)

@@ -1,0 +1,43 @@
+"""The command's progress bar: its ETA leaves out the start-up, and it follows the map's progress reports."""
+
+import io
+
+from tqdm import std as tqdm_std
+
+from tribokin.cli import ETA_SAMPLES, ProgressBar, map_progress
+
+
+def test_eta_counts_only_the_chunks_after_each_workers_first(monkeypatch):
+    now = [0.0]
+    monkeypatch.setattr(tqdm_std, "time", lambda: now[0])  # the bar's clock
+    bar = ProgressBar(total=1000, warm_up=2, file=io.StringIO(), mininterval=0)
+
+    def chunk_done_at(time_s: float) -> str:
+        now[0] = time_s
+        bar.update(100)
+        return tqdm_std.tqdm.format_meter(**bar.format_dict)
+
+    assert "<?" in chunk_done_at(10.0)  # each worker's first chunk paid 10 s of start-up
+    assert "<?" in chunk_done_at(10.5)  # the clock starts here
+    for k in range(1, ETA_SAMPLES):
+        assert "<?" in chunk_done_at(10.5 + k)
+    shown = chunk_done_at(10.5 + ETA_SAMPLES)  # 100 targets/s since the start-up
+    done, interval = 200 + 100 * ETA_SAMPLES, tqdm_std.tqdm.format_interval
+    assert f"{done}/1000 [{interval(10.5 + ETA_SAMPLES)}<{interval((1000 - done) / 100)}, 100.00it/s]" in shown
+    bar.close()
+
+
+def test_map_progress_starts_the_bar_at_the_resumed_targets_and_moves_it_by_each_report(capsys):
+    with map_progress(warm_up=1) as report:
+        report(250, 1000)  # a resumed run: a quarter was done
+        report(275, 1000)
+        report(325, 1000)
+    first, *_, last = capsys.readouterr().err.split("\r")[1:]
+    assert first.startswith("map:") and "| 250/1000 [" in first
+    assert "| 325/1000 [" in last and last.endswith("\n")  # closed with the block
+
+
+def test_no_report_no_bar(capsys):
+    with map_progress(warm_up=2):
+        pass
+    assert capsys.readouterr().err == ""

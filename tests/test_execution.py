@@ -1,0 +1,46 @@
+"""Where chunks run: one executor, checked and built once, shut down with its block (results: test_map_execution.py)."""
+
+import threading
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+
+import pytest
+
+from tribokin import InputError
+from tribokin.execution import executor_for, local_workers, run_chunks
+
+
+def test_one_worker_runs_here_in_key_order_and_a_pool_is_shut_down_with_its_block():
+    with executor_for() as here:
+        assert here is None and local_workers(here) == 1
+        with run_chunks(pow, {"b": (2, 3), "a": (3, 2)}, here) as results:
+            assert list(results) == [("b", 8), ("a", 9)]
+    with executor_for(workers=2) as pool:
+        assert isinstance(pool, ProcessPoolExecutor) and local_workers(pool) == 2
+        with run_chunks(pow, {k: (k, 2) for k in range(5)}, pool) as results:
+            assert dict(results) == {k: k * k for k in range(5)}
+    with pytest.raises(RuntimeError):
+        pool.submit(pow, 2, 2)
+
+
+def test_workers_are_checked_before_anything_is_built():
+    with pytest.raises(InputError, match=">= 1") as error:
+        with executor_for(workers=0):
+            pytest.fail("an executor was made")
+    assert error.value.key == "--workers"
+
+
+def test_chunks_not_started_when_the_block_ends_are_cancelled():
+    started, running, release = [], threading.Event(), threading.Event()
+
+    def chunk(key):
+        started.append(key)
+        running.set()
+        release.wait(timeout=60)  # the timeouts bound a failing test only
+
+    with ThreadPoolExecutor(1) as pool:
+        try:
+            with run_chunks(chunk, {k: (k,) for k in range(3)}, pool):
+                running.wait(timeout=60)
+        finally:
+            release.set()
+    assert started == [0]  # chunks 1 and 2 waited behind it on the pool's one thread
