@@ -203,6 +203,14 @@ def test_contract_errors_are_one_line_exit_2_nothing_written(tmp_path, capsys, e
     assert sorted(p.name for p in tmp_path.iterdir()) == ["tracker.csv"]
 
 
+def test_an_existing_output_folder_is_kept_without_force(measured):
+    out, _ = measured
+    before = (out / "summary.json").read_bytes()
+    done = tribokin("measure", out.parent / "tracker.csv", "--out", out)
+    assert done.returncode == 2 and "--out: output folder exists" in done.stderr
+    assert (out / "summary.json").read_bytes() == before
+
+
 @pytest.mark.parametrize("options, key", [
     (["--dwell-radius-m", "1e-3"], "--dwell-radius-m"),
     (["--segment", "--dwell-min-s", "0"], "--dwell-min-s"),
