@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import sys
 from contextlib import contextmanager
+from pathlib import Path
 
 from tqdm import tqdm
 
@@ -216,8 +217,56 @@ def _surface(args) -> None:
     print(f"results in {args.out}/ (surface.json, profile.png, p_z_R.png)")
 
 
+def _measure(args) -> None:
+    from tribokin.measurement_reports import Segmenting, measure
+
+    extra = [key for key, value in (("--dwell-radius-m", args.dwell_radius_m), ("--dwell-min-s", args.dwell_min_s),
+                                    ("--match-radius-m", args.match_radius_m)) if value is not None]
+    if extra and not args.segment:
+        raise InputError("applies to a raw stream only; add --segment or leave it out", "command line", extra[0])
+    segmenting = None
+    if args.segment:
+        given = {"radius_m": args.dwell_radius_m, "min_duration_s": args.dwell_min_s,
+                 "match_radius_m": args.match_radius_m}
+        segmenting = Segmenting(**{key: value for key, value in given.items() if value is not None})
+    with _claimed(args.out, args.force):
+        summary = measure(args.file, args.out, args.force, args.seed, segmenting, args.noise_floor, args.report)
+    settings = summary["settings"]
+    if settings["segmentation"] is not None:
+        seg = settings["segmentation"]
+        print(f"dwells: radius {seg['dwell_radius_m']:g} m for {seg['dwell_min_duration_s']:g} s, matched within "
+              f"{seg['match_radius_m']:g} m: {seg['dwells']} found, {len(seg['unmatched'])} unmatched")
+        for dwell in seg["unmatched"]:
+            print(f"  unmatched dwell {dwell['start_s']:g}-{dwell['end_s']:g} s at "
+                  f"{', '.join(f'{v:.6g}' for v in dwell['position_m'])} m (its position is visited once)")
+    rows = [(pose, label, d) for pose in summary["poses"] for label, d in pose["directions"].items()]
+    width = max(10, *(len(pose["name"]) for pose, _, _ in rows))
+    print(f"{'pose':<{width}} {'direction':<15} {'cycles':>6} {'RP_l [µm]':>10} {'95 % [µm]':>17} {'AP_p [µm]':>10} "
+          f"{'vAP_p [µm]':>11} {'RP_l all [µm]':>14}")
+    number = lambda value, size: f"{'-' if value is None else f'{value:.3f}':>{size}}"  # noqa: E731
+    for pose, label, d in rows:
+        interval = "too short" if d["RP_l_95_um"] is None else f"{d['RP_l_95_um'][0]:.3f}-{d['RP_l_95_um'][1]:.3f}"
+        print(f"{pose['name']:<{width}} {label:<15} {d['cycles']:>6} {number(d['RP_l_um'], 10)} {interval:>17} "
+              f"{number(d['AP_p_um'], 10)} {number(pose['vAP_p_um'], 11)} {number(pose['RP_l_all_directions_um'], 14)}")
+    registration, correction = settings["registration"], settings["commanded_correction"]
+    print(f"registration: rms residual {registration['rms_residual_um']:.3f} µm over "
+          f"{len(registration['poses'])} poses" if registration["made"] else f"registration: {registration['why']}")
+    if correction["largest_spread_um"] is not None:
+        print(f"re-taught points: {correction['why']} (largest spread {correction['largest_spread_um']:.3f} µm)")
+    flags = [f"{pose['name']} {label} {name}" for pose in summary["poses"] for label, d in pose["directions"].items()
+             for name in d["noise_flags"]] + [f"{pose['name']} {name}" for pose in summary["poses"]
+                                              for name in pose["noise_flags"]]
+    if settings["noise_floor"] is not None:
+        print(f"within 2x the noise floor ({settings['noise_floor']['RP_l_um']:.3f} µm): "
+              f"{', '.join(flags) if flags else 'none'}")
+    files = "summary.json, poses.csv, field_*.png" + (", drift.png" if (Path(args.out) / "drift.png").exists() else "")
+    print(f"results in {args.out}/ ({files}{', report.html' if args.report != 'none' else ''})")
+
+
 def build_parser() -> argparse.ArgumentParser:
     from tribokin import __version__
+    from tribokin.measurement.figures import BOOTSTRAP_SEED
+    from tribokin.measurement.segmentation import DWELL_MIN_DURATION_S, DWELL_RADIUS_M, MATCH_RADIUS_M
 
     parser = _Parser(prog="tribokin", description="Friction-induced pose repeatability (ISO 9283) of robots.")
     parser.add_argument("--version", action="version", version=f"tribokin {__version__}")
@@ -238,6 +287,28 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--resume", action="store_true",
                      help="finish an interrupted map: reuse the chunks saved in <out>.chunks/")
     run.set_defaults(handler=_run)
+
+    measure = commands.add_parser("measure", help="ISO 9283 figures of measured data (a laser tracker's CSV)")
+    measure.add_argument("file", help="measurement CSV: pose, cycle, [direction,] x_m, y_m, z_m or x_mm, ... "
+                                      "(README: Measured data)")
+    measure.add_argument("--out", default="measured", help="output folder (must not exist, unless --force)")
+    measure.add_argument("--force", action="store_true", help="replace an existing output folder")
+    measure.add_argument("--seed", type=int, default=BOOTSTRAP_SEED,
+                         help=f"seed of the bootstrap intervals of RP_l (default {BOOTSTRAP_SEED})")
+    measure.add_argument("--noise-floor", metavar="FILE",
+                         help="readings of the robot standing still (x, y, z columns): flag figures within 2x of "
+                              "the instrument's spread")
+    measure.add_argument("--segment", action="store_true",
+                         help="FILE is a raw stream (t_s and positions, no pose): find its settled dwells")
+    measure.add_argument("--dwell-radius-m", type=float,
+                         help=f"with --segment: a dwell holds still within this radius (default {DWELL_RADIUS_M:g} m)")
+    measure.add_argument("--dwell-min-s", type=float,
+                         help=f"with --segment: for at least this long (default {DWELL_MIN_DURATION_S:g} s)")
+    measure.add_argument("--match-radius-m", type=float,
+                         help=f"with --segment: dwells this close are one pose (default {MATCH_RADIUS_M:g} m)")
+    measure.add_argument("--report", choices=("full", "none"), default="full",
+                         help="report.html with the table and figures (full, default) or no report")
+    measure.set_defaults(handler=_measure)
 
     view = commands.add_parser("view", help="show an output folder's scene in a live meshcat viewer")
     view.add_argument("folder", help="output folder written by `tribokin run`")

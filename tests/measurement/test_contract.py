@@ -24,6 +24,10 @@ def test_units_in_the_names_are_honoured_and_comments_skipped(tmp_path):
     assert in_mm.poses[0].series[0].lines.tolist() == [3, 4]  # line numbers of the file, comments counted
 
 
+def test_the_columns_found_are_kept_in_file_order(tmp_path):
+    assert read_measurements(write_csv(tmp_path, HEADER, ROWS)).columns == tuple(HEADER.split(","))
+
+
 def test_series_grouped_by_direction_in_cycle_order_and_optional_columns_converted(tmp_path):
     header = "pose,direction,cycle,x_m,y_m,z_m,a_deg,b_deg,c_deg,cx_mm,cy_mm,cz_mm,sx_mm,sy_mm,sz_mm,t_s"
     rows = ["P1,-,2,1,2,3,90,0,0,1000,2000,3000,0.01,0.01,0.02,4",

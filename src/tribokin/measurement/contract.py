@@ -18,7 +18,7 @@ A raw stream (``t_s`` and positions, no ``pose``) is read by :func:`read_stream`
 from __future__ import annotations
 
 import csv
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from collections.abc import Collection
 
@@ -111,11 +111,13 @@ class Measurements:
         source: the file read.
         poses: the poses.
         joints: joint names of the ``q_`` columns, in file order.
+        columns: the file's column names, in file order (empty when not read from a file).
     """
 
     source: str
     poses: tuple[Pose, ...]
     joints: tuple[str, ...]
+    columns: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -280,7 +282,7 @@ def read_measurements(path, prismatic: Collection[str] = (), continuous: Collect
         q=np.column_stack([table.numbers(f"q_{j}") for j in joints]) if joints else None,
         joints=joints,
     )
-    return assemble(str(table.path), rows, prismatic, continuous)
+    return replace(assemble(str(table.path), rows, prismatic, continuous), columns=tuple(table.header))
 
 
 def read_stream(path, require_time: bool = True) -> Stream:

@@ -37,7 +37,7 @@ def _pose_table_row(row: dict, joints: list[str]) -> dict:
         elif key == "normal_forces_N":
             flat.update({f"normal_force_{joint}_N": v for joint, v in zip(joints, value)})
         elif key in POSE_VECTOR_COLUMNS:
-            flat.update(zip(POSE_VECTOR_COLUMNS[key], value))
+            flat.update(zip(POSE_VECTOR_COLUMNS[key], value or ("",) * len(POSE_VECTOR_COLUMNS[key])))
         elif isinstance(value, list) and key.endswith("_m"):
             flat.update({f"{key[:-2]}_{axis}_m": v for axis, v in zip("xyz", value)})
         else:
@@ -45,17 +45,23 @@ def _pose_table_row(row: dict, joints: list[str]) -> dict:
     return flat
 
 
+def write_rows(rows: list[dict], joints: list[str], path: Path) -> None:
+    """A ``poses.csv``-shaped table at ``path``: report rows flattened as ``_pose_table_row`` does, the
+    columns in order of first appearance (used by ``run`` and ``measure``)."""
+    flat = [_pose_table_row(row, joints) for row in rows]
+    columns = list(dict.fromkeys(key for row in flat for key in row))
+    with open(path, "w", newline="", encoding="utf-8") as handle:
+        writer = csv.DictWriter(handle, fieldnames=columns)
+        writer.writeheader()
+        writer.writerows(flat)
+
+
 def write_pose_table(result: StudyResult, folder: Path) -> None:
     """``poses.csv``: one row per pose and approach direction
     (:meth:`~tribokin.simulation.pose_result.PoseResult.direction_rows`),
     the scalar figures (µm, mdeg) and positions (m) flattened."""
-    joints = result.settings["joints"]
-    rows = [_pose_table_row(row, joints) for pose in result.poses for row in pose.direction_rows()]
-    columns = list(dict.fromkeys(key for row in rows for key in row))
-    with open(folder / "poses.csv", "w", newline="", encoding="utf-8") as handle:
-        writer = csv.DictWriter(handle, fieldnames=columns)
-        writer.writeheader()
-        writer.writerows(rows)
+    write_rows([row for pose in result.poses for row in pose.direction_rows()], result.settings["joints"],
+               folder / "poses.csv")
 
 
 def write_samples(result: StudyResult, folder: Path) -> None:
