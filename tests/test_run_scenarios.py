@@ -42,10 +42,11 @@ def test_payload_and_joint_overrides_change_only_what_they_name():
     ok = workspace_map.reachable
     y = workspace_map.positions_m[:, 1]
     extra_x = heavy_payload - 5.0  # the base payload of gantry_map_study
-    # hand statics with 20 kg more at the tool: weight, and moment arms 0.2 m in x and y in y
+    # hand statics with 20 kg more at the tool (see gantry_loads_by_hand): weight, pitch arm 0.2 m, roll arm y
     weight = (40 + 15 + 8 + heavy_payload) * G
-    moment = G * np.hypot(40 * 0.35 + (28 + extra_x) * y, 15 * 0.1 + (13 + extra_x) * 0.2)
-    np.testing.assert_allclose(heavy.normal_forces_N[ok, 0], (weight + moment / 0.2)[ok], rtol=1e-9)
+    pitch, roll = G * (15 * 0.1 + (13 + extra_x) * 0.2), G * np.abs(40 * 0.35 + (28 + extra_x) * y)
+    np.testing.assert_allclose(heavy.normal_forces_N[ok, 0], (max(weight, 2 * pitch / 0.2) + 2 * roll / 0.2)[ok],
+                               rtol=1e-9)
     np.testing.assert_allclose(base.normal_forces_N[ok, 0], gantry_loads_by_hand(y)[0][ok], rtol=1e-9)
     assert np.all(heavy.figure("RP_l_um")[ok] > base.figure("RP_l_um")[ok])
     # constant mu on x: its lost motion no longer varies; only y's uniform friction spreads the cycles

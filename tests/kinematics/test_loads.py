@@ -1,10 +1,11 @@
-"""Bearing loads from Pinocchio statics against hand statics of the gantry."""
+"""Bearing loads: the two supports' forces against equilibrium and hand cases, Pinocchio statics against hand
+statics of the gantry."""
 
 import numpy as np
 import pytest
 
 from conftest import ROOT
-from tribokin.kinematics.loads import BearingLoads
+from tribokin.kinematics.loads import BearingLoads, support_forces, support_loads
 from tribokin.kinematics.robot import load_urdf
 
 G = 9.81
@@ -16,6 +17,17 @@ SPAN = np.array([0.2, 0.25, 0.3])
 @pytest.fixture(scope="module")
 def gantry():
     return load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf")
+
+
+def carriages(force, moment, axis, span):
+    """Hand free body of two carriages at +-span/2 along ``axis``: R+ and R- (each normal to the axis) solved from
+    R+ + R- = F_r and (span/2) axis x (R+ - R-) = M_t by least squares, and the roll moment about the axis."""
+    cross = np.cross(np.eye(3), axis).T  # cross @ v = axis x v
+    equations = np.block([[np.eye(3), np.eye(3)], [cross * span / 2, -cross * span / 2],
+                          [axis[None], np.zeros((1, 3))], [np.zeros((1, 3)), axis[None]]])
+    radial, tilting = force - force @ axis * axis, moment - moment @ axis * axis
+    solution = np.linalg.lstsq(equations, np.concatenate([radial, tilting, [0, 0]]), rcond=None)[0]
+    return np.linalg.norm(solution[:3]) + np.linalg.norm(solution[3:]) + 2 * abs(moment @ axis) / span
 
 
 def hand_loads(qx, qy, qz, payload=0.0):
@@ -31,12 +43,43 @@ def hand_loads(qx, qy, qz, payload=0.0):
         return force, moment
 
     force, moment = wrench(bodies_x, np.array([qx, 0, 1.0]))
-    n_x = np.linalg.norm(force - force[0] * np.array([1, 0, 0])) + np.linalg.norm(moment) / SPAN[0]
+    n_x = carriages(force, moment, np.array([1, 0, 0], dtype=float), SPAN[0])
     force, moment = wrench(bodies_x[1:], np.array([qx + 0.1, qy, 0.9]))
-    n_y = np.linalg.norm(force - force[1] * np.array([0, 1, 0])) + np.linalg.norm(moment) / SPAN[1]
+    n_y = carriages(force, moment, np.array([0, 1, 0], dtype=float), SPAN[1])
     force, moment = wrench(bodies_x[2:], np.array([qx + 0.2, qy, 0.8 + qz]))
-    n_z = np.linalg.norm(force - force[2] * np.array([0, 0, 1])) + np.linalg.norm(moment) / SPAN[2]
+    n_z = carriages(force, moment, np.array([0, 0, 1], dtype=float), SPAN[2])
     return np.array([n_x, n_y, n_z])
+
+
+def test_support_forces_balance_the_wrench():
+    """R+ at +(L/2)a and R- at -(L/2)a sum to F_r, their moments about the origin sum to M_t; batched."""
+    rng = np.random.default_rng(1)
+    force, moment, axes = rng.normal(size=(3, 4, 5, 3))
+    axes /= np.linalg.norm(axes, axis=-1, keepdims=True)
+    span = rng.uniform(0.05, 0.5, size=5)
+    plus, minus = support_forces(force, moment, axes, span)
+    along = lambda v: np.sum(v * axes, axis=-1, keepdims=True) * axes  # noqa: E731
+    lever = span[:, None] / 2 * axes
+    assert plus + minus == pytest.approx(force - along(force), abs=1e-12)
+    assert np.cross(lever, plus) + np.cross(-lever, minus) == pytest.approx(moment - along(moment), abs=1e-12)
+    assert np.sum(plus * axes, axis=-1) == pytest.approx(0, abs=1e-12)
+
+
+def test_revolute_and_prismatic_loads_by_hand():
+    """F = (3, 0, 4) N, M = (0, 0.2, 0.05) N·m about a = z, L = 0.1 m: F_a = 4, F_r = (3, 0, 0),
+    (M_t x a) / L = (2, 0, 0), so R+ = (3.5, 0, 0), R- = (-0.5, 0, 0): revolute 4 + 3.5 + 0.5 = 8 N (the former
+    |F| + |M_t| / L gave 7 N); prismatic 3.5 + 0.5 + roll 2 * 0.05 / 0.1 = 5 N."""
+    force, moment = np.array([[3.0, 0, 4]] * 2), np.array([[0, 0.2, 0.05]] * 2)
+    loads = support_loads(force, moment, np.array([0, 0, 1.0]), np.array([False, True]), np.array([0.1, 0.1]))
+    assert loads == pytest.approx([8.0, 5.0], rel=1e-12)
+
+
+def test_radial_force_across_the_couple_loads_less_than_the_former_sum():
+    """F_r = 10 N along x and M_t = (0.1, 0, 0) N·m with L = 0.1 m, so M_t x a = (0, -1, 0) N at right angles
+    to F_r: R+- = (5, -+1, 0), N = 2 sqrt(26) = 10.2 N against the former |F| + |M_t| / L = 11 N."""
+    load = support_loads([10.0, 0, 0], [0.1, 0, 0], [0, 0, 1.0], False, 0.1)
+    assert load == pytest.approx(2 * np.sqrt(26), rel=1e-12)
+    assert load < 11.0
 
 
 @pytest.mark.parametrize("q", [(0.0, 0.0, 0.0), (0.3, 0.5, 0.2), (0.6, 0.1, 0.5)])

@@ -52,14 +52,16 @@ def test_gantry_with_fixed_loads_gives_a_flat_map_and_flags_unreachable_targets(
 def gantry_loads_by_hand(y):
     """Bearing loads [N] of the gantry's joints by hand statics (urdf/cartesian_xyz.urdf), tool at y = q_y.
 
-    X guide: carries everything (40 + 15 + 8 + 5 kg) perpendicular to x, and the moment of those
-    weights about its origin: sum m r_y = 40*0.35 + 28 y, sum m r_x = 15*0.1 + (8 + 5)*0.2.
-    Y guide: carriage, ram, payload (28 kg), moment arm 0.1 m in x for ram and payload.
+    X guide: carries everything (40 + 15 + 8 + 5 kg) perpendicular to x; the weights' pitch moment about y,
+    g sum m r_x = g (15*0.1 + (8 + 5)*0.2), loads one carriage up and the other down by pitch / SPAN along the
+    weight, so the carriages carry max(weight, 2 pitch / SPAN); their roll moment about x,
+    g sum m r_y = g (40*0.35 + 28 y), adds 2 roll / SPAN (the carriages' width taken as SPAN).
+    Y guide: carriage, ram, payload (28 kg), and the roll about y of ram and payload 0.1 m out in x.
     Z guide: the weights are along its axis and act on it: no load.
     """
     weight = (40 + 15 + 8 + PAYLOAD) * G
-    moment = G * np.hypot(40 * 0.35 + 28 * y, 15 * 0.1 + 13 * 0.2)
-    return weight + moment / SPAN, 28 * G + G * 13 * 0.1 / SPAN, 0.0
+    pitch, roll = G * (15 * 0.1 + 13 * 0.2), G * np.abs(40 * 0.35 + 28 * y)
+    return np.maximum(weight, 2 * pitch / SPAN) + 2 * roll / SPAN, 28 * G + 2 * G * 13 * 0.1 / SPAN, 0.0
 
 
 def test_gantry_map_with_loads_from_statics_follows_hand_statics():

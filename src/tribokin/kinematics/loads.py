@@ -1,18 +1,44 @@
 """Bearing loads of each joint from Pinocchio statics (RNEA with the robot at rest).
 
 With the robot static, ``pin.rnea(model, data, q, 0, 0)`` fills ``data.f[i]``:
-the wrench (force F, moment M about the joint origin) that joint i transmits
-to its subtree — gravity of every body it carries plus the payload — in the
-joint frame. The component along the joint's motion is taken by the drive;
-the rest is carried by the slide or bearing. With ``a`` the unit motion axis
-and ``L`` the bearing span (distance between the two guide pads or bearings):
+the wrench (force F [N], moment M [N·m] about the joint origin) that joint i
+transmits to its subtree — gravity of every body it carries plus the payload —
+in the joint frame; ``a`` is the joint's unit motion axis and ``L`` its
+bearing span [m].
 
-* prismatic joint: ``N = |F - (F·a) a| + |M| / L``   (the guide carries every moment)
-* revolute joint:  ``N = |F| + |M - (M·a) a| / L``   (the bearing carries every force and the tilting moment)
+Free body of the subtree: split F into its axial part ``F_a = (F·a) a`` and
+radial part ``F_r = F - F_a``, and M into its part about the axis
+``M_a = (M·a) a`` and the tilting moment ``M_t = M - M_a``. Two supports at
+``p± = ±(L/2) a`` take radial forces ``R±`` (⊥ a); the rest of the joint takes
+F_a and M_a at the origin. Equilibrium of the subtree::
 
-The moment term is the extra pad force of a tilting moment shared over a
-span L; it is what makes friction, and so repeatability, depend on where the
-robot is.
+    R+ + R- = F_r                                  (forces)
+    p+ × R+ + p- × R- = (L/2) a × (R+ - R-) = M_t  (moments about the origin)
+
+Crossing the second with ``a`` (``a × (a × D) = -D`` for D ⊥ a) gives
+``R+ - R- = (2/L) M_t × a``, so::
+
+    R± = F_r / 2 ± (M_t × a) / L
+
+The load that makes friction is the sum of the contact forces' magnitudes:
+
+* revolute joint: two radial bearings at ±L/2 along the axis, a thrust bearing
+  carrying F_a, the drive carrying M_a::
+
+      N = |F_a| + |R+| + |R-|   (>= |F_a| + max(|F_r|, 2 |M_t| / L))
+
+* prismatic joint: two carriages at ±L/2 along the rail, the drive carrying
+  F_a. The carriages' R± carry F_r and the pitch and yaw moments M_t; the roll
+  moment M_a cannot be carried by two points on the rail and needs a second
+  span, the carriages' width across the rail. The study gives one span per
+  joint, so the width is taken equal to L: roll adds a couple of two pad
+  forces |M_a| / L each::
+
+      N = |R+| + |R-| + 2 |M_a| / L
+
+Summing magnitudes ignores that forces meeting on one pad may partly cancel.
+The moment terms are what make friction, and so repeatability, depend on where
+the robot is.
 """
 
 from __future__ import annotations
@@ -60,10 +86,31 @@ class BearingLoads:
         configurations (poses, nq)."""
         q = np.asarray(q, dtype=float)
         wrenches = np.array([self.wrenches(qi) for qi in q.reshape(-1, q.shape[-1])]).reshape(-1, self.model.nv, 6)
-        force, moment = wrenches[..., :3], wrenches[..., 3:]
-        prismatic = self.prismatic[:, None]
-        along = np.sum(np.where(prismatic, force, moment) * self.axes, axis=-1, keepdims=True) * self.axes
-        carried_force = force - np.where(prismatic, along, 0.0)
-        carried_moment = moment - np.where(prismatic, 0.0, along)
-        loads = np.linalg.norm(carried_force, axis=-1) + np.linalg.norm(carried_moment, axis=-1) / self.span_m
+        loads = support_loads(wrenches[..., :3], wrenches[..., 3:], self.axes, self.prismatic, self.span_m)
         return loads.reshape(q.shape[:-1] + (self.model.nv,))
+
+
+def _along(vectors: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    """The part of ``vectors`` (..., 3) along the unit ``axes`` (..., 3)."""
+    return np.sum(vectors * axes, axis=-1, keepdims=True) * axes
+
+
+def support_forces(force, moment, axes, span_m) -> tuple[np.ndarray, np.ndarray]:
+    """Radial forces R+ and R- [N] (..., 3) of the two supports at +-(L/2) a that carry the radial force and the
+    tilting moment of the wrench (``force`` [N], ``moment`` [N·m] about the joint origin, (..., 3)) about the unit
+    ``axes`` a (..., 3), with span ``span_m`` L (...) [m]: ``R± = F_r / 2 ± (M_t × a) / L``."""
+    force, moment, axes = (np.asarray(v, dtype=float) for v in (force, moment, axes))
+    radial = force - _along(force, axes)
+    couple = np.cross(moment - _along(moment, axes), axes) / np.asarray(span_m, dtype=float)[..., None]
+    return radial / 2 + couple, radial / 2 - couple
+
+
+def support_loads(force, moment, axes, prismatic, span_m) -> np.ndarray:
+    """Bearing load N [N] (...) of joints transmitting ``force`` [N] and ``moment`` [N·m] (..., 3) about the unit
+    ``axes`` (..., 3): ``|F_a| + |R+| + |R-|`` for a revolute joint, ``|R+| + |R-| + 2 |M_a| / L`` for a prismatic
+    one (``prismatic`` (...) bool), with span ``span_m`` L (...) [m] (module docstring)."""
+    force, moment = np.asarray(force, dtype=float), np.asarray(moment, dtype=float)
+    plus, minus = support_forces(force, moment, axes, span_m)
+    axial_force = np.linalg.norm(_along(force, axes), axis=-1)
+    roll = 2 * np.linalg.norm(_along(moment, axes), axis=-1) / np.asarray(span_m, dtype=float)
+    return np.linalg.norm(plus, axis=-1) + np.linalg.norm(minus, axis=-1) + np.where(prismatic, roll, axial_force)
