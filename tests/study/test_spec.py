@@ -57,3 +57,12 @@ def test_a_joint_has_the_defaults_with_its_own_keys_and_a_refusal_names_the_key_
     assert study.joint_key("x", "noise_std") == "joints.noise_std"
     assert study.robot.as_settings() == {"urdf": study.robot.urdf, "name": None, "tool_frame": "tool",
                                          "package_dirs": [], "payload_kg": 0.0}
+
+
+def test_a_joints_own_friction_force_replaces_the_defaults_law_of_mu_and_names_its_key():
+    force = {"law": "constant", "value": 30.0}
+    study = load_study(axis_study(x={"friction_force_N": force}))
+    assert study.joints.friction_key == "friction" and study.joints.friction_force_N is None
+    joint = study.joint("x")
+    assert joint.friction is None and joint.friction_force_N == force and joint.friction_key == "friction_force_N"
+    assert study.joint_key("x", joint.friction_key) == "joints.x.friction_force_N"

@@ -7,12 +7,12 @@ import re
 import numpy as np
 import pytest
 
-from conftest import ROOT
+from conftest import ROOT, axis_study
 from maps.test_workspace import gantry_map_study
 from tribokin.output.writers import write_results
 from tribokin.run import run_study
 from tribokin.viz.maps import map_figure_names
-from tribokin.viz.report import write_report
+from tribokin.viz.report import joint_table, write_report
 from tribokin.viz.scene_file import load_scene_inputs
 from viz_fixtures import CUBE, UNIFORM_AXIS, grid_layers
 
@@ -154,3 +154,13 @@ def test_figures_come_in_reading_order_poses_in_study_order_first(map_only, tmp_
                                                           "map_dominant_joint.png", "map_RP_l_heavy.png",
                                                           "map_RP_l_ratio_heavy.png", "map_RP_l_diff_heavy.png",
                                                           "map_winner.png"]
+
+
+def test_the_joint_table_heads_its_law_column_by_what_the_laws_draw():
+    study = axis_study(stiffness=2.0e6)
+    mu = run_study(study).settings
+    del study["joints"]["friction"]
+    study["joints"]["friction_force_N"] = {"law": "constant", "value": 30.0}
+    force = run_study(study).settings
+    assert "friction coefficient μ" in joint_table(mu, [True]) and "friction law" not in joint_table(mu, [True])
+    assert "friction law" in joint_table(force, [True]) and "friction_force_N" in joint_table(force, [True])

@@ -4,8 +4,9 @@ For joint i and cycle j::
 
     dq_ij = offset_i + s_ij * (mu_ij * N_i * r_i / k_i + backlash_i / 2) + noise_ij
 
-The drive is a spring of stiffness k pushing a segment that rubs on its slide
-or bearing; the encoder sits on the motor side, so the segment stops short
+or, for a joint whose friction torque [N·m] (force [N], prismatic) tau_ij is given as a law,
+``tau_ij / k_i`` in place of ``mu_ij * N_i * r_i / k_i``. The drive is a spring of stiffness k
+pushing a segment that rubs on its slide or bearing; the encoder sits on the motor side, so the segment stops short
 when the spring force equals friction, in the direction of travel s_ij.
 """
 
@@ -27,7 +28,8 @@ class JointErrorModel:
     """Error sources of one joint.
 
     Attributes:
-        friction: law of the friction coefficient mu [-].
+        friction: law of the friction coefficient mu [-], or of the friction torque [N·m] (force [N], prismatic)
+            itself when its ``quantity`` says so (:attr:`friction_is_torque`).
         stiffness: transmission stiffness k [N/m] (prismatic) or [N·m/rad] (revolute).
         normal_force_N: load carried by the slide or bearing [N]; ``None`` to compute it from statics.
         friction_radius_m: effective friction radius r [m] of a revolute joint (ignored, taken as 1, for prismatic).
@@ -46,11 +48,23 @@ class JointErrorModel:
     noise_std: float = 0.0
     bearing_span_m: float = 0.1
 
+    @property
+    def friction_is_torque(self) -> bool:
+        """``friction`` is a law of the friction torque or force itself, not of mu: lost motion = its value / k,
+        with no load or radius."""
+        return self.friction.quantity != "mu"
+
 
 def friction_lever(models: list[JointErrorModel], prismatic: np.ndarray) -> np.ndarray:
-    """r_i / k_i for each joint: lost motion per newton of normal load per unit mu [m/N or rad/N]."""
-    radius = np.array([1.0 if p else m.friction_radius_m for m, p in zip(models, prismatic)])
+    """r_i / k_i for each joint: lost motion per newton of normal load per unit mu [m/N or rad/N]; 1 / k_i
+    per unit of friction force or torque for a joint whose law gives it (r = 1 for both)."""
+    radius = np.array([1.0 if p or m.friction_is_torque else m.friction_radius_m for m, p in zip(models, prismatic)])
     return radius / np.array([m.stiffness for m in models])
+
+
+def friction_loads(models: list[JointErrorModel], forces_N: np.ndarray) -> np.ndarray:
+    """Bearing loads ``forces_N`` (..., nv) [N], 1 for a joint whose friction law gives its torque or force."""
+    return np.where([m.friction_is_torque for m in models], 1.0, forces_N)
 
 
 def joint_travel(lower: np.ndarray, upper: np.ndarray, prismatic: np.ndarray) -> np.ndarray:
@@ -73,9 +87,9 @@ def largest_mu(law: FrictionLaw) -> float:
 
 def deviation_parts(models: list[JointErrorModel], prismatic: np.ndarray, forces_N: np.ndarray) -> np.ndarray:
     """(nv, 4) largest size [m or rad] of each part of every joint's deviation, in the order of ``DEVIATION_PARTS``:
-    lost motion mu_max N r / k at the largest load of ``forces_N`` (..., nv) [N], backlash / 2, |offset| and
-    ``TAIL_STDS`` noise_std."""
-    load = np.max(np.reshape(forces_N, (-1, len(models))), axis=0, initial=0.0)
+    lost motion mu_max N r / k at the largest load of ``forces_N`` (..., nv) [N] (tau_max / k for a law of the friction
+    torque or force), backlash / 2, |offset| and ``TAIL_STDS`` noise_std."""
+    load = np.max(np.reshape(friction_loads(models, forces_N), (-1, len(models))), axis=0, initial=0.0)
     lost = np.array([largest_mu(m.friction) for m in models]) * load * friction_lever(models, prismatic)
     return np.column_stack([lost, *(np.array([[m.backlash / 2, abs(m.offset), TAIL_STDS * m.noise_std]
                                               for m in models]).T)])
@@ -152,10 +166,11 @@ def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray
         rng: random generator; draws mu (:func:`draw_friction`), then the noise.
 
     Returns:
-        dq (n, nv) [m or rad] and the friction coefficients mu (n, nv) [-].
+        dq (n, nv) [m or rad] and the draws of the friction laws (n, nv): coefficients mu [-], or torques [N·m]
+        (forces [N]) for a joint whose law gives them.
     """
     mu = draw_friction(models, signs.shape[0], rng)
-    dq = mu * (np.asarray(normal_forces_N, dtype=float) * friction_lever(models, prismatic))
+    dq = mu * (friction_loads(models, np.asarray(normal_forces_N, dtype=float)) * friction_lever(models, prismatic))
     if any(m.backlash for m in models):
         dq += np.array([m.backlash / 2 for m in models])
     dq *= signs

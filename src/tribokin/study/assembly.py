@@ -10,8 +10,8 @@ from tribokin.kinematics.robot import Robot, load_example_robot, load_urdf
 from tribokin.simulation.joint_errors import JointErrorModel
 from tribokin.simulation.pose_run import PoseTask, joint_space_task
 from tribokin.study.names import check_file_name_part, check_files_apart, check_name, pose_figure_file, scenario_files
-from tribokin.study.spec import RobotSpec, Study
-from tribokin.tribology.spec import law_from_spec
+from tribokin.study.spec import FRICTION_KEYS, FRICTION_SCALE, RobotSpec, Study
+from tribokin.tribology.spec import law_from_spec, scaled_law_from_spec
 
 
 def robot_spec(study: Study) -> RobotSpec:
@@ -39,21 +39,31 @@ def load_robot(study: Study) -> Robot:
 
 
 def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
-    """One error model per active joint: the ``[joints]`` defaults with ``[joints.<name>]`` overrides."""
+    """One error model per active joint: the ``[joints]`` defaults with ``[joints.<name>]`` overrides; a joint's
+    friction is the one its override gives (any of ``FRICTION_KEYS``), else the defaults'."""
     names = robot.joint_names
     for joint in study.joint_overrides:
         if joint not in names:
             raise InputError(f"unknown joint '{joint}'{closest_hint(joint, names)}; joints of {robot.label}: "
                              f"{', '.join(names)}", study.source, f"joints.{joint}")
     models = []
-    for name in names:
+    for name, prismatic in zip(names, robot.joint_is_prismatic):
         spec = study.joint(name)
-        for key in ("friction", "stiffness"):
-            if getattr(spec, key) is None:
-                raise InputError(f"joint '{name}' has no {key}: set joints.{key} or joints.{name}.{key}",
-                                 study.source, f"joints.{key}")
-        friction = law_from_spec(spec.friction, study.source, study.joint_key(name, "friction"), study.base_dir)
-        models.append(JointErrorModel(**{**asdict(spec), "friction": friction}))
+        if spec.stiffness is None:
+            raise InputError(f"joint '{name}' has no stiffness: set joints.stiffness or joints.{name}.stiffness",
+                             study.source, "joints.stiffness")
+        given, own = spec.friction_key, "friction_force_N" if prismatic else "friction_torque_Nm"
+        if given is None:
+            raise InputError(f"joint '{name}' has no friction: set joints.friction (a law of mu), joints.{own} or "
+                             f"the same keys in [joints.{name}]", study.source, "joints.friction")
+        key = study.joint_key(name, given)
+        if given not in ("friction", own):
+            raise InputError(f"joint '{name}' is {'prismatic' if prismatic else 'revolute'}: give its friction as "
+                             f"joints.{name}.{own} [{'N' if prismatic else 'N·m'}]", study.source, key)
+        law = law_from_spec(spec.friction, study.source, key, study.base_dir) if given == "friction" else \
+            scaled_law_from_spec(getattr(spec, given), FRICTION_SCALE[given], given, study.source, key)
+        values = {k: v for k, v in asdict(spec).items() if k not in FRICTION_KEYS}
+        models.append(JointErrorModel(law, **values))
     return models
 
 

@@ -37,6 +37,9 @@ _drive_fault = "m or rad", "more than 0.1 m or 0.1 rad (5.7°) is a broken drive
 backlash = within(non_negative, 0.0, 0.1, *_drive_fault)
 offset = within(finite, -0.1, 0.1, *_drive_fault)
 noise_std = within(non_negative, 0.0, 0.1, *_drive_fault)
+friction_torque = within(non_negative, 0.0, 1e4, "N·m", "the largest robots' joints lose less than 10 kN·m to "
+                         "friction")
+friction_force = within(non_negative, 0.0, 1e5, "N", "a linear axis' guides lose less than 100 kN (10 t) to friction")
 bearing_span = within(positive, 1e-3, 10.0, "m", "a joint's guide pads or bearings sit between 1 mm and a few "
                       "metres apart")
 side = within(positive, 1e-3, 100.0, "m", "ISO 9283's cube spans the most-used part of a workspace; below 1 mm its "
@@ -64,8 +67,31 @@ ROBOT_KEYS = {
     "package_dirs": (string_list, []),
     "payload_kg": (payload, 0.0),
 }
+
+
+def law_of(bound):
+    """A ``{ law = ..., ... }`` table whose every number (and every one of its ``values``) passes ``bound``."""
+    def check(value, source, key) -> dict:
+        table(value, source, key)
+        for name, number in value.items():
+            if name == "values" and isinstance(number, list):
+                for i, element in enumerate(number):
+                    bound(element, source, f"{key}.values[{i}]")
+            elif name != "law":
+                bound(number, source, f"{key}.{name}")
+        return value
+    return check
+
+
+#: The keys that give a joint's friction, one per joint: a law of mu, of the friction torque [N·m] of a revolute
+#: joint or of the friction force [N] of a prismatic one.
+FRICTION_KEYS = ("friction", "friction_torque_Nm", "friction_force_N")
+#: Torque and force laws are held as these powers of two (exact) times a law of values within mu's range.
+FRICTION_SCALE = {"friction_torque_Nm": 2 ** 10, "friction_force_N": 2 ** 14}
 JOINT_KEYS = {
     "friction": (table, None),
+    "friction_torque_Nm": (law_of(friction_torque), None),
+    "friction_force_N": (law_of(friction_force), None),
     "normal_force_N": (normal_force, None),
     "stiffness": (stiffness, None),
     "friction_radius_m": (friction_radius, 0.02),
@@ -211,10 +237,14 @@ class RobotSpec:
 @dataclass(frozen=True)
 class JointSpec:
     """One joint's keys of ``[joints]`` (see :class:`~tribokin.simulation.joint_errors.JointErrorModel`):
-    ``friction`` (a law's table), ``normal_force_N`` [N], ``stiffness`` [N/m or N·m/rad], ``friction_radius_m`` [m],
-    ``backlash``, ``offset``, ``noise_std`` [m or rad], ``bearing_span_m`` [m]; ``None`` where not set."""
+    its friction as one of ``friction`` (a law's table of mu), ``friction_torque_Nm`` (of the torque [N·m], revolute)
+    or ``friction_force_N`` (of the force [N], prismatic), ``normal_force_N`` [N], ``stiffness`` [N/m or N·m/rad],
+    ``friction_radius_m`` [m], ``backlash``, ``offset``, ``noise_std`` [m or rad], ``bearing_span_m`` [m]; ``None``
+    where not set."""
 
     friction: dict | None
+    friction_torque_Nm: dict | None
+    friction_force_N: dict | None
     normal_force_N: float | None
     stiffness: float | None
     friction_radius_m: float
@@ -222,6 +252,11 @@ class JointSpec:
     offset: float
     noise_std: float
     bearing_span_m: float
+
+    @property
+    def friction_key(self) -> str | None:
+        """Which of ``FRICTION_KEYS`` gives the joint's friction (``None``: none does)."""
+        return next((key for key in FRICTION_KEYS if getattr(self, key) is not None), None)
 
 
 @dataclass(frozen=True)
@@ -292,13 +327,25 @@ class Study:
         return self.robot.payload_kg
 
     def joint(self, name: str) -> JointSpec:
-        """Joint ``name``'s keys: the ``[joints]`` defaults with its ``[joints.<name>]`` overrides."""
-        return replace(self.joints, **self.joint_overrides.get(name, {}))
+        """Joint ``name``'s keys: the ``[joints]`` defaults with its ``[joints.<name>]`` overrides; a friction its
+        own table gives (any of ``FRICTION_KEYS``) replaces whichever the defaults give."""
+        overrides = self.joint_overrides.get(name, {})
+        if overrides.keys() & set(FRICTION_KEYS):
+            overrides = {**dict.fromkeys(FRICTION_KEYS), **overrides}
+        return replace(self.joints, **overrides)
 
     def joint_key(self, name: str, part: str) -> str:
         """The study key that sets ``part`` (``"stiffness"``...) of joint ``name``: in its own table, else in
         ``[joints]``."""
         return f"joints.{name}.{part}" if part in self.joint_overrides.get(name, {}) else f"joints.{part}"
+
+
+def _one_friction(values: dict, source, prefix: str) -> None:
+    """Refuse a table that gives a joint's friction twice (two of ``FRICTION_KEYS``)."""
+    given = [k for k in FRICTION_KEYS if values.get(k) is not None]
+    if len(given) > 1:
+        raise InputError(f"give one of {', '.join(FRICTION_KEYS)}, not {' and '.join(given)}", source,
+                         f"{prefix}.{given[1]}")
 
 
 def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(".")) -> Study:
@@ -320,10 +367,12 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
     joints_table = table(mapping["joints"], source, "joints")
     overrides = {k: v for k, v in joints_table.items() if k not in JOINT_KEYS and isinstance(v, dict)}
     joints = check_table(joints_table, JOINT_KEYS, source, "joints", extra_ok=tuple(overrides))
+    _one_friction(joints, source, "joints")
     joint_overrides = {}
     for joint, values in overrides.items():
         checked = check_table(values, {k: (c, None) for k, (c, _) in JOINT_KEYS.items()}, source, f"joints.{joint}")
         joint_overrides[joint] = {k: v for k, v in checked.items() if k in values}
+        _one_friction(joint_overrides[joint], source, f"joints.{joint}")
     iso_cube = None
     if "iso_cube" in mapping:
         cube = check_table(table(mapping["iso_cube"], source, "iso_cube"), ISO_CUBE_KEYS, source, "iso_cube")

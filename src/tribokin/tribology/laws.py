@@ -60,6 +60,8 @@ class FrictionLaw:
 
     law: str = ""
     parameters: tuple[str, ...] = ()
+    #: What the law draws: ``"mu"``, or the study key of a friction torque [N·m] or force [N] (:class:`Scaled`).
+    quantity: str = "mu"
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -272,3 +274,39 @@ class Empirical(FrictionLaw):
         described = super().describe()
         described["values"] = f"{self.values.size} measured values"
         return described
+
+
+class Scaled(FrictionLaw):
+    """``scale`` times the draws of ``law``: a law of a friction torque [N·m] or force [N] (``quantity`` names which)
+    held as a law of values within a friction coefficient's range; a power-of-two ``scale`` keeps it exact."""
+
+    def __init__(self, law: FrictionLaw, scale: float, quantity: str):
+        self.inner, self.scale, self.quantity, self.law = law, float(scale), quantity, law.law
+        super().__init__(None, {"value" if k == "mu" else k: np.multiply(v, scale).tolist()
+                                for k, v in law.params.items()}, law.provenance)
+
+    def __eq__(self, other) -> bool:
+        """The same law scaled alike (a gaussian and a lognormal of the same numbers are not the same law)."""
+        return type(other) is type(self) and (other.inner, other.scale) == (self.inner, self.scale)
+
+    def rvs(self, size=None, random_state: np.random.Generator | None = None) -> np.ndarray:
+        return self.scale * self.inner.rvs(size, random_state)
+
+    def mean(self) -> float:
+        return self.scale * self.inner.mean()
+
+    def std(self) -> float:
+        return self.scale * self.inner.std()
+
+    def support(self) -> tuple[float, float]:
+        low, high = self.inner.support()
+        return self.scale * low, self.scale * high
+
+    def pdf(self, x) -> np.ndarray:
+        return self.inner.pdf(np.asarray(x) / self.scale) / self.scale
+
+    def describe(self) -> dict:
+        """As the law's, with ``quantity`` first and its values scaled (a constant's ``mu`` named ``value``; measured
+        values still counted, not listed)."""
+        summary = {k: v for k, v in self.inner.describe().items() if k in self.params and isinstance(v, str)}
+        return {"quantity": self.quantity, **super().describe(), **summary}

@@ -20,7 +20,7 @@ import numpy as np
 from tribokin.checks import finite, seed_int, whole_number, within
 from tribokin.errors import InputError, LawError, closest_hint
 from tribokin.tribology import laws
-from tribokin.tribology.laws import MU_MAX, MU_MIN, Constant, Empirical, FrictionLaw
+from tribokin.tribology.laws import MU_MAX, MU_MIN, Constant, Empirical, FrictionLaw, Scaled
 from tribokin.tribology.presets import preset
 
 if sys.version_info >= (3, 11):
@@ -171,3 +171,20 @@ def law_from_spec(spec, source: str | Path | None = None, key: str = "friction",
             raise  # already names its own file (a law file, a log, a profile) and the key inside it
         inner = ".".join(part for part in (key, error.key) if part)
         raise InputError(error.message, source, inner) from None
+
+
+def scaled_law_from_spec(spec: dict, scale: float, quantity: str, source: str | Path | None = None,
+                         key: str = "friction") -> Scaled:
+    """A law of a friction torque [N·m] or force [N] (``quantity``) written as ``{ law = ..., ... }`` with its values
+    in that unit (a constant one as ``{ law = "constant", value = ... }``), held as ``scale`` times a law of the
+    values divided by ``scale`` (their range is the caller's to check)."""
+    if not isinstance(spec, dict) or "law" not in spec:
+        raise InputError(f"must be a table such as {{ law = \"gaussian\", mean = 0.3, std = 0.05 }} (got {spec!r})",
+                         source, key)
+    inner = {name: value if name == "law" else np.divide(value, scale).tolist() for name, value in spec.items()}
+    if spec["law"] == "constant":
+        if "mu" in spec or "value" not in spec:
+            raise InputError('a constant torque or force is written { law = "constant", value = ... }', source,
+                             f"{key}.{'mu' if 'mu' in spec else 'value'}")
+        inner = {"mu" if name == "value" else name: value for name, value in inner.items()}
+    return Scaled(law_from_spec(inner, source, key), scale, quantity)

@@ -146,9 +146,12 @@ def _friction(law: dict) -> str:
 
 def joint_table(settings: dict, prismatic) -> str:
     """The joints' error models (friction law and the ``[joints]`` values, with their units), one row per
-    model: joints with the same model share a row."""
+    model: joints with the same model share a row; the last column is headed "friction law" where a joint's law
+    is of its friction torque or force."""
     models = settings["joint_models"]
-    headers = ["joints", "type", *(header for _, header, _, _ in JOINT_COLUMNS), "friction coefficient μ"]
+    of_torque = any("quantity" in law for law in settings["friction"].values())
+    headers = ["joints", "type", *(header for _, header, _, _ in JOINT_COLUMNS),
+               "friction law" if of_torque else "friction coefficient μ"]
     rows: dict[tuple, list[str]] = {}
     for name, is_prismatic in zip(settings["joints"], prismatic):
         model = models[name]
