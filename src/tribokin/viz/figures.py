@@ -18,7 +18,7 @@ from tribokin.viz.canvas import agg_figure
 DIRECTION_COLOURS = ("#e63946", "#457b9d", "#8338ec", "#fb8500", "#6a994e", "#b5179e")
 
 
-def _field_axes(deviations_um: np.ndarray) -> tuple[int, int]:
+def field_axes(deviations_um: np.ndarray) -> tuple[int, int]:
     """The two base axes along which the cloud spreads most (ties keep x, y, z order)."""
     spread = np.ptp(deviations_um, axis=0) if len(deviations_um) else np.zeros(3)
     order = np.argsort(-spread, kind="stable")
@@ -39,7 +39,7 @@ def save_repeatability_field(pose: PoseResult, path: Path, title: str = "") -> N
     distances = np.linalg.norm(deviations, axis=1)
     eps_t = np.linalg.norm(pose.reference_position_m - pose.commanded_position_m) * UM_PER_M
     eps_d1, eps_d2 = distances.min(), distances.max()
-    i, j = _field_axes(deviations)
+    i, j = field_axes(deviations)
 
     directions = pose.metrics.directions
     one = len(directions) == 1

@@ -23,8 +23,8 @@ from tribokin.measurement.figures import PoseFigures, pose_clouds
 from tribokin.measurement.registration import Registration
 from tribokin.units import UM_PER_M
 from tribokin.viz.canvas import agg_figure
-from tribokin.viz.figures import DIRECTION_COLOURS, _field_axes
-from tribokin.viz.report import REPORT_FILE, STYLE, _key_values, _table, embedded_figures
+from tribokin.viz.figures import DIRECTION_COLOURS, field_axes
+from tribokin.viz.report import REPORT_FILE, STYLE, embedded_figures, html_table, key_value_table
 
 #: Columns of the measured ISO table: (``poses.csv`` row key, header with unit).
 MEASURED_COLUMNS = (("name", "pose"), ("direction", "direction"), ("cycles", "cycles"), ("RP_l_um", "RP_l [µm]"),
@@ -40,7 +40,7 @@ def save_measured_field(figures: PoseFigures, clouds_m: list[np.ndarray], path: 
     circle; right each cycle's distance from the pooled barycentre, in file order per direction."""
     centre = barycenter(np.concatenate(clouds_m))
     deviations = [(points - centre) * UM_PER_M for points in clouds_m]
-    i, j = _field_axes(np.concatenate(deviations))
+    i, j = field_axes(np.concatenate(deviations))
     fig = agg_figure(figsize=(11, 5.4))
     field, series = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.1, 1]})
     reach, start = 1.0, 1
@@ -130,8 +130,8 @@ def measurement_report_html(summary: dict, rows: list[dict], folder: Path, figur
     return f"""<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>{title}</title><style>{STYLE}</style></head>
 <body><h1>{title}</h1>
-<h2>Inputs</h2>{_key_values(inputs)}
-<h2>ISO 9283 figures per pose</h2>{_table([header for _, header in MEASURED_COLUMNS], table)}
+<h2>Inputs</h2>{key_value_table(inputs)}
+<h2>ISO 9283 figures per pose</h2>{html_table([header for _, header in MEASURED_COLUMNS], table)}
 <h2>Figures</h2>{embedded_figures(folder, figure_names)}
 </body></html>
 """

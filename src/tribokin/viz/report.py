@@ -63,7 +63,7 @@ def _cell(value) -> str:
     return html.escape(str(value))
 
 
-def _table(headers: list[str], rows: list[list], text_columns: tuple[int, ...] = ()) -> str:
+def html_table(headers: list[str], rows: list[list], text_columns: tuple[int, ...] = ()) -> str:
     """An HTML table; ``text_columns`` hold prose (left-aligned, line breaks kept)."""
     head = "".join(f'<th class="text">{html.escape(h)}</th>' if i in text_columns else f"<th>{html.escape(h)}</th>"
                    for i, h in enumerate(headers))
@@ -72,7 +72,7 @@ def _table(headers: list[str], rows: list[list], text_columns: tuple[int, ...] =
     return f"<table><tr>{head}</tr>{body}</table>"
 
 
-def _key_values(rows: dict[str, str]) -> str:
+def key_value_table(rows: dict[str, str]) -> str:
     """A two-column HTML table: a name (header cell) and its value per row."""
     body = "".join(f"<tr><th>{html.escape(key)}</th><td>{_cell(value)}</td></tr>" for key, value in rows.items())
     return f'<table class="inputs">{body}</table>'
@@ -81,7 +81,7 @@ def _key_values(rows: dict[str, str]) -> str:
 def iso_table(result: StudyResult) -> str:
     """The ISO 9283 figures (µm, mdeg) per pose and approach direction as an HTML table."""
     rows = [[row[key] for key, _ in ISO_COLUMNS] for pose in result.poses for row in pose.direction_rows()]
-    return _table([header for _, header in ISO_COLUMNS], rows)
+    return html_table([header for _, header in ISO_COLUMNS], rows)
 
 
 def map_statistics(workspace_map: MapResult) -> str:
@@ -101,7 +101,7 @@ def map_statistics(workspace_map: MapResult) -> str:
                "median vs first"]
     if len(rows) < 2:
         headers, rows = headers[:-1], [row[:-1] for row in rows]
-    return _table(headers, rows)
+    return html_table(headers, rows)
 
 
 def thinning_note(layers: dict[str, MapLayer]) -> str:
@@ -160,7 +160,7 @@ def joint_table(settings: dict, prismatic) -> str:
                       for key, _, prismatic_unit, revolute_unit in JOINT_COLUMNS)
         rows.setdefault(("prismatic" if is_prismatic else "revolute", *cells, _friction(settings["friction"][name])),
                         []).append(name)
-    return _table(headers, [[", ".join(names), *row] for row, names in rows.items()], text_columns=(len(headers) - 1,))
+    return html_table(headers, [[", ".join(names), *row] for row, names in rows.items()], text_columns=(len(headers) - 1,))
 
 
 def _overrides(overrides: dict, prefix: str = "") -> list[str]:
@@ -212,13 +212,13 @@ def input_values(result: StudyResult) -> dict[str, str]:
 def inputs_section(result: StudyResult, prismatic) -> str:
     """What the study was run with (:func:`input_values`), each joint's model and each scenario's overrides
     of the study."""
-    parts = [f"<h2>Inputs</h2>{_key_values(input_values(result))}<h3>Joint models</h3>"
+    parts = [f"<h2>Inputs</h2>{key_value_table(input_values(result))}<h3>Joint models</h3>"
              f"{joint_table(result.settings, prismatic)}"]
     scenarios = result.settings["scenarios"]
     if scenarios:
         scenario_rows = [[s["name"], "\n".join(_overrides(s["overrides"])) or "none: the study as written"]
                          for s in scenarios]
-        parts.append("<h3>Scenarios</h3>" + _table(["scenario", "overrides of the study"], scenario_rows, (1,)))
+        parts.append("<h3>Scenarios</h3>" + html_table(["scenario", "overrides of the study"], scenario_rows, (1,)))
     return "".join(parts)
 
 
