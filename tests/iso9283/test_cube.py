@@ -66,3 +66,34 @@ def test_cube_poses_carry_signs_for_each_labelled_direction_and_its_opposite():
     assert list(APPROACH_DIRECTIONS) == ["+x", "-x", "+y", "-y", "+z", "-z"]
     for pose in poses:
         assert pose.approach_signs.tolist() == [[1, 1, 1], [-1, 1, 1], [1, 1, 1], [1, -1, 1], [1, 1, 1], [1, 1, -1]]
+
+
+
+def test_held_approach_signs_move_the_tool_along_the_direction_with_its_orientation_held():
+    from tribokin.iso9283.cube import held_approach_signs
+
+    robot = load_example_robot("ur5")
+    q = np.array([0.1, -1.0, 1.2, -0.8, 1.3, 0.1])  # away from singularities
+    directions = np.array([[1.0, 0, 0], [0, 1, 0], [0.6, 0, 0.8]])  # each needs every joint here
+    signs = held_approach_signs(robot, q, directions)
+    jacobian = robot.tool_jacobian(q)
+    for d, row in zip(directions, signs):
+        speeds = np.linalg.solve(jacobian, np.concatenate([d, np.zeros(3)]))  # independent: a 6x6 solve
+        assert np.all(np.abs(speeds) > 1e-6) and np.array_equal(row, np.sign(speeds))
+
+
+
+def test_a_joint_that_does_not_move_on_an_approach_has_sign_zero():
+    from tribokin.iso9283.cube import held_approach_signs
+
+    robot = load_example_robot("ur5")
+    q = np.array([0.1, -1.0, 1.2, -0.8, 1.3, 0.1])
+    # a vertical approach lies in the arm's plane: the parallel lift, elbow and wrist_1 axes move the tool there
+    # and hold its orientation, so pan, wrist_2 and wrist_3 stay still
+    signs = held_approach_signs(robot, q, [0.0, 0.0, 1.0])[0]
+    assert signs[[0, 4, 5]].tolist() == [0.0, 0.0, 0.0] and np.all(signs[1:4] != 0)
+    step = 1e-7 * signs * np.abs(np.linalg.pinv(robot.tool_jacobian(q)) @ [0.0, 0, 1, 0, 0, 0])
+    before, after = robot.tool_placement(q), robot.tool_placement(q + step)
+    moved = after.translation - before.translation
+    assert moved[2] > 0 and np.hypot(*moved[:2]) < 1e-6 * moved[2]
+    assert np.allclose(after.rotation, before.rotation, atol=1e-12)

@@ -64,6 +64,30 @@ def joint_approach_signs(robot: Robot, q, directions=tuple(APPROACH_DIRECTIONS.v
     return signs
 
 
+#: A joint turning slower than this fraction of the fastest joint on an approach does not move there (sign 0).
+STILL_RTOL = 1e-9
+
+
+def held_approach_signs(robot: Robot, q, directions) -> np.ndarray:
+    """(m, nv) direction of travel of each joint (+1, -1, or 0 for a joint that does not move) when the tool
+    point approaches ``q``'s position along each unit direction (m, 3) of the base frame.
+
+    The joint velocities are the least-norm ones that move the tool point along ``d`` while holding the tool's
+    orientation (``pinv(J) [d, 0]``, J the 6-row tool Jacobian) where the robot can (:func:`holds_orientation`),
+    else along ``d`` alone (``pinv(J_position) d``). A joint that does not move keeps sign 0: it adds no lost
+    motion on that approach (unlike :func:`joint_approach_signs`, which the simulated cube uses).
+    """
+    directions = np.atleast_2d(np.asarray(directions, dtype=float))
+    jacobian = robot.tool_jacobian(q)
+    if holds_orientation(robot, q):
+        velocities = np.linalg.pinv(jacobian) @ np.vstack([directions.T, np.zeros((3, len(directions)))])
+    else:
+        velocities = np.linalg.pinv(jacobian[:3]) @ directions.T
+    velocities = velocities.T
+    still = np.abs(velocities) <= STILL_RTOL * np.abs(velocities).max(axis=1, keepdims=True)
+    return np.where(still, 0.0, np.sign(velocities))
+
+
 def holds_orientation(robot: Robot, q) -> bool:
     """Whether the robot can move its tool in all 6 directions at ``q`` (full-rank Jacobian)."""
     return robot.model.nv >= 6 and np.linalg.matrix_rank(robot.tool_jacobian(q), tol=1e-6) == 6
