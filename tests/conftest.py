@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import importlib
 import itertools
 import os
 import sys
@@ -15,6 +16,14 @@ from hypothesis import settings
 ROOT = Path(__file__).resolve().parents[1]
 AXIS_URDF = ROOT / "urdf" / "prismatic_axis.urdf"
 STUDIES = ROOT / "studies"
+TOOLS = ROOT / "tools"
+
+
+def load_tool(name: str):
+    """The script ``tools/<name>.py`` as a module, with ``tools/`` on the path as when it runs (its sibling imports)."""
+    if str(TOOLS) not in sys.path:
+        sys.path.insert(0, str(TOOLS))
+    return importlib.import_module(name)
 
 #: A study file of the prismatic axis: one pose, 12 cycles.
 AXIS_STUDY_TOML = f"""[study]

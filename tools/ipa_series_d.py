@@ -38,9 +38,7 @@ from __future__ import annotations
 
 import argparse
 import csv
-import os
 import sys
-import tempfile
 from collections import Counter
 from pathlib import Path
 from typing import NamedTuple
@@ -50,6 +48,8 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial.transform import Rotation
 
 from tribokin.errors import InputError
+
+from output_file import check_out, write_atomically
 
 MEASUREMENTS = Path("raw/Series_D/measurements_iso_cubes.csv")
 TOOL_TRAFO = Path("raw/Series_D/Trafo_TM_F_init.txt")
@@ -272,26 +272,6 @@ def _notes(kept, dropped, series: Counter, directions, tool_offset) -> list[str]
           for name, rows in repeated.items()),
         f"  and {len(singles)} measured once, at rows {_ranges(singles)}.",
     ]
-
-
-def check_out(path: Path, force: bool) -> None:
-    """Refuse an output file that exists (without ``force``) or whose folder does not."""
-    if path.exists() and not force:
-        raise InputError("exists; give another --out or add --force", path)
-    if not path.parent.is_dir():
-        raise InputError("its folder does not exist", path)
-
-
-def write_atomically(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file in the same folder (no half-written file)."""
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8", newline="\n") as stream:
-            stream.write(text)
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
 
 
 def main(argv=None) -> int:

@@ -4,18 +4,15 @@ from the raw file (../shared/data/ipa-ur10 beside the repository), and its one-l
 from __future__ import annotations
 
 import csv
-import importlib.util
 import io
 from collections import Counter
 
 import numpy as np
 import pytest
 
-from conftest import ROOT
+from conftest import ROOT, load_tool
 
-_spec = importlib.util.spec_from_file_location("ipa_series_d", ROOT / "tools" / "ipa_series_d.py")
-ipa_series_d = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(ipa_series_d)
+ipa_series_d = load_tool("ipa_series_d")
 
 DATA = ROOT.parent / "shared" / "data" / "ipa-ur10"
 RAW = DATA / "raw" / "Series_D" / "measurements_iso_cubes.csv"
