@@ -114,3 +114,25 @@ def test_fast_and_exact_engines_give_the_same_study_figures():
         assert np.abs(a.positions_m - b.positions_m).max() < 1e-9  # 1 nm
         assert a.report_row()["engine_max_deviation_nm"] < 1.0
     assert fast_result.table()["RP_l_um"] == pytest.approx(exact_result.table()["RP_l_um"], abs=1e-3)
+
+
+def ur5_pose_study(**robot):
+    return {"study": {"cycles": 30, "seed": 4}, "robot": {"name": "ur5", **robot},
+            "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5, "normal_force_N": 300.0},
+            "poses": [{"name": "P1", "q": [0.0, -1.2, 1.4, -1.8, -1.57, 0.0]}]}
+
+
+def test_a_zero_tool_offset_changes_no_figure_and_a_real_one_moves_the_point_measured():
+    flange = run_study(ur5_pose_study())
+    zero = run_study(ur5_pose_study(tool_offset_m=[0, 0, 0]))
+    probe = run_study(ur5_pose_study(tool_offset_m=[0.05, 0.0, 0.1], tool_offset_rpy_deg=[0.0, 90.0, 0.0]))
+    assert zero.settings["tool_frame"] == "tool0_tool_point" and flange.settings["tool_frame"] == "tool0"
+    assert zero.settings["robot_spec"]["tool_offset_m"] == [0, 0, 0]
+    assert "tool_offset_m" not in flange.settings["robot_spec"]
+    np.testing.assert_array_equal(zero.poses[0].positions_m, flange.poses[0].positions_m)
+    for key, column in flange.table().items():
+        np.testing.assert_array_equal(zero.table()[key], column, err_msg=key)
+    moved = probe.poses[0].commanded_position_m - flange.poses[0].commanded_position_m
+    assert np.linalg.norm(moved) == pytest.approx(np.hypot(0.05, 0.1), rel=1e-12)
+    rp, rp_probe = flange.table()["RP_l_um"][0], probe.table()["RP_l_um"][0]
+    assert abs(rp_probe - rp) > 0.03 * rp

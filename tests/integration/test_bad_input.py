@@ -346,6 +346,8 @@ CASES = [
     study("seed = 3", "seed = " + "9" * 5000, expected=("not valid TOML", "digits"), id="toml-5000-digit-number"),
     study('tool_frame = "tool"', 'tool_frame = "tool"\npayload_kg = 1e308', expected=("robot.payload_kg", "2.3 t"),
           id="payload-1e308"),
+    study('tool_frame = "tool"', 'tool_frame = "tool"\ntool_offset_m = [0.0, 0.0, 20.0]',
+          expected=("robot.tool_offset_m[2]", "between -10 and 10 m", "a few metres"), id="tool-offset-beyond-10-m"),
     study("normal_force_N = 150.0", "normal_force_N = 1e308", expected=("joints.normal_force_N", "1000 t"),
           id="normal-force-1e308"),
     study('name = "P1"', 'name = "P1"\nnormal_force_N = 1.1e7', expected=("poses[0].normal_force_N", "1000 t"),

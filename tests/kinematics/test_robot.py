@@ -1,11 +1,12 @@
-"""Robots: example-robot-data arms and URDFs, reduced to the tool's chain; errors list valid names."""
+"""Robots: example-robot-data arms and URDFs, reduced to the tool's chain, with a tool point at an offset; errors
+list valid names."""
 
 import numpy as np
 import pytest
 
-from conftest import ROOT
+from conftest import AXIS_URDF, ROOT
 from tribokin.errors import RobotDescriptionError
-from tribokin.kinematics.robot import TESTED_ROBOTS, load_example_robot, load_urdf
+from tribokin.kinematics.robot import TESTED_ROBOTS, load_example_robot, load_urdf, tool_point_placement
 
 
 @pytest.mark.parametrize("name", TESTED_ROBOTS)
@@ -47,3 +48,60 @@ def test_gantry_kinematics():
     assert gantry.joint_is_prismatic.all()
     assert gantry.tool_placement([0.1, 0.2, 0.3]).translation == pytest.approx([0.3, 0.2, 0.5])
     assert gantry.lower_limits.tolist() == [0, 0, 0] and min(gantry.upper_limits) >= 0.5
+
+
+OFFSET_M = np.array([0.01, -0.02, 0.1])
+
+
+def ur5_tool_point(offset_m=OFFSET_M, rpy_deg=(0.0, 90.0, 0.0)):
+    return load_example_robot("ur5", tool_offset=tool_point_placement(offset_m, rpy_deg))
+
+
+def configurations(robot, count=5, seed=3):
+    """``count`` random configurations within the joint limits and a turn either way [rad]."""
+    rng = np.random.default_rng(seed)
+    return rng.uniform(np.maximum(robot.lower_limits, -np.pi), np.minimum(robot.upper_limits, np.pi),
+                       (count, robot.model.nq))
+
+
+def test_a_tool_offset_is_a_point_fixed_to_the_tool_frame():
+    flange, probe = load_example_robot("ur5"), ur5_tool_point()
+    assert probe.tool_frame == "tool0_tool_point" and probe.label == "ur5"
+    assert probe.joint_names == flange.joint_names and probe.reference_q.tolist() == flange.reference_q.tolist()
+    pitch = np.radians(90.0)  # roll, pitch, yaw = 0, 90, 0: a rotation about y by the pitch
+    rotation = np.array([[np.cos(pitch), 0, np.sin(pitch)], [0, 1, 0], [-np.sin(pitch), 0, np.cos(pitch)]])
+    for q in configurations(flange):
+        tool0, point = flange.tool_placement(q), probe.tool_placement(q)
+        assert point.translation == pytest.approx(tool0.rotation @ OFFSET_M + tool0.translation, abs=1e-12)
+        assert point.rotation == pytest.approx(tool0.rotation @ rotation, abs=1e-12)
+
+
+def test_the_tool_points_position_jacobian_is_the_derivative_of_its_position():
+    probe, step = ur5_tool_point(), 1e-6
+    for q in configurations(probe, 3, seed=8):
+        columns = [(probe.tool_placement(q + step * e).translation - probe.tool_placement(q - step * e).translation)
+                   / (2 * step) for e in np.eye(probe.model.nv)]
+        assert probe.tool_jacobian(q)[:3] == pytest.approx(np.array(columns).T, abs=1e-8)
+
+
+def test_only_an_offset_off_the_last_joints_axis_lets_that_joint_move_the_tool_point():
+    """tool0's z axis is wrist_3's axis: a point on it does not move when wrist_3 turns, one off it does (so a
+    calibration needs offsets off the axis to see wrist_3)."""
+    on_axis, off_axis = ur5_tool_point([0.0, 0.0, 0.1], None), ur5_tool_point([0.05, 0.0, 0.1], None)
+    assert on_axis.joint_names[-1] == "wrist_3_joint"
+    for q in configurations(on_axis):
+        assert np.abs(on_axis.tool_jacobian(q)[:3, -1]).max() < 1e-12
+        assert np.linalg.norm(off_axis.tool_jacobian(q)[:3, -1]) == pytest.approx(0.05, rel=1e-9)
+
+
+def test_a_urdfs_tool_point_is_named_after_its_frame_and_may_not_take_an_existing_name(tmp_path):
+    gantry = load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf", tool_offset=tool_point_placement([0.0, 0.0, -0.1]))
+    assert gantry.tool_frame == "tool_tool_point"
+    assert gantry.tool_placement([0.1, 0.2, 0.3]).translation == pytest.approx([0.3, 0.2, 0.4])
+    urdf = tmp_path / "axis.urdf"
+    urdf.write_text(AXIS_URDF.read_text().replace('<link name="tool"/>', '<link name="tool"/>\n  <joint name="f" '
+                    'type="fixed"><parent link="tool"/><child link="tool_tool_point"/></joint>\n  '
+                    '<link name="tool_tool_point"/>'))
+    with pytest.raises(RobotDescriptionError, match="already has a frame 'tool_tool_point'") as error:
+        load_urdf(urdf, "tool", tool_offset=tool_point_placement([0.0, 0.0, 0.1]))
+    assert error.value.argument == "tool_frame"

@@ -6,7 +6,7 @@ import hashlib
 import pytest
 
 from conftest import GANTRY_MAP_TOML, axis_study
-from tribokin import IsoCubeSpec, JointSpec, PoseSpec, RobotSpec, ScenarioSpec, Study  # exported for users
+from tribokin import InputError, IsoCubeSpec, JointSpec, PoseSpec, RobotSpec, ScenarioSpec, Study  # exported for users
 from tribokin.study.reading import load_study, read_study_file
 
 SCENARIOS = [{"name": "stiff", "joints": {"stiffness": 2.0e6}}, {"name": "own-seed", "study": {"seed": 9}}]
@@ -66,3 +66,36 @@ def test_a_joints_own_friction_force_replaces_the_defaults_law_of_mu_and_names_i
     joint = study.joint("x")
     assert joint.friction is None and joint.friction_force_N == force and joint.friction_key == "friction_force_N"
     assert study.joint_key("x", joint.friction_key) == "joints.x.friction_force_N"
+
+
+def with_robot(study: dict, **robot) -> dict:
+    return {**study, "robot": {**study["robot"], **robot}}
+
+
+def test_a_tool_offset_is_kept_as_tuples_and_recorded_only_when_set():
+    robot = load_study(with_robot(axis_study(), tool_offset_m=[0.01, -0.02, 0.1], tool_offset_rpy_deg=[0, 90, 0])).robot
+    assert (robot.tool_offset_m, robot.tool_offset_rpy_deg) == ((0.01, -0.02, 0.1), (0.0, 90.0, 0.0))
+    settings = robot.as_settings()
+    assert settings["tool_offset_m"] == [0.01, -0.02, 0.1] and settings["tool_offset_rpy_deg"] == [0.0, 90.0, 0.0]
+    assert RobotSpec(**settings).tool_offset_m == [0.01, -0.02, 0.1]  # as a view reads summary.json
+    assert "tool_offset_m" not in load_study(axis_study()).robot.as_settings()  # summary.json as before
+
+
+@pytest.mark.parametrize("robot, key, message", [
+    ({"tool_offset_m": [0.0, 0.1]}, "robot.tool_offset_m", "needs 3 numbers (got 2)"),
+    ({"tool_offset_m": [0.0, "0.1", 0.0]}, "robot.tool_offset_m[1]", "must be a number"),
+    ({"tool_offset_m": [0.0, 0.0, 10.5]}, "robot.tool_offset_m[2]", "between -10 and 10 m"),
+    ({"tool_offset_rpy_deg": [0.0, 400.0, 0.0]}, "robot.tool_offset_rpy_deg[1]", "within one turn"),
+])
+def test_a_bad_tool_offset_is_a_one_line_error_naming_its_key(robot, key, message):
+    with pytest.raises(InputError) as error:
+        load_study(with_robot(axis_study(), **robot))
+    assert error.value.key == key and message in error.value.message and "\n" not in str(error.value)
+
+
+def test_a_scenario_may_not_move_the_tool_point():
+    study = map_study()
+    study["scenarios"] = [*SCENARIOS, {"name": "probe", "robot": {"tool_offset_m": [0.0, 0.0, 0.1]}}]
+    with pytest.raises(InputError, match="payload only") as error:
+        load_study(study)
+    assert error.value.key == "scenarios[2].robot.tool_offset_m"

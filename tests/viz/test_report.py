@@ -12,7 +12,7 @@ from maps.test_workspace import gantry_map_study
 from tribokin.output.writers import write_results
 from tribokin.run import run_study
 from tribokin.viz.maps import map_figure_names
-from tribokin.viz.report import joint_table, write_report
+from tribokin.viz.report import input_values, joint_table, write_report
 from tribokin.viz.scene_file import load_scene_inputs
 from viz_fixtures import CUBE, UNIFORM_AXIS, grid_layers
 
@@ -73,6 +73,19 @@ def test_scene_inputs_round_trip(written):
     np.testing.assert_array_equal(inputs.poses[0].positions_m, result.poses[0].positions_m)
     np.testing.assert_array_equal(inputs.q, result.poses[0].q)
     assert inputs.robot.joint_names == result.robot.joint_names
+
+
+def test_the_inputs_show_a_tool_offset_and_a_view_loads_the_robot_with_its_tool_point(tmp_path):
+    study = axis_study()
+    study["robot"]["tool_offset_m"] = [0.0, 0.0, 0.1]
+    result = run_study(study)
+    assert input_values(result)["tool point offset"] == "(0, 0, 0.1) m, roll, pitch, yaw (0, 0, 0)° in tool"
+    assert "tool point offset" not in input_values(run_study(axis_study()))
+    write_results(result, tmp_path / "out", report="light")
+    assert "<th>tool point offset</th>" in (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
+    robot = load_scene_inputs(tmp_path / "out").robot
+    assert robot.tool_frame == "tool_tool_point"
+    assert robot.tool_placement([0.2]).translation == pytest.approx(result.poses[0].commanded_position_m)
 
 
 def test_report_none_writes_neither_report_nor_scene(tmp_path):

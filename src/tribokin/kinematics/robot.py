@@ -4,6 +4,12 @@ The joints that move the tool frame (its kinematic chain from the base) are
 the robot's *active joints*; every other joint (gripper fingers, a floating
 base) is locked at the robot's reference posture. Only one-degree-of-freedom
 joints (revolute, prismatic) may be active.
+
+A *tool offset* (:func:`tool_point_placement`) places a tool point (a probe's tip, a tracker's reflector) on the tool
+frame: a translation [m] and a rotation from roll, pitch, yaw [deg], both expressed in the tool frame. The
+loaders add it to the reduced model as an operational frame ``<tool_frame>_tool_point`` fixed to the tool
+frame, and it becomes the robot's ``tool_frame``: poses, Jacobians, IK and the payload's point are then the
+tool point's.
 """
 
 from __future__ import annotations
@@ -40,7 +46,7 @@ class Robot:
 
     Attributes:
         model: the reduced model; its joints are the active joints, in chain order.
-        tool_frame: name of the frame whose pose is measured.
+        tool_frame: name of the frame whose pose is measured (``<frame>_tool_point`` when a tool offset is given).
         label: robot name or URDF path, for reports.
         reference_q: (nq,) a typical working posture [m or rad] (example-robot-data's, else mid-range).
         visual_model, collision_model: geometry models (may be ``None``).
@@ -128,8 +134,31 @@ def _make_frame_names_unique(model: pin.Model) -> None:
             model.frames[index] = frame
 
 
-def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label) -> Robot:
-    """Lock every joint that does not move ``tool_frame``; check the rest are 1-DoF."""
+def tool_point_placement(offset_m=None, rpy_deg=None) -> pin.SE3 | None:
+    """A tool point's placement in its tool frame: translation ``offset_m`` [m] and rotation from roll, pitch, yaw
+    ``rpy_deg`` [deg] (``pin.rpy.rpyToMatrix``, as ``iso_cube.rpy_deg``), either zero when not given; ``None``
+    (no tool point) when neither is."""
+    if offset_m is None and rpy_deg is None:
+        return None
+    rotation = np.eye(3) if rpy_deg is None else pin.rpy.rpyToMatrix(*np.radians(rpy_deg))
+    return pin.SE3(rotation, np.zeros(3) if offset_m is None else np.asarray(offset_m, dtype=float))
+
+
+def _add_tool_point(model: pin.Model, tool_frame: str, offset: pin.SE3) -> str:
+    """Add the operational frame ``<tool_frame>_tool_point`` at ``offset`` in ``tool_frame``; return its name."""
+    name = f"{tool_frame}_tool_point"
+    if model.existFrame(name):
+        raise RobotDescriptionError(f"the model already has a frame '{name}', the name of the tool point; rename "
+                                    "that frame", "tool_frame")
+    parent = model.getFrameId(tool_frame)
+    frame = model.frames[parent]
+    model.addFrame(pin.Frame(name, frame.parentJoint, parent, frame.placement * offset, pin.FrameType.OP_FRAME))
+    return name
+
+
+def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, offset=None) -> Robot:
+    """Lock every joint that does not move ``tool_frame``; check the rest are 1-DoF; add the tool point at
+    ``offset`` (:func:`tool_point_placement`) in ``tool_frame``, if given."""
     _make_frame_names_unique(model)
     frames = [f.name for f in model.frames]
     if tool_frame is None:
@@ -152,10 +181,12 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label) -
     if model.nq == 0:
         raise RobotDescriptionError(f"frame '{tool_frame}' is not moved by any joint", "tool_frame")
     kept_q = np.array([reference_q[full.joints[full.getJointId(name)].idx_q] for name in list(model.names)[1:]])
+    if offset is not None:
+        tool_frame = _add_tool_point(model, tool_frame, offset)
     return Robot(model, tool_frame, label, kept_q, visual, collision)
 
 
-def load_urdf(path, tool_frame: str | None = None, package_dirs=()) -> Robot:
+def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset: pin.SE3 | None = None) -> Robot:
     """Load a robot from a URDF file, after checking its meshes lie inside ``package_dirs``.
 
     Args:
@@ -163,6 +194,8 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=()) -> Robot:
         tool_frame: frame whose pose is measured (default: the model's last frame).
         package_dirs: folders that ``package://`` mesh URIs resolve against, and the only folders
             meshes may be read from (default: the URDF's folder and its parent).
+        tool_offset: placement of the tool point in ``tool_frame`` (translation [m], rotation;
+            :func:`tool_point_placement`), which becomes the robot's tool frame; ``None``: the tool frame itself.
 
     Raises:
         RobotDescriptionError: a missing or malformed URDF, a mesh outside ``package_dirs``
@@ -194,17 +227,18 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=()) -> Robot:
     lower, upper = model.lowerPositionLimit, model.upperPositionLimit
     mid_range = np.where(np.isfinite(lower) & np.isfinite(upper) & (upper - lower < 1e3), (lower + upper) / 2,
                          pin.neutral(model))
-    return _reduce_to_chain(model, visual, collision, mid_range, tool_frame, str(path))
+    return _reduce_to_chain(model, visual, collision, mid_range, tool_frame, str(path), tool_offset)
 
 
-def load_example_robot(name: str, tool_frame: str | None = None) -> Robot:
-    """Load a robot that example-robot-data ships, by name (e.g. ``"ur5"``)."""
+def load_example_robot(name: str, tool_frame: str | None = None, tool_offset: pin.SE3 | None = None) -> Robot:
+    """Load a robot that example-robot-data ships, by name (e.g. ``"ur5"``); ``tool_frame`` and ``tool_offset``
+    as for :func:`load_urdf`."""
     names = example_robot_names()
     if name not in names:
         raise RobotDescriptionError(f"unknown robot '{name}'{closest_hint(name, names)}; valid names: "
                                     f"{', '.join(names)}", "name")
     model, visual, collision, reference_q = _example_robot(name)
-    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name)
+    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name, tool_offset)
 
 
 @functools.lru_cache(maxsize=None)

@@ -6,7 +6,7 @@ from dataclasses import asdict
 
 from tribokin.errors import InputError, closest_hint, located
 from tribokin.iso9283.cube import APPROACH_DIRECTIONS, UnreachableCube, place_cube
-from tribokin.kinematics.robot import Robot, load_example_robot, load_urdf
+from tribokin.kinematics.robot import Robot, load_example_robot, load_urdf, tool_point_placement
 from tribokin.simulation.joint_errors import JointErrorModel
 from tribokin.simulation.pose_run import PoseTask, joint_space_task
 from tribokin.study.names import check_file_name_part, check_files_apart, check_name, pose_figure_file, scenario_files
@@ -27,10 +27,11 @@ ROBOT_KEYS = {"name": "robot.name", "path": "robot.urdf", "tool_frame": "robot.t
 def load_robot_spec(spec: RobotSpec, source=None) -> Robot:
     """The robot a ``[robot]`` spec with absolute paths names (see :func:`robot_spec`); an error names
     ``source`` and the key at fault."""
+    offset = tool_point_placement(spec.tool_offset_m, spec.tool_offset_rpy_deg)
     with located(source, lambda error: ROBOT_KEYS[error.argument]):
         if spec.name is not None:
-            return load_example_robot(spec.name, spec.tool_frame)
-        return load_urdf(spec.urdf, spec.tool_frame, list(spec.package_dirs))
+            return load_example_robot(spec.name, spec.tool_frame, offset)
+        return load_urdf(spec.urdf, spec.tool_frame, list(spec.package_dirs), offset)
 
 
 def load_robot(study: Study) -> Robot:

@@ -45,6 +45,8 @@ bearing_span = within(positive, 1e-3, 10.0, "m", "a joint's guide pads or bearin
 side = within(positive, 1e-3, 100.0, "m", "ISO 9283's cube spans the most-used part of a workspace; below 1 mm its "
               "poses are hardly distinct places")
 coordinate = within(finite, -1e3, 1e3, "m", "no robot reaches a kilometre")
+tool_reach = within(finite, -10.0, 10.0, "m", "the longest tools (welding lances, gantry grippers) reach a few "
+                    "metres from the flange")
 joint_value = within(finite, -1e3, 1e3, "m or rad", "no joint travels a kilometre or turns 160 times")
 angle_deg = within(finite, -360.0, 360.0, "deg", "write each angle within one turn either way")
 
@@ -59,13 +61,6 @@ STUDY_KEYS = {
     "seed": (seed_int, 0),
     "approach": (one_of(*APPROACH_MODES), "unidirectional"),
     "engine": (one_of("fast", "exact"), "fast"),
-}
-ROBOT_KEYS = {
-    "urdf": (text, None),
-    "name": (text, None),
-    "tool_frame": (text, None),
-    "package_dirs": (string_list, []),
-    "payload_kg": (payload, 0.0),
 }
 
 
@@ -137,6 +132,15 @@ def count_list(value, source, key) -> list[int]:
 position3 = partial(vector3, element=coordinate)
 angles3 = partial(vector3, element=angle_deg)
 
+ROBOT_KEYS = {
+    "urdf": (text, None),
+    "name": (text, None),
+    "tool_frame": (text, None),
+    "package_dirs": (string_list, []),
+    "payload_kg": (payload, 0.0),
+    "tool_offset_m": (partial(vector3, element=tool_reach), None),
+    "tool_offset_rpy_deg": (angles3, None),
+}
 
 ISO_CUBE_KEYS = {
     "center_m": (position3, None),
@@ -216,13 +220,18 @@ def _spec(cls, checked: dict):
 @dataclass(frozen=True)
 class RobotSpec:
     """The ``[robot]`` table: a ``urdf`` file (its meshes under ``package_dirs``) or an example-robot-data
-    ``name``, the ``tool_frame`` (``None``: the last frame) and the ``payload_kg`` [kg]."""
+    ``name``, the ``tool_frame`` (``None``: the last frame), the ``payload_kg`` [kg] and the tool point's offset in
+    the tool frame, ``tool_offset_m`` [m] and ``tool_offset_rpy_deg`` (roll, pitch, yaw) [deg] (``None``: zero;
+    both ``None``: no tool point; :func:`~tribokin.kinematics.robot.tool_point_placement`). The offsets default to
+    ``None`` so that a ``summary.json`` written without them still gives its spec."""
 
     urdf: str | None
     name: str | None
     tool_frame: str | None
     package_dirs: tuple[str, ...]
     payload_kg: float
+    tool_offset_m: tuple[float, float, float] | None = None
+    tool_offset_rpy_deg: tuple[float, float, float] | None = None
 
     def absolute(self, base_dir: Path) -> RobotSpec:
         """The spec with its paths made absolute against ``base_dir``: it loads the same robot from any folder."""
@@ -230,8 +239,9 @@ class RobotSpec:
         return replace(self, urdf=urdf, package_dirs=tuple(str((base_dir / p).absolute()) for p in self.package_dirs))
 
     def as_settings(self) -> dict:
-        """The spec as ``summary.json`` records it (``robot_spec``)."""
-        return {**asdict(self), "package_dirs": list(self.package_dirs)}
+        """The spec as ``summary.json`` records it (``robot_spec``): tuples as lists, the offsets only when set."""
+        return {key: list(value) if isinstance(value, tuple) else value for key, value in asdict(self).items()
+                if value is not None or not key.startswith("tool_offset")}
 
 
 @dataclass(frozen=True)

@@ -190,15 +190,28 @@ def map_targets(grid: TargetGrid) -> str:
     return where + ranges + held
 
 
+def tool_offset(spec: dict) -> str | None:
+    """The tool point's offset of a ``robot_spec`` (``summary.json``) in the frame it is fixed to: translation [m],
+    roll, pitch, yaw [deg], zero where not set; ``None`` without a tool point."""
+    offset_m, rpy_deg = spec.get("tool_offset_m"), spec.get("tool_offset_rpy_deg")
+    if offset_m is None and rpy_deg is None:
+        return None
+    return (f"{_vector(offset_m or (0, 0, 0))} m, roll, pitch, yaw {_vector(rpy_deg or (0, 0, 0))}° in "
+            f"{spec['tool_frame'] or 'the last frame of the model'}")
+
+
 def input_values(result: StudyResult) -> dict[str, str]:
-    """The study's settings by name: study file, robot, tool frame, payload, cycles, approach, seed,
-    engine, the ISO cube and the map's targets (those it has)."""
+    """The study's settings by name: study file, robot, tool frame, tool point offset, payload, cycles, approach,
+    seed, engine, the ISO cube and the map's targets (those it has)."""
     settings = result.settings
     spec, source = settings["robot_spec"], str(settings["source"])
+    offset = tool_offset(spec)
     counted = [what for what, present in (("pose", result.poses), ("map target", result.map is not None)) if present]
     rows = {"study file": source if source.startswith("<") else shown_path(source),  # "<mapping>": no file
             "robot": f"{spec['name']} (example-robot-data)" if spec["name"] else shown_path(spec["urdf"]),
-            "tool frame": settings["tool_frame"], "payload": f"{settings['payload_kg']:g} kg",
+            "tool frame": settings["tool_frame"],
+            **({"tool point offset": offset} if offset else {}),
+            "payload": f"{settings['payload_kg']:g} kg",
             "cycles": f"{settings['cycles']} per {' and per '.join(counted)}", "approach": settings["approach"],
             "seed": str(settings["seed"]), "engine": settings["engine"]}
     if settings["iso_cube"]:
