@@ -7,6 +7,7 @@ from pathlib import Path
 import matplotlib
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.patches import Circle
 
 from tribokin.simulation.pose_result import PoseResult
@@ -23,6 +24,17 @@ def field_axes(deviations_um: np.ndarray) -> tuple[int, int]:
     spread = np.ptp(deviations_um, axis=0) if len(deviations_um) else np.zeros(3)
     order = np.argsort(-spread, kind="stable")
     return tuple(sorted(order[:2]))
+
+
+def frame_field(axes: Axes, i: int, j: int, reach_um: float) -> None:
+    """Square ``axes`` of base axes ``i`` (horizontal) and ``j`` (vertical), ±``reach_um`` [µm] about 0 at equal
+    scale, labelled as deviations in µm, with a light grid."""
+    axes.set_xlim(-reach_um, reach_um)
+    axes.set_ylim(-reach_um, reach_um)
+    axes.set_aspect("equal")
+    axes.set_xlabel(f"{'xyz'[i]} deviation [µm]")
+    axes.set_ylabel(f"{'xyz'[j]} deviation [µm]")
+    axes.grid(alpha=0.3)
 
 
 @matplotlib.rc_context({"text.parse_math": False})  # names (study, pose) as written: '$' is no math
@@ -65,13 +77,8 @@ def save_repeatability_field(pose: PoseResult, path: Path, title: str = "") -> N
         field.plot(centre[i], centre[j], "x", color=colour, ms=9, mew=2, zorder=4,
                    label=f"barycenter, AP_p = {m.AP_p_m * UM_PER_M:.2f} µm" if one else None)
     reach = max(eps_d2, eps_t, *(np.linalg.norm(c) + r for c, r in zip(centres, radii)), 1.0) * 1.15
-    field.set_xlim(-reach, reach)
-    field.set_ylim(-reach, reach)
-    field.set_aspect("equal")
-    field.set_xlabel(f"{'xyz'[i]} deviation [µm]")
-    field.set_ylabel(f"{'xyz'[j]} deviation [µm]")
+    frame_field(field, i, j, reach)
     field.set_title("repeatability field")
-    field.grid(alpha=0.3)
     if one:
         field.legend(loc="upper left", fontsize=7, framealpha=0.9)
     else:

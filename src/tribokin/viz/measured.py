@@ -23,7 +23,7 @@ from tribokin.measurement.figures import PoseFigures, pose_clouds
 from tribokin.measurement.registration import Registration
 from tribokin.units import UM_PER_M
 from tribokin.viz.canvas import agg_figure
-from tribokin.viz.figures import DIRECTION_COLOURS, field_axes
+from tribokin.viz.figures import DIRECTION_COLOURS, field_axes, frame_field
 from tribokin.viz.report import REPORT_FILE, STYLE, embedded_figures, html_table, key_value_table
 
 #: Columns of the measured ISO table: (``poses.csv`` row key, header with unit).
@@ -59,13 +59,8 @@ def save_measured_field(figures: PoseFigures, clouds_m: list[np.ndarray], path: 
         reach = max(reach, np.linalg.norm(middle) + rp_l, distances.max())
     reach *= 1.15
     field.plot(0, 0, "k+", ms=12, mew=2, zorder=4, label="pooled barycentre")
-    field.set_xlim(-reach, reach)
-    field.set_ylim(-reach, reach)
-    field.set_aspect("equal")
-    field.set_xlabel(f"{'xyz'[i]} deviation [µm]")
-    field.set_ylabel(f"{'xyz'[j]} deviation [µm]")
+    frame_field(field, i, j, reach)
     field.set_title(f"repeatability field (RP_l all directions = {figures.RP_l_all_directions_m * UM_PER_M:.2f} µm)")
-    field.grid(alpha=0.3)
     fig.legend(*field.get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=7)
     series.set_xlabel("cycle (per direction, in order)")
     series.set_ylabel("distance from pooled barycentre [µm]")
