@@ -2,8 +2,9 @@
 
 - **Start.** Moments: each series' S/ν is linear in 1/k² and σ_n² (non-negative least squares,
   ``scipy.optimize.nnls``), then the barycentre differences are linear in the backlash (least
-  squares, clipped at ``BACKLASH_FLOOR`` of the largest lost motion τ̄/k). Parameters the
-  moments leave at zero start at their nominal values. When the optimiser does not converge from
+  squares, within ``BACKLASH_FLOOR`` and ``BACKLASH_CAP`` times the largest lost motion τ̄/k). Parameters the
+  moments leave at zero start at their nominal values, the others within ×/÷ 1000 of them (a joint that hardly
+  moves the tool point would otherwise start anywhere). When the optimiser does not converge from
   there, it starts again from the nominal model and the better optimum is kept.
 - **Optimum.** ``scipy.optimize.minimize`` with SLSQP and the analytic gradient in θ = log space,
   bounded to ``LOG_SPAN`` (natural log) around the moment start, then polished by Newton steps
@@ -23,7 +24,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.differentiate import jacobian
@@ -39,16 +40,28 @@ from tribokin.calibration.model import JointModel
 LOG_SPAN = float(np.log(1e3))
 #: A θ this close to the box's edge [natural log] is on a bound.
 BOUND_ATOL = 1e-6
+#: A relative standard error above this (a factor e either way at one standard error) is a flat likelihood.
+FLAT_STD_ERROR = 1.0
+#: The relative standard errors above which :func:`fit_determined` holds parameters, round by round.
+FLAT_STEPS = (10.0, FLAT_STD_ERROR, FLAT_STD_ERROR)
 #: Backlash starting value where the moments give none: this fraction of the largest τ̄/k.
 BACKLASH_FLOOR = 1e-2
+#: A relative standard error above this (a factor e either way at one standard error) is a flat likelihood.
+FLAT_STD_ERROR = 1.0
+#: The relative standard errors above which :func:`fit_determined` holds parameters, round by round.
+FLAT_STEPS = (10.0, FLAT_STD_ERROR, FLAT_STD_ERROR)
+#: Backlash starting value at most this multiple of the largest τ̄/k (or the study's value, if larger): a joint
+#: that hardly moves the tool would otherwise take any value the least squares like.
+BACKLASH_CAP = 100.0
 #: A joint is invisible when its largest |s|·|J column| is below this fraction of the largest joint's.
 INVISIBLE_RTOL = 1e-9
 #: SLSQP stops when -log L falls by less than this between iterations.
 FTOL = 1e-10
 #: First step of the Hessian's finite differences in θ (natural log).
 HESSIAN_STEP = 0.05
-#: Newton steps polishing the optimiser's result.
-NEWTON_STEPS = 10
+#: Newton steps polishing the optimiser's result, and how often each may be halved.
+NEWTON_STEPS = 20
+LINE_SEARCH_HALVINGS = 20
 #: Relative rounding of -log L that a polishing step may raise it by.
 ROUNDING = 1e-12
 Z95 = 1.959963984540054
@@ -145,7 +158,8 @@ def starting_theta(model: JointModel, data: SeriesStack) -> np.ndarray:
         moment[:n_k] *= -0.5
         moment[n_k:] *= 0.5
         indices = [*range(n_k)] + ([len(theta) - 1] if model.fit_noise_floor else [])
-        theta[indices] = np.where(positive, moment, theta[indices])
+        nominal = theta[indices]
+        theta[indices] = np.where(positive, np.clip(moment, nominal - LOG_SPAN, nominal + LOG_SPAN), nominal)
     if free_b.any():
         theta[n_k:n_k + int(free_b.sum())] = _backlash_start(model, model.unpack(theta)[0], data)
     return theta
@@ -165,7 +179,8 @@ def _backlash_start(model: JointModel, stiffness: np.ndarray, data: SeriesStack)
     fixed_backlash = np.where(free_b, 0.0, model.backlash)
     known = np.einsum("rai,ri->ra", data.jacobian[rows], sign_change * (lost[rows] + fixed_backlash / 2))
     design = np.einsum("rai,ri->rai", data.jacobian[rows][..., free_b], sign_change[:, free_b] / 2)
-    solution = lsq_linear(design.reshape(-1, free_b.sum()), (observed - known).ravel()).x
+    cap = np.maximum(BACKLASH_CAP * np.abs(lost).max(), model.backlash[free_b])
+    solution = lsq_linear(design.reshape(-1, free_b.sum()), (observed - known).ravel(), bounds=(0.0, cap)).x
     return np.log(np.maximum(solution, fallback))
 
 
@@ -183,18 +198,31 @@ def _parameter_joints(model: JointModel) -> list[np.ndarray]:
     return stiff + [np.array([i]) for i in free_b] + noise
 
 
-def _polish(objective: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], theta: np.ndarray, information: np.ndarray, bounds: np.ndarray) -> np.ndarray:
-    """Newton steps with the fixed information off its null space, while they stay in bounds and
-    do not raise -log L beyond its rounding: the optimum to the gradient's precision, not the line
-    search's."""
-    step_matrix = np.linalg.pinv((information + information.T) / 2, hermitian=True, rtol=RANK_RTOL)
+def _on_bound(theta: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """(p,) True where θ sits on the optimiser's box (within ``BOUND_ATOL``)."""
+    return (np.isclose(theta, bounds[:, 0], rtol=0, atol=BOUND_ATOL)
+            | np.isclose(theta, bounds[:, 1], rtol=0, atol=BOUND_ATOL))
+
+
+def _polish(objective: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], theta: np.ndarray,
+            information: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """Newton steps with the fixed information off its null space, the parameters on the box's edge held there,
+    each halved (up to ``LINE_SEARCH_HALVINGS`` times) until it stays in bounds and does not raise -log L beyond
+    its rounding: the optimum to the gradient's precision, not the line search's."""
+    inside = ~_on_bound(theta, bounds)
+    block = information[np.ix_(inside, inside)]
+    step_matrix = np.linalg.pinv((block + block.T) / 2, hermitian=True, rtol=RANK_RTOL)
     value, gradient = objective(theta)
     for _ in range(NEWTON_STEPS):
-        trial = theta - step_matrix @ gradient
-        if np.any(trial < bounds[:, 0]) or np.any(trial > bounds[:, 1]):
-            break
-        trial_value, trial_gradient = objective(trial)
-        if not trial_value <= value + ROUNDING * abs(value):
+        step = np.zeros_like(theta)
+        step[inside] = -step_matrix @ gradient[inside]
+        for halving in range(LINE_SEARCH_HALVINGS + 1):
+            trial = theta + step / 2 ** halving
+            if np.all(trial >= bounds[:, 0]) and np.all(trial <= bounds[:, 1]):
+                trial_value, trial_gradient = objective(trial)
+                if trial_value <= value + ROUNDING * abs(value):
+                    break
+        else:
             break
         theta, value, gradient = trial, trial_value, trial_gradient
     return theta
@@ -242,9 +270,7 @@ def fit(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...] | Series
     information = jacobian(gradient, theta, initial_step=HESSIAN_STEP).df
     found = analyse(information, max_relative_std_error)
     invisible = _invisible_joints(data)
-    on_bound = np.isclose(theta, bounds[:, 0], rtol=0, atol=BOUND_ATOL) | np.isclose(theta, bounds[:, 1], rtol=0,
-                                                                                      atol=BOUND_ATOL)
-    identifiable = found.identifiable & ~on_bound
+    identifiable = found.identifiable & ~_on_bound(theta, bounds)
     estimates = []
     for i, (name, unit, joints) in enumerate(zip(names, model.units(), _parameter_joints(model))):
         value, se = float(np.exp(theta[i])), float(found.std_error[i])
@@ -259,6 +285,47 @@ def fit(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...] | Series
                        log_likelihood=log_l, aic=2 * len(names) - 2 * log_l, information=information,
                        covariance=found.covariance, rank=found.rank, condition_number=found.condition_number,
                        converged=bool(best.success), bounds=bounds)
+
+
+def held_where_flat(calibration: Calibration, flat_std_error: float = FLAT_STD_ERROR) -> JointModel | None:
+    """The fit's nominal model with the parameters along which its likelihood is flat no longer free (held at the
+    nominal values): on the information's null space, on the optimiser's box, or with a relative standard error
+    above ``flat_std_error``. None when there are none, or nothing else is left free."""
+    model = calibration.nominal
+    on_bound = _on_bound(calibration.theta, calibration.bounds)
+    unknown = {e.name for e, edge in zip(calibration.parameters, on_bound)
+               if edge or e.std_error is None or e.std_error > flat_std_error * e.value}
+    if not unknown or len(unknown) == len(calibration.parameters):
+        return None
+    stiffness = tuple(free and "joints.stiffness_factor" not in unknown if model.tied else
+                      free and f"joints.{name}.stiffness" not in unknown
+                      for name, free in zip(model.joint_names, model.fit_stiffness))
+    backlash = tuple(free and f"joints.{name}.backlash" not in unknown
+                     for name, free in zip(model.joint_names, model.fit_backlash))
+    return replace(model, fit_stiffness=stiffness, fit_backlash=backlash,
+                   fit_noise_floor=model.fit_noise_floor and "noise_floor_m" not in unknown)
+
+
+def fit_determined(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...] | SeriesStack
+                   ) -> tuple[Calibration, Calibration]:
+    """Fit all free parameters, then again with those along which the likelihood is flat held at ``model``'s values
+    (:func:`held_where_flat`): first the flattest (``FLAT_STEPS[0]``), whose wandering along their flat directions
+    also moves the others' standard errors, then the rest.
+
+    Along a flat direction a fit's optimum is found only to the optimiser's tolerance, and the other parameters
+    move with it; the refit has a unique optimum. Its values, standard errors and intervals are conditional on the
+    held values, which change its predictions by little (the likelihood is flat along them).
+
+    Returns:
+        the first fit (which parameters are identifiable, and hints) and the last (the values to report).
+    """
+    data = poses if isinstance(poses, SeriesStack) else stack(poses)
+    first = last = fit(model, data)
+    for flat in FLAT_STEPS:
+        held = held_where_flat(last, flat)
+        if held is not None:
+            last = fit(held, data)
+    return first, last
 
 
 def profile_interval(calibration: Calibration, poses: list[PoseData] | tuple[PoseData, ...] | SeriesStack,
@@ -277,6 +344,9 @@ def profile_interval(calibration: Calibration, poses: list[PoseData] | tuple[Pos
     threshold = chi2.ppf(0.95, 1) / 2
 
     def excess(value: float) -> float:
+        if not others.any():
+            return float(objective(np.array([value]))[0]) + calibration.log_likelihood - threshold
+
         def restricted(rest: np.ndarray) -> tuple[float, np.ndarray]:
             theta = np.insert(rest, i, value)
             negative, gradient = objective(theta)
