@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from tribokin.calibration.data import PoseData
 from tribokin.calibration.cross_validation import (DRAWS, PosePrediction, PredictedFigure, leave_one_pose_out,
                                                    predict_pose, predicted_clouds)
 from tribokin.calibration.fit import Calibration, ParameterEstimate, fit_determined, profile_interval
@@ -184,15 +185,26 @@ def _noise_text(estimates: list[ParameterEstimate], intervals: dict) -> str | No
     return f"{estimate.value * UM_PER_M:.4g} µm, 95 % interval [{shown}] µm"
 
 
-def _registration_entry(inputs: CalibrationInput) -> dict:
+def _registration_entry(inputs: CalibrationInput, calibration: Calibration) -> dict:
     registration = inputs.registration
     if registration is None:
-        return {"made": False, "why": "no commanded positions at three or more poses not on one line: the fit uses "
-                "only what does not depend on the measuring frame"}
+        return {"made": False, "why": "no commanded positions at three or more poses not on one line: the measuring "
+                "frame's rotation is fitted with the model and profiled out (the fit uses the clouds' shapes and the "
+                "differences of their barycentres, which do not depend on the frame)",
+                "fitted_rotation": calibration.rotation.tolist()}
     return {"made": True, "rms_residual_um": _um(registration.rms_residual_m),
             "rotation": registration.rotation.tolist(), "translation_m": registration.translation_m.tolist(),
             "note": "the residual is the robot's geometric error (absolute accuracy), which friction does not "
                     "explain: barycentres serve only to register the frame, never as terms of the fit"}
+
+
+def _in_base_frame(pose: PoseData, calibration: Calibration) -> PoseData:
+    """``pose`` with its points turned into the base frame by the fit's rotation when the frame was unknown
+    (``x_base = Rᵀ x`` up to a shift, which the figures do not show)."""
+    if calibration.rotation is None:
+        return pose
+    return replace(pose, series=tuple(replace(s, points_m=np.asarray(s.points_m) @ calibration.rotation)
+                                      for s in pose.series))
 
 
 def _calibrated_study(study, study_path: Path, out: Path, header: list[str], values: list[WrittenValue],
@@ -242,13 +254,14 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     if not inputs.model.names():
         raise InputError("nothing to fit for these joints", study.source, "calibration.joints")
 
-    first, calibration = fit_determined(inputs.model, inputs.poses)
+    frame = "registered" if inputs.registration is not None else "unknown"
+    first, calibration = fit_determined(inputs.model, inputs.poses, frame=frame)
     intervals = {e.name: profile_interval(calibration, inputs.poses, e.name)
                  for e in calibration.parameters if e.identifiable}
     estimates = reported_estimates(first, calibration)
     fitted = tuple(predict_pose(calibration, pose, np.random.default_rng([seed, i]))
                    for i, pose in enumerate(inputs.poses))
-    held_out = leave_one_pose_out(inputs.model, inputs.poses, seed=seed)
+    held_out = leave_one_pose_out(inputs.model, inputs.poses, seed=seed, frame=frame)
     values = _written_values(inputs, calibration, estimates, intervals)
     header = _header(study_path, measurements_path, calibration, _noise_text(estimates, intervals))
     text, calibrated = _calibrated_study(study, study_path, out, header, values, inputs)
@@ -276,7 +289,7 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
                         "condition_number": first.condition_number,
                         "held": sorted({e.name for e in first.parameters} - {e.name for e in calibration.parameters}),
                         "converged": calibration.converged},
-        "registration": _registration_entry(inputs),
+        "registration": _registration_entry(inputs, calibration),
         "predictions": [_prediction_entry(p) for p in fitted],
         "cross_validation": [_prediction_entry(p) for p in held_out],
         "reproduce": {"versions": software_versions()},
@@ -291,7 +304,7 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
             writer.writerows(rows)
         (folder / "calibrated.toml").write_text(text, encoding="utf-8")
         figures = []
-        for pose in inputs.poses:
+        for pose in (_in_base_frame(p, calibration) for p in inputs.poses):
             clouds = [PredictedCloud(s.direction, np.asarray(s.points_m), centre, covariance)
                       for s, (covariance, centre) in zip(pose.series, predicted_clouds(calibration, pose))]
             save_calibration_clouds(clouds, folder / cloud_figure_file(pose.label), title=f"{pose.label}")

@@ -273,7 +273,7 @@ def _calibrate(args) -> None:
                             progress)
     registration = summary["registration"]
     print(f"frame: registered, rms residual {registration['rms_residual_um']:.1f} µm (the robot's geometric error)"
-          if registration["made"] else f"frame: {registration['why']}")
+          if registration["made"] else f"frame: not registered; {registration['why']}")
     for item in summary["settings"]["left_out"]:
         print(f"left out: {item['pose']} '{item['direction']}' ({item['cycles']} cycles): {item['why']}")
     width = max(len(p["name"]) for p in summary["parameters"])

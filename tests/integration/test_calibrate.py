@@ -141,7 +141,7 @@ def test_too_few_poses_name_the_parameters_they_cannot_determine_and_tying_the_j
 
 
 BAD_STUDIES = {
-    "no-calibration-section": ("[calibration]", "[iso_cube]\nside_m = 0.2\n[unused]",
+    "no-calibration-section": ("[calibration]", "[iso_cube]\nside_m = 0.2\n",
                                "calibration: no [calibration] section"),
     "unknown-parameter": ("fit = [\"stiffness\", \"backlash\", \"noise_floor\"]", "fit = [\"stifness\"]",
                           "calibration.fit[0]: must be one of"),
@@ -156,6 +156,8 @@ def test_bad_study_is_one_line_and_writes_nothing(case, tmp_path):
     old, new, message = BAD_STUDIES[case]
     text = study_without_map(tmp_path).read_text(encoding="utf-8")
     assert old in text
+    if case == "no-calibration-section":
+        text = text.split(old)[0] + old
     (tmp_path / "study.toml").write_text(text.replace(old, new), encoding="utf-8")
     done = tribokin("calibrate", tmp_path / "study.toml", "--measurements", DATA, "--out", tmp_path / "fit")
     assert done.returncode == 2 and len(done.stderr.strip().splitlines()) == 1, done.stderr
@@ -213,3 +215,25 @@ def test_configurations_from_commanded_positions_by_ik(tmp_path):
 def test_run_refuses_a_study_with_nothing_but_calibration(tmp_path):
     done = tribokin("run", study_without_map(tmp_path), "--out", tmp_path / "out")
     assert done.returncode == 2 and "tribokin calibrate" in done.stderr
+
+
+def test_without_a_registration_the_frame_is_fitted_and_the_output_says_so(tmp_path):
+    """No commanded positions: the tracker frame's rotation is profiled out; the determined stiffnesses agree with
+    the registered fit's within their standard errors."""
+    _, header, rows = read_rows(DATA)
+    kept = [h for h in header if not h.startswith(("cx_", "cy_", "cz_"))]
+    write_rows(tmp_path / "unregistered.csv", kept, [{k: r[k] for k in kept} for r in rows])
+    study = study_without_map(tmp_path)
+    for data, out in ((DATA, "registered"), (tmp_path / "unregistered.csv", "unknown")):
+        done = tribokin("calibrate", study, "--measurements", data, "--out", tmp_path / out, "--report", "none")
+        assert done.returncode == 0, done.stderr
+    assert "frame: not registered" in done.stdout
+    summary = json.loads((tmp_path / "unknown" / "calibration.json").read_text(encoding="utf-8"))
+    assert not summary["registration"]["made"] and "profiled out" in summary["registration"]["why"]
+    rotation = np.array(summary["registration"]["fitted_rotation"])
+    truth = Rotation.from_euler("xyz", [3.0, -2.0, 130.0], degrees=True).as_matrix()  # the file's tracker frame
+    assert np.degrees(Rotation.from_matrix(rotation @ truth.T).magnitude()) < 5.0  # 2.4° here: shapes fix it loosely
+    registered, unknown = parameters(tmp_path / "registered"), parameters(tmp_path / "unknown")
+    for name in ("joints.shoulder_pan_joint.stiffness", "joints.shoulder_lift_joint.stiffness", "noise_floor_m"):
+        assert unknown[name]["identifiable"]
+        assert abs(unknown[name]["value"] - registered[name]["value"]) < 2 * registered[name]["std_error"]

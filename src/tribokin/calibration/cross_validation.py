@@ -89,7 +89,12 @@ def _draw_theta(calibration: Calibration, draws: int, rng: np.random.Generator) 
 
 def predict_pose(calibration: Calibration, pose: PoseData, rng: np.random.Generator,
                  draws: int = DRAWS) -> PosePrediction:
-    """RP_l per direction and vAP at ``pose`` predicted by a fit, beside those of its measured series."""
+    """RP_l per direction and vAP at ``pose`` predicted by a fit, beside those of its measured series.
+
+    The clouds are simulated in the frame of the pose's Jacobian (the base); RP_l (distances to a
+    cloud's own barycentre) and vAP (distances between barycentres) do not change with a rigid
+    motion, so measured points in an unregistered frame compare as they are.
+    """
     model = calibration.nominal
     stiffness, backlash, noise = model.unpack(_draw_theta(calibration, draws, rng))
     tests = 2 * draws
@@ -126,11 +131,11 @@ def predicted_clouds(calibration: Calibration, pose: PoseData) -> list[tuple[np.
 
 
 def leave_one_pose_out(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...], draws: int = DRAWS,
-                       seed: int = SEED) -> tuple[PosePrediction, ...]:
-    """For each pose: fit ``model`` to the other poses (:func:`~tribokin.calibration.fit.fit_determined`), predict
-    this one (module docstring)."""
+                       seed: int = SEED, frame: str = "registered") -> tuple[PosePrediction, ...]:
+    """For each pose: fit ``model`` to the other poses (:func:`~tribokin.calibration.fit.fit_determined`,
+    ``frame`` as in :func:`~tribokin.calibration.fit.fit`), predict this one (module docstring)."""
     predictions = []
     for i, pose in enumerate(poses):
-        calibration = fit_determined(model, [p for j, p in enumerate(poses) if j != i])[1]
+        calibration = fit_determined(model, [p for j, p in enumerate(poses) if j != i], frame=frame)[1]
         predictions.append(predict_pose(calibration, pose, np.random.default_rng([seed, i]), draws))
     return tuple(predictions)

@@ -23,7 +23,11 @@ def read_study_file(path) -> Study:
     if not path.is_file():
         raise InputError("study file not found", path)
     content = path.read_bytes()
-    study = parse_study_text(content.decode("utf-8"), path, path.parent)
+    try:
+        text = content.decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise InputError(f"not valid TOML: not UTF-8 text ({error.reason} at byte {error.start})", path) from None
+    study = parse_study_text(text, path, path.parent)
     return replace(study, sha256=hashlib.sha256(content).hexdigest())
 
 
