@@ -28,8 +28,21 @@ demo: $(VENV)/.base
 		echo "== $$study"; \
 		$(VENV)/bin/tribokin run studies/$$study.toml --out $(DEMO_OUT)/$$study --force || exit $$?; \
 	done
+	@echo "== measured and calibrated: synthetic UR5 tracker data (studies/data/ur5-tracker.csv)"
+	$(VENV)/bin/tribokin measure studies/data/ur5-tracker.csv --out $(DEMO_OUT)/ur5-measured --force
+	$(VENV)/bin/tribokin calibrate studies/ur5-calibrate.toml --measurements studies/data/ur5-tracker.csv \
+		--out $(DEMO_OUT)/ur5-fit --force
+	$(VENV)/bin/tribokin run $(DEMO_OUT)/ur5-fit/calibrated.toml --out $(DEMO_OUT)/ur5-predicted --force
+	@echo "== measured and calibrated: the IPA UR10 laser-tracker data (../shared/data/ipa-ur10, MIT)"
+	@if [ -d ../shared/data/ipa-ur10 ]; then \
+		$(PY) tools/ipa_series_d.py ../shared/data/ipa-ur10 --out $(DEMO_OUT)/ipa-ur10-series-d.csv --force >/dev/null && \
+		$(VENV)/bin/tribokin measure $(DEMO_OUT)/ipa-ur10-series-d.csv --out $(DEMO_OUT)/ipa-measured --force && \
+		$(VENV)/bin/tribokin calibrate studies/ur10-ipa-calibrate.toml --measurements $(DEMO_OUT)/ipa-ur10-series-d.csv \
+			--out $(DEMO_OUT)/ipa-fit --force || exit $$?; \
+	else echo "(../shared/data/ipa-ur10 not found: skipped)"; fi
 	@echo "demo results: $(DEMO_OUT)/<study>/ (summary.json, poses.csv, field_*.png, report.html; maps: map*.csv, map_*.png)"
-	@for study in $(DEMO_STUDIES); do echo "report: $(DEMO_OUT)/$$study/report.html"; done
+	@for study in $(DEMO_STUDIES) ur5-measured ur5-fit ur5-predicted ipa-measured ipa-fit; do \
+		if [ -f $(DEMO_OUT)/$$study/report.html ]; then echo "report: $(DEMO_OUT)/$$study/report.html"; fi; done
 	@echo "tribokin is in $(VENV), not on your PATH: run $(VENV)/bin/tribokin, or first source $(VENV)/bin/activate"
 
 test: $(VENV)/.test

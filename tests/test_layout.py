@@ -32,7 +32,7 @@ STAGES = (
     ("run",),
     ("viz",),
     ("output",),
-    ("tribology_reports", "measurement_reports"),
+    ("tribology_reports", "measurement_reports", "calibration_reports"),
     ("cli", "__main__", ""),
 )
 LEVEL = {part: level for level, parts in enumerate(STAGES) for part in parts}

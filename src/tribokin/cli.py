@@ -263,6 +263,40 @@ def _measure(args) -> None:
     print(f"results in {args.out}/ ({files}{', report.html' if args.report != 'none' else ''})")
 
 
+def _calibrate(args) -> None:
+    from tribokin.calibration_reports import calibrate
+    from tribokin.execution import executor_for
+
+    with executor_for(args.workers, None) as executor, _claimed(args.out, args.force), \
+            map_progress(warm_up=args.workers) as progress:
+        summary = calibrate(args.study, args.measurements, args.out, args.force, args.report, args.seed, executor,
+                            progress)
+    registration = summary["registration"]
+    print(f"frame: registered, rms residual {registration['rms_residual_um']:.1f} µm (the robot's geometric error)"
+          if registration["made"] else f"frame: not registered; {registration['why']}")
+    for item in summary["settings"]["left_out"]:
+        print(f"left out: {item['pose']} '{item['direction']}' ({item['cycles']} cycles): {item['why']}")
+    width = max(len(p["name"]) for p in summary["parameters"])
+    print(f"{'parameter':<{width}} {'value':>12} {'std error':>12}  95 % interval (profile likelihood)")
+    for p in summary["parameters"]:
+        if not p["identifiable"]:
+            print(f"{p['name']:<{width}} {'not identifiable':>25}  {p['hint']}")
+            continue
+        ends = " – ".join("unbounded" if v is None else f"{v:.4g}" for v in p["ci95"])
+        print(f"{p['name']:<{width}} {p['value']:>12.4g} {p['std_error']:>12.4g}  {ends} {p['unit']}")
+    information = summary["information"]
+    print(f"log L {summary['log_likelihood']:.6g}, AIC {summary['aic']:.6g}; information rank {information['rank']} "
+          f"of {information['free_parameters']}; held at the study's values: {', '.join(information['held']) or 'none'}")
+    print("held out one pose at a time: measured / predicted [95 % interval] RP_l [µm]")
+    for pose in summary["cross_validation"]:
+        shown = [f"{d} {f['measured_um']:.2f} / {f['predicted_um']:.2f} [{f['ci95_um'][0]:.2f}, {f['ci95_um'][1]:.2f}]"
+                 for d, f in pose["RP_l"].items() if f is not None]
+        print(f"  {pose['pose']}: {'; '.join(shown)}")
+    print(f"results in {args.out}/ (calibration.json, comparison.csv, calibrated.toml, parity.png, clouds_*.png"
+          f"{', report.html' if args.report != 'none' else ''}); predict with: tribokin run {args.out}/calibrated.toml "
+          "--out predicted")
+
+
 def build_parser() -> argparse.ArgumentParser:
     from tribokin import __version__
     from tribokin.measurement.figures import BOOTSTRAP_SEED
@@ -309,6 +343,20 @@ def build_parser() -> argparse.ArgumentParser:
     measure.add_argument("--report", choices=("full", "none"), default="full",
                          help="report.html with the table and figures (full, default) or no report")
     measure.set_defaults(handler=_measure)
+
+    calibrate = commands.add_parser("calibrate", help="fit a study's joint model to measured data ([calibration])")
+    calibrate.add_argument("study", help="study file (TOML) with a [calibration] section")
+    calibrate.add_argument("--measurements", required=True, metavar="FILE",
+                           help="measurement CSV (README: Measured data), with q_<joint> or commanded positions")
+    calibrate.add_argument("--out", default="fit", help="output folder (must not exist, unless --force)")
+    calibrate.add_argument("--force", action="store_true", help="replace an existing output folder")
+    calibrate.add_argument("--seed", type=int, default=9283,
+                           help="seed of the predictions' simulated tests (default 9283)")
+    calibrate.add_argument("--report", choices=("full", "none"), default="full",
+                           help="report.html with the tables and figures (full, default) or no report")
+    calibrate.add_argument("--workers", type=int, default=1,
+                           help="local processes computing the calibrated study's map, if it has one (default 1)")
+    calibrate.set_defaults(handler=_calibrate)
 
     view = commands.add_parser("view", help="show an output folder's scene in a live meshcat viewer")
     view.add_argument("folder", help="output folder written by `tribokin run`")

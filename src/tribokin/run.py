@@ -80,6 +80,9 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
         the per-pose samples and ISO 9283 figures, and the map's per-target figures.
     """
     study = load_study(study, cycles, seed)
+    if not study.has_tests:
+        raise InputError("nothing to run: the study has a [calibration] section only; fit it with `tribokin calibrate "
+                         "STUDY --measurements FILE`, or add [[poses]], an [iso_cube] or a [map]", study.source, "poses")
     if resume and study.map is None and checkpoint is not None and Path(checkpoint).exists():
         raise InputError("this study has no [map], so these chunks are another run's; run that study with "
                          "--resume, or pass --force without --resume to start over", checkpoint, "--resume")

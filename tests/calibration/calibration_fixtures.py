@@ -30,11 +30,13 @@ def arm_kinematics(poses: int = 5, seed: int = 21) -> list[tuple[np.ndarray, np.
 
 def simulate(kinematics, rng: np.random.Generator, cycles: int = 30, stiffness=STIFFNESS, backlash=BACKLASH,
              noise_floor_m: float = NOISE_FLOOR_M, directions=DIRECTIONS,
-             rotation: np.ndarray | None = None, shift_m: np.ndarray | None = None) -> list[PoseData]:
+             rotation: np.ndarray | None = None, shift_m: np.ndarray | None = None,
+             registered: bool = True) -> list[PoseData]:
     """Measured clouds: each cycle draws every joint's torque, moves the tool by J·dq, adds instrument noise.
 
     Every pose has its own absolute position (geometric error) and joint offsets; ``rotation`` and
-    ``shift_m`` move the measured points into another frame (the Jacobians are turned alike).
+    ``shift_m`` move the measured points into another frame (``x = rotation·x_base + shift_m``); the
+    Jacobians are turned alike when ``registered``, else left in the base frame.
     """
     rotation = np.eye(3) if rotation is None else rotation
     shift_m = np.zeros(3) if shift_m is None else shift_m
@@ -48,7 +50,8 @@ def simulate(kinematics, rng: np.random.Generator, cycles: int = 30, stiffness=S
             dq = offset + signs * (torque / stiffness + backlash / 2)
             points = origin + dq @ jacobian.T + rng.normal(0.0, noise_floor_m, (cycles, 3))
             series.append(SeriesData(label, signs, points @ rotation.T + shift_m))
-        poses.append(PoseData(f"P{p + 1}", rotation @ jacobian, torque_mean, torque_std, tuple(series)))
+        poses.append(PoseData(f"P{p + 1}", rotation @ jacobian if registered else jacobian, torque_mean, torque_std,
+                              tuple(series)))
     return poses
 
 

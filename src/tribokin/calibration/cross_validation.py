@@ -21,7 +21,7 @@ import numpy as np
 from scipy.spatial.distance import pdist
 
 from tribokin.calibration.data import PoseData
-from tribokin.calibration.fit import Calibration, fit
+from tribokin.calibration.fit import Calibration, fit_determined
 from tribokin.calibration.model import JointModel, predict_series
 
 DRAWS = 2000
@@ -75,18 +75,26 @@ def _summary(measured: float, figures: np.ndarray) -> PredictedFigure:
 
 def _draw_theta(calibration: Calibration, draws: int, rng: np.random.Generator) -> np.ndarray:
     """(p, 2·draws) θ: θ̂ ``draws`` times, then ``draws`` from the approximate posterior with
-    null-space parameters held at θ̂."""
+    null-space parameters held at θ̂, each kept within the box the fit searched (a poorly determined parameter's
+    Gaussian reaches values no optimum was looked for at, and that overflow)."""
     theta = np.repeat(calibration.theta[:, None], 2 * draws, axis=1)
     known = np.isfinite(np.diag(calibration.covariance))
+    if not known.any():
+        return theta
     covariance = calibration.covariance[np.ix_(known, known)]
     theta[known, draws:] = rng.multivariate_normal(calibration.theta[known], covariance, size=draws,
                                                    method="eigh").T
-    return theta
+    return np.clip(theta, calibration.bounds[:, :1], calibration.bounds[:, 1:])
 
 
 def predict_pose(calibration: Calibration, pose: PoseData, rng: np.random.Generator,
                  draws: int = DRAWS) -> PosePrediction:
-    """RP_l per direction and vAP at ``pose`` predicted by a fit, beside those of its measured series."""
+    """RP_l per direction and vAP at ``pose`` predicted by a fit, beside those of its measured series.
+
+    The clouds are simulated in the frame of the pose's Jacobian (the base); RP_l (distances to a
+    cloud's own barycentre) and vAP (distances between barycentres) do not change with a rigid
+    motion, so measured points in an unregistered frame compare as they are.
+    """
     model = calibration.nominal
     stiffness, backlash, noise = model.unpack(_draw_theta(calibration, draws, rng))
     tests = 2 * draws
@@ -110,11 +118,24 @@ def predict_pose(calibration: Calibration, pose: PoseData, rng: np.random.Genera
     return PosePrediction(pose.label, tuple(s.direction for s in pose.series), tuple(rp_l), vap)
 
 
+def predicted_clouds(calibration: Calibration, pose: PoseData) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Per series of ``pose``: its covariance Σ [m²] and barycentre [m] at the fitted values. The pose's own
+    position, which friction does not explain, is the V⁻¹-weighted mean of x̄_a - m(s_a) over its series (V = Σ/n),
+    as the likelihood takes it."""
+    signs = np.array([s.signs for s in pose.series], dtype=float)
+    covariance, shift = calibration.model.predict(pose.jacobian, signs, pose.torque_mean, pose.torque_std)
+    weights = np.linalg.inv(covariance / np.array([len(s.points_m) for s in pose.series])[:, None, None])
+    measured = np.array([np.mean(s.points_m, axis=0) for s in pose.series])
+    position = np.linalg.solve(weights.sum(axis=0), np.einsum("mab,mb->a", weights, measured - shift))
+    return [(c, position + m) for c, m in zip(covariance, shift)]
+
+
 def leave_one_pose_out(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...], draws: int = DRAWS,
-                       seed: int = SEED) -> tuple[PosePrediction, ...]:
-    """For each pose: fit ``model`` to the other poses, predict this one (module docstring)."""
+                       seed: int = SEED, frame: str = "registered") -> tuple[PosePrediction, ...]:
+    """For each pose: fit ``model`` to the other poses (:func:`~tribokin.calibration.fit.fit_determined`,
+    ``frame`` as in :func:`~tribokin.calibration.fit.fit`), predict this one (module docstring)."""
     predictions = []
     for i, pose in enumerate(poses):
-        calibration = fit(model, [p for j, p in enumerate(poses) if j != i])
+        calibration = fit_determined(model, [p for j, p in enumerate(poses) if j != i], frame=frame)[1]
         predictions.append(predict_pose(calibration, pose, np.random.default_rng([seed, i]), draws))
     return tuple(predictions)

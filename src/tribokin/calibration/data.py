@@ -76,6 +76,11 @@ class SeriesStack:
         """(n_poses, m) 1 where a series belongs to a pose, else 0."""
         return (np.arange(len(self.poses))[:, None] == self.pose_index[None, :]).astype(float)
 
+    @property
+    def first_of_pose(self) -> np.ndarray:
+        """(m,) index of the first series of each series' pose."""
+        return np.array([np.flatnonzero(self.pose_index == p)[0] for p in self.pose_index])
+
 
 def stack(poses: list[PoseData] | tuple[PoseData, ...]) -> SeriesStack:
     """Stack the series of ``poses`` and reduce each to its count, barycentre and scatter matrix.

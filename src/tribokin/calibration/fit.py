@@ -2,8 +2,9 @@
 
 - **Start.** Moments: each series' S/ν is linear in 1/k² and σ_n² (non-negative least squares,
   ``scipy.optimize.nnls``), then the barycentre differences are linear in the backlash (least
-  squares, clipped at ``BACKLASH_FLOOR`` of the largest lost motion τ̄/k). Parameters the
-  moments leave at zero start at their nominal values. When the optimiser does not converge from
+  squares, within ``BACKLASH_FLOOR`` and ``BACKLASH_CAP`` times the largest lost motion τ̄/k). Parameters the
+  moments leave at zero start at their nominal values, the others within ×/÷ 1000 of them (a joint that hardly
+  moves the tool point would otherwise start anywhere). When the optimiser does not converge from
   there, it starts again from the nominal model and the better optimum is kept.
 - **Optimum.** ``scipy.optimize.minimize`` with SLSQP and the analytic gradient in θ = log space,
   bounded to ``LOG_SPAN`` (natural log) around the moment start, then polished by Newton steps
@@ -17,41 +18,80 @@
   :func:`profile_interval` gives a parameter's profile-likelihood interval instead.
   A parameter that ends on a bound of the box is not at a maximum of the likelihood: it is named
   not identifiable whatever its standard error.
-- AIC = 2p - 2·log L with p the number of free parameters.
+- **Unknown frame** (``frame="unknown"``: the points are in a measuring frame whose rotation R
+  relative to the Jacobians' base frame is unknown). R is a nuisance parameter maximised jointly
+  with θ (:mod:`.frame`): the candidate rotations (:func:`~.frame.candidate_rotations`) are ranked
+  by log L at their moment start of θ (:func:`starting_theta` of the data turned to the base by
+  them), the ``REFINED_STARTS`` likeliest are optimised in (θ, δ) by SLSQP with δ in
+  ``ROTATION_BOX``, the best re-centred (δ = 0) and polished. The information is then that of
+  (θ, δ); θ's standard errors, identifiability and Wald intervals come from its profile (Schur
+  complement) information, so they include the rotation's uncertainty. :func:`profile_interval`
+  re-fits the rotation with the other parameters.
+- AIC = 2p - 2·log L with p the number of free parameters (the rotation not counted: it is no
+  parameter of the joint model).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 from scipy.differentiate import jacobian
-from scipy.optimize import brentq, lsq_linear, minimize, nnls
+from scipy.optimize import OptimizeResult, brentq, lsq_linear, minimize, nnls
+from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 from tribokin.calibration.data import PoseData, SeriesStack, stack
+from tribokin.calibration.frame import candidate_rotations, profile_information, to_base, \
+    unknown_frame_log_likelihood_and_gradient
 from tribokin.calibration.identifiability import MAX_RELATIVE_STD_ERROR, RANK_RTOL, analyse, hint
-from tribokin.calibration.likelihood import log_likelihood_and_gradient
+from tribokin.calibration.likelihood import log_likelihood, log_likelihood_and_gradient
 from tribokin.calibration.model import JointModel
 
 #: Half width of the optimiser's box around the moment start, in natural log (×/÷ 1000).
 LOG_SPAN = float(np.log(1e3))
 #: A θ this close to the box's edge [natural log] is on a bound.
 BOUND_ATOL = 1e-6
+#: A relative standard error above this (a factor e either way at one standard error) is a flat likelihood.
+FLAT_STD_ERROR = 1.0
+#: The relative standard errors above which :func:`fit_determined` holds parameters, round by round.
+FLAT_STEPS = (10.0, FLAT_STD_ERROR, FLAT_STD_ERROR)
 #: Backlash starting value where the moments give none: this fraction of the largest τ̄/k.
 BACKLASH_FLOOR = 1e-2
+#: A relative standard error above this (a factor e either way at one standard error) is a flat likelihood.
+FLAT_STD_ERROR = 1.0
+#: The relative standard errors above which :func:`fit_determined` holds parameters, round by round.
+FLAT_STEPS = (10.0, FLAT_STD_ERROR, FLAT_STD_ERROR)
+#: Backlash starting value at most this multiple of the largest τ̄/k (or the study's value, if larger): a joint
+#: that hardly moves the tool would otherwise take any value the least squares like.
+BACKLASH_CAP = 100.0
 #: A joint is invisible when its largest |s|·|J column| is below this fraction of the largest joint's.
 INVISIBLE_RTOL = 1e-9
 #: SLSQP stops when -log L falls by less than this between iterations.
 FTOL = 1e-10
 #: First step of the Hessian's finite differences in θ (natural log).
 HESSIAN_STEP = 0.05
-#: Newton steps polishing the optimiser's result.
-NEWTON_STEPS = 10
+#: Newton steps polishing the optimiser's result, and how often each may be halved.
+NEWTON_STEPS = 20
+LINE_SEARCH_HALVINGS = 20
 #: Relative rounding of -log L that a polishing step may raise it by.
 ROUNDING = 1e-12
 Z95 = 1.959963984540054
+#: x (q, ...) -> (-log L (...), its gradient (q, ...)).
+Objective = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+FRAMES = ("registered", "unknown")
+#: Unknown frame: random rotations among the starts (:func:`~.frame.candidate_rotations`) and their seed.
+FRAME_STARTS = 32
+FRAME_SEED = 9283
+#: Unknown frame: starts (the most likely at their moment θ) the optimiser refines.
+REFINED_STARTS = 2
+#: Unknown frame: optima whose log L differ by less than this are one; the likelier start's is
+#: kept (not the one rounding favours, which a rotation of the data could change).
+SAME_OPTIMUM = 1e-3
+#: (3, 2) the optimiser's box for the frame's rotation vector δ about its reference [rad].
+ROTATION_BOX = np.tile([-np.pi, np.pi], (3, 1))
 
 
 @dataclass(frozen=True)
@@ -94,6 +134,10 @@ class Calibration:
         condition_number: of the information (inf when singular).
         converged: the optimiser reported success.
         bounds: (p, 2) the box in θ the optimiser searched.
+        rotation: (3, 3) fitted rotation R of the measuring frame relative to the robot's base
+            (measured points ``x = R·x_base + t``) when the frame was unknown; then
+            ``information`` is θ's profile information (the rotation profiled out). None when
+            the frame was registered.
     """
 
     nominal: JointModel
@@ -108,6 +152,7 @@ class Calibration:
     condition_number: float
     converged: bool
     bounds: np.ndarray
+    rotation: np.ndarray | None = None
 
 
 def starting_theta(model: JointModel, data: SeriesStack) -> np.ndarray:
@@ -145,7 +190,8 @@ def starting_theta(model: JointModel, data: SeriesStack) -> np.ndarray:
         moment[:n_k] *= -0.5
         moment[n_k:] *= 0.5
         indices = [*range(n_k)] + ([len(theta) - 1] if model.fit_noise_floor else [])
-        theta[indices] = np.where(positive, moment, theta[indices])
+        nominal = theta[indices]
+        theta[indices] = np.where(positive, np.clip(moment, nominal - LOG_SPAN, nominal + LOG_SPAN), nominal)
     if free_b.any():
         theta[n_k:n_k + int(free_b.sum())] = _backlash_start(model, model.unpack(theta)[0], data)
     return theta
@@ -154,7 +200,7 @@ def starting_theta(model: JointModel, data: SeriesStack) -> np.ndarray:
 def _backlash_start(model: JointModel, stiffness: np.ndarray, data: SeriesStack) -> np.ndarray:
     """Log backlash of the free joints from the barycentre differences, given the stiffness."""
     free_b = np.array(model.fit_backlash)
-    first = np.array([np.flatnonzero(data.pose_index == p)[0] for p in data.pose_index])
+    first = data.first_of_pose
     rows = np.flatnonzero(first != np.arange(len(first)))
     lost = data.torque_mean / stiffness
     fallback = np.full(int(free_b.sum()), BACKLASH_FLOOR * np.abs(lost).max())
@@ -165,7 +211,8 @@ def _backlash_start(model: JointModel, stiffness: np.ndarray, data: SeriesStack)
     fixed_backlash = np.where(free_b, 0.0, model.backlash)
     known = np.einsum("rai,ri->ra", data.jacobian[rows], sign_change * (lost[rows] + fixed_backlash / 2))
     design = np.einsum("rai,ri->rai", data.jacobian[rows][..., free_b], sign_change[:, free_b] / 2)
-    solution = lsq_linear(design.reshape(-1, free_b.sum()), (observed - known).ravel()).x
+    cap = np.maximum(BACKLASH_CAP * np.abs(lost).max(), model.backlash[free_b])
+    solution = lsq_linear(design.reshape(-1, free_b.sum()), (observed - known).ravel(), bounds=(0.0, cap)).x
     return np.log(np.maximum(solution, fallback))
 
 
@@ -183,70 +230,137 @@ def _parameter_joints(model: JointModel) -> list[np.ndarray]:
     return stiff + [np.array([i]) for i in free_b] + noise
 
 
-def _polish(objective: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], theta: np.ndarray, information: np.ndarray, bounds: np.ndarray) -> np.ndarray:
-    """Newton steps with the fixed information off its null space, while they stay in bounds and
-    do not raise -log L beyond its rounding: the optimum to the gradient's precision, not the line
-    search's."""
-    step_matrix = np.linalg.pinv((information + information.T) / 2, hermitian=True, rtol=RANK_RTOL)
+def _on_bound(theta: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """(p,) True where θ sits on the optimiser's box (within ``BOUND_ATOL``)."""
+    return (np.isclose(theta, bounds[:, 0], rtol=0, atol=BOUND_ATOL)
+            | np.isclose(theta, bounds[:, 1], rtol=0, atol=BOUND_ATOL))
+
+
+def _polish(objective: Objective, theta: np.ndarray, information: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """Newton steps with the fixed information off its null space, the parameters on the box's edge held there,
+    each halved (up to ``LINE_SEARCH_HALVINGS`` times) until it stays in bounds and does not raise -log L beyond
+    its rounding: the optimum to the gradient's precision, not the line search's."""
+    inside = ~_on_bound(theta, bounds)
+    block = information[np.ix_(inside, inside)]
+    step_matrix = np.linalg.pinv((block + block.T) / 2, hermitian=True, rtol=RANK_RTOL)
     value, gradient = objective(theta)
     for _ in range(NEWTON_STEPS):
-        trial = theta - step_matrix @ gradient
-        if np.any(trial < bounds[:, 0]) or np.any(trial > bounds[:, 1]):
-            break
-        trial_value, trial_gradient = objective(trial)
-        if not trial_value <= value + ROUNDING * abs(value):
+        step = np.zeros_like(theta)
+        step[inside] = -step_matrix @ gradient[inside]
+        for halving in range(LINE_SEARCH_HALVINGS + 1):
+            trial = theta + step / 2 ** halving
+            if np.all(trial >= bounds[:, 0]) and np.all(trial <= bounds[:, 1]):
+                trial_value, trial_gradient = objective(trial)
+                if trial_value <= value + ROUNDING * abs(value):
+                    break
+        else:
             break
         theta, value, gradient = trial, trial_value, trial_gradient
     return theta
 
 
-def _negative_log_likelihood(model: JointModel, data: SeriesStack
-                             ) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
-    """θ (p, ...) -> (-log L (...), its gradient (p, ...))."""
-    def objective(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        value, gradient = log_likelihood_and_gradient(model, theta, data)
+def _negative(log_likelihood_and_gradient_at: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]) -> Objective:
+    """The objective of a function x -> (log L, its gradient)."""
+    def objective(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        value, gradient = log_likelihood_and_gradient_at(x)
         return -value, -gradient
     return objective
 
 
-def fit(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...] | SeriesStack,
-        max_relative_std_error: float = MAX_RELATIVE_STD_ERROR) -> Calibration:
-    """Maximum-likelihood fit of ``model``'s free parameters to the measured series at ``poses``.
+def _registered_objective(model: JointModel, data: SeriesStack) -> Objective:
+    """θ (p, ...) -> (-log L (...), its gradient (p, ...)) with the data in the base frame."""
+    return _negative(partial(log_likelihood_and_gradient, model, data=data))
 
-    Args:
-        model: the joint model; its free parameters' values are the nominal second start.
-        poses: measured poses (or their :func:`~tribokin.calibration.data.stack`).
-        max_relative_std_error: largest standard error of log θ of an identifiable parameter.
 
-    Raises:
-        ValueError: no free parameter.
-    """
-    data = poses if isinstance(poses, SeriesStack) else stack(poses)
-    names = model.names()
-    if not names:
-        raise ValueError("nothing to fit: free at least one parameter")
+def _unknown_frame_objective(model: JointModel, data: SeriesStack, reference: Rotation) -> Objective:
+    """(θ, δ) (p + 3, ...) -> (-log L (...), its gradient (p + 3, ...)), the frame ``reference·exp([δ]×)``."""
+    return _negative(partial(unknown_frame_log_likelihood_and_gradient, model, data=data, reference=reference))
 
-    objective = _negative_log_likelihood(model, data)
 
-    def gradient(theta: np.ndarray) -> np.ndarray:
-        return objective(theta)[1]
+def _log_box(start: np.ndarray) -> np.ndarray:
+    """(p, 2) the optimiser's box in θ around ``start``."""
+    return np.stack([start - LOG_SPAN, start + LOG_SPAN], axis=1)
 
+
+def _optimise(objective: Objective, start: np.ndarray, bounds: np.ndarray) -> OptimizeResult:
+    """SLSQP with the analytic gradient in ``bounds`` from ``start``."""
+    return minimize(objective, start, method="SLSQP", jac=True, bounds=bounds, options={"ftol": FTOL})
+
+
+def _polished(objective: Objective, x: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The optimiser's result polished by :func:`_polish`, and the observed information there."""
+    def gradient(at: np.ndarray) -> np.ndarray:
+        return objective(at)[1]
+
+    x = _polish(objective, x, jacobian(gradient, x, initial_step=HESSIAN_STEP).df, bounds)
+    return x, jacobian(gradient, x, initial_step=HESSIAN_STEP).df
+
+
+@dataclass(frozen=True, eq=False)
+class _Optimum:
+    """θ̂, θ's observed (profile) information, log L̂, convergence, the box in θ and the frame's rotation (or None)."""
+
+    theta: np.ndarray
+    information: np.ndarray
+    log_likelihood: float
+    converged: bool
+    bounds: np.ndarray
+    rotation: np.ndarray | None
+
+
+def _fit_registered(model: JointModel, data: SeriesStack) -> _Optimum:
+    """Moment start, then the nominal model's when the optimiser does not converge (module docstring)."""
+    objective = _registered_objective(model, data)
     start = starting_theta(model, data)
-    bounds = np.stack([start - LOG_SPAN, start + LOG_SPAN], axis=1)
+    bounds = _log_box(start)
     nominal = np.clip(model.theta(), bounds[:, 0], bounds[:, 1])
-    best = minimize(objective, start, method="SLSQP", jac=True, bounds=bounds, options={"ftol": FTOL})
+    best = _optimise(objective, start, bounds)
     if not best.success:
-        second = minimize(objective, nominal, method="SLSQP", jac=True, bounds=bounds, options={"ftol": FTOL})
-        best = min((best, second), key=lambda r: r.fun)
-    theta = _polish(objective, best.x, jacobian(gradient, best.x, initial_step=HESSIAN_STEP).df, bounds)
-    information = jacobian(gradient, theta, initial_step=HESSIAN_STEP).df
-    found = analyse(information, max_relative_std_error)
+        best = min((best, _optimise(objective, nominal, bounds)), key=lambda r: r.fun)
+    theta, information = _polished(objective, best.x, bounds)
+    return _Optimum(theta, information, -float(objective(theta)[0]), bool(best.success), bounds, None)
+
+
+def _frame_starts(model: JointModel, data: SeriesStack) -> list[tuple[Rotation, np.ndarray]]:
+    """The ``REFINED_STARTS`` most likely of the frame's candidate rotations, each with its moment θ
+    (:func:`starting_theta` of the data turned to the base frame by it)."""
+    rotations = candidate_rotations(model, data, FRAME_STARTS, FRAME_SEED)
+    starts = []
+    for i in range(len(rotations)):
+        base = to_base(data, rotations[i].as_matrix())
+        theta = starting_theta(model, base)
+        starts.append((float(log_likelihood(model, theta, base)), rotations[i], theta))
+    order = np.argsort([-value for value, _, _ in starts], kind="stable")[:REFINED_STARTS]
+    return [starts[i][1:] for i in order]
+
+
+def _fit_unknown_frame(model: JointModel, data: SeriesStack) -> _Optimum:
+    """θ and the frame's rotation jointly from the most likely starts (``SAME_OPTIMUM``); the optimum
+    re-centred (δ = 0) before polishing; θ's profile information (:mod:`.frame`)."""
+    runs = []
+    for reference, theta in _frame_starts(model, data):
+        bounds = np.vstack([_log_box(theta), ROTATION_BOX])
+        best = _optimise(_unknown_frame_objective(model, data, reference), np.append(theta, np.zeros(3)), bounds)
+        runs.append((best, reference, bounds))
+    lowest = min(run[0].fun for run in runs)
+    best, reference, bounds = next(run for run in runs if run[0].fun <= lowest + SAME_OPTIMUM)
+    reference = reference * Rotation.from_rotvec(best.x[-3:])
+    objective = _unknown_frame_objective(model, data, reference)
+    parameters, information = _polished(objective, np.append(best.x[:-3], np.zeros(3)), bounds)
+    rotation = (reference * Rotation.from_rotvec(parameters[-3:])).as_matrix()
+    return _Optimum(parameters[:-3], profile_information(information), -float(objective(parameters)[0]),
+                    bool(best.success), bounds[:-3], rotation)
+
+
+def _calibration(model: JointModel, data: SeriesStack, optimum: _Optimum, max_relative_std_error: float
+                 ) -> Calibration:
+    """The fit's report: estimates, standard errors and identifiability of an optimum."""
+    theta, bounds = optimum.theta, optimum.bounds
+    found = analyse(optimum.information, max_relative_std_error)
     invisible = _invisible_joints(data)
-    on_bound = np.isclose(theta, bounds[:, 0], rtol=0, atol=BOUND_ATOL) | np.isclose(theta, bounds[:, 1], rtol=0,
-                                                                                      atol=BOUND_ATOL)
-    identifiable = found.identifiable & ~on_bound
+    identifiable = found.identifiable & ~_on_bound(theta, bounds)
     estimates = []
-    for i, (name, unit, joints) in enumerate(zip(names, model.units(), _parameter_joints(model))):
+    for i, (name, unit, joints) in enumerate(zip(model.names(), model.units(), _parameter_joints(model))):
         value, se = float(np.exp(theta[i])), float(found.std_error[i])
         known = np.isfinite(se)
         estimates.append(ParameterEstimate(
@@ -254,11 +368,87 @@ def fit(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...] | Series
             ci95=(value * float(np.exp(-Z95 * se)), value * float(np.exp(Z95 * se))) if known else None,
             identifiable=bool(identifiable[i]),
             hint="" if identifiable[i] else hint(name, bool(len(joints)) and bool(invisible[joints].all()))))
-    log_l = -float(objective(theta)[0])
+    log_l = optimum.log_likelihood
     return Calibration(nominal=model, model=model.with_theta(theta), theta=theta, parameters=tuple(estimates),
-                       log_likelihood=log_l, aic=2 * len(names) - 2 * log_l, information=information,
+                       log_likelihood=log_l, aic=2 * len(estimates) - 2 * log_l, information=optimum.information,
                        covariance=found.covariance, rank=found.rank, condition_number=found.condition_number,
-                       converged=bool(best.success), bounds=bounds)
+                       converged=optimum.converged, bounds=bounds, rotation=optimum.rotation)
+
+
+def fit(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...] | SeriesStack,
+        max_relative_std_error: float = MAX_RELATIVE_STD_ERROR, frame: str = "registered") -> Calibration:
+    """Maximum-likelihood fit of ``model``'s free parameters to the measured series at ``poses``.
+
+    Args:
+        model: the joint model; its free parameters' values are the nominal second start.
+        poses: measured poses (or their :func:`~tribokin.calibration.data.stack`).
+        max_relative_std_error: largest standard error of log θ of an identifiable parameter.
+        frame: ``"registered"``: points and Jacobians are in the same frame. ``"unknown"``: the
+            points are in a measuring frame whose rotation relative to the Jacobians' (the base)
+            is unknown; it is fitted with θ and profiled out of θ's uncertainty (:mod:`.frame`).
+
+    Raises:
+        ValueError: no free parameter, or an unknown ``frame``.
+    """
+    data = poses if isinstance(poses, SeriesStack) else stack(poses)
+    if not model.names():
+        raise ValueError("nothing to fit: free at least one parameter")
+    if frame not in FRAMES:
+        raise ValueError(f"frame must be one of {FRAMES}, not {frame!r}")
+    optimum = _fit_registered(model, data) if frame == "registered" else _fit_unknown_frame(model, data)
+    return _calibration(model, data, optimum, max_relative_std_error)
+
+
+def _profile_problem(calibration: Calibration, data: SeriesStack) -> tuple[Objective, np.ndarray, np.ndarray]:
+    """The objective a profile maximises over, its optimum and its box: θ's, or (θ, δ)'s with δ
+    about the fitted rotation when the frame was unknown."""
+    if calibration.rotation is None:
+        return _registered_objective(calibration.nominal, data), calibration.theta, calibration.bounds
+    objective = _unknown_frame_objective(calibration.nominal, data, Rotation.from_matrix(calibration.rotation))
+    return objective, np.append(calibration.theta, np.zeros(3)), np.vstack([calibration.bounds, ROTATION_BOX])
+
+
+def held_where_flat(calibration: Calibration, flat_std_error: float = FLAT_STD_ERROR) -> JointModel | None:
+    """The fit's nominal model with the parameters along which its likelihood is flat no longer free (held at the
+    nominal values): on the information's null space, on the optimiser's box, or with a relative standard error
+    above ``flat_std_error``. None when there are none, or nothing else is left free."""
+    model = calibration.nominal
+    on_bound = _on_bound(calibration.theta, calibration.bounds)
+    unknown = {e.name for e, edge in zip(calibration.parameters, on_bound)
+               if edge or e.std_error is None or e.std_error > flat_std_error * e.value}
+    if not unknown or len(unknown) == len(calibration.parameters):
+        return None
+    stiffness = tuple(free and "joints.stiffness_factor" not in unknown if model.tied else
+                      free and f"joints.{name}.stiffness" not in unknown
+                      for name, free in zip(model.joint_names, model.fit_stiffness))
+    backlash = tuple(free and f"joints.{name}.backlash" not in unknown
+                     for name, free in zip(model.joint_names, model.fit_backlash))
+    return replace(model, fit_stiffness=stiffness, fit_backlash=backlash,
+                   fit_noise_floor=model.fit_noise_floor and "noise_floor_m" not in unknown)
+
+
+def fit_determined(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...] | SeriesStack,
+                   frame: str = "registered") -> tuple[Calibration, Calibration]:
+    """Fit all free parameters, then again with those along which the likelihood is flat held at ``model``'s values
+    (:func:`held_where_flat`): first the flattest (``FLAT_STEPS[0]``), whose wandering along their flat directions
+    also moves the others' standard errors, then the rest.
+
+    Along a flat direction a fit's optimum is found only to the optimiser's tolerance, and the other parameters
+    move with it; the refit has a unique optimum. Its values, standard errors and intervals are conditional on the
+    held values, which change its predictions by little (the likelihood is flat along them).
+
+    ``frame`` as in :func:`fit`.
+
+    Returns:
+        the first fit (which parameters are identifiable, and hints) and the last (the values to report).
+    """
+    data = poses if isinstance(poses, SeriesStack) else stack(poses)
+    first = last = fit(model, data, frame=frame)
+    for flat in FLAT_STEPS:
+        held = held_where_flat(last, flat)
+        if held is not None:
+            last = fit(held, data, frame=frame)
+    return first, last
 
 
 def profile_interval(calibration: Calibration, poses: list[PoseData] | tuple[PoseData, ...] | SeriesStack,
@@ -267,22 +457,24 @@ def profile_interval(calibration: Calibration, poses: list[PoseData] | tuple[Pos
 
     Each end is where 2·(log L̂ - max over the other parameters of log L) reaches χ²₁(0.95) = 3.84,
     found by ``scipy.optimize.brentq`` in θ between the optimum and the box's edge (the other
-    parameters re-fitted by SLSQP at each trial). None for an end the profile does not reach inside
-    the box: the data do not bound the parameter on that side.
+    parameters, and the frame's rotation when it was unknown, re-fitted by SLSQP at each trial).
+    None for an end the profile does not reach inside the box: the data do not bound the parameter
+    on that side.
     """
     data = poses if isinstance(poses, SeriesStack) else stack(poses)
     i = calibration.nominal.names().index(name)
-    objective = _negative_log_likelihood(calibration.nominal, data)
-    others = np.arange(len(calibration.theta)) != i
+    objective, optimum, bounds = _profile_problem(calibration, data)
+    others = np.arange(len(optimum)) != i
     threshold = chi2.ppf(0.95, 1) / 2
 
     def excess(value: float) -> float:
+        if not others.any():
+            return float(objective(np.array([value]))[0]) + calibration.log_likelihood - threshold
+
         def restricted(rest: np.ndarray) -> tuple[float, np.ndarray]:
-            theta = np.insert(rest, i, value)
-            negative, gradient = objective(theta)
+            negative, gradient = objective(np.insert(rest, i, value))
             return negative, gradient[others]
-        best = minimize(restricted, calibration.theta[others], method="SLSQP", jac=True,
-                        bounds=calibration.bounds[others], options={"ftol": FTOL})
+        best = _optimise(restricted, optimum[others], bounds[others])
         return best.fun + calibration.log_likelihood - threshold
 
     ends = []

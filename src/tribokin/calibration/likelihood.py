@@ -94,6 +94,22 @@ def log_likelihood_and_gradient(model: JointModel, theta: np.ndarray, data: Seri
     term's derivatives come from :func:`difference_loglik`; then the chain rule through
     :func:`~tribokin.calibration.model.predict_series` and the log parametrisation.
     """
+    return log_likelihood_and_data_derivatives(model, theta, data)[:2]
+
+
+def log_likelihood_and_data_derivatives(model: JointModel, theta: np.ndarray, data: SeriesStack
+                                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`log_likelihood_and_gradient` and the derivatives with respect to the data.
+
+    ``data.scatter_m2`` and ``data.mean_m`` may carry the batch dimensions of θ before their own
+    ((..., m, 3, 3), (..., m, 3)): one data set per parameter vector.
+
+    Returns:
+        ``(log L (...), ∂/∂θ (p, ...), ∂/∂S (..., m, 3, 3), ∂/∂x̄ (..., m, 3))``. ∂/∂S is that of
+        the terms ``-tr(Σ⁻¹S)/2``, i.e. ``-Σ⁻¹/2``: the Wishart's ``(ν-4)/2·log|S|`` is left out
+        (it depends on S only through its eigenvalues, which a rotation of the frame keeps);
+        ∂/∂x̄ is minus the derivative with respect to the shifts (:func:`difference_loglik`).
+    """
     stiffness, backlash, noise = model.unpack(theta)
     k, b = stiffness[..., None, :], backlash[..., None, :]
     covariance, shift = predict_series(k, b, noise[..., None], data.jacobian, data.signs, data.torque_mean,
@@ -110,4 +126,5 @@ def log_likelihood_and_gradient(model: JointModel, theta: np.ndarray, data: Seri
     d_log_k = (-2 * d_v * (data.signs * data.torque_std / k) ** 2 - d_m * data.torque_mean / k).sum(axis=-2)
     d_log_b = (d_m * b / 2).sum(axis=-2)
     d_log_noise = 2 * noise ** 2 * np.trace(d_covariance, axis1=-2, axis2=-1).sum(axis=-1)
-    return spread + differences.sum(axis=-1), model.gradient(d_log_k, d_log_b, d_log_noise)
+    return (spread + differences.sum(axis=-1), model.gradient(d_log_k, d_log_b, d_log_noise), -0.5 * inverse,
+            -d_shift)

@@ -67,6 +67,17 @@ def friction_loads(models: list[JointErrorModel], forces_N: np.ndarray) -> np.nd
     return np.where([m.friction_is_torque for m in models], 1.0, forces_N)
 
 
+def friction_torque_moments(models: list[JointErrorModel], prismatic: np.ndarray, forces_N: np.ndarray
+                            ) -> tuple[np.ndarray, np.ndarray]:
+    """Mean and standard deviation (..., nv) of each joint's friction torque [N·m] (force [N], prismatic) under
+    bearing loads ``forces_N`` (..., nv) [N]: mu·N·r of a law of mu, the law itself for a law of the torque or force.
+    Lost motion is this over the stiffness (:func:`sample_joint_deviations` draws it)."""
+    torque_per_unit = friction_loads(models, np.asarray(forces_N, dtype=float)) * friction_lever(models, prismatic) * \
+        np.array([m.stiffness for m in models])
+    return (np.array([m.friction.mean() for m in models]) * torque_per_unit,
+            np.array([m.friction.std() for m in models]) * torque_per_unit)
+
+
 def joint_travel(lower: np.ndarray, upper: np.ndarray, prismatic: np.ndarray) -> np.ndarray:
     """Range of each joint [m or rad]: upper - lower limit, at most a full turn for a revolute joint."""
     return np.where(prismatic, upper - lower, np.minimum(upper - lower, 2 * math.pi))

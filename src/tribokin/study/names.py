@@ -25,6 +25,11 @@ def pose_figure_file(pose: str) -> str:
     return f"field_{pose}.png"
 
 
+def cloud_figure_file(pose: str) -> str:
+    """``clouds_<pose>.png``: a calibrated pose's measured clouds beside the model's."""
+    return f"clouds_{pose}.png"
+
+
 def map_table_file(scenario: str | None) -> str:
     """``map.csv`` for the reference scenario (``None``), ``map_<scenario>.csv`` for the others."""
     return "map.csv" if scenario is None else f"map_{scenario}.csv"

@@ -24,10 +24,20 @@ def read_study_file(path) -> Study:
         raise InputError("study file not found", path)
     content = path.read_bytes()
     try:
-        mapping = tomllib.loads(content.decode("utf-8"))
+        text = content.decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise InputError(f"not valid TOML: not UTF-8 text ({error.reason} at byte {error.start})", path) from None
+    study = parse_study_text(text, path, path.parent)
+    return replace(study, sha256=hashlib.sha256(content).hexdigest())
+
+
+def parse_study_text(text: str, source, base_dir: Path) -> Study:
+    """Validate a study's TOML ``text`` (from ``source``, its relative paths resolving against ``base_dir``)."""
+    try:
+        mapping = tomllib.loads(text)
     except ValueError as error:  # also a number of more than 4300 digits
-        raise InputError(f"not valid TOML: {error}", path) from None
-    return replace(parse_study(mapping, str(path), path.parent), sha256=hashlib.sha256(content).hexdigest())
+        raise InputError(f"not valid TOML: {error}", source) from None
+    return parse_study(mapping, str(source), Path(base_dir))
 
 
 def load_study(study, cycles: int | None = None, seed: int | None = None) -> Study:

@@ -180,10 +180,48 @@ MAP_COMMON_KEYS = {
     "start_q": (partial(number_list, element=joint_value), None),
     "chunk_rows": (chunk_count, None),
 }
+#: What ``[calibration]`` may free (``fit``), and the instrument's noise floor range.
+CALIBRATION_PARAMETERS = ("stiffness", "backlash", "noise_floor")
+instrument_noise = within(positive, 1e-9, 1e-2, "m", "below a nanometre no instrument measures a robot; above a "
+                          "centimetre it measures nothing about its repeatability")
+
+
+def fitted_parameters(value, source, key) -> tuple[str, ...]:
+    """A non-empty list of distinct :data:`CALIBRATION_PARAMETERS`."""
+    names = string_list(value, source, key)
+    if not names:
+        raise InputError(f"name at least one of {', '.join(CALIBRATION_PARAMETERS)}", source, key)
+    for i, name in enumerate(names):
+        one_of(*CALIBRATION_PARAMETERS)(name, source, f"{key}[{i}]")
+        if name in names[:i]:
+            raise InputError(f"'{name}' is named twice; name it once", source, f"{key}[{i}]")
+    return tuple(names)
+
+
+def joint_selection(value, source, key) -> str | tuple[str, ...]:
+    """``"all"`` or a non-empty list of distinct joint names (checked against the robot when it is loaded)."""
+    if value == "all":
+        return value
+    names = string_list(value, source, key) if isinstance(value, list) else None
+    if not names:
+        raise InputError(f'must be "all" or a list of joint names (got {value!r})', source, key)
+    twice = next((n for i, n in enumerate(names) if n in names[:i]), None)
+    if twice is not None:
+        raise InputError(f"joint '{twice}' is named twice; name it once", source, key)
+    return tuple(names)
+
+
+CALIBRATION_KEYS = {
+    "fit": (fitted_parameters, REQUIRED),
+    "joints": (joint_selection, "all"),
+    "tie": (one_of("none", "all"), "none"),
+    "noise_floor_m": (instrument_noise, None),
+    "tool_rpy_deg": (angles3, None),
+}
 #: Study sections a scenario may override; of [robot], only the payload (the targets stay the same).
 SCENARIO_SECTIONS = ("study", "robot", "joints")
 SCENARIO_ROBOT_KEYS = ("payload_kg",)
-TOP_KEYS = ("study", "robot", "joints", "poses", "iso_cube", "map", "scenarios")
+TOP_KEYS = ("study", "robot", "joints", "poses", "iso_cube", "map", "scenarios", "calibration")
 
 
 def check_table(mapping: dict, schema: dict, source, prefix: str, extra_ok=()) -> dict:
@@ -294,6 +332,21 @@ class IsoCubeSpec:
 
 
 @dataclass(frozen=True)
+class CalibrationSpec:
+    """The ``[calibration]`` table of ``tribokin calibrate``: what to fit (``fit``: of ``"stiffness"``,
+    ``"backlash"``, ``"noise_floor"``), for which ``joints`` (``"all"`` or names), ``tie`` (``"all"``: one common
+    stiffness factor for the fitted joints), the instrument's ``noise_floor_m`` [m] (its value when not fitted, the
+    start when fitted; ``None``: not given), and ``tool_rpy_deg`` [deg], the tool's orientation (roll, pitch, yaw in
+    the base frame) for solving configurations from commanded positions (``None``: position only)."""
+
+    fit: tuple[str, ...]
+    joints: str | tuple[str, ...]
+    tie: str
+    noise_floor_m: float | None
+    tool_rpy_deg: tuple[float, float, float] | None
+
+
+@dataclass(frozen=True)
 class ScenarioSpec:
     """A what-if variant of a study's map: ``overrides`` (nested tables, as in the file) applied
     to the study, validated into ``study``."""
@@ -330,6 +383,12 @@ class Study:
     map: MapSpec | None = None
     scenarios: tuple[ScenarioSpec, ...] = ()
     sha256: str | None = None
+    calibration: CalibrationSpec | None = None
+
+    @property
+    def has_tests(self) -> bool:
+        """The study names something to run: poses, an ISO cube or a map."""
+        return bool(self.poses) or self.iso_cube is not None or self.map is not None
 
     @property
     def payload_kg(self) -> float:
@@ -368,7 +427,7 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
     for required in ("robot", "joints"):
         if required not in mapping:
             raise InputError(f"missing [{required}] section", source, required)
-    if not {"poses", "iso_cube", "map"} & set(mapping):
+    if not {"poses", "iso_cube", "map", "calibration"} & set(mapping):
         raise InputError("nothing to test: add [[poses]] entries, an [iso_cube] or a [map] section", source, "poses")
     study = check_table(table(mapping.get("study", {}), source, "study"), STUDY_KEYS, source, "study")
     robot = check_table(table(mapping["robot"], source, "robot"), ROBOT_KEYS, source, "robot")
@@ -388,8 +447,17 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         cube = check_table(table(mapping["iso_cube"], source, "iso_cube"), ISO_CUBE_KEYS, source, "iso_cube")
         iso_cube = _spec(IsoCubeSpec, cube)
     map_spec = check_map(table(mapping["map"], source, "map"), source) if "map" in mapping else None
+    calibration = None
+    if "calibration" in mapping:
+        checked = check_table(table(mapping["calibration"], source, "calibration"), CALIBRATION_KEYS, source,
+                              "calibration")
+        if "noise_floor" not in checked["fit"] and checked["noise_floor_m"] is None:
+            raise InputError("the instrument's noise floor is neither fitted nor given: add \"noise_floor\" to "
+                             "calibration.fit or set calibration.noise_floor_m [m]", source, "calibration.noise_floor_m")
+        calibration = _spec(CalibrationSpec, checked)
     poses_list = mapping.get("poses", [])
-    if not isinstance(poses_list, list) or (not poses_list and iso_cube is None and map_spec is None):
+    if not isinstance(poses_list, list) or (not poses_list and iso_cube is None and map_spec is None
+                                            and calibration is None):
         raise InputError("needs at least one [[poses]] entry with q = [...]", source, "poses")
     poses = []
     for i, pose in enumerate(poses_list):
@@ -418,6 +486,7 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         mapping=mapping,
         map=map_spec,
         scenarios=parse_scenarios(mapping, source, base_dir),
+        calibration=calibration,
     )
 
 

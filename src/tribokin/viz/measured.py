@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import html
 import json
-import os
 from pathlib import Path
 
 import matplotlib
@@ -24,7 +23,7 @@ from tribokin.measurement.registration import Registration
 from tribokin.units import UM_PER_M
 from tribokin.viz.canvas import agg_figure
 from tribokin.viz.figures import DIRECTION_COLOURS, field_axes, frame_field
-from tribokin.viz.report import REPORT_FILE, STYLE, embedded_figures, html_table, key_value_table
+from tribokin.viz.report import STYLE, embedded_figures, html_table, key_value_table, write_page
 
 #: Columns of the measured ISO table: (``poses.csv`` row key, header with unit).
 MEASURED_COLUMNS = (("name", "pose"), ("direction", "direction"), ("cycles", "cycles"), ("RP_l_um", "RP_l [µm]"),
@@ -134,8 +133,4 @@ def measurement_report_html(summary: dict, rows: list[dict], folder: Path, figur
 
 def write_measurement_report(summary: dict, rows: list[dict], folder, figure_names: list[str]) -> Path:
     """Write ``folder/report.html`` (a temporary name, then renamed); returns its path."""
-    folder = Path(folder)
-    temporary = folder / f".{REPORT_FILE}.partial"
-    temporary.write_text(measurement_report_html(summary, rows, folder, figure_names), encoding="utf-8")
-    os.replace(temporary, folder / REPORT_FILE)
-    return folder / REPORT_FILE
+    return write_page(folder, measurement_report_html(summary, rows, Path(folder), figure_names))

@@ -299,7 +299,13 @@ def write_report(result: StudyResult, robot: Robot, folder, figures: list[str] =
     info = build_scene(vis, robot, result.display_configuration(), result.poses, layers, cube, variant=variant)
     page = report_html(result, vis.static_html(), info, layers, folder, list(figures), variant,
                        robot.joint_is_prismatic)
+    return write_page(folder, page), info
+
+
+def write_page(folder, page: str) -> Path:
+    """Write ``page`` as ``folder/report.html`` (a temporary name, then renamed); returns its path."""
+    folder = Path(folder)
     temporary = folder / f".{REPORT_FILE}.partial"
     temporary.write_text(page, encoding="utf-8")
     os.replace(temporary, folder / REPORT_FILE)
-    return folder / REPORT_FILE, info
+    return folder / REPORT_FILE

@@ -1,0 +1,319 @@
+"""A study and a measurement file -> the fitted joint model and its predictions (``tribokin calibrate``).
+
+Everything is read and checked first (the study and its ``[calibration]``, the robot, the measurement file, the
+pose names that become file names, the configurations); then the maximum-likelihood fit
+(:func:`tribokin.calibration.fit.fit`) with a profile-likelihood 95 % interval of every identifiable parameter,
+the predicted figures at the measured poses (from the fit to all of them, and left out one at a time), and, when
+the study has a ``[map]``, the workspace map of the calibrated study; then the folder is written all at once:
+``calibration.json``, ``comparison.csv``, ``calibrated.toml``, ``clouds_<pose>.png``, ``parity.png``, the
+map's figures and, unless ``report == "none"``, ``report.html``.
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import json
+from dataclasses import asdict, replace
+from pathlib import Path
+
+import numpy as np
+
+from tribokin.calibration.data import PoseData
+from tribokin.calibration.cross_validation import (DRAWS, PosePrediction, PredictedFigure, leave_one_pose_out,
+                                                   predict_pose, predicted_clouds)
+from tribokin.calibration.fit import Calibration, ParameterEstimate, fit_determined, profile_interval
+from tribokin.errors import InputError
+from tribokin.measurement.contract import read_measurements
+from tribokin.output.calibrated_study import WrittenValue, calibrated_study_text
+from tribokin.output.folder import atomic_folder, check_output_folder
+from tribokin.provenance import software_versions
+from tribokin.run import run_study
+from tribokin.study.assembly import joint_models, load_robot
+from tribokin.study.calibration_data import CalibrationInput, calibration_input
+from tribokin.study.names import check_file_name_part, check_files_apart, cloud_figure_file
+from tribokin.study.reading import parse_study_text, read_study_file
+from tribokin.units import UM_PER_M
+
+PARITY_FIGURE = "parity.png"
+SEED = 9283
+INTERVAL_METHOD = ("profile likelihood (chi-squared, 1 degree of freedom, 95 %), Wald in log space beside it; of the "
+                   "fit with the parameters along which the likelihood is flat ('held') held at the study's values")
+PREDICTION_METHOD = (f"expected figure of one test at the fitted values (mean over {DRAWS} simulated tests of the "
+                     "measured cycles, first-order model); 95 % prediction interval: 2.5th-97.5th percentile over "
+                     f"{DRAWS} tests, each at parameters drawn from the fit's approximate posterior (parameter "
+                     "uncertainty and test-to-test spread)")
+
+
+def _um(value_m: float | None) -> float | None:
+    return None if value_m is None else float(value_m * UM_PER_M)
+
+
+def _parameter_entry(estimate: ParameterEstimate, profile: tuple[float | None, float | None] | None,
+                     kept: float | None) -> dict:
+    """A parameter in ``calibration.json``: values only where the data determine it."""
+    if not estimate.identifiable:
+        return {"name": estimate.name, "unit": estimate.unit, "value": None, "std_error": None, "ci95": None,
+                "ci95_wald": None, "identifiable": False, "hint": estimate.hint, "kept_value": kept}
+    return {"name": estimate.name, "unit": estimate.unit, "value": estimate.value, "std_error": estimate.std_error,
+            "ci95": list(profile), "ci95_wald": list(estimate.ci95), "identifiable": True, "hint": "",
+            "kept_value": None}
+
+
+def _nominal_value(inputs: CalibrationInput, name: str) -> float | None:
+    """The study's value of a free parameter (a tied factor: 1)."""
+    model = inputs.model
+    if name == "noise_floor_m":
+        return model.noise_floor_m
+    if name == "joints.stiffness_factor":
+        return 1.0
+    _, joint, key = name.split(".")
+    return float(getattr(model, key)[model.joint_names.index(joint)])
+
+
+def _figure(figure: PredictedFigure | None) -> dict | None:
+    if figure is None:
+        return None
+    return {"measured_um": _um(figure.measured_m), "predicted_um": _um(figure.predicted_m),
+            "ci95_um": [_um(v) for v in figure.interval_m]}
+
+
+def _prediction_entry(prediction: PosePrediction) -> dict:
+    return {"pose": prediction.pose,
+            "RP_l": {d: _figure(f) for d, f in zip(prediction.directions, prediction.RP_l)},
+            "vAP_p": _figure(prediction.vAP)}
+
+
+def _compared(inputs: CalibrationInput, fitted: tuple[PosePrediction, ...], held_out: tuple[PosePrediction, ...]
+              ) -> list[tuple[str, str, str, int, PredictedFigure, PredictedFigure]]:
+    """Per pose and direction RP_l, per pose vAP_p (direction ``all``): (pose, direction, figure, cycles, predicted
+    by the fit to every pose, predicted by the fit without this pose); one-cycle series have no RP_l."""
+    compared = []
+    for pose, all_poses, others in zip(inputs.poses, fitted, held_out):
+        pairs = [(d, "RP_l", len(s.points_m), a, o) for d, s, a, o in
+                 zip(all_poses.directions, pose.series, all_poses.RP_l, others.RP_l)]
+        pairs.append(("all", "vAP_p", sum(len(s.points_m) for s in pose.series), all_poses.vAP, others.vAP))
+        compared += [(pose.label, *pair) for pair in pairs if pair[3] is not None]
+    return compared
+
+
+def _comparison_row(pose: str, direction: str, figure: str, cycles: int, fitted: PredictedFigure,
+                    held_out: PredictedFigure) -> dict:
+    """A row of ``comparison.csv`` [µm]."""
+    return {"pose": pose, "direction": direction, "figure": figure, "cycles": cycles,
+            "measured_um": _um(fitted.measured_m), "predicted_um": _um(fitted.predicted_m),
+            "predicted_low_um": _um(fitted.interval_m[0]), "predicted_high_um": _um(fitted.interval_m[1]),
+            "held_out_predicted_um": _um(held_out.predicted_m), "held_out_low_um": _um(held_out.interval_m[0]),
+            "held_out_high_um": _um(held_out.interval_m[1])}
+
+
+#: Why a joint's backlash is not known when its stiffness is not.
+LOST_MOTION_HINT = ("its joint's stiffness is not determined, and the barycentres see only the sum of the mean lost "
+                    "motion and half the backlash: fix the stiffness, or measure more poses")
+
+
+def reported_estimates(first: Calibration, last: Calibration) -> list[ParameterEstimate]:
+    """Every parameter ``[calibration]`` frees, in the first fit's order: the last fit's estimate where it is
+    identifiable there (:func:`~tribokin.calibration.fit.fit_determined`), else the first fit's, named not
+    identifiable; a joint's backlash only when its stiffness is determined too (or not fitted)."""
+    determined = {e.name: e for e in last.parameters if e.identifiable}
+    model = first.nominal
+    stiffness_free = {n: f for n, f in zip(model.joint_names, model.fit_stiffness)}
+    reported = []
+    for estimate in first.parameters:
+        found = determined.get(estimate.name)
+        if found is not None and estimate.name.endswith(".backlash"):
+            joint = estimate.name.split(".")[1]
+            known = not stiffness_free[joint] or ("joints.stiffness_factor" if model.tied else
+                                                  f"joints.{joint}.stiffness") in determined
+            found = found if known else replace(found, identifiable=False, hint=LOST_MOTION_HINT)
+        reported.append(found or replace(estimate, identifiable=False, hint=estimate.hint or
+                                         "the data leave it undetermined: measure more poses, or fix its value"))
+    return reported
+
+
+def _written_values(inputs: CalibrationInput, calibration: Calibration, estimates: list[ParameterEstimate],
+                    intervals: dict[str, tuple[float | None, float | None]]) -> list[WrittenValue]:
+    """The joint keys of ``calibrated.toml``: every joint parameter ``[calibration]`` frees, at the reported fit's
+    value (the study's for those it held), each with a comment saying what is known of it."""
+    model, fitted = inputs.model, calibration.model
+    estimates = {e.name: e for e in estimates}
+    values = []
+    for i, joint in enumerate(model.joint_names):
+        for key, free in (("stiffness", model.fit_stiffness[i]), ("backlash", model.fit_backlash[i])):
+            if not free:
+                continue
+            name = "joints.stiffness_factor" if key == "stiffness" and model.tied else f"joints.{joint}.{key}"
+            estimate = estimates[name]
+            unit = "N/m" if model.prismatic[i] and key == "stiffness" else "N·m/rad" if key == "stiffness" else \
+                "m" if model.prismatic[i] else "rad"
+            if not estimate.identifiable:
+                held = name not in calibration.nominal.names()
+                values.append(WrittenValue(joint, key, float(getattr(fitted, key)[i]), (
+                    "the study's value" if held else "the fit's value, kept for the predictions it makes") +
+                    f": not identifiable from the measurements ({estimate.hint})"))
+                continue
+            low, high = intervals[name]
+            factor = f" (common factor {estimate.value:.4g} of the study's value)" if name.endswith("factor") else ""
+            if name.endswith("factor"):
+                low, high = (None if v is None else v * float(model.stiffness[i]) for v in (low, high))
+            shown = ", ".join("unbounded" if v is None else f"{v:.4g}" for v in (low, high))
+            values.append(WrittenValue(joint, key, float(getattr(fitted, key)[i]),
+                                       f"fitted{factor}: 95 % interval [{shown}] {unit} (profile likelihood)"))
+    return values
+
+
+def _header(study_path, measurements_path, calibration: Calibration, noise: dict | None) -> list[str]:
+    lines = [f"Calibrated by `tribokin calibrate {study_path} --measurements {measurements_path}`:",
+             "the study's file with the fitted joint values written in (comments give each value's 95 % interval).",
+             f"Fit: maximum likelihood, log L = {calibration.log_likelihood:.6g}, AIC = {calibration.aic:.6g}, "
+             f"{len(calibration.parameters)} parameters determined; details in calibration.json.",
+             "Values the measurements cannot determine are the study's own, and say so."]
+    if noise is not None:
+        lines.append(f"The instrument's noise floor (not part of the robot's model): {noise}.")
+    return lines
+
+
+def _noise_text(estimates: list[ParameterEstimate], intervals: dict) -> str | None:
+    estimate = next((e for e in estimates if e.name == "noise_floor_m"), None)
+    if estimate is None:
+        return None
+    if not estimate.identifiable:
+        return "not identifiable from these measurements"
+    low, high = intervals["noise_floor_m"]
+    shown = ", ".join("unbounded" if v is None else f"{v * UM_PER_M:.4g}" for v in (low, high))
+    return f"{estimate.value * UM_PER_M:.4g} µm, 95 % interval [{shown}] µm"
+
+
+def _registration_entry(inputs: CalibrationInput, calibration: Calibration) -> dict:
+    registration = inputs.registration
+    if registration is None:
+        return {"made": False, "why": "no commanded positions at three or more poses not on one line: the measuring "
+                "frame's rotation is fitted with the model and profiled out (the fit uses the clouds' shapes and the "
+                "differences of their barycentres, which do not depend on the frame)",
+                "fitted_rotation": calibration.rotation.tolist()}
+    return {"made": True, "rms_residual_um": _um(registration.rms_residual_m),
+            "rotation": registration.rotation.tolist(), "translation_m": registration.translation_m.tolist(),
+            "note": "the residual is the robot's geometric error (absolute accuracy), which friction does not "
+                    "explain: barycentres serve only to register the frame, never as terms of the fit"}
+
+
+def _in_base_frame(pose: PoseData, calibration: Calibration) -> PoseData:
+    """``pose`` with its points turned into the base frame by the fit's rotation when the frame was unknown
+    (``x_base = Rᵀ x`` up to a shift, which the figures do not show)."""
+    if calibration.rotation is None:
+        return pose
+    return replace(pose, series=tuple(replace(s, points_m=np.asarray(s.points_m) @ calibration.rotation)
+                                      for s in pose.series))
+
+
+def _calibrated_study(study, study_path: Path, out: Path, header: list[str], values: list[WrittenValue],
+                      inputs: CalibrationInput) -> tuple[str, object]:
+    """``calibrated.toml``'s text, and the study it parses into from ``out`` (checked runnable)."""
+    taken = {p.name for p in study.poses} | ({"P1", "P2", "P3", "P4", "P5"} if study.iso_cube is not None else set())
+    poses = [(name if name not in taken else f"measured-{name}", q.tolist())
+             for name, q in zip((p.label for p in inputs.poses), inputs.configurations)]
+    text = calibrated_study_text(study_path.read_text(encoding="utf-8"), study_path.parent, out, header, values,
+                                 poses)
+    calibrated = parse_study_text(text, out / "calibrated.toml", out)
+    return text, calibrated
+
+
+def calibrate(study_path, measurements_path, out, force: bool = False, report: str = "full", seed: int = SEED,
+              executor=None, progress=None) -> dict:
+    """Fit the study's joint model to the measurements and write the folder ``out`` (module docstring).
+
+    Args:
+        study_path: the study (TOML) with a ``[calibration]`` section.
+        measurements_path: the measurement file (README: Measured data).
+        out: output folder (must not exist, unless ``force``).
+        report: ``"full"`` writes ``report.html``, ``"none"`` does not.
+        seed: seed of the predictions' simulated tests.
+        executor, progress: where the predicted map's chunks run, and its progress callback (``run_study``).
+
+    Returns:
+        the content of ``calibration.json``.
+    """
+    from tribokin.viz.calibration import ParityPoint, PredictedCloud, save_calibration_clouds, save_parity
+    from tribokin.viz.calibration_report import write_calibration_report
+    from tribokin.viz.maps import save_map_figures
+
+    out, study_path = Path(check_output_folder(out, force)), Path(study_path)
+    study = read_study_file(study_path)
+    if study.calibration is None:
+        raise InputError("no [calibration] section: add one naming what to fit (fit = [\"stiffness\", ...])",
+                         study.source, "calibration")
+    robot = load_robot(study)
+    models = joint_models(study, robot)
+    measurements = read_measurements(measurements_path, prismatic=[n for n, p in zip(robot.joint_names,
+                                                                                     robot.joint_is_prismatic) if p])
+    for pose in measurements.poses:
+        check_file_name_part(pose.name, measurements_path, "pose")
+    check_files_apart([("pose", cloud_figure_file(p.name)) for p in measurements.poses], measurements_path)
+    inputs = calibration_input(study, robot, models, measurements)
+    if not inputs.model.names():
+        raise InputError("nothing to fit for these joints", study.source, "calibration.joints")
+
+    frame = "registered" if inputs.registration is not None else "unknown"
+    first, calibration = fit_determined(inputs.model, inputs.poses, frame=frame)
+    intervals = {e.name: profile_interval(calibration, inputs.poses, e.name)
+                 for e in calibration.parameters if e.identifiable}
+    estimates = reported_estimates(first, calibration)
+    fitted = tuple(predict_pose(calibration, pose, np.random.default_rng([seed, i]))
+                   for i, pose in enumerate(inputs.poses))
+    held_out = leave_one_pose_out(inputs.model, inputs.poses, seed=seed, frame=frame)
+    values = _written_values(inputs, calibration, estimates, intervals)
+    header = _header(study_path, measurements_path, calibration, _noise_text(estimates, intervals))
+    text, calibrated = _calibrated_study(study, study_path, out, header, values, inputs)
+    workspace_map = None
+    if calibrated.map is not None:
+        only_map = replace(calibrated, poses=(), iso_cube=None, calibration=None)
+        workspace_map = run_study(only_map, executor=executor, progress=progress).map
+
+    summary = {
+        "settings": {
+            "study": str(study_path), "study_sha256": study.sha256, "measurements": str(measurements_path),
+            "measurements_sha256": hashlib.sha256(Path(measurements_path).read_bytes()).hexdigest(),
+            "robot": robot.label, "tool_frame": robot.tool_frame, "joints": robot.joint_names,
+            "fit": list(study.calibration.fit), "fitted_joints": study.calibration.joints if
+            study.calibration.joints == "all" else list(study.calibration.joints), "tie": study.calibration.tie,
+            "configurations": {"source": inputs.configuration_source,
+                               "q": {p.label: q.tolist() for p, q in zip(inputs.poses, inputs.configurations)}},
+            "left_out": [asdict(item) for item in inputs.left_out],
+            "intervals": INTERVAL_METHOD, "predictions": PREDICTION_METHOD, "seed": seed,
+        },
+        "parameters": [_parameter_entry(e, intervals.get(e.name), _nominal_value(inputs, e.name))
+                       for e in estimates],
+        "log_likelihood": calibration.log_likelihood, "aic": calibration.aic,
+        "information": {"rank": first.rank, "free_parameters": len(first.parameters),
+                        "condition_number": first.condition_number,
+                        "held": sorted({e.name for e in first.parameters} - {e.name for e in calibration.parameters}),
+                        "converged": calibration.converged},
+        "registration": _registration_entry(inputs, calibration),
+        "predictions": [_prediction_entry(p) for p in fitted],
+        "cross_validation": [_prediction_entry(p) for p in held_out],
+        "reproduce": {"versions": software_versions()},
+    }
+    compared = _compared(inputs, fitted, held_out)
+    rows = [_comparison_row(*entry) for entry in compared]
+    with atomic_folder(out, force) as folder:
+        (folder / "calibration.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+        with open(folder / "comparison.csv", "w", newline="", encoding="utf-8") as handle:
+            writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+            writer.writeheader()
+            writer.writerows(rows)
+        (folder / "calibrated.toml").write_text(text, encoding="utf-8")
+        figures = []
+        for pose in (_in_base_frame(p, calibration) for p in inputs.poses):
+            clouds = [PredictedCloud(s.direction, np.asarray(s.points_m), centre, covariance)
+                      for s, (covariance, centre) in zip(pose.series, predicted_clouds(calibration, pose))]
+            save_calibration_clouds(clouds, folder / cloud_figure_file(pose.label), title=f"{pose.label}")
+            figures.append(cloud_figure_file(pose.label))
+        parity = [ParityPoint(f"{pose} {direction}", figure, held) for pose, direction, figure, _, _, held in compared]
+        save_parity(parity, folder / PARITY_FIGURE, title="held-out poses: measured against predicted")
+        figures.insert(0, PARITY_FIGURE)
+        if workspace_map is not None:
+            figures += [p.name for p in save_map_figures(workspace_map, folder, f"{calibrated.name} (calibrated)")]
+        if report != "none":
+            write_calibration_report(summary, rows, folder, figures)
+    return summary

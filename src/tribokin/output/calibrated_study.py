@@ -1,0 +1,98 @@
+"""``calibrated.toml``: the user's study file with the fitted values written in, runnable by ``tribokin run``.
+
+The study's own text is kept (its comments and layout, through ``tomlkit``), with:
+
+- a header of comment lines saying where the values come from;
+- each fitted value set in its joint's table (``[joints.<joint>]``, made when missing), with a comment
+  giving its interval; a value the data cannot determine is left as the study gives it, and a comment says so;
+- ``[[poses]]`` for the measured poses (their configurations), so that ``run`` predicts there too;
+- relative paths (``robot.urdf``, ``robot.package_dirs``, law files ``file``, ``log``, ``surface``) rewritten
+  relative to the output folder, so that they name the same files from there.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import tomlkit
+from tomlkit.items import AoT, Table
+
+#: Keys of friction-law tables that name files.
+LAW_FILE_KEYS = ("file", "log", "surface")
+
+
+@dataclass(frozen=True)
+class WrittenValue:
+    """A joint key to set: ``joints.<joint>.<key> = value  # comment``."""
+
+    joint: str
+    key: str
+    value: float
+    comment: str
+
+
+def _moved(path: str, source_dir: Path, out: Path) -> str:
+    """``path`` (relative to ``source_dir`` unless absolute) relative to ``out``."""
+    if Path(path).is_absolute():
+        return path
+    return Path(os.path.relpath((source_dir / path).absolute(), out.absolute())).as_posix()
+
+
+def _move_law_files(item, source_dir: Path, out: Path) -> None:
+    """Rewrite the file keys of every law table inside ``item`` (tables and arrays of tables, recursively)."""
+    if isinstance(item, (dict, Table)):
+        for key, value in item.items():
+            if key in LAW_FILE_KEYS and isinstance(value, str):
+                item[key] = _moved(value, source_dir, out)
+            else:
+                _move_law_files(value, source_dir, out)
+    elif isinstance(item, (list, AoT)):
+        for value in item:
+            _move_law_files(value, source_dir, out)
+
+
+def _move_paths(document, source_dir: Path, out: Path) -> None:
+    robot = document.get("robot", {})
+    if isinstance(robot.get("urdf"), str):
+        robot["urdf"] = _moved(robot["urdf"], source_dir, out)
+    if "package_dirs" in robot:
+        robot["package_dirs"] = [_moved(p, source_dir, out) for p in robot["package_dirs"]]
+    for section in ("joints", "poses", "scenarios"):
+        if section in document:
+            _move_law_files(document[section], source_dir, out)
+
+
+def calibrated_study_text(study_text: str, source_dir: Path, out: Path, header: list[str],
+                          values: list[WrittenValue], poses: list[tuple[str, list[float]]]) -> str:
+    """The calibrated study (module docstring).
+
+    Args:
+        study_text: the study file's text.
+        source_dir: the folder its relative paths resolve against.
+        out: the folder ``calibrated.toml`` is written to.
+        header: comment lines (without ``#``) put first.
+        values: the joint keys to set.
+        poses: (name, configuration) of the poses to append as ``[[poses]]``.
+    """
+    document = tomlkit.parse(study_text)
+    _move_paths(document, source_dir, out)
+    joints = document["joints"]
+    for value in values:
+        if value.joint not in joints:
+            joints.add(value.joint, tomlkit.table())
+        item = tomlkit.item(value.value)
+        item.comment(value.comment)
+        joints[value.joint][value.key] = item
+    if poses:
+        entries = document["poses"] if "poses" in document else tomlkit.aot()
+        for name, q in poses:
+            entry = tomlkit.table()
+            entry["name"] = name
+            entry["q"] = q
+            entry["q"].comment("measured pose [rad or m]")
+            entries.append(entry)
+        document["poses"] = entries
+    lines = "".join(f"# {line}\n" if line else "#\n" for line in header)
+    return lines + "\n" + tomlkit.dumps(document)

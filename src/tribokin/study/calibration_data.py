@@ -1,0 +1,196 @@
+"""What a calibration fits: a study's joint model, and its robot's kinematics at the poses of a measurement file.
+
+For each measured pose:
+
+- its configuration: the mean of its rows' ``q_<joint>`` (the file must name every joint of the tool's chain),
+  else solved by IK from its mean commanded position (``cx, cy, cz``, base frame), the tool held at
+  ``calibration.tool_rpy_deg`` when given, else for position only from the robot's reference posture;
+- the position Jacobian of the tool point there, and the mean and standard deviation of every joint's friction
+  torque (force) under the bearing loads at that configuration
+  (:func:`~tribokin.simulation.joint_errors.friction_torque_moments`);
+- its series: measured points in the robot's base frame when the measuring frame is registered
+  (:func:`~tribokin.measurement.registration.register_measurements`, re-taught commanded positions corrected as
+  ``measure`` does), else as measured; each with its joints' approach signs, from its direction label:
+
+  - ``+x``, ``-y``, ... or a direction written as three signed numbers (``+0.58+0.58+0.58``, normalised): the tool
+    point approached along that direction of the base frame with the tool's orientation held
+    (:func:`~tribokin.iso9283.cube.held_approach_signs`: a joint that does not move has sign 0);
+  - ``+`` or ``-``: every joint travelling forwards (backwards), as ``run``'s joint-space poses;
+  - anything else (``start``): the approach is unknown, and the series is left out of the fit and listed.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from tribokin.calibration.data import PoseData, SeriesData
+from tribokin.calibration.model import JointModel
+from tribokin.errors import InputError, located
+from tribokin.iso9283.cube import APPROACH_DIRECTIONS, held_approach_signs
+from tribokin.kinematics.ik import solve_ik_with_restarts
+from tribokin.kinematics.robot import Robot
+from tribokin.measurement.contract import Measurements, Pose
+from tribokin.measurement.figures import pose_clouds
+from tribokin.measurement.registration import Registration, register_measurements
+from tribokin.simulation.joint_errors import JointErrorModel, friction_torque_moments
+from tribokin.simulation.pose_run import PoseRunner
+from tribokin.streams import posture_search
+from tribokin.study.spec import Study
+
+#: A direction label written as three signed decimal numbers, e.g. ``+0.58-0.58+0.58``.
+VECTOR_LABEL = re.compile(r"^([+-]\d+(?:\.\d*)?)([+-]\d+(?:\.\d*)?)([+-]\d+(?:\.\d*)?)$")
+#: Joint-space approach labels: every joint forwards or backwards.
+JOINT_SPACE_LABELS = {"+": 1.0, "-": -1.0}
+#: Largest distance [m] between a pose's commanded position and the tool point at the configuration IK found.
+IK_TOLERANCE_M = 1e-6
+
+
+def approach_vector(label: str) -> np.ndarray | None:
+    """The unit direction of the base frame a Cartesian label names (``+x``, ``+0.58+0.58+0.58``), else None."""
+    if label in APPROACH_DIRECTIONS:
+        return APPROACH_DIRECTIONS[label]
+    match = VECTOR_LABEL.match(label)
+    if match is None:
+        return None
+    vector = np.array([float(v) for v in match.groups()])
+    norm = np.linalg.norm(vector)
+    return vector / norm if norm > 0 else None
+
+
+def approach_signs(robot: Robot, q: np.ndarray, label: str) -> np.ndarray | None:
+    """(nv,) the joints' approach signs of a direction label (module docstring), None for an unknown approach."""
+    if label in JOINT_SPACE_LABELS:
+        return np.full(robot.model.nv, JOINT_SPACE_LABELS[label])
+    vector = approach_vector(label)
+    return None if vector is None else held_approach_signs(robot, q, vector)[0]
+
+
+@dataclass(frozen=True)
+class LeftOut:
+    """A measured series the fit does not use, and why."""
+
+    pose: str
+    direction: str
+    cycles: int
+    why: str
+
+
+@dataclass(frozen=True, eq=False)
+class CalibrationInput:
+    """A calibration's data and model.
+
+    Attributes:
+        model: the study's joint model with the parameters ``[calibration]`` frees.
+        poses: per measured pose with a series of known approach (in file order) its kinematics, friction and
+            series.
+        configurations: (n_poses, nq) the configuration of each of ``poses`` [rad or m].
+        configuration_source: how they were found (the file's ``q_`` columns, or IK of commanded positions).
+        registration: of the measuring frame to the base, or None (the points are in the measuring frame).
+        left_out: series without a known approach, not used.
+    """
+
+    model: JointModel
+    poses: tuple[PoseData, ...]
+    configurations: np.ndarray
+    configuration_source: str
+    registration: Registration | None
+    left_out: tuple[LeftOut, ...]
+
+
+def calibration_model(study: Study, robot: Robot, models: list[JointErrorModel]) -> JointModel:
+    """The study's stiffness, backlash and joint noise per joint, the ``[calibration]`` noise floor, and which of
+    them are free (``calibration.fit`` for ``calibration.joints``, ``calibration.tie``)."""
+    spec = study.calibration
+    names = robot.joint_names
+    chosen = names if spec.joints == "all" else spec.joints
+    for name in chosen:
+        if name not in names:
+            raise InputError(f"unknown joint '{name}'; joints of {robot.label}: {', '.join(names)}", study.source,
+                             "calibration.joints")
+    free = tuple(name in chosen for name in names)
+    noise = np.array([m.noise_std for m in models])
+    return JointModel(
+        joint_names=tuple(names), stiffness=np.array([m.stiffness for m in models]),
+        backlash=np.array([m.backlash for m in models]),
+        noise_floor_m=spec.noise_floor_m if spec.noise_floor_m is not None else 1e-6,
+        fit_stiffness=free if "stiffness" in spec.fit else (False,) * len(names),
+        fit_backlash=free if "backlash" in spec.fit else (False,) * len(names),
+        fit_noise_floor="noise_floor" in spec.fit, tie=spec.tie, prismatic=tuple(robot.joint_is_prismatic),
+        joint_noise=noise if noise.any() else None)
+
+
+def _configuration_from_rows(robot: Robot, measurements: Measurements, pose: Pose) -> np.ndarray:
+    order = [measurements.joints.index(name) for name in robot.joint_names]
+    with located(measurements.source, f"q_ (pose '{pose.name}')"):
+        return robot.check_configuration(pose.q[order])
+
+
+def _configuration_by_ik(study: Study, robot: Robot, measurements: Measurements, pose: Pose) -> np.ndarray:
+    commanded = pose.pooled("commanded_m").mean(axis=0)
+    rpy = study.calibration.tool_rpy_deg
+    rotation = np.eye(3) if rpy is None else pin.rpy.rpyToMatrix(*np.radians(rpy))
+    result = solve_ik_with_restarts(robot, pin.SE3(rotation, commanded), robot.reference_q, posture_search(),
+                                    position_only=rpy is None)
+    if not result.success or result.position_error_m > IK_TOLERANCE_M:
+        raise InputError(f"pose '{pose.name}': its commanded position {np.round(commanded, 6).tolist()} m is out of "
+                         f"reach of {robot.label}'s tool point (closest {result.position_error_m * 1e3:.3g} mm); "
+                         "check the robot, its tool offset and calibration.tool_rpy_deg, or give q_<joint> columns",
+                         measurements.source, "cx_m")
+    return result.q
+
+
+def configurations(study: Study, robot: Robot, measurements: Measurements) -> tuple[np.ndarray, str]:
+    """(n_poses, nq) the measured poses' configurations and how they were found (module docstring)."""
+    names = robot.joint_names
+    if measurements.joints:
+        for name in measurements.joints:
+            if name not in names:
+                raise InputError(f"not a joint of {robot.label}'s tool chain ({', '.join(names)}); rename or "
+                                 "remove it", measurements.source, f"q_{name}")
+        missing = [name for name in names if name not in measurements.joints]
+        if missing:
+            raise InputError(f"missing column: the configuration needs every joint of the chain, "
+                             f"{', '.join('q_' + n for n in names)}", measurements.source, f"q_{missing[0]}")
+        qs = [_configuration_from_rows(robot, measurements, pose) for pose in measurements.poses]
+        return np.array(qs), "the mean of each pose's q_<joint> columns"
+    if measurements.poses[0].pooled("commanded_m") is None:
+        raise InputError("calibrate needs each pose's joint configuration: q_<joint> columns, or commanded positions "
+                         "cx_m, cy_m, cz_m to solve it by IK", measurements.source, "q_")
+    rpy = study.calibration.tool_rpy_deg
+    how = "inverse kinematics of each pose's mean commanded position, " + (
+        f"the tool held at roll-pitch-yaw {list(rpy)} deg" if rpy is not None else
+        "for position only from the robot's reference posture (calibration.tool_rpy_deg not given: the tool's "
+        "orientation is not known)")
+    return np.array([_configuration_by_ik(study, robot, measurements, pose) for pose in measurements.poses]), how
+
+
+def calibration_input(study: Study, robot: Robot, models: list[JointErrorModel],
+                      measurements: Measurements) -> CalibrationInput:
+    """The calibration's data and model (module docstring); errors name the file and key at fault."""
+    model = calibration_model(study, robot, models)
+    qs, how = configurations(study, robot, measurements)
+    registration = register_measurements(measurements)
+    runner = PoseRunner(study, robot, models)
+    poses, kept, left_out = [], [], []
+    for pose, q in zip(measurements.poses, qs):
+        forces = runner.normal_forces_at(q)
+        torque_mean, torque_std = friction_torque_moments(models, robot.joint_is_prismatic, forces)
+        series = []
+        for measured, points in zip(pose.series, pose_clouds(pose, registration).positions_m):
+            signs = approach_signs(robot, q, measured.direction)
+            if signs is None:
+                left_out.append(LeftOut(pose.name, measured.direction, len(measured.cycles),
+                                        "its direction label names no approach (+x, -y, ..., +0.58+0.58+0.58, + or -)"))
+                continue
+            series.append(SeriesData(measured.direction, signs, np.asarray(points)))
+        if series:
+            poses.append(PoseData(pose.name, robot.tool_jacobian(q)[:3], torque_mean, torque_std, tuple(series)))
+            kept.append(q)
+    if not any(len(s.points_m) > 1 for p in poses for s in p.series):
+        raise InputError("no series of two or more cycles has a known approach direction; label directions +x, -y, "
+                         "..., +0.58+0.58+0.58, + or -", measurements.source, "direction")
+    return CalibrationInput(model, tuple(poses), np.array(kept), how, registration, tuple(left_out))

@@ -1,0 +1,239 @@
+"""`tribokin calibrate`: a study's joint model fitted to a measurement file, its outputs, and its bad input."""
+
+from __future__ import annotations
+
+import csv
+import json
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from conftest import ROOT
+from integration.test_cli import tribokin
+
+STUDY = ROOT / "studies" / "ur5-calibrate.toml"
+DATA = ROOT / "studies" / "data" / "ur5-tracker.csv"
+OUTPUTS = ("calibration.json", "comparison.csv", "calibrated.toml", "parity.png", "report.html")
+
+
+def read_rows(path) -> tuple[list[str], list[str], list[dict]]:
+    """Comment lines, header and rows of a CSV file."""
+    lines = path.read_text(encoding="utf-8").splitlines()
+    comments = [line for line in lines if line.startswith("#")]
+    rows = list(csv.DictReader(line for line in lines if not line.startswith("#")))
+    return comments, list(rows[0]), rows
+
+
+def write_rows(path, header: list[str], rows: list[dict]) -> None:
+    with open(path, "w", newline="", encoding="utf-8") as handle:
+        writer = csv.DictWriter(handle, fieldnames=header)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def study_without_map(folder, **calibration) -> str:
+    """ur5-calibrate.toml without its [map] (faster), its [calibration] keys replaced by ``calibration``."""
+    text = STUDY.read_text(encoding="utf-8").split("\n# The calibrated model")[0]
+    if calibration:
+        head, _ = text.split("[calibration]")
+        text = head + "[calibration]\n" + "".join(f"{k} = {json.dumps(v)}\n" for k, v in calibration.items())
+    path = folder / "study.toml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def parameters(folder) -> dict[str, dict]:
+    summary = json.loads((folder / "calibration.json").read_text(encoding="utf-8"))
+    return {p["name"]: p for p in summary["parameters"]}
+
+
+@pytest.fixture(scope="module")
+def calibrated(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("calibrate")
+    done = tribokin("calibrate", STUDY, "--measurements", DATA, "--out", folder / "fit")
+    assert done.returncode == 0, done.stderr
+    return folder / "fit", done.stdout
+
+
+def test_calibrate_writes_its_folder_and_names_what_it_fitted(calibrated):
+    out, stdout = calibrated
+    for name in OUTPUTS:
+        assert (out / name).is_file(), name
+    assert sorted(p.name for p in out.glob("clouds_*.png")) == [f"clouds_P{i}.png" for i in range(1, 6)]
+    assert list(out.glob("map_*.png")), "the calibrated study's map"
+    found = parameters(out)
+    for name in ("joints.shoulder_pan_joint.stiffness", "joints.shoulder_lift_joint.stiffness",
+                 "joints.elbow_joint.stiffness", "noise_floor_m"):
+        assert found[name]["identifiable"], name
+        low, high = found[name]["ci95"]
+        assert low < found[name]["value"] < high
+    wrist_3 = found["joints.wrist_3_joint.stiffness"]
+    assert not wrist_3["identifiable"] and wrist_3["value"] is None and "axis" in wrist_3["hint"]
+    assert "not identifiable" in stdout and "registered" in stdout
+
+
+def test_comparison_holds_measured_and_predicted_figures_of_every_pose(calibrated):
+    out, _ = calibrated
+    _, header, rows = read_rows(out / "comparison.csv")
+    assert header[:5] == ["pose", "direction", "figure", "cycles", "measured_um"]
+    assert {(r["pose"], r["figure"]) for r in rows} == {(f"P{i}", f) for i in range(1, 6) for f in ("RP_l", "vAP_p")}
+    for row in rows:
+        low, high = float(row["held_out_low_um"]), float(row["held_out_high_um"])
+        assert low <= float(row["held_out_predicted_um"]) <= high
+
+
+def test_the_calibrated_study_runs_with_the_fitted_values(calibrated, tmp_path):
+    out, _ = calibrated
+    text = (out / "calibrated.toml").read_text(encoding="utf-8")
+    found = parameters(out)
+    pan = found["joints.shoulder_pan_joint.stiffness"]["value"]
+    assert f"stiffness = {pan!r}" in text and "profile likelihood" in text
+    assert "not identifiable from the measurements" in text  # wrist_3 keeps the study's value, and says so
+    done = tribokin("run", out / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((tmp_path / "predicted" / "summary.json").read_text(encoding="utf-8"))
+    assert [p["name"] for p in summary["poses"]] == [f"P{i}" for i in range(1, 6)]
+    assert summary["study"]["joint_models"]["shoulder_pan_joint"]["stiffness"] == pan
+
+
+def test_two_runs_write_the_same_bytes(calibrated, tmp_path):
+    out, _ = calibrated
+    done = tribokin("calibrate", STUDY, "--measurements", DATA, "--out", tmp_path / "again")
+    assert done.returncode == 0, done.stderr
+    for path in sorted(out.iterdir()):
+        assert (tmp_path / "again" / path.name).read_bytes() == path.read_bytes(), path.name
+
+
+def test_rotating_and_shifting_the_measurements_changes_no_fitted_value(tmp_path):
+    study = study_without_map(tmp_path)
+    comments, header, rows = read_rows(DATA)
+    rotation = Rotation.from_euler("zyx", [71.0, -12.0, 33.0], degrees=True).as_matrix()
+    for row in rows:
+        point = rotation @ [float(row[k]) for k in ("x_m", "y_m", "z_m")] + np.array([-3.2, 1.7, 0.9])
+        row.update({k: repr(float(v)) for k, v in zip(("x_m", "y_m", "z_m"), point)})
+    write_rows(tmp_path / "moved.csv", header, rows)
+    for data, out in ((DATA, "fit"), (tmp_path / "moved.csv", "moved")):
+        done = tribokin("calibrate", study, "--measurements", data, "--out", tmp_path / out, "--report", "none")
+        assert done.returncode == 0, done.stderr
+    first, moved = parameters(tmp_path / "fit"), parameters(tmp_path / "moved")
+    for name, entry in first.items():
+        assert entry["identifiable"] == moved[name]["identifiable"]
+        if entry["identifiable"]:
+            assert moved[name]["value"] == pytest.approx(entry["value"], rel=1e-9), name
+
+
+def test_too_few_poses_name_the_parameters_they_cannot_determine_and_tying_the_joints_helps(tmp_path):
+    comments, header, rows = read_rows(DATA)
+    write_rows(tmp_path / "two.csv", header, [r for r in rows if r["pose"] in ("P1", "P2")])
+    per_joint = study_without_map(tmp_path, fit=["stiffness", "noise_floor"])
+    done = tribokin("calibrate", per_joint, "--measurements", tmp_path / "two.csv", "--out", tmp_path / "per-joint",
+                    "--report", "none")
+    assert done.returncode == 0, done.stderr
+    found = parameters(tmp_path / "per-joint")
+    blind = [n for n, p in found.items() if n.endswith("stiffness") and not p["identifiable"]]
+    assert blind and all(n in done.stdout for n in blind)
+    tied = study_without_map(tmp_path, fit=["stiffness", "noise_floor"], tie="all")
+    done = tribokin("calibrate", tied, "--measurements", tmp_path / "two.csv", "--out", tmp_path / "tied",
+                    "--report", "none")
+    assert done.returncode == 0, done.stderr
+    assert parameters(tmp_path / "tied")["joints.stiffness_factor"]["identifiable"]
+
+
+BAD_STUDIES = {
+    "no-calibration-section": ("[calibration]", "[iso_cube]\nside_m = 0.2\n",
+                               "calibration: no [calibration] section"),
+    "unknown-parameter": ("fit = [\"stiffness\", \"backlash\", \"noise_floor\"]", "fit = [\"stifness\"]",
+                          "calibration.fit[0]: must be one of"),
+    "unknown-joint": ("joints = \"all\"", "joints = [\"elbow\"]", "calibration.joints: unknown joint 'elbow'"),
+    "noise-neither-fitted-nor-given": ("fit = [\"stiffness\", \"backlash\", \"noise_floor\"]", "fit = [\"stiffness\"]",
+                                       "calibration.noise_floor_m: the instrument's noise floor is neither"),
+}
+
+
+@pytest.mark.parametrize("case", BAD_STUDIES)
+def test_bad_study_is_one_line_and_writes_nothing(case, tmp_path):
+    old, new, message = BAD_STUDIES[case]
+    text = study_without_map(tmp_path).read_text(encoding="utf-8")
+    assert old in text
+    if case == "no-calibration-section":
+        text = text.split(old)[0] + old
+    (tmp_path / "study.toml").write_text(text.replace(old, new), encoding="utf-8")
+    done = tribokin("calibrate", tmp_path / "study.toml", "--measurements", DATA, "--out", tmp_path / "fit")
+    assert done.returncode == 2 and len(done.stderr.strip().splitlines()) == 1, done.stderr
+    assert message in done.stderr
+    assert not (tmp_path / "fit").exists()
+
+
+def test_measurements_without_configurations_or_commanded_positions_are_refused(tmp_path):
+    _, header, rows = read_rows(DATA)
+    kept = [h for h in header if not h.startswith(("q_", "cx_", "cy_", "cz_"))]
+    write_rows(tmp_path / "bare.csv", kept, [{k: r[k] for k in kept} for r in rows])
+    done = tribokin("calibrate", study_without_map(tmp_path), "--measurements", tmp_path / "bare.csv",
+                    "--out", tmp_path / "fit")
+    assert done.returncode == 2 and "q_<joint> columns, or commanded positions" in done.stderr
+    assert not (tmp_path / "fit").exists()
+
+
+def test_a_joint_column_the_robot_does_not_have_is_refused(tmp_path):
+    _, header, rows = read_rows(DATA)
+    renamed = ["q_elbow" if h == "q_elbow_joint" else h for h in header]
+    write_rows(tmp_path / "renamed.csv", renamed,
+               [{("q_elbow" if k == "q_elbow_joint" else k): v for k, v in r.items()} for r in rows])
+    done = tribokin("calibrate", study_without_map(tmp_path), "--measurements", tmp_path / "renamed.csv",
+                    "--out", tmp_path / "fit")
+    assert done.returncode == 2 and "q_elbow: not a joint of ur5" in done.stderr
+
+
+def test_configurations_from_commanded_positions_by_ik(tmp_path):
+    """Without q_ columns each pose's configuration is solved by IK from its commanded position with the tool held
+    at calibration.tool_rpy_deg: it puts the tool point there with that orientation (IK may pick another of the
+    arm's branches than the file's q, so the fit is not compared)."""
+    from tribokin.kinematics.robot import load_example_robot
+
+    _, header, rows = read_rows(DATA)
+    kept = [h for h in header if not h.startswith("q_")]
+    write_rows(tmp_path / "commanded.csv", kept, [{k: r[k] for k in kept} for r in rows])
+    cube_rpy = next(line for line in read_rows(DATA)[0] if "rpy_deg" in line).split("rpy_deg=[")[1].split("]")[0]
+    rpy = [float(v) for v in cube_rpy.split(",")]
+    study = study_without_map(tmp_path, fit=["stiffness", "backlash", "noise_floor"], tool_rpy_deg=rpy)
+    done = tribokin("calibrate", study, "--measurements", tmp_path / "commanded.csv", "--out", tmp_path / "ik",
+                    "--report", "none")
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((tmp_path / "ik" / "calibration.json").read_text(encoding="utf-8"))
+    assert summary["settings"]["configurations"]["source"].startswith("inverse kinematics")
+    robot = load_example_robot("ur5")
+    held = Rotation.from_euler("xyz", rpy, degrees=True).as_matrix()  # roll-pitch-yaw: Rz Ry Rx
+    for pose, q in summary["settings"]["configurations"]["q"].items():
+        commanded = np.mean([[float(r[k]) for k in ("cx_m", "cy_m", "cz_m")] for r in rows if r["pose"] == pose],
+                            axis=0)
+        placement = robot.tool_placement(q)
+        assert np.linalg.norm(placement.translation - commanded) < 1e-6
+        assert np.allclose(placement.rotation, held, atol=1e-6)
+
+
+def test_run_refuses_a_study_with_nothing_but_calibration(tmp_path):
+    done = tribokin("run", study_without_map(tmp_path), "--out", tmp_path / "out")
+    assert done.returncode == 2 and "tribokin calibrate" in done.stderr
+
+
+def test_without_a_registration_the_frame_is_fitted_and_the_output_says_so(tmp_path):
+    """No commanded positions: the tracker frame's rotation is profiled out; the determined stiffnesses agree with
+    the registered fit's within their standard errors."""
+    _, header, rows = read_rows(DATA)
+    kept = [h for h in header if not h.startswith(("cx_", "cy_", "cz_"))]
+    write_rows(tmp_path / "unregistered.csv", kept, [{k: r[k] for k in kept} for r in rows])
+    study = study_without_map(tmp_path)
+    for data, out in ((DATA, "registered"), (tmp_path / "unregistered.csv", "unknown")):
+        done = tribokin("calibrate", study, "--measurements", data, "--out", tmp_path / out, "--report", "none")
+        assert done.returncode == 0, done.stderr
+    assert "frame: not registered" in done.stdout
+    summary = json.loads((tmp_path / "unknown" / "calibration.json").read_text(encoding="utf-8"))
+    assert not summary["registration"]["made"] and "profiled out" in summary["registration"]["why"]
+    rotation = np.array(summary["registration"]["fitted_rotation"])
+    truth = Rotation.from_euler("xyz", [3.0, -2.0, 130.0], degrees=True).as_matrix()  # the file's tracker frame
+    assert np.degrees(Rotation.from_matrix(rotation @ truth.T).magnitude()) < 5.0  # 2.4° here: shapes fix it loosely
+    registered, unknown = parameters(tmp_path / "registered"), parameters(tmp_path / "unknown")
+    for name in ("joints.shoulder_pan_joint.stiffness", "joints.shoulder_lift_joint.stiffness", "noise_floor_m"):
+        assert unknown[name]["identifiable"]
+        assert abs(unknown[name]["value"] - registered[name]["value"]) < 2 * registered[name]["std_error"]
