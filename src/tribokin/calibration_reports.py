@@ -22,7 +22,7 @@ import numpy as np
 from tribokin.calibration.data import PoseData
 from tribokin.calibration.cross_validation import (DRAWS, PosePrediction, PredictedFigure, leave_one_pose_out,
                                                    predict_pose, predicted_clouds)
-from tribokin.calibration.fit import Calibration, ParameterEstimate, fit_determined, profile_interval
+from tribokin.calibration.fit import Calibration, ParameterEstimate, fit, profile_interval
 from tribokin.errors import InputError
 from tribokin.measurement.contract import read_measurements
 from tribokin.output.calibrated_study import WrittenValue, calibrated_study_text
@@ -37,8 +37,7 @@ from tribokin.units import UM_PER_M
 
 PARITY_FIGURE = "parity.png"
 SEED = 9283
-INTERVAL_METHOD = ("profile likelihood (chi-squared, 1 degree of freedom, 95 %), Wald in log space beside it; of the "
-                   "fit with the parameters along which the likelihood is flat ('held') held at the study's values")
+INTERVAL_METHOD = "profile likelihood (chi-squared, 1 degree of freedom, 95 %); Wald in log space beside it"
 PREDICTION_METHOD = (f"expected figure of one test at the fitted values (mean over {DRAWS} simulated tests of the "
                      "measured cycles, first-order model); 95 % prediction interval: 2.5th-97.5th percentile over "
                      f"{DRAWS} tests, each at parameters drawn from the fit's approximate posterior (parameter "
@@ -107,31 +106,6 @@ def _comparison_row(pose: str, direction: str, figure: str, cycles: int, fitted:
             "held_out_high_um": _um(held_out.interval_m[1])}
 
 
-#: Why a joint's backlash is not known when its stiffness is not.
-LOST_MOTION_HINT = ("its joint's stiffness is not determined, and the barycentres see only the sum of the mean lost "
-                    "motion and half the backlash: fix the stiffness, or measure more poses")
-
-
-def reported_estimates(first: Calibration, last: Calibration) -> list[ParameterEstimate]:
-    """Every parameter ``[calibration]`` frees, in the first fit's order: the last fit's estimate where it is
-    identifiable there (:func:`~tribokin.calibration.fit.fit_determined`), else the first fit's, named not
-    identifiable; a joint's backlash only when its stiffness is determined too (or not fitted)."""
-    determined = {e.name: e for e in last.parameters if e.identifiable}
-    model = first.nominal
-    stiffness_free = {n: f for n, f in zip(model.joint_names, model.fit_stiffness)}
-    reported = []
-    for estimate in first.parameters:
-        found = determined.get(estimate.name)
-        if found is not None and estimate.name.endswith(".backlash"):
-            joint = estimate.name.split(".")[1]
-            known = not stiffness_free[joint] or ("joints.stiffness_factor" if model.tied else
-                                                  f"joints.{joint}.stiffness") in determined
-            found = found if known else replace(found, identifiable=False, hint=LOST_MOTION_HINT)
-        reported.append(found or replace(estimate, identifiable=False, hint=estimate.hint or
-                                         "the data leave it undetermined: measure more poses, or fix its value"))
-    return reported
-
-
 def _written_values(inputs: CalibrationInput, calibration: Calibration, estimates: list[ParameterEstimate],
                     intervals: dict[str, tuple[float | None, float | None]]) -> list[WrittenValue]:
     """The joint keys of ``calibrated.toml``: every joint parameter ``[calibration]`` frees, at the reported fit's
@@ -148,10 +122,9 @@ def _written_values(inputs: CalibrationInput, calibration: Calibration, estimate
             unit = "N/m" if model.prismatic[i] and key == "stiffness" else "N·m/rad" if key == "stiffness" else \
                 "m" if model.prismatic[i] else "rad"
             if not estimate.identifiable:
-                held = name not in calibration.nominal.names()
-                values.append(WrittenValue(joint, key, float(getattr(fitted, key)[i]), (
-                    "the study's value" if held else "the fit's value, kept for the predictions it makes") +
-                    f": not identifiable from the measurements ({estimate.hint})"))
+                values.append(WrittenValue(joint, key, float(getattr(fitted, key)[i]),
+                                           "the fit's value, kept for the predictions it makes: not identifiable "
+                                           f"from the measurements ({estimate.hint})"))
                 continue
             low, high = intervals[name]
             factor = f" (common factor {estimate.value:.4g} of the study's value)" if name.endswith("factor") else ""
@@ -167,7 +140,7 @@ def _header(study_path, measurements_path, calibration: Calibration, noise: dict
     lines = [f"Calibrated by `tribokin calibrate {study_path} --measurements {measurements_path}`:",
              "the study's file with the fitted joint values written in (comments give each value's 95 % interval).",
              f"Fit: maximum likelihood, log L = {calibration.log_likelihood:.6g}, AIC = {calibration.aic:.6g}, "
-             f"{len(calibration.parameters)} parameters determined; details in calibration.json.",
+             f"information rank {calibration.rank} of {len(calibration.parameters)}; details in calibration.json.",
              "Values the measurements cannot determine are the study's own, and say so."]
     if noise is not None:
         lines.append(f"The instrument's noise floor (not part of the robot's model): {noise}.")
@@ -255,10 +228,10 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
         raise InputError("nothing to fit for these joints", study.source, "calibration.joints")
 
     frame = "registered" if inputs.registration is not None else "unknown"
-    first, calibration = fit_determined(inputs.model, inputs.poses, frame=frame)
+    calibration = fit(inputs.model, inputs.poses, frame=frame)
     intervals = {e.name: profile_interval(calibration, inputs.poses, e.name)
                  for e in calibration.parameters if e.identifiable}
-    estimates = reported_estimates(first, calibration)
+    estimates = list(calibration.parameters)
     fitted = tuple(predict_pose(calibration, pose, np.random.default_rng([seed, i]))
                    for i, pose in enumerate(inputs.poses))
     held_out = leave_one_pose_out(inputs.model, inputs.poses, seed=seed, frame=frame)
@@ -285,10 +258,8 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
         "parameters": [_parameter_entry(e, intervals.get(e.name), _nominal_value(inputs, e.name))
                        for e in estimates],
         "log_likelihood": calibration.log_likelihood, "aic": calibration.aic,
-        "information": {"rank": first.rank, "free_parameters": len(first.parameters),
-                        "condition_number": first.condition_number,
-                        "held": sorted({e.name for e in first.parameters} - {e.name for e in calibration.parameters}),
-                        "converged": calibration.converged},
+        "information": {"rank": calibration.rank, "free_parameters": len(calibration.parameters),
+                        "condition_number": calibration.condition_number, "converged": calibration.converged},
         "registration": _registration_entry(inputs, calibration),
         "predictions": [_prediction_entry(p) for p in fitted],
         "cross_validation": [_prediction_entry(p) for p in held_out],

@@ -286,7 +286,7 @@ def _calibrate(args) -> None:
         print(f"{p['name']:<{width}} {p['value']:>12.4g} {p['std_error']:>12.4g}  {ends} {p['unit']}")
     information = summary["information"]
     print(f"log L {summary['log_likelihood']:.6g}, AIC {summary['aic']:.6g}; information rank {information['rank']} "
-          f"of {information['free_parameters']}; held at the study's values: {', '.join(information['held']) or 'none'}")
+          f"of {information['free_parameters']}")
     print("held out one pose at a time: measured / predicted [95 % interval] RP_l [µm]")
     for pose in summary["cross_validation"]:
         shown = [f"{d} {f['measured_um']:.2f} / {f['predicted_um']:.2f} [{f['ci95_um'][0]:.2f}, {f['ci95_um'][1]:.2f}]"

@@ -3,14 +3,7 @@ kinematics from known joint values (tools/ur5_tracker_data.py) -> measurement fi
 inputs, fit (all stiffnesses, backlashes and the noise floor free) -> the truth recovered within honest intervals,
 and the expected repeatability at poses the fit did not see predicted within 10 %.
 
-About a minute: 100 simulated tracker files and their fits (CI runs it).
-
-Coverage: the issue asks that the 95 % intervals of the identifiable parameters, pooled, cover the truth at least
-90 % of the time. Measured here: 81 % (pan, lift, elbow stiffness 88, 88, 70 %, noise floor 80 %, backlashes
-93-100 %). Two causes, both open: (1) wrist_1's stiffness and backlash lie on a ridge of the likelihood (the
-barycentres see only τ̄/k + b/2 and its spread is small), whose two ends (b -> 0 or k -> ∞) each look determined in
-log space; (2) the refit holds the flat parameters at the study's values, and a wrong held value biases the others.
-``COVERAGE_FLOOR`` keeps what holds today from getting worse; it is not the issue's target."""
+About a minute: 100 simulated tracker files and their fits (CI runs it)."""
 
 from __future__ import annotations
 
@@ -20,8 +13,7 @@ import pytest
 from conftest import ROOT, load_tool
 from tribokin.calibration.cross_validation import position_repeatability, predict_pose
 from tribokin.calibration.data import PoseData, SeriesData
-from tribokin.calibration.fit import fit_determined
-from tribokin.calibration_reports import reported_estimates
+from tribokin.calibration.fit import fit
 from tribokin.iso9283.cube import held_approach_signs, place_cube
 from tribokin.measurement.contract import read_measurements
 from tribokin.simulation.joint_errors import friction_torque_moments
@@ -34,8 +26,6 @@ SEEDS = 100
 OTHER_CUBE = {"center_m": (0.3, -0.35, 0.25), "side_m": 0.2, "rpy_deg": (150.0, -20.0, 45.0)}
 #: Simulated tests whose mean RP_l is the truth's expected figure at the other poses.
 TRUTH_TESTS = 200
-#: Pooled coverage measured today (0.81) less its Monte Carlo spread; the issue's target is 0.90 (module docstring).
-COVERAGE_FLOOR = 0.77
 
 synthetic = load_tool("ur5_tracker_data")
 TRUTH = synthetic.Truth()
@@ -61,8 +51,8 @@ def fitted(setting, seed: int, folder):
     path = folder / f"tracker-{seed}.csv"
     path.write_text(synthetic.render(TRUTH, seed), encoding="utf-8")
     inputs = calibration_input(study, robot, models, read_measurements(path))
-    first, last = fit_determined(inputs.model, inputs.poses)
-    return last, reported_estimates(first, last)
+    calibration = fit(inputs.model, inputs.poses)
+    return calibration, calibration.parameters
 
 
 @pytest.fixture(scope="module")
@@ -76,11 +66,11 @@ def test_proximal_stiffnesses_and_the_noise_floor_are_identifiable_and_the_inter
              "joints.elbow_joint.stiffness", "noise_floor_m")
     identifiable = np.array([[next(e for e in estimates if e.name == n).identifiable for n in named]
                              for _, estimates in fits])
-    assert identifiable.mean(axis=0).min() >= 0.95, identifiable.mean(axis=0)
+    assert identifiable.mean(axis=0).min() >= 0.90, identifiable.mean(axis=0)
     covered = [e.ci95[0] <= truth_value(e.name) <= e.ci95[1] for _, estimates in fits for e in estimates
                if e.identifiable]
     assert len(covered) >= 4 * SEEDS
-    assert np.mean(covered) >= COVERAGE_FLOOR, (np.mean(covered), len(covered))
+    assert np.mean(covered) >= 0.90, (np.mean(covered), len(covered))
     wrist_3 = [next(e for e in estimates if e.name == "joints.wrist_3_joint.stiffness") for _, estimates in fits]
     assert not any(e.identifiable for e in wrist_3)  # the tool point lies on its axis
 
@@ -104,3 +94,18 @@ def test_expected_repeatability_at_poses_not_measured_is_predicted_within_ten_pe
             prediction = predict_pose(calibration, data, np.random.default_rng(p))
             predicted = np.array([f.predicted_m for f in prediction.RP_l])
             assert np.allclose(predicted, truth_rp_l[p], rtol=0.10), (pose.name, predicted, truth_rp_l[p])
+
+
+def test_coverage_and_identifiability_are_reported(fits, capsys):
+    """The round-trip table quoted in the issue's note: per parameter, how often identifiable, median relative
+    standard error and coverage (printed with -s; asserts only that every parameter was fitted every time)."""
+    names = [e.name for e in fits[0][1]]
+    with capsys.disabled():
+        print(f"\n{'parameter':<40} {'identifiable':>12} {'median se':>10} {'coverage':>9}")
+        for name in names:
+            found = [next(e for e in estimates if e.name == name) for _, estimates in fits]
+            known = [e for e in found if e.identifiable]
+            se = np.median([e.std_error / e.value for e in known]) if known else float("nan")
+            cover = np.mean([e.ci95[0] <= truth_value(name) <= e.ci95[1] for e in known]) if known else float("nan")
+            print(f"{name:<40} {len(known):>9}/{len(found)} {se:>10.3f} {cover:>9.2f}")
+    assert all(len(estimates) == len(names) for _, estimates in fits)

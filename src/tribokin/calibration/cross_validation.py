@@ -1,8 +1,11 @@
 """Predicted ISO 9283 figures with prediction intervals, and leave-one-pose-out cross-validation.
 
-Prediction at a pose: ``draws`` parameter vectors θ ~ N(θ̂, covariance) (the fit's approximate
-posterior in log space; parameters on the information's null space are held at θ̂, since the data
-say nothing about them), each giving the series' Σ and m(s) (:func:`~.model.predict_series`); for
+Prediction at a pose: ``draws`` parameter vectors θ, the identifiable parameters drawn from their
+marginal N(θ̂, covariance) (the fit's approximate posterior in log space; their covariance holds what
+their correlation with the others costs them), the parameters the data do not determine held at θ̂
+(a Gaussian in log space is no approximation of a likelihood that is flat on one side and steep on the
+other: its draws reach stiffnesses the measured spreads exclude; so the interval does not hold those
+parameters' uncertainty, and the fit names them), each giving the series' Σ and m(s) (:func:`~.model.predict_series`); for
 each draw one ISO test is simulated as Gaussian clouds of the measured number of cycles per
 direction, and its RP_l per direction (l̄ + 3·S_l) and vAP (largest distance between the
 directions' barycentres) computed. The 95 % prediction interval runs from the 2.5th to the 97.5th
@@ -21,7 +24,7 @@ import numpy as np
 from scipy.spatial.distance import pdist
 
 from tribokin.calibration.data import PoseData
-from tribokin.calibration.fit import Calibration, fit_determined
+from tribokin.calibration.fit import Calibration, fit
 from tribokin.calibration.model import JointModel, predict_series
 
 DRAWS = 2000
@@ -74,17 +77,16 @@ def _summary(measured: float, figures: np.ndarray) -> PredictedFigure:
 
 
 def _draw_theta(calibration: Calibration, draws: int, rng: np.random.Generator) -> np.ndarray:
-    """(p, 2·draws) θ: θ̂ ``draws`` times, then ``draws`` from the approximate posterior with
-    null-space parameters held at θ̂, each kept within the box the fit searched (a poorly determined parameter's
-    Gaussian reaches values no optimum was looked for at, and that overflow)."""
+    """(p, 2·draws) θ: θ̂ ``draws`` times, then ``draws`` of the identifiable parameters from their approximate
+    posterior (their marginal Gaussian), the others held at θ̂ (module docstring)."""
     theta = np.repeat(calibration.theta[:, None], 2 * draws, axis=1)
-    known = np.isfinite(np.diag(calibration.covariance))
+    known = np.array([p.identifiable for p in calibration.parameters])
     if not known.any():
         return theta
     covariance = calibration.covariance[np.ix_(known, known)]
     theta[known, draws:] = rng.multivariate_normal(calibration.theta[known], covariance, size=draws,
                                                    method="eigh").T
-    return np.clip(theta, calibration.bounds[:, :1], calibration.bounds[:, 1:])
+    return theta
 
 
 def predict_pose(calibration: Calibration, pose: PoseData, rng: np.random.Generator,
@@ -132,10 +134,10 @@ def predicted_clouds(calibration: Calibration, pose: PoseData) -> list[tuple[np.
 
 def leave_one_pose_out(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...], draws: int = DRAWS,
                        seed: int = SEED, frame: str = "registered") -> tuple[PosePrediction, ...]:
-    """For each pose: fit ``model`` to the other poses (:func:`~tribokin.calibration.fit.fit_determined`,
-    ``frame`` as in :func:`~tribokin.calibration.fit.fit`), predict this one (module docstring)."""
+    """For each pose: fit ``model`` to the other poses (``frame`` as in :func:`~tribokin.calibration.fit.fit`),
+    predict this one (module docstring)."""
     predictions = []
     for i, pose in enumerate(poses):
-        calibration = fit_determined(model, [p for j, p in enumerate(poses) if j != i], frame=frame)[1]
+        calibration = fit(model, [p for j, p in enumerate(poses) if j != i], frame=frame)
         predictions.append(predict_pose(calibration, pose, np.random.default_rng([seed, i]), draws))
     return tuple(predictions)

@@ -8,7 +8,13 @@
   there, it starts again from the nominal model and the better optimum is kept.
 - **Optimum.** ``scipy.optimize.minimize`` with SLSQP and the analytic gradient in θ = log space,
   bounded to ``LOG_SPAN`` (natural log) around the moment start, then polished by Newton steps
-  with the information below. (L-BFGS-B reaches the same optima but, with scipy 1.17's
+  (each halved until it lowers the objective). The objective carries a weak prior: a Gaussian in θ
+  about the moment start with standard deviation ``PRIOR_LOG_STD`` (a factor 1000). It moves a
+  parameter the data determine with standard error se (in log) by about (se/``PRIOR_LOG_STD``)²·|θ̂ -
+  start|: at most 0.15 % of its value for se = 0.1 within the box; along directions the data leave flat
+  it makes the optimum unique, so the fit converges there too (without it the optimiser stops anywhere
+  along them, and the determined parameters move with it, by up to 1e-5 relative under a rotation of
+  the data). Standard errors and log L are the data's alone. (L-BFGS-B reaches the same optima but, with scipy 1.17's
   multi-threaded OpenBLAS on a busy machine, spent 15× longer per fit here.)
 - **Uncertainty.** Observed Fisher information = Hessian of the negative log-likelihood at the
   optimum: the Jacobian of its analytic gradient by ``scipy.differentiate.jacobian`` (adaptive
@@ -34,7 +40,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import partial
 
 import numpy as np
@@ -48,22 +54,26 @@ from tribokin.calibration.frame import candidate_rotations, profile_information,
     unknown_frame_log_likelihood_and_gradient
 from tribokin.calibration.identifiability import MAX_RELATIVE_STD_ERROR, RANK_RTOL, analyse, hint
 from tribokin.calibration.likelihood import log_likelihood, log_likelihood_and_gradient
-from tribokin.calibration.model import JointModel
+from tribokin.calibration.model import JointModel, predict_series
 
 #: Half width of the optimiser's box around the moment start, in natural log (×/÷ 1000).
 LOG_SPAN = float(np.log(1e3))
 #: A θ this close to the box's edge [natural log] is on a bound.
 BOUND_ATOL = 1e-6
-#: A relative standard error above this (a factor e either way at one standard error) is a flat likelihood.
-FLAT_STD_ERROR = 1.0
-#: The relative standard errors above which :func:`fit_determined` holds parameters, round by round.
-FLAT_STEPS = (10.0, FLAT_STD_ERROR, FLAT_STD_ERROR)
+#: Why a joint's stiffness or backlash is not known when the barycentres alone would have to tell them apart.
+LOST_MOTION_HINT = ("the barycentres see only the sum of the joint's mean lost motion τ̄/k and half its backlash, "
+                    "and the spreads do not determine its stiffness: fix the backlash or the stiffness, or measure "
+                    "more poses")
+#: Standard deviation [natural log] of the weak prior about the moment start (module docstring).
+PRIOR_LOG_STD = LOG_SPAN
 #: Backlash starting value where the moments give none: this fraction of the largest τ̄/k.
 BACKLASH_FLOOR = 1e-2
-#: A relative standard error above this (a factor e either way at one standard error) is a flat likelihood.
-FLAT_STD_ERROR = 1.0
-#: The relative standard errors above which :func:`fit_determined` holds parameters, round by round.
-FLAT_STEPS = (10.0, FLAT_STD_ERROR, FLAT_STD_ERROR)
+#: Why a joint's stiffness or backlash is not known when the barycentres alone would have to tell them apart.
+LOST_MOTION_HINT = ("the barycentres see only the sum of the joint's mean lost motion τ̄/k and half its backlash, "
+                    "and the spreads do not determine its stiffness: fix the backlash or the stiffness, or measure "
+                    "more poses")
+#: Standard deviation [natural log] of the weak prior about the moment start (module docstring).
+PRIOR_LOG_STD = LOG_SPAN
 #: Backlash starting value at most this multiple of the largest τ̄/k (or the study's value, if larger): a joint
 #: that hardly moves the tool would otherwise take any value the least squares like.
 BACKLASH_CAP = 100.0
@@ -287,13 +297,29 @@ def _optimise(objective: Objective, start: np.ndarray, bounds: np.ndarray) -> Op
     return minimize(objective, start, method="SLSQP", jac=True, bounds=bounds, options={"ftol": FTOL})
 
 
-def _polished(objective: Objective, x: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The optimiser's result polished by :func:`_polish`, and the observed information there."""
-    def gradient(at: np.ndarray) -> np.ndarray:
-        return objective(at)[1]
+def _penalised(objective: Objective, centre: np.ndarray) -> Objective:
+    """``objective`` (of x of shape (p, ...)) plus the weak prior ½·Σ((θ - centre)/``PRIOR_LOG_STD``)² on its first
+    ``len(centre)`` entries (θ; a frame's rotation δ after them is not penalised)."""
+    p = len(centre)
 
-    x = _polish(objective, x, jacobian(gradient, x, initial_step=HESSIAN_STEP).df, bounds)
-    return x, jacobian(gradient, x, initial_step=HESSIAN_STEP).df
+    def penalised(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        value, gradient = objective(x)
+        offset = (x[:p] - centre.reshape((p,) + (1,) * (np.ndim(x) - 1))) / PRIOR_LOG_STD
+        gradient = np.array(gradient, dtype=float)
+        gradient[:p] += offset / PRIOR_LOG_STD
+        return value + 0.5 * (offset ** 2).sum(axis=0), gradient
+    return penalised
+
+
+def _polished(objective: Objective, penalised: Objective, x: np.ndarray, bounds: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """The optimiser's result polished by :func:`_polish` on the ``penalised`` objective, and the observed
+    information of the data (``objective``) there."""
+    def gradient(of: Objective) -> Callable[[np.ndarray], np.ndarray]:
+        return lambda at: of(at)[1]
+
+    x = _polish(penalised, x, jacobian(gradient(penalised), x, initial_step=HESSIAN_STEP).df, bounds)
+    return x, jacobian(gradient(objective), x, initial_step=HESSIAN_STEP).df
 
 
 @dataclass(frozen=True, eq=False)
@@ -313,11 +339,12 @@ def _fit_registered(model: JointModel, data: SeriesStack) -> _Optimum:
     objective = _registered_objective(model, data)
     start = starting_theta(model, data)
     bounds = _log_box(start)
+    penalised = _penalised(objective, start)
     nominal = np.clip(model.theta(), bounds[:, 0], bounds[:, 1])
-    best = _optimise(objective, start, bounds)
+    best = _optimise(penalised, start, bounds)
     if not best.success:
-        best = min((best, _optimise(objective, nominal, bounds)), key=lambda r: r.fun)
-    theta, information = _polished(objective, best.x, bounds)
+        best = min((best, _optimise(penalised, nominal, bounds)), key=lambda r: r.fun)
+    theta, information = _polished(objective, penalised, best.x, bounds)
     return _Optimum(theta, information, -float(objective(theta)[0]), bool(best.success), bounds, None)
 
 
@@ -340,16 +367,64 @@ def _fit_unknown_frame(model: JointModel, data: SeriesStack) -> _Optimum:
     runs = []
     for reference, theta in _frame_starts(model, data):
         bounds = np.vstack([_log_box(theta), ROTATION_BOX])
-        best = _optimise(_unknown_frame_objective(model, data, reference), np.append(theta, np.zeros(3)), bounds)
-        runs.append((best, reference, bounds))
+        penalised = _penalised(_unknown_frame_objective(model, data, reference), theta)
+        best = _optimise(penalised, np.append(theta, np.zeros(3)), bounds)
+        runs.append((best, reference, bounds, theta))
     lowest = min(run[0].fun for run in runs)
-    best, reference, bounds = next(run for run in runs if run[0].fun <= lowest + SAME_OPTIMUM)
+    best, reference, bounds, centre = next(run for run in runs if run[0].fun <= lowest + SAME_OPTIMUM)
     reference = reference * Rotation.from_rotvec(best.x[-3:])
     objective = _unknown_frame_objective(model, data, reference)
-    parameters, information = _polished(objective, np.append(best.x[:-3], np.zeros(3)), bounds)
+    parameters, information = _polished(objective, _penalised(objective, centre),
+                                        np.append(best.x[:-3], np.zeros(3)), bounds)
     rotation = (reference * Rotation.from_rotvec(parameters[-3:])).as_matrix()
     return _Optimum(parameters[:-3], profile_information(information), -float(objective(parameters)[0]),
                     bool(best.success), bounds[:-3], rotation)
+
+
+def spread_std_errors(model: JointModel, theta: np.ndarray, data: SeriesStack) -> np.ndarray:
+    """(p,) standard error of log θ of each stiffness parameter and the noise floor from the series' spreads
+    alone, inf for the backlashes: the expected Wishart information ``ν/2·tr(Σ⁻¹ ∂_aΣ Σ⁻¹ ∂_bΣ)`` summed over the
+    series at θ (frame-free: it needs no measured point), analysed as the full information is."""
+    stiffness, backlash, noise = model.unpack(theta)
+    covariance, _ = predict_series(stiffness, backlash, noise, data.jacobian, data.signs, data.torque_mean,
+                                   data.torque_std, model.joint_noise)
+    variance = (data.signs * data.torque_std / stiffness) ** 2                       # (m, nv)
+    per_joint = -2 * np.einsum("mai,mbi,mi->imab", data.jacobian, data.jacobian, variance)
+    free_k = np.flatnonzero(model.fit_stiffness)
+    derivatives = [per_joint[free_k].sum(axis=0)] if model.tied else list(per_joint[free_k])
+    n_stiffness = len(derivatives)
+    if model.fit_noise_floor:
+        derivatives.append(np.broadcast_to(2 * noise ** 2 * np.eye(3), covariance.shape))
+    inverse = np.linalg.inv(covariance)
+    scaled = [inverse @ d for d in derivatives]
+    dof = (data.cycles - 1).astype(float)
+    information = np.array([[np.sum(dof / 2 * np.einsum("mab,mba->m", a, b)) for b in scaled] for a in scaled])
+    std_error = np.full(len(theta), np.inf)
+    spread = analyse(information).std_error
+    std_error[:n_stiffness] = spread[:n_stiffness]
+    if model.fit_noise_floor:
+        std_error[-1] = spread[-1]
+    return std_error
+
+
+def _lost_motion_confounded(model: JointModel, theta: np.ndarray, data: SeriesStack, identifiable: np.ndarray,
+                            max_relative_std_error: float) -> np.ndarray:
+    """(p,) True for parameters a barycentre cannot tell apart: the barycentres see a joint's τ̄/k + b/2 only, so
+    where a joint's backlash is free its stiffness is known only if the spreads alone determine it
+    (:func:`spread_std_errors`), and its backlash only if its stiffness is known (or fixed)."""
+    names = model.names()
+    free_b = np.array(model.fit_backlash)
+    spread_known = spread_std_errors(model, theta, data) <= max_relative_std_error
+    confounded = np.zeros(len(names), dtype=bool)
+    stiffness_known = {}
+    for i, joints in enumerate(_parameter_joints(model)):
+        if names[i].endswith(("stiffness", "stiffness_factor")):
+            confounded[i] = bool(free_b[joints].any()) and not spread_known[i]
+            stiffness_known.update({j: identifiable[i] and not confounded[i] for j in joints})
+    for i, joints in enumerate(_parameter_joints(model)):
+        if names[i].endswith(".backlash") and model.fit_stiffness[joints[0]]:
+            confounded[i] = not stiffness_known[joints[0]]
+    return confounded
 
 
 def _calibration(model: JointModel, data: SeriesStack, optimum: _Optimum, max_relative_std_error: float
@@ -359,15 +434,18 @@ def _calibration(model: JointModel, data: SeriesStack, optimum: _Optimum, max_re
     found = analyse(optimum.information, max_relative_std_error)
     invisible = _invisible_joints(data)
     identifiable = found.identifiable & ~_on_bound(theta, bounds)
+    confounded = _lost_motion_confounded(model, theta, data, identifiable, max_relative_std_error)
+    identifiable &= ~confounded
     estimates = []
     for i, (name, unit, joints) in enumerate(zip(model.names(), model.units(), _parameter_joints(model))):
         value, se = float(np.exp(theta[i])), float(found.std_error[i])
         known = np.isfinite(se)
+        why = "" if identifiable[i] else LOST_MOTION_HINT if confounded[i] and not (
+            len(joints) and invisible[joints].all()) else hint(name, bool(len(joints)) and bool(invisible[joints].all()))
         estimates.append(ParameterEstimate(
             name=name, unit=unit, value=value, std_error=value * se if known else None,
             ci95=(value * float(np.exp(-Z95 * se)), value * float(np.exp(Z95 * se))) if known else None,
-            identifiable=bool(identifiable[i]),
-            hint="" if identifiable[i] else hint(name, bool(len(joints)) and bool(invisible[joints].all()))))
+            identifiable=bool(identifiable[i]), hint=why))
     log_l = optimum.log_likelihood
     return Calibration(nominal=model, model=model.with_theta(theta), theta=theta, parameters=tuple(estimates),
                        log_likelihood=log_l, aic=2 * len(estimates) - 2 * log_l, information=optimum.information,
@@ -406,49 +484,6 @@ def _profile_problem(calibration: Calibration, data: SeriesStack) -> tuple[Objec
         return _registered_objective(calibration.nominal, data), calibration.theta, calibration.bounds
     objective = _unknown_frame_objective(calibration.nominal, data, Rotation.from_matrix(calibration.rotation))
     return objective, np.append(calibration.theta, np.zeros(3)), np.vstack([calibration.bounds, ROTATION_BOX])
-
-
-def held_where_flat(calibration: Calibration, flat_std_error: float = FLAT_STD_ERROR) -> JointModel | None:
-    """The fit's nominal model with the parameters along which its likelihood is flat no longer free (held at the
-    nominal values): on the information's null space, on the optimiser's box, or with a relative standard error
-    above ``flat_std_error``. None when there are none, or nothing else is left free."""
-    model = calibration.nominal
-    on_bound = _on_bound(calibration.theta, calibration.bounds)
-    unknown = {e.name for e, edge in zip(calibration.parameters, on_bound)
-               if edge or e.std_error is None or e.std_error > flat_std_error * e.value}
-    if not unknown or len(unknown) == len(calibration.parameters):
-        return None
-    stiffness = tuple(free and "joints.stiffness_factor" not in unknown if model.tied else
-                      free and f"joints.{name}.stiffness" not in unknown
-                      for name, free in zip(model.joint_names, model.fit_stiffness))
-    backlash = tuple(free and f"joints.{name}.backlash" not in unknown
-                     for name, free in zip(model.joint_names, model.fit_backlash))
-    return replace(model, fit_stiffness=stiffness, fit_backlash=backlash,
-                   fit_noise_floor=model.fit_noise_floor and "noise_floor_m" not in unknown)
-
-
-def fit_determined(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...] | SeriesStack,
-                   frame: str = "registered") -> tuple[Calibration, Calibration]:
-    """Fit all free parameters, then again with those along which the likelihood is flat held at ``model``'s values
-    (:func:`held_where_flat`): first the flattest (``FLAT_STEPS[0]``), whose wandering along their flat directions
-    also moves the others' standard errors, then the rest.
-
-    Along a flat direction a fit's optimum is found only to the optimiser's tolerance, and the other parameters
-    move with it; the refit has a unique optimum. Its values, standard errors and intervals are conditional on the
-    held values, which change its predictions by little (the likelihood is flat along them).
-
-    ``frame`` as in :func:`fit`.
-
-    Returns:
-        the first fit (which parameters are identifiable, and hints) and the last (the values to report).
-    """
-    data = poses if isinstance(poses, SeriesStack) else stack(poses)
-    first = last = fit(model, data, frame=frame)
-    for flat in FLAT_STEPS:
-        held = held_where_flat(last, flat)
-        if held is not None:
-            last = fit(held, data, frame=frame)
-    return first, last
 
 
 def profile_interval(calibration: Calibration, poses: list[PoseData] | tuple[PoseData, ...] | SeriesStack,

@@ -51,10 +51,9 @@ def calibration_report_html(summary: dict, rows: list[dict], folder: Path, figur
                                      for s in settings["left_out"]) or "none",
         "intervals": settings["intervals"],
         "predictions": settings["predictions"],
-        "fit": (f"log L = {summary['log_likelihood']:.6g}, AIC = {summary['aic']:.6g}; all free: information rank "
+        "fit": (f"log L = {summary['log_likelihood']:.6g}, AIC = {summary['aic']:.6g}, information rank "
                 f"{information['rank']} of {information['free_parameters']}, condition number "
-                f"{information['condition_number']:.3g}; held at the study's values (flat likelihood): "
-                f"{', '.join(information['held']) or 'none'}; optimiser converged: {information['converged']}"),
+                f"{information['condition_number']:.3g}, optimiser converged: {information['converged']}"),
     }
     table = [[row[key] for key, _ in COMPARISON_COLUMNS] for row in rows]
     title = html.escape(f"tribokin calibrate — {Path(settings['study']).name} on {Path(settings['measurements']).name}")
