@@ -5,12 +5,16 @@ from __future__ import annotations
 
 import csv
 import json
+from collections.abc import Iterator
+from itertools import groupby
 from pathlib import Path
 
 import numpy as np
+import orjson
 
 from tribokin.maps.result import MapResult, ScenarioMap
 from tribokin.maps.schema import figure_index, table_figures
+from tribokin.maps.streaming import blocks
 from tribokin.output.folder import atomic_folder
 from tribokin.run import StudyResult
 from tribokin.study.names import map_table_file
@@ -78,13 +82,47 @@ def write_samples(result: StudyResult, folder: Path) -> None:
     np.savez_compressed(folder / "samples.npz", **arrays)
 
 
-def _csv_value(value) -> str:
-    """A map.csv cell: floats in full (repr), NaN as empty, booleans as true/false."""
-    if isinstance(value, (bool, np.bool_)):
-        return "true" if value else "false"
-    if isinstance(value, (float, np.floating)):
-        return "" if np.isnan(value) else repr(float(value))
-    return str(value)
+def float_lines(values: np.ndarray) -> list[str]:
+    """Each row of an (n, k) float array as CSV cells joined by commas, every float as ``repr`` writes it, NaN
+    empty: orjson's shortest round-trip digits, or ``repr`` for the rows holding a value whose styles differ (±inf,
+    and 1e-9 <= |value| < 1e-4, which orjson writes ``1e-9``, ``0.00001``)."""
+    values = np.ascontiguousarray(values, dtype=np.float64)
+    lines = orjson.dumps(values, option=orjson.OPT_SERIALIZE_NUMPY)[2:-2].decode().replace("null", "").split("],[")
+    magnitude = np.abs(values)
+    differ = (np.isinf(values) | ((magnitude >= 1e-9) & (magnitude < 1e-4))).any(axis=1)
+    for i, row in zip(np.flatnonzero(differ).tolist(), values[differ].tolist()):
+        lines[i] = ",".join("" if np.isnan(value) else repr(value) for value in row)
+    return lines[:len(values)]  # no rows: "[]" splits into one empty line
+
+
+def text_cell(text: str) -> str:
+    """A CSV cell of text, quoted as ``csv.writer`` (default dialect) quotes it: when it holds a comma, a quote
+    (doubled) or a line break."""
+    return '"' + text.replace('"', '""') + '"' if any(c in text for c in ',"\r\n') else text
+
+
+def column_cells(values: np.ndarray) -> list[str]:
+    """CSV cells of a column of booleans (true/false) or of text (:func:`text_cell`)."""
+    if values.dtype.kind == "b":
+        return np.array(["false", "true"], dtype=object)[values.astype(np.intp)].tolist()
+    cells = [str(value) for value in values.tolist()]
+    quoted = {text: text_cell(text) for text in set(cells)}
+    return [quoted[text] for text in cells]
+
+
+def table_lines(columns: dict[str, np.ndarray], rows: int = 4096) -> Iterator[str]:
+    """The CSV lines (``\\r\\n``-terminated, as ``csv.writer``) of equally long ``columns``, ``rows`` lines at a
+    time: consecutive float columns together (:func:`float_lines`), the others a column at a time
+    (:func:`column_cells`)."""
+    runs = [(floating, list(run)) for floating, run in groupby(columns.values(), key=lambda v: v.dtype.kind == "f")]
+    for part in blocks(len(next(iter(columns.values()))), rows):
+        pieces = []
+        for floating, run in runs:
+            if floating:
+                pieces.append(float_lines(np.column_stack([values[part] for values in run])))
+            else:
+                pieces.extend(column_cells(values[part]) for values in run)
+        yield "\r\n".join(map(",".join, zip(*pieces))) + "\r\n"
 
 
 def map_table_columns(workspace_map: MapResult, scenario: ScenarioMap, targets: slice) -> dict[str, np.ndarray]:
@@ -111,15 +149,13 @@ def write_map_table(workspace_map: MapResult, scenario: ScenarioMap, path: Path)
     """One scenario's map as CSV, one row per target in index order: position [m], reachable, the
     figures (µm, mdeg), ratio and difference of RP_l to the reference scenario (other scenarios),
     grid coordinates, q_<joint> [m or rad], normal_force_<joint>_N [N], and the reason a target is
-    unreachable; written block by block."""
+    unreachable; written block by block, a few thousand rows at a time (:func:`table_lines`)."""
     with open(path, "w", newline="", encoding="utf-8") as handle:
-        writer = csv.writer(handle)
         for part in workspace_map.blocks():
             columns = map_table_columns(workspace_map, scenario, part)
             if part.start == 0:
-                writer.writerow(columns)
-            for row in zip(*columns.values()):
-                writer.writerow([_csv_value(v) for v in row])
+                csv.writer(handle).writerow(columns)
+            handle.writelines(table_lines(columns))
 
 
 def map_table_name(workspace_map: MapResult, scenario: ScenarioMap) -> str:

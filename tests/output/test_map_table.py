@@ -1,0 +1,91 @@
+"""map.csv written by orjson a few thousand lines at a time: the bytes of ``repr`` and ``csv.writer`` cell by cell."""
+
+import csv
+import io
+
+import numpy as np
+import pytest
+
+from tribokin import run_study
+from tribokin.maps import streaming
+from tribokin.output import writers
+from tribokin.output.writers import column_cells, float_lines, map_table_name, table_lines, write_map_table
+
+SPECIAL = [0.0, -0.0, 3.0, -3.0, 0.1, 1e-4, 9.999999999999999e-05, 1e-5, 1.5e-5, -2e-7, 1e-9, 9.99e-10, 1e-10,
+           5e-324, -5e-324, 2.2250738585072014e-308, 2.225073858507201e-308, 1e308, 1.7976931348623157e308,
+           1e15, 1e16, 123456789012345678.0, np.inf, -np.inf, np.nan]
+TEXTS = ["", "elbow_joint", "a, b", 'say "hi"', '"', ",", "line\nbreak", "cr\rhere", " spaced ", "tab\tx", "µm"]
+
+
+def repr_lines(columns: dict) -> str:
+    """The lines as the writer before issue 22 wrote them: ``repr`` of each float (NaN empty), true/false,
+    ``csv.writer`` for the rest."""
+    def cell(value):
+        if isinstance(value, bool):
+            return "true" if value else "false"
+        return ("" if np.isnan(value) else repr(value)) if isinstance(value, float) else value
+
+    text = io.StringIO()
+    csv.writer(text).writerows([cell(v) for v in row] for row in zip(*(c.tolist() for c in columns.values())))
+    return text.getvalue()
+
+
+def test_every_float_is_written_as_repr_and_round_trips_bit_for_bit():
+    """Random bit patterns (subnormals, huge, NaN payloads), every order of magnitude, and the edges of orjson's
+    and repr's styles: the cell is repr's (so -0.0 is ``-0.0``, 3.0 is ``3.0``, inf ``inf``), NaN empty."""
+    rng = np.random.default_rng(22)
+    values = np.concatenate([rng.integers(0, 2**64, 200_003, dtype=np.uint64).view(np.float64),
+                             rng.normal(size=50_000) * 10.0 ** rng.integers(-320, 300, 50_000), SPECIAL])
+    cells = float_lines(values[:, None])
+    assert cells == ["" if np.isnan(v) else repr(v) for v in values.tolist()]
+    finite = ~np.isnan(values)
+    parsed = np.array([float(cell) for cell, keep in zip(cells, finite) if keep])
+    assert np.array_equal(parsed.view(np.int64), values[finite].view(np.int64))
+    assert float_lines(values.reshape(-1, 4)) == [",".join(cells[i:i + 4]) for i in range(0, len(cells), 4)]
+    assert float_lines(values[::-7, None]) == cells[::-7] and float_lines(np.empty((0, 3))) == []
+
+
+def test_booleans_and_text_are_written_as_csv_writer_writes_them():
+    texts = np.array(TEXTS, dtype=object)
+    columns = {"ok": np.arange(len(TEXTS)) % 2 == 0, "name": texts, "x": np.linspace(0, 1, len(TEXTS))}
+    assert column_cells(columns["ok"])[:2] == ["true", "false"]
+    lines = "".join(table_lines(columns))
+    assert lines == repr_lines(columns)
+    assert [row[1] for row in csv.reader(io.StringIO(lines))] == TEXTS
+
+
+@pytest.mark.parametrize("rows", [1, 3, 4096])
+def test_lines_are_the_same_however_many_are_formatted_at_a_time(rows):
+    rng = np.random.default_rng(rows)
+    columns = {"a": rng.normal(size=10), "b": np.where(rng.random(10) < 0.5, np.nan, rng.random(10) * 1e-6),
+               "c": rng.random(10) < 0.5, "d": rng.choice(np.array(TEXTS, dtype=object), 10)}
+    assert "".join(table_lines(columns, rows)) == repr_lines(columns)
+
+
+def test_map_tables_of_a_real_map_are_the_repr_writers_bytes_written_block_by_block(tmp_path, monkeypatch):
+    """A UR5 map with unreachable targets and two scenarios: each table is the old writer's bytes, the same with
+    blocks of 4 targets, the columns read 4 targets at a time."""
+    result = run_study({
+        "study": {"name": "ur5-map", "cycles": 20, "seed": 5},
+        "robot": {"name": "ur5", "payload_kg": 2.0},
+        "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5, "bearing_span_m": 0.08},
+        "map": {"kind": "plane", "origin_m": [0.0, -0.5, 0.1], "axis_u": [0, -1, 0], "axis_v": [0, 0, 1],
+                "extent_u_m": [-0.2, 0.45], "extent_v_m": [0.0, 0.3], "resolution": [5, 3]},
+        "scenarios": [{"name": "raw"}, {"name": "treated-shoulder",
+                                        "joints": {"shoulder_lift_joint": {"friction": {"preset": "42CD4-treated"}}}}],
+    })
+    workspace_map, columns, tables = result.map, writers.map_table_columns, {}
+    assert 0 < int(workspace_map.reachable.sum()) < workspace_map.grid.size
+    for scenario in workspace_map.scenarios.values():
+        path = tmp_path / map_table_name(workspace_map, scenario)
+        write_map_table(workspace_map, scenario, path)
+        whole = columns(workspace_map, scenario, slice(0, workspace_map.grid.size))
+        assert path.read_bytes() == (",".join(whole) + "\r\n" + repr_lines(whole)).encode()
+        tables[scenario.name] = path.read_bytes()
+    read = []
+    monkeypatch.setattr(streaming, "BLOCK_TARGETS", 4)
+    monkeypatch.setattr(writers, "map_table_columns", lambda m, s, part: read.append(part) or columns(m, s, part))
+    for scenario in workspace_map.scenarios.values():
+        write_map_table(workspace_map, scenario, tmp_path / "blocks.csv")
+        assert (tmp_path / "blocks.csv").read_bytes() == tables[scenario.name]
+    assert [part.stop - part.start for part in read] == [4, 4, 4, 3] * 2
