@@ -131,3 +131,20 @@ def test_raw_stream_needs_increasing_times(tmp_path):
         read_stream(write_csv(tmp_path, "x_m,y_m,z_m", ["1,2,3"], "untimed.csv"))
     assert caught.value.key == "t_s"
     assert read_stream(tmp_path / "untimed.csv", require_time=False).times_s is None
+
+
+@pytest.mark.parametrize("header, row, key, message", [
+    ("pose,direction,cycle,x_mm,y_mm,z_mm", "P1,+x,2,2e6,200.0,300.0", "x_mm", "outside [-1000, 1000] m"),
+    ("pose,direction,cycle,x_m,y_m,z_m", "P1,+x,2,1e300,0.2,0.3", "x_m", "a kilometre away"),
+    ("pose,direction,cycle,x_mm,y_mm,z_mm,a_deg,b_deg,c_deg", "P1,+x,2,100,200,300,0,400,0", "b_deg", "one turn"),
+    ("pose,direction,cycle,x_mm,y_mm,z_mm,sx_mm,sy_mm,sz_mm", "P1,+x,2,100,200,300,0,-1e-3,0", "sy_mm",
+     "outside [0, 1] m"),
+    ("pose,direction,cycle,x_mm,y_mm,z_mm,q_j1", "P1,+x,2,100,200,300,1e5", "q_j1", "160 times"),
+])
+def test_values_outside_their_physical_range_are_one_line_errors(tmp_path, header, row, key, message):
+    """Numeric extremes (1e300, a unit slip of mm for m) are refused before any figure overflows."""
+    extra = ",0,0,0" if "a_deg" in header or "sx_mm" in header else (",0" if "q_j1" in header else "")
+    first = "P1,+x,1,100,200,300" + extra
+    with pytest.raises(InputError) as error:
+        read_measurements(write_csv(tmp_path, header, [first, row]))
+    assert error.value.key == key and message in error.value.message

@@ -37,6 +37,15 @@ TRIPLES = {
     "commanded": (("cx", "cy", "cz"), LENGTH_UNITS),
     "std": (("sx", "sy", "sz"), LENGTH_UNITS),
 }
+#: Physical ranges in SI of each triple and of the q_ columns: (low, high, unit, why a value outside is refused).
+_DISTANCE = "no instrument measures a robot a kilometre away; check the unit in the column's name (_m or _mm)"
+RANGES = {
+    "position": (-1e3, 1e3, "m", _DISTANCE),
+    "commanded": (-1e3, 1e3, "m", _DISTANCE),
+    "orientation": (-2 * np.pi, 2 * np.pi, "rad", "write each angle within one turn either way"),
+    "std": (0.0, 1.0, "m", "an instrument reading a metre astray measures nothing of a robot's repeatability"),
+    "q": (-1e3, 1e3, "rad or m", "no joint travels a kilometre or turns 160 times"),
+}
 
 DEFAULT_DIRECTION = "+"
 #: Largest spread of one joint's coordinate between the rows of a pose: [rad], and [m] for prismatic joints.
@@ -205,11 +214,17 @@ class _Table:
             cells.append(cell)
         return cells
 
-    def numbers(self, name: str, factor: float = 1.0) -> np.ndarray:
-        """Column ``name`` as finite floats times ``factor``."""
-        values = [finite_cell(cell, f"line {number}", self.path, name)
-                  for number, cell in zip(self.lines, self.texts(name))]
-        return np.array(values) * factor
+    def numbers(self, name: str, factor: float = 1.0, bounds: str | None = None) -> np.ndarray:
+        """Column ``name`` as finite floats times ``factor``, within ``RANGES[bounds]`` (in SI) if given."""
+        values = np.array([finite_cell(cell, f"line {number}", self.path, name)
+                           for number, cell in zip(self.lines, self.texts(name))]) * factor
+        if bounds is not None:
+            low, high, unit, why = RANGES[bounds]
+            outside = np.flatnonzero((values < low) | (values > high))
+            if outside.size:
+                raise InputError(f"line {self.lines[outside[0]]} holds {values[outside[0]]:g} {unit}, outside "
+                                 f"[{low:g}, {high:g}] {unit}: {why}", self.path, name)
+        return values
 
     def triple(self, key: str, required: bool = False) -> tuple[np.ndarray | None, tuple[str, ...]]:
         """The (n, 3) SI values of triple ``key`` of :data:`TRIPLES` (None when absent) and its column names."""
@@ -234,7 +249,7 @@ class _Table:
             raise InputError(f"mixed units in {', '.join(columns)}; give all three in one unit ({example})",
                              self.path, columns[0])
         factor = units[used.pop()]
-        return np.column_stack([self.numbers(column, factor) for column in columns]), columns
+        return np.column_stack([self.numbers(column, factor, key) for column in columns]), columns
 
     def refuse_unknown(self, known: set[str]) -> None:
         """Refuse a column that is not in ``known`` and is not a ``q_<joint>``."""
@@ -279,7 +294,7 @@ def read_measurements(path, prismatic: Collection[str] = (), continuous: Collect
         commanded_m=table.triple("commanded")[0],
         std_m=table.triple("std")[0],
         times_s=table.numbers("t_s") if "t_s" in table.header else None,
-        q=np.column_stack([table.numbers(f"q_{j}") for j in joints]) if joints else None,
+        q=np.column_stack([table.numbers(f"q_{j}", bounds="q") for j in joints]) if joints else None,
         joints=joints,
     )
     return replace(assemble(str(table.path), rows, prismatic, continuous), columns=tuple(table.header))
