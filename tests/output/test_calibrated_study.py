@@ -1,0 +1,56 @@
+"""calibrated.toml: the study's own text with fitted values, measured poses and paths that still name its files."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from tribokin.output.calibrated_study import WrittenValue, calibrated_study_text
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+STUDY = """# my study: keep this comment
+[robot]
+urdf = "robots/arm.urdf"   # relative to the study
+package_dirs = ["robots", "/opt/meshes"]
+
+[joints]
+stiffness = 1e5
+friction = { file = "laws/law.toml" }
+
+[joints.j2]
+backlash = 1e-5   # a guess
+
+[[poses]]
+name = "home"
+q = [0.0, 0.0]
+friction = { log = "logs/run.csv" }
+"""
+
+
+def test_values_poses_and_comments(tmp_path):
+    values = [WrittenValue("j1", "stiffness", 61234.5, "fitted: 95 % interval [5.1e4, 7.2e4] N·m/rad"),
+              WrittenValue("j2", "backlash", 2.5e-05, "fitted")]
+    text = calibrated_study_text(STUDY, tmp_path, tmp_path, ["made by a test", ""], values, [("P1", [0.1, -0.2])])
+    assert text.startswith("# made by a test\n#\n") and "# my study: keep this comment" in text
+    parsed = tomllib.loads(text)
+    assert parsed["joints"]["j1"]["stiffness"] == 61234.5 and parsed["joints"]["j2"]["backlash"] == 2.5e-05
+    assert parsed["joints"]["stiffness"] == 1e5  # the defaults stay
+    assert [p["name"] for p in parsed["poses"]] == ["home", "P1"] and parsed["poses"][1]["q"] == [0.1, -0.2]
+    assert "fitted: 95 % interval [5.1e4, 7.2e4] N·m/rad" in text
+
+
+def test_relative_paths_name_the_same_files_from_the_output_folder(tmp_path):
+    source, out = tmp_path / "studies", tmp_path / "results" / "fit"
+    text = calibrated_study_text(STUDY, source, out, [], [], [])
+    parsed = tomllib.loads(text)
+    resolved = lambda path: (out / path).resolve()  # noqa: E731
+    assert resolved(parsed["robot"]["urdf"]) == (source / "robots" / "arm.urdf").resolve()
+    assert resolved(parsed["robot"]["package_dirs"][0]) == (source / "robots").resolve()
+    assert parsed["robot"]["package_dirs"][1] == "/opt/meshes"  # absolute: as written
+    assert resolved(parsed["joints"]["friction"]["file"]) == (source / "laws" / "law.toml").resolve()
+    assert resolved(parsed["poses"][0]["friction"]["log"]) == (source / "logs" / "run.csv").resolve()
+    assert Path(parsed["robot"]["urdf"]).as_posix() == "../../studies/robots/arm.urdf"
