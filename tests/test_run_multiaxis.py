@@ -136,3 +136,33 @@ def test_a_zero_tool_offset_changes_no_figure_and_a_real_one_moves_the_point_mea
     assert np.linalg.norm(moved) == pytest.approx(np.hypot(0.05, 0.1), rel=1e-12)
     rp, rp_probe = flange.table()["RP_l_um"][0], probe.table()["RP_l_um"][0]
     assert abs(rp_probe - rp) > 0.03 * rp
+
+
+def test_poses_with_approach_directions_move_only_the_joints_each_approach_moves():
+    """[[poses]] directions: each label is a unidirectional series (whatever the study's approach); on a
+    straight Cartesian approach with the tool's orientation held, a joint that does not move loses no motion."""
+    study = arm_study({"name": "ur5"})
+    del study["iso_cube"]
+    q = [0.1, -1.0, 1.2, -0.8, 1.3, 0.1]
+    study["poses"] = [{"name": "held", "q": q, "directions": ["+z", "+x", "-0.6+0.8+0.0"]}]
+    pose = run_study(study, cycles=12).poses[0]
+    assert list(pose.directions) == ["+z", "+x", "-0.6+0.8+0.0"] and np.bincount(pose.approach).tolist() == [12] * 3
+    vertical = pose.dq[pose.approach == 0]
+    # a vertical approach lies in the arm's plane: pan, wrist_2 and wrist_3 stay still (tests/iso9283/test_cube.py)
+    assert np.all(vertical[:, [0, 4, 5]] == 0.0) and np.all(vertical[:, 1:4] != 0.0)
+    assert np.all(pose.dq[pose.approach == 1] != 0.0)
+
+
+@pytest.mark.parametrize("directions, key, message", [
+    (["+x", "up"], "poses[0].directions[1]", "'up' names no approach"),
+    (["+x", "+x"], "poses[0].directions[1]", "named twice"),
+    ([], "poses[0].directions", "at least one"),
+])
+def test_bad_pose_directions_are_one_line_errors(directions, key, message):
+    from tribokin import InputError
+
+    study = arm_study({"name": "ur5"})
+    study["poses"] = [{"q": [0.1, -1.0, 1.2, -0.8, 1.3, 0.1], "directions": directions}]
+    with pytest.raises(InputError) as error:
+        run_study(study, cycles=5)
+    assert error.value.key == key and message in error.value.message

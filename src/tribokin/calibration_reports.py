@@ -184,8 +184,8 @@ def _calibrated_study(study, study_path: Path, out: Path, header: list[str], val
                       inputs: CalibrationInput) -> tuple[str, object]:
     """``calibrated.toml``'s text, and the study it parses into from ``out`` (checked runnable)."""
     taken = {p.name for p in study.poses} | ({"P1", "P2", "P3", "P4", "P5"} if study.iso_cube is not None else set())
-    poses = [(name if name not in taken else f"measured-{name}", q.tolist())
-             for name, q in zip((p.label for p in inputs.poses), inputs.configurations)]
+    poses = [(pose.label if pose.label not in taken else f"measured-{pose.label}", q.tolist(),
+              [s.direction for s in pose.series]) for pose, q in zip(inputs.poses, inputs.configurations)]
     text = calibrated_study_text(study_path.read_text(encoding="utf-8"), study_path.parent, out, header, values,
                                  poses)
     calibrated = parse_study_text(text, out / "calibrated.toml", out)

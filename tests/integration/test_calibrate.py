@@ -94,6 +94,7 @@ def test_the_calibrated_study_runs_with_the_fitted_values(calibrated, tmp_path):
     assert done.returncode == 0, done.stderr
     summary = json.loads((tmp_path / "predicted" / "summary.json").read_text(encoding="utf-8"))
     assert [p["name"] for p in summary["poses"]] == [f"P{i}" for i in range(1, 6)]
+    assert all(list(p["directions"]) == ["+x", "+y", "+z"] for p in summary["poses"])  # approached as measured
     assert summary["study"]["joint_models"]["shoulder_pan_joint"]["stiffness"] == pan
 
 

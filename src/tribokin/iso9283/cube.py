@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -86,6 +87,40 @@ def held_approach_signs(robot: Robot, q, directions) -> np.ndarray:
     velocities = velocities.T
     still = np.abs(velocities) <= STILL_RTOL * np.abs(velocities).max(axis=1, keepdims=True)
     return np.where(still, 0.0, np.sign(velocities))
+
+
+#: A direction label written as three signed decimal numbers, e.g. ``+0.58-0.58+0.58``.
+VECTOR_LABEL = re.compile(r"^([+-]\d+(?:\.\d*)?)([+-]\d+(?:\.\d*)?)([+-]\d+(?:\.\d*)?)$")
+#: Joint-space approach labels: every joint travelling forwards or backwards.
+JOINT_SPACE_SIGNS = {"+": 1.0, "-": -1.0}
+
+
+def approach_vector(label: str) -> np.ndarray | None:
+    """The unit direction of the base frame a Cartesian approach label names (``+x``, ``-z``, or three signed
+    numbers such as ``+0.58+0.58+0.58``, normalised), else None."""
+    if label in APPROACH_DIRECTIONS:
+        return APPROACH_DIRECTIONS[label]
+    match = VECTOR_LABEL.match(label)
+    if match is None:
+        return None
+    vector = np.array([float(v) for v in match.groups()])
+    norm = np.linalg.norm(vector)
+    return vector / norm if norm > 0 else None
+
+
+def known_approach(label: str) -> bool:
+    """Whether :func:`label_approach_signs` knows the approach ``label`` names."""
+    return label in JOINT_SPACE_SIGNS or approach_vector(label) is not None
+
+
+def label_approach_signs(robot: Robot, q, label: str) -> np.ndarray | None:
+    """(nv,) the joints' approach signs of a direction label: ``+``/``-`` every joint forwards/backwards (joint
+    space); a Cartesian label (:func:`approach_vector`) the tool point approached along it with the tool's
+    orientation held (:func:`held_approach_signs`); None for any other label (an unknown approach)."""
+    if label in JOINT_SPACE_SIGNS:
+        return np.full(robot.model.nv, JOINT_SPACE_SIGNS[label])
+    vector = approach_vector(label)
+    return None if vector is None else held_approach_signs(robot, q, vector)[0]
 
 
 def holds_orientation(robot: Robot, q) -> bool:

@@ -5,7 +5,8 @@ The study's own text is kept (its comments and layout, through ``tomlkit``), wit
 - a header of comment lines saying where the values come from;
 - each fitted value set in its joint's table (``[joints.<joint>]``, made when missing), with a comment
   giving its interval; a value the data cannot determine is left as the study gives it, and a comment says so;
-- ``[[poses]]`` for the measured poses (their configurations), so that ``run`` predicts there too;
+- ``[[poses]]`` for the measured poses (their configurations and approach directions), so that ``run`` predicts
+  there too, approached as they were measured;
 - relative paths (``robot.urdf``, ``robot.package_dirs``, law files ``file``, ``log``, ``surface``) rewritten
   relative to the output folder, so that they name the same files from there.
 """
@@ -65,7 +66,7 @@ def _move_paths(document, source_dir: Path, out: Path) -> None:
 
 
 def calibrated_study_text(study_text: str, source_dir: Path, out: Path, header: list[str],
-                          values: list[WrittenValue], poses: list[tuple[str, list[float]]]) -> str:
+                          values: list[WrittenValue], poses: list[tuple[str, list[float], list[str]]]) -> str:
     """The calibrated study (module docstring).
 
     Args:
@@ -74,7 +75,7 @@ def calibrated_study_text(study_text: str, source_dir: Path, out: Path, header: 
         out: the folder ``calibrated.toml`` is written to.
         header: comment lines (without ``#``) put first.
         values: the joint keys to set.
-        poses: (name, configuration) of the poses to append as ``[[poses]]``.
+        poses: (name, configuration, approach directions) of the poses to append as ``[[poses]]``.
     """
     document = tomlkit.parse(study_text)
     _move_paths(document, source_dir, out)
@@ -87,11 +88,13 @@ def calibrated_study_text(study_text: str, source_dir: Path, out: Path, header: 
         joints[value.joint][value.key] = item
     if poses:
         entries = document["poses"] if "poses" in document else tomlkit.aot()
-        for name, q in poses:
+        for name, q, directions in poses:
             entry = tomlkit.table()
             entry["name"] = name
             entry["q"] = q
             entry["q"].comment("measured pose [rad or m]")
+            entry["directions"] = directions
+            entry["directions"].comment("its measured approaches")
             entries.append(entry)
         document["poses"] = entries
     lines = "".join(f"# {line}\n" if line else "#\n" for line in header)

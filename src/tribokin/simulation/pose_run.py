@@ -47,7 +47,8 @@ JOINT_SPACE_DIRECTIONS = ("+", "-")
 @dataclass
 class PoseTask:
     """A pose to run: configuration [m or rad] and its approach directions: the joints' signs of
-    travel (m, nv) and a label for each (``"+"``, ``"-"`` in joint space; ``"+x"``... for a cube pose)."""
+    travel (m, nv; 0 for a joint that does not move) and a label for each (``"+"``, ``"-"`` in joint space;
+    ``"+x"``... for a cube pose); ``every_direction``: each is tested whatever the approach mode."""
 
     name: str
     q: np.ndarray
@@ -55,11 +56,12 @@ class PoseTask:
     labels: tuple[str, ...]
     normal_force_N: float | None = None
     friction: FrictionLaw | None = None
+    every_direction: bool = False
 
     def tested(self, mode: str) -> PoseTask:
         """The task with the directions an ``approach`` mode tests: the + ones (unidirectional) or all
-        (bidirectional, random)."""
-        if mode != "unidirectional":
+        (bidirectional, random); all of them when the task names its directions (``every_direction``)."""
+        if mode != "unidirectional" or self.every_direction:
             return self
         keep = [k for k, label in enumerate(self.labels) if label.startswith("+")]
         return replace(self, directions=self.directions[keep], labels=tuple(self.labels[k] for k in keep))

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
-from dataclasses import asdict
+from dataclasses import asdict, replace
+
+import numpy as np
 
 from tribokin.errors import InputError, closest_hint, located
-from tribokin.iso9283.cube import APPROACH_DIRECTIONS, UnreachableCube, place_cube
+from tribokin.iso9283.cube import APPROACH_DIRECTIONS, UnreachableCube, label_approach_signs, place_cube
 from tribokin.kinematics.robot import Robot, load_example_robot, load_urdf, tool_point_placement
 from tribokin.simulation.joint_errors import JointErrorModel
 from tribokin.simulation.pose_run import PoseTask, joint_space_task
@@ -69,13 +71,19 @@ def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
 
 
 def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]:
-    """The study's joint-space poses, then the ISO cube's P1-P5 (solved by IK)."""
+    """The study's poses (joint space, or approached along their ``directions``), then the ISO cube's P1-P5
+    (solved by IK)."""
     tasks = []
     for i, p in enumerate(study.poses):
         with located(study.source, f"poses[{i}].q"):
             q = robot.check_configuration(p.q)
-        tasks.append(joint_space_task(p.name, q, p.normal_force_N, None if p.friction is None else
-                                      law_from_spec(p.friction, study.source, f"poses[{i}].friction", study.base_dir)))
+        friction = None if p.friction is None else law_from_spec(p.friction, study.source, f"poses[{i}].friction",
+                                                                study.base_dir)
+        task = joint_space_task(p.name, q, p.normal_force_N, friction)
+        if p.directions is not None:
+            signs = np.array([label_approach_signs(robot, q, label) for label in p.directions])
+            task = replace(task, directions=signs, labels=p.directions, every_direction=True)
+        tasks.append(task)
     cube = None
     if study.iso_cube is not None:
         try:

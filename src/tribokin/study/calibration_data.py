@@ -12,16 +12,14 @@ For each measured pose:
   (:func:`~tribokin.measurement.registration.register_measurements`, re-taught commanded positions corrected as
   ``measure`` does), else as measured; each with its joints' approach signs, from its direction label:
 
-  - ``+x``, ``-y``, ... or a direction written as three signed numbers (``+0.58+0.58+0.58``, normalised): the tool
-    point approached along that direction of the base frame with the tool's orientation held
-    (:func:`~tribokin.iso9283.cube.held_approach_signs`: a joint that does not move has sign 0);
-  - ``+`` or ``-``: every joint travelling forwards (backwards), as ``run``'s joint-space poses;
-  - anything else (``start``): the approach is unknown, and the series is left out of the fit and listed.
+  :func:`~tribokin.iso9283.cube.label_approach_signs` (``+x``, ``-y``, ... or ``+0.58+0.58+0.58``: the tool point
+  approached along that direction of the base frame with the tool's orientation held, a joint that does not move
+  having sign 0; ``+`` or ``-``: every joint forwards or backwards); any other label (``start``) is an unknown
+  approach, and its series is left out of the fit and listed.
 """
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -30,7 +28,7 @@ import pinocchio as pin
 from tribokin.calibration.data import PoseData, SeriesData
 from tribokin.calibration.model import JointModel
 from tribokin.errors import InputError, located
-from tribokin.iso9283.cube import APPROACH_DIRECTIONS, held_approach_signs
+from tribokin.iso9283.cube import label_approach_signs
 from tribokin.kinematics.ik import solve_ik_with_restarts
 from tribokin.kinematics.robot import Robot
 from tribokin.measurement.contract import Measurements, Pose
@@ -41,32 +39,8 @@ from tribokin.simulation.pose_run import PoseRunner
 from tribokin.streams import posture_search
 from tribokin.study.spec import Study
 
-#: A direction label written as three signed decimal numbers, e.g. ``+0.58-0.58+0.58``.
-VECTOR_LABEL = re.compile(r"^([+-]\d+(?:\.\d*)?)([+-]\d+(?:\.\d*)?)([+-]\d+(?:\.\d*)?)$")
-#: Joint-space approach labels: every joint forwards or backwards.
-JOINT_SPACE_LABELS = {"+": 1.0, "-": -1.0}
 #: Largest distance [m] between a pose's commanded position and the tool point at the configuration IK found.
 IK_TOLERANCE_M = 1e-6
-
-
-def approach_vector(label: str) -> np.ndarray | None:
-    """The unit direction of the base frame a Cartesian label names (``+x``, ``+0.58+0.58+0.58``), else None."""
-    if label in APPROACH_DIRECTIONS:
-        return APPROACH_DIRECTIONS[label]
-    match = VECTOR_LABEL.match(label)
-    if match is None:
-        return None
-    vector = np.array([float(v) for v in match.groups()])
-    norm = np.linalg.norm(vector)
-    return vector / norm if norm > 0 else None
-
-
-def approach_signs(robot: Robot, q: np.ndarray, label: str) -> np.ndarray | None:
-    """(nv,) the joints' approach signs of a direction label (module docstring), None for an unknown approach."""
-    if label in JOINT_SPACE_LABELS:
-        return np.full(robot.model.nv, JOINT_SPACE_LABELS[label])
-    vector = approach_vector(label)
-    return None if vector is None else held_approach_signs(robot, q, vector)[0]
 
 
 @dataclass(frozen=True)
@@ -181,7 +155,7 @@ def calibration_input(study: Study, robot: Robot, models: list[JointErrorModel],
         torque_mean, torque_std = friction_torque_moments(models, robot.joint_is_prismatic, forces)
         series = []
         for measured, points in zip(pose.series, pose_clouds(pose, registration).positions_m):
-            signs = approach_signs(robot, q, measured.direction)
+            signs = label_approach_signs(robot, q, measured.direction)
             if signs is None:
                 left_out.append(LeftOut(pose.name, measured.direction, len(measured.cycles),
                                         "its direction label names no approach (+x, -y, ..., +0.58+0.58+0.58, + or -)"))

@@ -16,6 +16,7 @@ from pathlib import Path
 from tribokin.checks import finite, non_negative, number_list, one_of, positive, positive_int, seed_int, \
     string_list, table, text, whole_number, within
 from tribokin.errors import InputError, closest_hint
+from tribokin.iso9283.cube import known_approach
 from tribokin.simulation.joint_errors import APPROACH_MODES
 from tribokin.study.map_spec import MAP_SPECS, MapSpec
 
@@ -147,11 +148,27 @@ ISO_CUBE_KEYS = {
     "side_m": (side, None),
     "rpy_deg": (angles3, None),
 }
+def approach_labels(value, source, key) -> list[str]:
+    """A non-empty list of distinct approach labels: ``+`` or ``-`` (every joint forwards or backwards), ``+x``,
+    ``-y``, ... or a direction as three signed numbers (``+0.58+0.58+0.58``)."""
+    labels = string_list(value, source, key)
+    if not labels:
+        raise InputError("name at least one approach direction", source, key)
+    for i, label in enumerate(labels):
+        if not known_approach(label):
+            raise InputError(f"'{label}' names no approach: write +, -, +x, -y, ... or a direction as three signed "
+                             "numbers such as +0.58+0.58+0.58", source, f"{key}[{i}]")
+        if label in labels[:i]:
+            raise InputError(f"'{label}' is named twice; name it once", source, f"{key}[{i}]")
+    return labels
+
+
 POSE_KEYS = {
     "name": (text, None),
     "q": (partial(number_list, element=joint_value), REQUIRED),
     "normal_force_N": (normal_force, None),
     "friction": (table, None),
+    "directions": (approach_labels, None),
 }
 MAP_KINDS = {
     "plane": {
@@ -312,13 +329,16 @@ class PoseSpec:
     """A commanded configuration to test.
 
     ``q`` in [m or rad], one value per active joint; ``normal_force_N`` [N] and
-    ``friction`` (a law spec), when set, apply to every joint at this pose (overriding ``[joints]``).
+    ``friction`` (a law spec), when set, apply to every joint at this pose (overriding ``[joints]``);
+    ``directions``: its approach labels (:func:`approach_labels`), each tested as a unidirectional series whatever
+    the study's ``approach``, or ``None``: joint space, ``+`` (and ``-`` when the approach is not unidirectional).
     """
 
     name: str
     q: tuple[float, ...]
     normal_force_N: float | None
     friction: dict | None
+    directions: tuple[str, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -463,7 +483,7 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
     for i, pose in enumerate(poses_list):
         checked = check_table(table(pose, source, f"poses[{i}]"), POSE_KEYS, source, f"poses[{i}]")
         poses.append(PoseSpec(checked["name"] or f"P{i + 1}", _frozen(checked["q"]), checked["normal_force_N"],
-                              checked["friction"]))
+                              checked["friction"], _frozen(checked["directions"])))
     names = [p.name for p in poses] + (["P1", "P2", "P3", "P4", "P5"] if iso_cube is not None else [])
     duplicate = next((n for n in names if names.count(n) > 1), None)
     if duplicate:
