@@ -48,26 +48,15 @@ def _um(value_m: float | None) -> float | None:
     return None if value_m is None else float(value_m * UM_PER_M)
 
 
-def _parameter_entry(estimate: ParameterEstimate, profile: tuple[float | None, float | None] | None,
-                     kept: float | None) -> dict:
-    """A parameter in ``calibration.json``: values only where the data determine it."""
+def _parameter_entry(estimate: ParameterEstimate, profile: tuple[float | None, float | None] | None) -> dict:
+    """A parameter in ``calibration.json``: values only where the data determine it; ``kept_value``, for the others,
+    the fit's value that ``calibrated.toml`` keeps for its predictions (not a measured value)."""
     if not estimate.identifiable:
         return {"name": estimate.name, "unit": estimate.unit, "value": None, "std_error": None, "ci95": None,
-                "ci95_wald": None, "identifiable": False, "hint": estimate.hint, "kept_value": kept}
+                "ci95_wald": None, "identifiable": False, "hint": estimate.hint, "kept_value": estimate.value}
     return {"name": estimate.name, "unit": estimate.unit, "value": estimate.value, "std_error": estimate.std_error,
             "ci95": list(profile), "ci95_wald": list(estimate.ci95), "identifiable": True, "hint": "",
             "kept_value": None}
-
-
-def _nominal_value(inputs: CalibrationInput, name: str) -> float | None:
-    """The study's value of a free parameter (a tied factor: 1)."""
-    model = inputs.model
-    if name == "noise_floor_m":
-        return model.noise_floor_m
-    if name == "joints.stiffness_factor":
-        return 1.0
-    _, joint, key = name.split(".")
-    return float(getattr(model, key)[model.joint_names.index(joint)])
 
 
 def _figure(figure: PredictedFigure | None) -> dict | None:
@@ -108,8 +97,8 @@ def _comparison_row(pose: str, direction: str, figure: str, cycles: int, fitted:
 
 def _written_values(inputs: CalibrationInput, calibration: Calibration, estimates: list[ParameterEstimate],
                     intervals: dict[str, tuple[float | None, float | None]]) -> list[WrittenValue]:
-    """The joint keys of ``calibrated.toml``: every joint parameter ``[calibration]`` frees, at the reported fit's
-    value (the study's for those it held), each with a comment saying what is known of it."""
+    """The joint keys of ``calibrated.toml``: every joint parameter ``[calibration]`` frees, at the fit's value,
+    each with a comment saying what is known of it."""
     model, fitted = inputs.model, calibration.model
     estimates = {e.name: e for e in estimates}
     values = []
@@ -255,8 +244,7 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
             "left_out": [asdict(item) for item in inputs.left_out],
             "intervals": INTERVAL_METHOD, "predictions": PREDICTION_METHOD, "seed": seed,
         },
-        "parameters": [_parameter_entry(e, intervals.get(e.name), _nominal_value(inputs, e.name))
-                       for e in estimates],
+        "parameters": [_parameter_entry(e, intervals.get(e.name)) for e in estimates],
         "log_likelihood": calibration.log_likelihood, "aic": calibration.aic,
         "information": {"rank": calibration.rank, "free_parameters": len(calibration.parameters),
                         "condition_number": calibration.condition_number, "converged": calibration.converged},

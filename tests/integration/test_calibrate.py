@@ -89,7 +89,7 @@ def test_the_calibrated_study_runs_with_the_fitted_values(calibrated, tmp_path):
     found = parameters(out)
     pan = found["joints.shoulder_pan_joint.stiffness"]["value"]
     assert f"stiffness = {pan!r}" in text and "profile likelihood" in text
-    assert "not identifiable from the measurements" in text  # wrist_3 keeps the study's value, and says so
+    assert "not identifiable from the measurements" in text  # wrist_3 keeps the fit's value, and says so
     done = tribokin("run", out / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
     assert done.returncode == 0, done.stderr
     summary = json.loads((tmp_path / "predicted" / "summary.json").read_text(encoding="utf-8"))
