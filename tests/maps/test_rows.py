@@ -5,11 +5,17 @@ import dataclasses
 import numpy as np
 import pytest
 
+from conftest import STUDIES
 from maps.test_grid import ur5_plane
+from tribokin import run_study
+from tribokin.kinematics import ik
+from tribokin.maps import rows as map_rows
 from tribokin.maps.grid import grid_neighbours, make_grid
-from tribokin.maps.rows import extrapolate_row, fill_from_neighbours, holes_beside_reached, solve_row, \
-    solve_row_heads
+from tribokin.maps.schema import map_columns
+from tribokin.maps.rows import beyond_reach_m, extrapolate_row, fill_from_neighbours, holes_beside_reached, \
+    solve_row, solve_row_heads
 from tribokin.study.assembly import load_robot
+from tribokin.study.reading import read_study_file
 
 
 @pytest.fixture(scope="module")
@@ -56,12 +62,52 @@ def test_holes_beside_reached_targets_are_found_block_by_block(monkeypatch):
     assert 0 not in expected and 59 in expected  # 0's neighbours 1, 5, 20 are all unreachable
 
 
-def test_targets_out_of_reach_stay_unreachable(solved):
+def ik_refusing_beyond_reach(grid):
+    """``solve_ik`` that fails the test when asked for a target beyond ``grid.reach``."""
+    real = ik.solve_ik
+
+    def solve(robot, target, q_start, **options):
+        assert np.isnan(grid.reach.beyond_m(target.translation)).all(), "IK tried beyond the reach"
+        return real(robot, target, q_start, **options)
+
+    return solve
+
+
+def test_targets_out_of_reach_stay_unreachable_without_ik(solved, monkeypatch):
     robot, grid, q_solved, _ = solved
-    far = dataclasses.replace(grid, origin_m=grid.origin_m + [3.0, 0.0, 0.0])  # 3 m further: beyond the UR5's reach
+    far = dataclasses.replace(grid, origin_m=grid.origin_m + [1.0, 0.0, 0.0])  # 1 m further: beyond the UR5's reach
+    gaps = beyond_reach_m(far, np.arange(far.size))
+    assert np.all(gaps > 0.02)
+    monkeypatch.setattr(map_rows, "solve_ik", ik_refusing_beyond_reach(far))
+    monkeypatch.setattr(ik, "solve_ik", ik_refusing_beyond_reach(far))  # the restarts' solves
     q, reachable = q_solved.copy(), np.ones(grid.size, dtype=bool)
     q[7], reachable[7] = np.nan, False
     assert fill_from_neighbours(robot, far, reader(q, reachable)) == {}
+    row_q, row_reachable, closest = solve_row(robot, far, 1, q_solved[5])
+    assert np.isnan(row_q).all() and not row_reachable.any()
+    np.testing.assert_array_equal(closest[:, 0], gaps[far.row_indices(1)])
+    assert np.isnan(closest[:, 1]).all()
+
+
+def test_the_reach_bound_changes_only_the_reasons_of_targets_beyond_it(monkeypatch):
+    study = read_study_file(STUDIES / "ur5-map-horizontal.toml").mapping
+    study["map"]["resolution"], study["study"]["cycles"] = [25, 15], 20
+    bounded = run_study(study).map
+    monkeypatch.setattr(map_rows, "beyond_reach_m", lambda grid, indices: np.full(len(indices), np.nan))
+    unbounded = run_study(study).map
+    gaps = beyond_reach_m(bounded.grid, np.arange(bounded.grid.size))
+    beyond = ~np.isnan(gaps)
+    assert 10 < beyond.sum() < (~bounded.reachable).sum()  # the far corners, not every unreachable target
+    for column in map_columns(len(bounded.joint_names), len(bounded.scenarios)):
+        if column != "closest":
+            np.testing.assert_array_equal(bounded.read(column), unbounded.read(column), err_msg=column)
+    np.testing.assert_array_equal(bounded.read("closest")[~beyond], unbounded.read("closest")[~beyond])
+    np.testing.assert_array_equal(bounded.read("closest")[beyond, 0], gaps[beyond])
+    reasons = bounded.reasons()
+    assert all(reason.startswith("beyond the robot's reach: ") for reason in reasons[beyond])
+    assert all(reason.startswith("no IK solution") for reason in reasons[~beyond & ~bounded.reachable])
+    assert reasons[beyond][0].endswith("m from (0, 0, 0.08916) m, where the tool point never goes farther than "
+                                       "0.9619 m (no IK tried)")
 
 
 def test_row_extrapolation_continues_a_polynomial_through_the_last_reached_targets():

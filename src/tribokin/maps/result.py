@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tribokin.maps.grid import TargetGrid
-from tribokin.maps.rows import unreachable_reason
+from tribokin.maps.rows import unreachable_reasons
 from tribokin.maps.schema import MAP_FIGURES, figure_index, scenario_column
 from tribokin.maps.store import ChunkStore
 from tribokin.maps.streaming import blocks, spread
@@ -72,7 +72,8 @@ class MapResult:
         joint_names: active joints, in the order of ``q``.
         store: the per-target columns: ``position_m`` (N, 3) target positions [m], ``q`` (N, nv)
             configurations [m or rad] (NaN where unreachable), ``reachable`` (N,), ``closest`` (N, 2) how
-            close the IK came to unreachable targets [m, rad], and each scenario's (:class:`ScenarioMap`).
+            close the IK came to unreachable targets [m, rad] (beyond the robot's reach: how far beyond [m],
+            NaN), and each scenario's (:class:`ScenarioMap`).
         scenarios: one :class:`ScenarioMap` per scenario, by name, in the study's order; the first is the
             reference of comparisons.
     """
@@ -111,7 +112,7 @@ class MapResult:
 
     def reasons(self, targets=slice(None)) -> np.ndarray:
         """Why each of ``targets`` is unreachable (``""`` when reachable), as Python strings."""
-        return np.array([unreachable_reason(*c) for c in self.read("closest", targets)], dtype=object)
+        return unreachable_reasons(self.grid, self.read("position_m", targets), self.read("closest", targets))
 
     def ratio_RP_l(self, scenario: ScenarioMap, targets=slice(None)) -> np.ndarray:
         """RP_l of ``scenario`` over the reference's [-] (NaN where the reference's is 0 or unreachable)."""

@@ -5,6 +5,10 @@ warm-started from a neighbour in an order that does not depend on how the rows a
 split into chunks: the first target of every row (the *row heads*) is solved in one sequence
 from the start posture (:func:`solve_row_heads`), then each row is solved along its columns
 from its head (:func:`solve_row`). So a row's configurations depend on the grid only.
+
+A target beyond the robot's reach (``grid.reach``, :mod:`tribokin.kinematics.reach`) is unreachable without any IK
+iteration, except a row head: its failed IK's configuration is its row's warm start. IK cannot reach such a target
+anyway, so every other target is solved along the same path as without the bound.
 """
 
 from __future__ import annotations
@@ -16,6 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from tribokin.kinematics.ik import IKResult, solve_ik, solve_ik_with_restarts
+from tribokin.kinematics.reach import ReachSphere
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.grid import TargetGrid, axis_steps, grid_neighbours
 from tribokin.streams import ik_restart_stream
@@ -40,6 +45,14 @@ def _solve(robot: Robot, grid: TargetGrid, index: int, q_start) -> IKResult:
     """IK of target ``index`` from ``q_start``, then from seeded random restarts."""
     return solve_ik_with_restarts(robot, _target(grid, index), q_start, lambda: ik_restart_stream(index),
                                   IK_RESTARTS, position_only=grid.rotation is None)
+
+
+def beyond_reach_m(grid: TargetGrid, indices) -> np.ndarray:
+    """(k,) how far [m] Cartesian targets ``indices`` lie beyond the robot's reach (``grid.reach``), NaN for those
+    within it (and every target of a joint grid)."""
+    if grid.reach is None:
+        return np.full(len(indices), np.nan)
+    return grid.reach.beyond_m(grid.positions_m(indices))
 
 
 def head_order(grid: TargetGrid) -> list[int]:
@@ -83,10 +96,13 @@ def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndar
     """Configurations of grid row ``row``, each target warm-started from the last reachable one (``head_q`` first),
     extrapolated along the row when two or more targets right before it were reached (:func:`extrapolate_row`).
 
+    Targets beyond the robot's reach are not solved (:func:`beyond_reach_m`).
+
     Returns:
         q (columns, nv) [m or rad] (NaN where unreachable), reachable (columns,), and for unreachable
         targets how close the IK came (columns, 2): position error [m], orientation error [rad] (NaN
-        for reachable targets, and the orientation when it is not held).
+        for reachable targets, and the orientation when it is not held; beyond the reach, how far beyond [m]
+        and NaN).
     """
     indices = grid.row_indices(row)
     closest = np.full((len(indices), 2), np.nan)
@@ -95,7 +111,11 @@ def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndar
     q = np.full((len(indices), robot.model.nv), np.nan)
     reachable = np.zeros(len(indices), dtype=bool)
     q_start = np.asarray(head_q, dtype=float)
+    beyond = beyond_reach_m(grid, indices)
     for k, index in enumerate(indices):
+        if not np.isnan(beyond[k]):
+            closest[k, 0] = beyond[k]
+            continue
         result = None
         predicted = extrapolate_row(q[:k], reachable[:k])
         if predicted is not None:
@@ -155,7 +175,10 @@ def fill_from_neighbours(robot: Robot, grid: TargetGrid, read) -> dict[int, np.n
     def reached(indices: list[int]) -> np.ndarray:
         return read("reachable", indices) | np.isin(indices, list(filled))
 
-    pending = holes_beside_reached(grid, read)
+    def within_reach(indices: list[int]) -> list[int]:
+        return [index for index, gap in zip(indices, beyond_reach_m(grid, indices)) if np.isnan(gap)]
+
+    pending = within_reach(holes_beside_reached(grid, read))
     tried = defaultdict(set)  # target -> neighbours it was tried from
     while pending:
         index = pending.pop(0)
@@ -168,10 +191,26 @@ def fill_from_neighbours(robot: Robot, grid: TargetGrid, read) -> dict[int, np.n
             if result.success:
                 filled[index] = result.q
                 around = grid_neighbours(grid, index)
-                pending += [other for other, done in zip(around, reached(around)) if not done and other not in pending]
+                pending += within_reach([other for other, done in zip(around, reached(around))
+                                         if not done and other not in pending])
                 pending.sort()
                 break
     return dict(sorted(filled.items()))
+
+
+def unreachable_reasons(grid: TargetGrid, positions_m: np.ndarray, closest: np.ndarray) -> np.ndarray:
+    """Why each target is unreachable, for the map's ``reason`` column, as Python strings (``""``: reached), from
+    the targets' positions (k, 3) [m] and how close the IK came to them (k, 2) [m, rad] (:func:`solve_row`)."""
+    beyond = np.full(len(closest), np.nan) if grid.reach is None else grid.reach.beyond_m(positions_m)
+    return np.array([unreachable_reason(*c) if np.isnan(gap) else beyond_reach_reason(grid.reach, gap)
+                     for c, gap in zip(closest, beyond)], dtype=object)
+
+
+def beyond_reach_reason(reach: ReachSphere, gap_m: float) -> str:
+    """Why a target ``gap_m`` [m] beyond the robot's ``reach`` is unreachable."""
+    centre = ", ".join(f"{value:.4g}" for value in reach.centre_m + 0.0)
+    return (f"beyond the robot's reach: {reach.radius_m + gap_m:.4g} m from ({centre}) m, where the tool point "
+            f"never goes farther than {reach.radius_m:.4g} m (no IK tried)")
 
 
 def unreachable_reason(position_error_m: float, angle_error_rad: float) -> str:
