@@ -1,11 +1,11 @@
-"""The reach of a robot's chain: a sphere the tool point never leaves within the joint limits, checked against
-forward kinematics at random configurations."""
+"""The reach of a robot's chain: a sphere the tool point never leaves within the joint limits, and one the last
+joint's origin never leaves (placed by the tool pose), checked against forward kinematics at random configurations."""
 
 import numpy as np
 import pytest
 
 from conftest import AXIS_URDF, ROOT
-from tribokin.kinematics.reach import REACH_MARGIN_M, reach_sphere
+from tribokin.kinematics.reach import REACH_MARGIN_M, last_joint_sphere, reach_sphere
 from tribokin.kinematics.robot import load_example_robot, load_urdf, tool_point_placement
 
 ROBOTS = {
@@ -18,14 +18,18 @@ ROBOTS = {
 }
 
 
-def sampled_distances_m(robot, sphere, count: int = 10_000) -> np.ndarray:
-    """Distances [m] of the tool point from the sphere's centre at ``count`` random configurations within the
-    limits, the limits' corners included."""
+def sampled_q(robot, count: int = 10_000) -> np.ndarray:
+    """(count, nv) random configurations [m or rad] within the limits, the limits' corners included."""
     rng = np.random.default_rng(5)
     q = rng.uniform(robot.lower_limits, robot.upper_limits, (count, robot.model.nv))
     corners = rng.integers(0, 2, q.shape).astype(bool)
     q[: count // 10] = np.where(corners, robot.lower_limits, robot.upper_limits)[: count // 10]
-    return sphere.distances_m([robot.tool_placement(qi).translation for qi in q])
+    return q
+
+
+def sampled_distances_m(robot, sphere) -> np.ndarray:
+    """Distances [m] of the tool point from the sphere's centre at the configurations of :func:`sampled_q`."""
+    return sphere.distances_m([robot.tool_placement(qi).translation for qi in sampled_q(robot)])
 
 
 @pytest.mark.parametrize("name", ROBOTS)
@@ -35,6 +39,22 @@ def test_the_tool_point_never_leaves_the_sphere(name):
     distances = sampled_distances_m(robot, sphere)
     assert distances.max() <= sphere.radius_m + 1e-12  # rounding, where the bound is exact; far below the margin
     assert np.all(np.isnan(sphere.beyond_m(robot.tool_placement(robot.reference_q).translation)))
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_the_tool_pose_places_the_last_joint_within_its_sphere(name):
+    robot = ROBOTS[name]()
+    sphere = last_joint_sphere(robot)
+    joint = robot.model.frames[robot.tool_frame_id].parentJoint
+    implied, origins = [], []
+    for q in sampled_q(robot):
+        tool = robot.tool_placement(q)  # forward kinematics of every joint too
+        implied.append(sphere.bounded_points_m(tool.translation, tool.rotation)[0])
+        origins.append(robot.data.oMi[joint].translation.copy())
+    np.testing.assert_allclose(implied, origins, rtol=0, atol=1e-12)
+    assert sphere.distances_m(origins).max() <= sphere.radius_m + 1e-12
+    with pytest.raises(ValueError, match="none is held"):
+        sphere.bounded_points_m(tool.translation, None)
 
 
 @pytest.mark.parametrize("name, slack", [("ur5", 0.05), ("panda", 0.1), ("gantry", 0.05), ("axis", 0.0)])

@@ -96,3 +96,13 @@ def test_a_map_that_does_not_fit_the_robot_is_refused_naming_the_field(spec, key
     with pytest.raises(GridError, match=message) as error:
         make_grid(gantry, spec)
     assert error.value.key == key
+
+
+def test_the_last_joints_bound_only_where_the_orientation_is_held():
+    ur5 = ur5_plane([5, 4])
+    held = make_grid(load_robot(ur5), ur5.map)
+    gantry = make_grid(load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf", "tool"),
+                       BoxMap(min_m=(0.2, 0.0, 0.2), max_m=(0.8, 0.6, 0.7), resolution=(2, 2, 2)))
+    assert held.rotation is not None and [sphere.point for sphere in held.reach] == [
+        "the tool point", "the origin of joint 'wrist_3_joint'"]
+    assert gantry.rotation is None and [sphere.point for sphere in gantry.reach] == ["the tool point"]

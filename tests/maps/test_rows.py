@@ -12,8 +12,8 @@ from tribokin.kinematics import ik
 from tribokin.maps import rows as map_rows
 from tribokin.maps.grid import grid_neighbours, make_grid
 from tribokin.maps.schema import map_columns
-from tribokin.maps.rows import beyond_reach_m, extrapolate_row, fill_from_neighbours, holes_beside_reached, \
-    solve_row, solve_row_heads
+from tribokin.maps.rows import beyond_reach_m, extrapolate_row, fill_from_neighbours, first_bound_beyond, \
+    holes_beside_reached, solve_row, solve_row_heads
 from tribokin.study.assembly import load_robot
 from tribokin.study.reading import read_study_file
 
@@ -63,21 +63,26 @@ def test_holes_beside_reached_targets_are_found_block_by_block(monkeypatch):
 
 
 def ik_refusing_beyond_reach(grid):
-    """``solve_ik`` that fails the test when asked for a target beyond ``grid.reach``."""
+    """``solve_ik`` that fails the test when asked for a target beyond a bound of ``grid.reach``."""
     real = ik.solve_ik
 
     def solve(robot, target, q_start, **options):
-        assert np.isnan(grid.reach.beyond_m(target.translation)).all(), "IK tried beyond the reach"
+        assert first_bound_beyond(grid, target.translation)[0][0] < 0, "IK tried beyond the reach"
         return real(robot, target, q_start, **options)
 
     return solve
 
 
-def test_targets_out_of_reach_stay_unreachable_without_ik(solved, monkeypatch):
+@pytest.mark.parametrize("shift_m, bound", [
+    ([1.0, 0.0, 0.0], 0),  # 1 m further: the tool point beyond the UR5's reach
+    ([0.0, 0.0, 0.7], 1),  # 0.7 m higher: within it, but the last joint's origin, 82 mm above, beyond its sphere
+])
+def test_targets_out_of_reach_stay_unreachable_without_ik(solved, monkeypatch, shift_m, bound):
     robot, grid, q_solved, _ = solved
-    far = dataclasses.replace(grid, origin_m=grid.origin_m + [1.0, 0.0, 0.0])  # 1 m further: beyond the UR5's reach
+    far = dataclasses.replace(grid, origin_m=grid.origin_m + shift_m)
     gaps = beyond_reach_m(far, np.arange(far.size))
     assert np.all(gaps > 0.02)
+    assert np.all(first_bound_beyond(far, far.positions_m(np.arange(far.size)))[0] == bound)
     monkeypatch.setattr(map_rows, "solve_ik", ik_refusing_beyond_reach(far))
     monkeypatch.setattr(ik, "solve_ik", ik_refusing_beyond_reach(far))  # the restarts' solves
     q, reachable = q_solved.copy(), np.ones(grid.size, dtype=bool)
@@ -89,25 +94,32 @@ def test_targets_out_of_reach_stay_unreachable_without_ik(solved, monkeypatch):
     assert np.isnan(closest[:, 1]).all()
 
 
-def test_the_reach_bound_changes_only_the_reasons_of_targets_beyond_it(monkeypatch):
+def test_the_reach_bounds_change_only_the_reasons_of_targets_beyond_them(monkeypatch):
     study = read_study_file(STUDIES / "ur5-map-horizontal.toml").mapping
     study["map"]["resolution"], study["study"]["cycles"] = [25, 15], 20
     bounded = run_study(study).map
     monkeypatch.setattr(map_rows, "beyond_reach_m", lambda grid, indices: np.full(len(indices), np.nan))
     unbounded = run_study(study).map
-    gaps = beyond_reach_m(bounded.grid, np.arange(bounded.grid.size))
-    beyond = ~np.isnan(gaps)
-    assert 10 < beyond.sum() < (~bounded.reachable).sum()  # the far corners, not every unreachable target
+    bounds, gaps = first_bound_beyond(bounded.grid, bounded.grid.positions_m(np.arange(bounded.grid.size)))
+    beyond = bounds >= 0
+    np.testing.assert_array_equal(gaps, beyond_reach_m(bounded.grid, np.arange(bounded.grid.size)))
+    # the far corners beyond the tool point's sphere; nearer, targets the wrist cannot reach pointing down: here
+    # every unreachable target
+    assert (bounds == 0).sum() > 10 and (bounds == 1).sum() > 10
+    np.testing.assert_array_equal(beyond, ~unbounded.reachable)
     for column in map_columns(len(bounded.joint_names), len(bounded.scenarios)):
         if column != "closest":
             np.testing.assert_array_equal(bounded.read(column), unbounded.read(column), err_msg=column)
     np.testing.assert_array_equal(bounded.read("closest")[~beyond], unbounded.read("closest")[~beyond])
     np.testing.assert_array_equal(bounded.read("closest")[beyond, 0], gaps[beyond])
     reasons = bounded.reasons()
-    assert all(reason.startswith("beyond the robot's reach: ") for reason in reasons[beyond])
-    assert all(reason.startswith("no IK solution") for reason in reasons[~beyond & ~bounded.reachable])
-    assert reasons[beyond][0].endswith("m from (0, 0, 0.08916) m, where the tool point never goes farther than "
-                                       "0.9619 m (no IK tried)")
+    assert all(reason.startswith("beyond the robot's reach: ") for reason in reasons[bounds == 0])
+    assert reasons[bounds == 0][0].endswith("m from (0, 0, 0.08916) m, where the tool point never goes farther "
+                                            "than 0.9619 m (no IK tried)")
+    assert all(reason.startswith("beyond the robot's reach with the tool's orientation held: the origin of joint "
+                                 "'wrist_3_joint' would be ") for reason in reasons[bounds == 1])
+    assert reasons[bounds == 1][0].endswith("m from (0, 0, 0.08916) m, where it never goes farther than 0.9184 m "
+                                            "(no IK tried)")
 
 
 def test_row_extrapolation_continues_a_polynomial_through_the_last_reached_targets():

@@ -14,6 +14,14 @@ At the first joint the sphere is centred on its origin when it is revolute (dist
 do not change as the joint turns, so its own turn costs nothing), else on the mean of the circles' centres; its
 radius is the circles' largest distance from that centre. Every step only enlarges the set, so the bound
 holds for every configuration within the limits (revolute limits are not used).
+
+When a target holds the tool's orientation as well as its position, the whole tool pose is fixed, and so is the
+frame of the last joint of the chain (the joint that carries the tool frame, after its own motion: the tool frame
+is fixed in it). Its origin then lies at ``p + R · offset`` (tool point ``p`` [m], tool orientation ``R``, the
+origin's position ``offset`` [m] from the tool point in the tool frame, a constant of the model), and the same
+construction, started from that origin instead of the tool point, bounds where the rest of the chain can bring it
+(:func:`last_joint_sphere`): a target pose that puts it beyond that sphere is unreachable with that orientation,
+whatever the joints (revolute or prismatic) and however many.
 """
 
 from __future__ import annotations
@@ -28,21 +36,38 @@ from tribokin.kinematics.robot import Robot
 #: largest sampled one plus radius · π / AXIS_SAMPLES (the distance changes by at most the radius per radian).
 AXIS_SAMPLES = 1024
 #: Margin [m] beyond the bound before a target is declared out of reach: rounding in the bound and the forward
-#: kinematics (~1e-15 m) and the IK's position tolerance (1e-9 m) lie far below it.
+#: kinematics (~1e-15 m) and the IK's tolerances (1e-9 m; 1e-8 rad, which moves the last joint's origin by
+#: 1e-8 rad times its distance from the tool point, ~1e-9 m) lie far below it.
 REACH_MARGIN_M = 1e-6
 
 
 @dataclass(frozen=True)
 class ReachSphere:
-    """A sphere in the base frame that contains the tool point at every configuration within the joint limits.
+    """A sphere in the base frame that contains a point of the chain (the tool point, or the origin of the last
+    joint's frame) at every configuration within the joint limits.
 
     Attributes:
         centre_m: (3,) centre [m] (the first joint's origin when it is revolute).
         radius_m: radius [m] (``inf`` when a prismatic joint's travel is unbounded).
+        offset_m: (3,) position [m] of the bounded point from the tool point in the tool frame, when it is not
+            the tool point: a target tool pose then fixes it (:meth:`bounded_points_m`); ``None``: the tool point.
+        point: the bounded point, for messages (``"the tool point"``).
     """
 
     centre_m: np.ndarray
     radius_m: float
+    offset_m: np.ndarray | None = None
+    point: str = "the tool point"
+
+    def bounded_points_m(self, tool_positions_m, rotation: np.ndarray | None) -> np.ndarray:
+        """(k, 3) positions [m] of the bounded point when the tool point is at ``tool_positions_m`` (k, 3) [m] with
+        the tool frame turned by ``rotation`` (3, 3) in the base frame (``None``: not held, for the tool point)."""
+        positions = np.asarray(tool_positions_m, dtype=float).reshape(-1, 3)
+        if self.offset_m is None:
+            return positions
+        if rotation is None:
+            raise ValueError(f"{self.point} is placed by the tool's orientation, and none is held")
+        return positions + rotation @ self.offset_m
 
     def distances_m(self, positions_m) -> np.ndarray:
         """(k,) distances [m] of ``positions_m`` (k, 3) [m] from the centre."""
@@ -88,19 +113,17 @@ def _turned(centres: np.ndarray, normals: np.ndarray, radii: np.ndarray, axis: n
     return ends[:, None] * axis, np.tile(axis, (2, 1)), np.full(2, radius)
 
 
-def reach_sphere(robot: Robot) -> ReachSphere:
-    """The sphere (:class:`ReachSphere`) the tool point of ``robot`` never leaves within the joint limits."""
+def _chain_sphere(robot: Robot, joint: int, point: np.ndarray) -> tuple[np.ndarray, float]:
+    """Centre (3,) [m] in the base frame and radius [m] of a sphere that ``point`` (3,) [m], fixed in the frame of
+    ``joint`` (after its own motion), never leaves within the joint limits (the construction above)."""
     model = robot.model
-    frame = model.frames[robot.tool_frame_id]
-    point = np.array(frame.placement.translation)
     centres, normals, radii = point[None], np.array([[0.0, 0.0, 1.0]]), np.zeros(1)
     centre, radius = point, 0.0  # the ball
-    joint = frame.parentJoint
     while joint > 0:
         axis, lower, upper = robot.motion_axes[joint - 1], robot.lower_limits[joint - 1], robot.upper_limits[joint - 1]
         if robot.joint_is_prismatic[joint - 1]:
             if not np.isfinite(upper - lower):
-                return ReachSphere(np.asarray(model.jointPlacements[joint].translation, dtype=float), np.inf)
+                return np.asarray(model.jointPlacements[joint].translation, dtype=float), np.inf
             centres = np.concatenate([centres + lower * axis, centres + upper * axis])
             normals, radii = np.tile(normals, (2, 1)), np.tile(radii, 2)
             centre, radius = centre + (lower + upper) / 2 * axis, radius + (upper - lower) / 2
@@ -116,4 +139,22 @@ def reach_sphere(robot: Robot) -> ReachSphere:
         normals = normals @ placement.rotation.T
         centre = placement.rotation @ centre + placement.translation
         joint = model.parents[joint]
-    return ReachSphere(centre, float(min(radius, _farthest_m(centres, normals, radii, centre))))
+    return centre, float(min(radius, _farthest_m(centres, normals, radii, centre)))
+
+
+def reach_sphere(robot: Robot) -> ReachSphere:
+    """The sphere (:class:`ReachSphere`) the tool point of ``robot`` never leaves within the joint limits."""
+    frame = robot.model.frames[robot.tool_frame_id]
+    return ReachSphere(*_chain_sphere(robot, frame.parentJoint, np.array(frame.placement.translation)))
+
+
+def last_joint_sphere(robot: Robot) -> ReachSphere:
+    """The sphere (:class:`ReachSphere`) the origin of the frame of the tool's joint (the last of the chain: the
+    frame after that joint's own motion, which carries the tool frame) never leaves within the joint limits;
+    ``offset_m`` places that origin from the tool point in the tool frame, for targets that hold the tool's
+    orientation (:meth:`ReachSphere.bounded_points_m`)."""
+    frame = robot.model.frames[robot.tool_frame_id]
+    placement = frame.placement  # the tool frame in the joint's frame
+    return ReachSphere(*_chain_sphere(robot, frame.parentJoint, np.zeros(3)),
+                       offset_m=-placement.rotation.T @ placement.translation,
+                       point=f"the origin of joint '{robot.model.names[frame.parentJoint]}'")

@@ -14,7 +14,7 @@ import pinocchio as pin
 
 from tribokin.errors import ConfigurationError, closest_hint
 from tribokin.iso9283.cube import candidate_postures, holds_orientation
-from tribokin.kinematics.reach import ReachSphere, reach_sphere
+from tribokin.kinematics.reach import ReachSphere, last_joint_sphere, reach_sphere
 from tribokin.kinematics.robot import Robot
 from tribokin.study.map_spec import JointMap, MapSpec, PlaneMap
 
@@ -60,8 +60,10 @@ class TargetGrid:
         directions: (3, 3) base-frame direction of the column, row and layer axes, one per row
             (Cartesian grids): a target's position is ``origin_m + (column, row, layer values) @ directions``.
         joint_columns: index in ``q`` of the joint of each axis present (joint grids).
-        reach: a sphere the robot's tool point never leaves (Cartesian grids): no IK is tried for a target
-            beyond it (:func:`tribokin.kinematics.reach.reach_sphere`).
+        reach: bounds of the robot's reach (Cartesian grids; none for joint grids): a sphere the tool point never
+            leaves (:func:`tribokin.kinematics.reach.reach_sphere`), then, when the grid holds the tool's
+            orientation, one the origin of the last joint's frame never leaves
+            (:func:`tribokin.kinematics.reach.last_joint_sphere`); no IK is tried for a target beyond either.
     """
 
     kind: str
@@ -71,7 +73,7 @@ class TargetGrid:
     origin_m: np.ndarray | None = None
     directions: np.ndarray | None = None
     joint_columns: tuple[int, ...] = ()
-    reach: ReachSphere | None = None
+    reach: tuple[ReachSphere, ...] = ()
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -179,15 +181,16 @@ def make_grid(robot: Robot, spec: MapSpec) -> TargetGrid:
     elif spec.rpy_deg is not None:
         raise GridError(f"{robot.label} cannot hold the tool's orientation (fewer than 6 independent joints at the "
                         "start posture); remove map.rpy_deg", "rpy_deg")
+    reach = (reach_sphere(robot),) if rotation is None else (reach_sphere(robot), last_joint_sphere(robot))
     if isinstance(spec, PlaneMap):
         u = GridAxis("u", "m", _grid_values(spec.extent_u_m, spec.resolution[0]))
         v = GridAxis("v", "m", _grid_values(spec.extent_v_m, spec.resolution[1]))
         directions = np.array([spec.axis_u, spec.axis_v, [0.0, 0.0, 0.0]], dtype=float)
         return TargetGrid("plane", (u, v, None), rotation, start, np.asarray(spec.origin_m, dtype=float),
-                          directions, reach=reach_sphere(robot))
+                          directions, reach=reach)
     x, y, z = (GridAxis(name, "m", _grid_values([low, high], count)) for name, low, high, count
                in zip("xyz", spec.min_m, spec.max_m, spec.resolution))
-    return TargetGrid("box", (x, y, z), rotation, start, np.zeros(3), np.eye(3), reach=reach_sphere(robot))
+    return TargetGrid("box", (x, y, z), rotation, start, np.zeros(3), np.eye(3), reach=reach)
 
 
 def _joint_grid(robot: Robot, spec: JointMap, start: np.ndarray) -> TargetGrid:

@@ -6,9 +6,10 @@ split into chunks: the first target of every row (the *row heads*) is solved in 
 from the start posture (:func:`solve_row_heads`), then each row is solved along its columns
 from its head (:func:`solve_row`). So a row's configurations depend on the grid only.
 
-A target beyond the robot's reach (``grid.reach``, :mod:`tribokin.kinematics.reach`) is unreachable without any IK
-iteration, except a row head: its failed IK's configuration is its row's warm start. IK cannot reach such a target
-anyway, so every other target is solved along the same path as without the bound.
+A target beyond the robot's reach (``grid.reach``, :mod:`tribokin.kinematics.reach`: the tool point's sphere, and with
+the tool's orientation held the last joint's) is unreachable without any IK iteration, except a row head: its failed
+IK's configuration is its row's warm start. IK cannot reach such a target anyway, so every other target is solved
+along the same path as without the bounds.
 """
 
 from __future__ import annotations
@@ -47,12 +48,22 @@ def _solve(robot: Robot, grid: TargetGrid, index: int, q_start) -> IKResult:
                                   IK_RESTARTS, position_only=grid.rotation is None)
 
 
+def first_bound_beyond(grid: TargetGrid, positions_m) -> tuple[np.ndarray, np.ndarray]:
+    """Which bound of the robot's reach (``grid.reach``) refuses each target at ``positions_m`` (k, 3) [m] first:
+    (k,) its index in ``grid.reach`` (-1: none) and how far [m] the point it bounds lies beyond it (NaN: none)."""
+    positions = np.asarray(positions_m, dtype=float).reshape(-1, 3)
+    gaps = np.array([sphere.beyond_m(sphere.bounded_points_m(positions, grid.rotation)) for sphere in grid.reach])
+    refused = ~np.isnan(gaps)
+    first = np.where(refused.any(axis=0), np.argmax(refused, axis=0), -1)
+    return first, gaps[np.maximum(first, 0), np.arange(len(positions))]
+
+
 def beyond_reach_m(grid: TargetGrid, indices) -> np.ndarray:
-    """(k,) how far [m] Cartesian targets ``indices`` lie beyond the robot's reach (``grid.reach``), NaN for those
-    within it (and every target of a joint grid)."""
-    if grid.reach is None:
+    """(k,) how far [m] Cartesian targets ``indices`` lie beyond the robot's reach (:func:`first_bound_beyond`),
+    NaN for those within it (and every target of a joint grid)."""
+    if not grid.reach:
         return np.full(len(indices), np.nan)
-    return grid.reach.beyond_m(grid.positions_m(indices))
+    return first_bound_beyond(grid, grid.positions_m(indices))[1]
 
 
 def head_order(grid: TargetGrid) -> list[int]:
@@ -102,7 +113,7 @@ def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndar
         q (columns, nv) [m or rad] (NaN where unreachable), reachable (columns,), and for unreachable
         targets how close the IK came (columns, 2): position error [m], orientation error [rad] (NaN
         for reachable targets, and the orientation when it is not held; beyond the reach, how far beyond [m]
-        and NaN).
+        the first bound that refuses it (:func:`first_bound_beyond`), and NaN).
     """
     indices = grid.row_indices(row)
     closest = np.full((len(indices), 2), np.nan)
@@ -201,15 +212,20 @@ def fill_from_neighbours(robot: Robot, grid: TargetGrid, read) -> dict[int, np.n
 def unreachable_reasons(grid: TargetGrid, positions_m: np.ndarray, closest: np.ndarray) -> np.ndarray:
     """Why each target is unreachable, for the map's ``reason`` column, as Python strings (``""``: reached), from
     the targets' positions (k, 3) [m] and how close the IK came to them (k, 2) [m, rad] (:func:`solve_row`)."""
-    beyond = np.full(len(closest), np.nan) if grid.reach is None else grid.reach.beyond_m(positions_m)
-    return np.array([unreachable_reason(*c) if np.isnan(gap) else beyond_reach_reason(grid.reach, gap)
-                     for c, gap in zip(closest, beyond)], dtype=object)
+    bounds, gaps = first_bound_beyond(grid, positions_m) if grid.reach else (np.full(len(closest), -1), None)
+    return np.array([unreachable_reason(*c) if bound < 0 else beyond_reach_reason(grid.reach[bound], gaps[k])
+                     for k, (c, bound) in enumerate(zip(closest, bounds))], dtype=object)
 
 
 def beyond_reach_reason(reach: ReachSphere, gap_m: float) -> str:
-    """Why a target ``gap_m`` [m] beyond the robot's ``reach`` is unreachable."""
+    """Why a target is unreachable whose point bounded by ``reach`` (the tool point, or with the tool's orientation
+    held the last joint's origin) lies ``gap_m`` [m] beyond it."""
     centre = ", ".join(f"{value:.4g}" for value in reach.centre_m + 0.0)
-    return (f"beyond the robot's reach: {reach.radius_m + gap_m:.4g} m from ({centre}) m, where the tool point "
+    where = f"{reach.radius_m + gap_m:.4g} m from ({centre}) m"
+    if reach.offset_m is None:
+        return (f"beyond the robot's reach: {where}, where the tool point never goes farther than "
+                f"{reach.radius_m:.4g} m (no IK tried)")
+    return (f"beyond the robot's reach with the tool's orientation held: {reach.point} would be {where}, where it "
             f"never goes farther than {reach.radius_m:.4g} m (no IK tried)")
 
 
