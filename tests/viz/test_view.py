@@ -58,8 +58,10 @@ def read_line_matching(stream, pattern: str) -> re.Match:
 def running_view(folder):
     """Start `tribokin view folder`; yield the viewer process, the URL and the server pid it printed."""
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    # Ctrl-C as in a terminal: a shell's background job inherits SIGINT ignored, and so would the viewer
     viewer = subprocess.Popen([sys.executable, "-u", "-m", "tribokin", "view", str(folder)], stdout=subprocess.PIPE,
-                              stderr=subprocess.PIPE, text=True, env=env)
+                              stderr=subprocess.PIPE, text=True, env=env,
+                              preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     server_pid = None
     try:
         match = read_line_matching(viewer.stdout, r"scene at (http://127\.0\.0\.1:\d+/static/) \(\S+ pid (\d+)")
