@@ -60,12 +60,6 @@ from tribokin.calibration.model import JointModel, predict_series
 LOG_SPAN = float(np.log(1e3))
 #: A θ this close to the box's edge [natural log] is on a bound.
 BOUND_ATOL = 1e-6
-#: Why a joint's stiffness or backlash is not known when the barycentres alone would have to tell them apart.
-LOST_MOTION_HINT = ("the barycentres see only the sum of the joint's mean lost motion τ̄/k and half its backlash, "
-                    "and the spreads do not determine its stiffness: fix the backlash or the stiffness, or measure "
-                    "more poses")
-#: Standard deviation [natural log] of the weak prior about the moment start (module docstring).
-PRIOR_LOG_STD = LOG_SPAN
 #: Backlash starting value where the moments give none: this fraction of the largest τ̄/k.
 BACKLASH_FLOOR = 1e-2
 #: Why a joint's stiffness or backlash is not known when the barycentres alone would have to tell them apart.
@@ -381,7 +375,7 @@ def _fit_unknown_frame(model: JointModel, data: SeriesStack) -> _Optimum:
                     bool(best.success), bounds[:-3], rotation)
 
 
-def spread_std_errors(model: JointModel, theta: np.ndarray, data: SeriesStack) -> np.ndarray:
+def _spread_std_errors(model: JointModel, theta: np.ndarray, data: SeriesStack) -> np.ndarray:
     """(p,) standard error of log θ of each stiffness parameter and the noise floor from the series' spreads
     alone, inf for the backlashes: the expected Wishart information ``ν/2·tr(Σ⁻¹ ∂_aΣ Σ⁻¹ ∂_bΣ)`` summed over the
     series at θ (frame-free: it needs no measured point), analysed as the full information is."""
@@ -411,10 +405,10 @@ def _lost_motion_confounded(model: JointModel, theta: np.ndarray, data: SeriesSt
                             max_relative_std_error: float) -> np.ndarray:
     """(p,) True for parameters a barycentre cannot tell apart: the barycentres see a joint's τ̄/k + b/2 only, so
     where a joint's backlash is free its stiffness is known only if the spreads alone determine it
-    (:func:`spread_std_errors`), and its backlash only if its stiffness is known (or fixed)."""
+    (:func:`_spread_std_errors`), and its backlash only if its stiffness is known (or fixed)."""
     names = model.names()
     free_b = np.array(model.fit_backlash)
-    spread_known = spread_std_errors(model, theta, data) <= max_relative_std_error
+    spread_known = _spread_std_errors(model, theta, data) <= max_relative_std_error
     confounded = np.zeros(len(names), dtype=bool)
     stiffness_known = {}
     for i, joints in enumerate(_parameter_joints(model)):
@@ -440,8 +434,8 @@ def _calibration(model: JointModel, data: SeriesStack, optimum: _Optimum, max_re
     for i, (name, unit, joints) in enumerate(zip(model.names(), model.units(), _parameter_joints(model))):
         value, se = float(np.exp(theta[i])), float(found.std_error[i])
         known = np.isfinite(se)
-        why = "" if identifiable[i] else LOST_MOTION_HINT if confounded[i] and not (
-            len(joints) and invisible[joints].all()) else hint(name, bool(len(joints)) and bool(invisible[joints].all()))
+        unseen = bool(len(joints)) and bool(invisible[joints].all())
+        why = "" if identifiable[i] else LOST_MOTION_HINT if confounded[i] and not unseen else hint(name, unseen)
         estimates.append(ParameterEstimate(
             name=name, unit=unit, value=value, std_error=value * se if known else None,
             ci95=(value * float(np.exp(-Z95 * se)), value * float(np.exp(Z95 * se))) if known else None,
