@@ -31,7 +31,7 @@ from tribokin.provenance import software_versions
 from tribokin.run import run_study
 from tribokin.study.assembly import joint_models, load_robot
 from tribokin.study.calibration_data import CalibrationInput, calibration_input
-from tribokin.study.names import check_file_name_part, check_files_apart, cloud_figure_file
+from tribokin.study.names import check_measured_pose_names, cloud_figure_file
 from tribokin.study.reading import parse_study_text, read_study_file
 from tribokin.units import UM_PER_M
 
@@ -209,9 +209,7 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     models = joint_models(study, robot)
     measurements = read_measurements(measurements_path, prismatic=[n for n, p in zip(robot.joint_names,
                                                                                      robot.joint_is_prismatic) if p])
-    for pose in measurements.poses:
-        check_file_name_part(pose.name, measurements_path, "pose")
-    check_files_apart([("pose", cloud_figure_file(p.name)) for p in measurements.poses], measurements_path)
+    check_measured_pose_names([pose.name for pose in measurements.poses], measurements_path, cloud_figure_file)
     inputs = calibration_input(study, robot, models, measurements)
     if not inputs.model.names():
         raise InputError("nothing to fit for these joints", study.source, "calibration.joints")

@@ -26,7 +26,7 @@ from tribokin.measurement.segmentation import (DWELL_MIN_DURATION_S, DWELL_RADIU
 from tribokin.output.folder import atomic_folder, check_output_folder
 from tribokin.output.writers import write_rows
 from tribokin.provenance import software_versions
-from tribokin.study.names import check_file_name_part, check_files_apart, pose_figure_file
+from tribokin.study.names import check_measured_pose_names, pose_figure_file
 from tribokin.units import UM_PER_M
 
 DRIFT_FIGURE = "drift.png"
@@ -162,9 +162,7 @@ def measure(path, out, force: bool = False, seed: int = BOOTSTRAP_SEED, segmenti
     segmenting = None if segmenting is None else segmenting.checked()
     measurements, segmentation = read_input(path, segmenting)
     floor = None if noise_path is None else noise_floor(read_stream(noise_path, require_time=False))
-    for pose in measurements.poses:
-        check_file_name_part(pose.name, path, "pose")
-    check_files_apart([("pose", pose_figure_file(p.name)) for p in measurements.poses], path)
+    check_measured_pose_names([pose.name for pose in measurements.poses], path, pose_figure_file)
 
     registration = register_measurements(measurements)
     figures = measurement_figures(measurements, registration, seed=seed)

@@ -193,6 +193,7 @@ def test_segment_finds_dwells_labels_them_and_reports_the_unmatched(tmp_path, ca
     (lambda text: text.replace("P1,+,2,", "P1,+,2,abc", 1).replace(",abc500.0", ",abc", 1), "x_mm"),  # not a number
     (lambda text: text.replace("P1,+,2,", "P1,+,1,", 1), "cycle"),                     # duplicate row
     (lambda text: text + "P3,+,1,1.0,2.0,3.0,1.0,2.0,3.0\n", "pose"),                  # no series of two cycles
+    (lambda text: text.replace("P2,", "p1,"), "pose 'p1'"),          # P1 and p1: one field_P1.png on macOS, Windows
 ])
 def test_contract_errors_are_one_line_exit_2_nothing_written(tmp_path, capsys, edit, key):
     path = measurement_file(tmp_path)

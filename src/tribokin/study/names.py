@@ -8,6 +8,8 @@ in the 3-D scene (a path whose parts ``/`` separates) and the figures' titles.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from tribokin.errors import InputError
 
 #: Longest name [characters]: most file systems hold at most 255 bytes per file name, prefix included
@@ -87,3 +89,12 @@ def check_files_apart(files: list[tuple[str, str]], source) -> None:
                                                   "macOS and Windows)")
             raise InputError(f"writes {file}, as {other_key} does{case}, so one would overwrite the other; rename "
                              "one of them", source, key)
+
+
+def check_measured_pose_names(names: list[str], source, file_name: Callable[[str], str]) -> None:
+    """Refuse the pose names of a measurement file (its ``pose`` column) that cannot name the files ``file_name(pose)``
+    a command writes for them: :func:`check_file_name_part`, and no two that are one file (:func:`check_files_apart`,
+    case aside)."""
+    for name in names:
+        check_file_name_part(name, source, "pose")
+    check_files_apart([(f"pose '{name}'", file_name(name)) for name in names], source)
