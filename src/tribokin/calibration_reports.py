@@ -11,7 +11,6 @@ map's figures and, unless ``report == "none"``, ``report.html``.
 
 from __future__ import annotations
 
-import csv
 import hashlib
 import json
 from dataclasses import asdict, replace
@@ -27,6 +26,7 @@ from tribokin.errors import InputError
 from tribokin.measurement.contract import read_measurements
 from tribokin.output.calibrated_study import WrittenValue, calibrated_study_text
 from tribokin.output.folder import atomic_folder, check_output_folder
+from tribokin.output.writers import write_rows
 from tribokin.provenance import software_versions
 from tribokin.run import run_study
 from tribokin.study.assembly import joint_models, load_robot
@@ -95,12 +95,12 @@ def _comparison_row(pose: str, direction: str, figure: str, cycles: int, fitted:
             "held_out_high_um": _um(held_out.interval_m[1])}
 
 
-def _written_values(inputs: CalibrationInput, calibration: Calibration, estimates: list[ParameterEstimate],
+def _written_values(inputs: CalibrationInput, calibration: Calibration,
                     intervals: dict[str, tuple[float | None, float | None]]) -> list[WrittenValue]:
     """The joint keys of ``calibrated.toml``: every joint parameter ``[calibration]`` frees, at the fit's value,
     each with a comment saying what is known of it."""
     model, fitted = inputs.model, calibration.model
-    estimates = {e.name: e for e in estimates}
+    estimates = {e.name: e for e in calibration.parameters}
     values = []
     for i, joint in enumerate(model.joint_names):
         for key, free in (("stiffness", model.fit_stiffness[i]), ("backlash", model.fit_backlash[i])):
@@ -125,19 +125,19 @@ def _written_values(inputs: CalibrationInput, calibration: Calibration, estimate
     return values
 
 
-def _header(study_path, measurements_path, calibration: Calibration, noise: dict | None) -> list[str]:
+def _header(study_path, measurements_path, calibration: Calibration, noise: str | None) -> list[str]:
     lines = [f"Calibrated by `tribokin calibrate {study_path} --measurements {measurements_path}`:",
              "the study's file with the fitted joint values written in (comments give each value's 95 % interval).",
              f"Fit: maximum likelihood, log L = {calibration.log_likelihood:.6g}, AIC = {calibration.aic:.6g}, "
              f"information rank {calibration.rank} of {len(calibration.parameters)}; details in calibration.json.",
-             "Values the measurements cannot determine are the study's own, and say so."]
+             "Values the measurements cannot determine are the fit's, kept for its predictions, and say so."]
     if noise is not None:
         lines.append(f"The instrument's noise floor (not part of the robot's model): {noise}.")
     return lines
 
 
-def _noise_text(estimates: list[ParameterEstimate], intervals: dict) -> str | None:
-    estimate = next((e for e in estimates if e.name == "noise_floor_m"), None)
+def _noise_text(calibration: Calibration, intervals: dict) -> str | None:
+    estimate = next((e for e in calibration.parameters if e.name == "noise_floor_m"), None)
     if estimate is None:
         return None
     if not estimate.identifiable:
@@ -218,12 +218,11 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     calibration = fit(inputs.model, inputs.poses, frame=frame)
     intervals = {e.name: profile_interval(calibration, inputs.poses, e.name)
                  for e in calibration.parameters if e.identifiable}
-    estimates = list(calibration.parameters)
     fitted = tuple(predict_pose(calibration, pose, np.random.default_rng([seed, i]))
                    for i, pose in enumerate(inputs.poses))
     held_out = leave_one_pose_out(inputs.model, inputs.poses, seed=seed, frame=frame)
-    values = _written_values(inputs, calibration, estimates, intervals)
-    header = _header(study_path, measurements_path, calibration, _noise_text(estimates, intervals))
+    values = _written_values(inputs, calibration, intervals)
+    header = _header(study_path, measurements_path, calibration, _noise_text(calibration, intervals))
     text, calibrated = _calibrated_study(study, study_path, out, header, values, inputs)
     workspace_map = None
     if calibrated.map is not None:
@@ -242,7 +241,7 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
             "left_out": [asdict(item) for item in inputs.left_out],
             "intervals": INTERVAL_METHOD, "predictions": PREDICTION_METHOD, "seed": seed,
         },
-        "parameters": [_parameter_entry(e, intervals.get(e.name)) for e in estimates],
+        "parameters": [_parameter_entry(e, intervals.get(e.name)) for e in calibration.parameters],
         "log_likelihood": calibration.log_likelihood, "aic": calibration.aic,
         "information": {"rank": calibration.rank, "free_parameters": len(calibration.parameters),
                         "condition_number": calibration.condition_number, "converged": calibration.converged},
@@ -255,10 +254,7 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     rows = [_comparison_row(*entry) for entry in compared]
     with atomic_folder(out, force) as folder:
         (folder / "calibration.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
-        with open(folder / "comparison.csv", "w", newline="", encoding="utf-8") as handle:
-            writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
-            writer.writeheader()
-            writer.writerows(rows)
+        write_rows(rows, [], folder / "comparison.csv")
         (folder / "calibrated.toml").write_text(text, encoding="utf-8")
         figures = []
         for pose in (_in_base_frame(p, calibration) for p in inputs.poses):
