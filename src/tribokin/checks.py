@@ -125,3 +125,14 @@ def string_list(value, source, key) -> list[str]:
     if not isinstance(value, list):
         raise InputError(f"must be a list of strings (got {value!r})", source, key)
     return [text(v, source, f"{key}[{i}]") for i, v in enumerate(value)]
+
+
+def distinct_strings(value, source, key, needed: str) -> list[str]:
+    """A non-empty list of distinct non-empty strings; ``needed`` is the error of an empty list."""
+    names = string_list(value, source, key)
+    if not names:
+        raise InputError(needed, source, key)
+    for i, name in enumerate(names):
+        if name in names[:i]:
+            raise InputError(f"'{name}' is named twice; name it once", source, f"{key}[{i}]")
+    return names

@@ -13,8 +13,8 @@ from dataclasses import asdict, dataclass, field, replace
 from functools import partial
 from pathlib import Path
 
-from tribokin.checks import finite, non_negative, number_list, one_of, positive, positive_int, seed_int, \
-    string_list, table, text, whole_number, within
+from tribokin.checks import distinct_strings, finite, non_negative, number_list, one_of, positive, positive_int, \
+    seed_int, string_list, table, text, whole_number, within
 from tribokin.errors import InputError, closest_hint
 from tribokin.iso9283.cube import known_approach
 from tribokin.simulation.joint_errors import APPROACH_MODES
@@ -151,15 +151,11 @@ ISO_CUBE_KEYS = {
 def approach_labels(value, source, key) -> list[str]:
     """A non-empty list of distinct approach labels: ``+`` or ``-`` (every joint forwards or backwards), ``+x``,
     ``-y``, ... or a direction as three signed numbers (``+0.58+0.58+0.58``)."""
-    labels = string_list(value, source, key)
-    if not labels:
-        raise InputError("name at least one approach direction", source, key)
+    labels = distinct_strings(value, source, key, "name at least one approach direction")
     for i, label in enumerate(labels):
         if not known_approach(label):
             raise InputError(f"'{label}' names no approach: write +, -, +x, -y, ... or a direction as three signed "
                              "numbers such as +0.58+0.58+0.58", source, f"{key}[{i}]")
-        if label in labels[:i]:
-            raise InputError(f"'{label}' is named twice; name it once", source, f"{key}[{i}]")
     return labels
 
 
@@ -205,13 +201,9 @@ instrument_noise = within(positive, 1e-9, 1e-2, "m", "below a nanometre no instr
 
 def fitted_parameters(value, source, key) -> tuple[str, ...]:
     """A non-empty list of distinct :data:`CALIBRATION_PARAMETERS`."""
-    names = string_list(value, source, key)
-    if not names:
-        raise InputError(f"name at least one of {', '.join(CALIBRATION_PARAMETERS)}", source, key)
+    names = distinct_strings(value, source, key, f"name at least one of {', '.join(CALIBRATION_PARAMETERS)}")
     for i, name in enumerate(names):
         one_of(*CALIBRATION_PARAMETERS)(name, source, f"{key}[{i}]")
-        if name in names[:i]:
-            raise InputError(f"'{name}' is named twice; name it once", source, f"{key}[{i}]")
     return tuple(names)
 
 
@@ -219,13 +211,9 @@ def joint_selection(value, source, key) -> str | tuple[str, ...]:
     """``"all"`` or a non-empty list of distinct joint names (checked against the robot when it is loaded)."""
     if value == "all":
         return value
-    names = string_list(value, source, key) if isinstance(value, list) else None
-    if not names:
+    if not isinstance(value, list):
         raise InputError(f'must be "all" or a list of joint names (got {value!r})', source, key)
-    twice = next((n for i, n in enumerate(names) if n in names[:i]), None)
-    if twice is not None:
-        raise InputError(f"joint '{twice}' is named twice; name it once", source, key)
-    return tuple(names)
+    return tuple(distinct_strings(value, source, key, 'must be "all" or a list of joint names (got [])'))
 
 
 CALIBRATION_KEYS = {
