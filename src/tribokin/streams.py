@@ -12,8 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-#: Spawn-key purposes of the study-seeded streams: a pose's cycles, its replicate tests, a map target's cycles.
-POSE, POSE_REPLICATES, MAP_TARGET = 0, 1, 2
+#: Spawn-key purposes of the study-seeded streams: a pose's cycles, its replicate tests, a map target's cycles,
+#: an expected map's common random numbers.
+POSE, POSE_REPLICATES, MAP_TARGET, EXPECTED = 0, 1, 2, 3
 #: Seed of the fixed streams: posture searches and IK restarts.
 SEARCH_SEED = 9283
 
@@ -35,6 +36,12 @@ def replicate_stream(seed: int, index: int) -> np.random.Generator:
 def map_target_stream(seed: int, index: int) -> np.random.Generator:
     """The cycles of map target ``index``; every scenario draws the same (common random numbers)."""
     return _seeded(seed, index, MAP_TARGET)
+
+
+def expected_stream(seed: int, purpose: str) -> np.random.Generator:
+    """The common random numbers of an expected map (:mod:`tribokin.maps.expected`), the same at every target and
+    scenario: ``purpose`` names them (``"table"``, ``"tests"``, ``"signs"``, ``"vap"``, ``"multi"``, ...)."""
+    return _seeded(seed, int.from_bytes(purpose.encode(), "little"), EXPECTED)
 
 
 def ik_restart_stream(index: int) -> np.random.Generator:

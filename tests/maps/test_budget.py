@@ -52,7 +52,7 @@ def test_a_map_whose_results_would_not_fit_on_disk_is_refused(tmp_path, monkeypa
     from tribokin.maps.budget import check_disk, map_bytes_per_target
 
     gantry = load_study(GANTRY_MAP)
-    needed = 24 * map_bytes_per_target(3, 1)
+    needed = 24 * map_bytes_per_target(3, 1, gantry.map.statistic)
     usage = namedtuple("usage", "total used free")
     monkeypatch.setattr("shutil.disk_usage", lambda path: usage(needed, 0, needed))
     check_disk(gantry, 3, tmp_path / "not" / "yet" / "made")

@@ -13,28 +13,38 @@ from tribokin.maps.store import ChunkStore
 from tribokin.output.writers import write_map_table
 
 
-def map_table_header(tmp_path, scenarios: int = 1) -> list[str]:
+def map_table_header(tmp_path, statistic: str, scenarios: int = 1) -> list[str]:
     """The header of map.csv of a 2-target joint map with one joint, written through the store."""
     tmp_path.mkdir()
     grid = TargetGrid("joint", (GridAxis("x", "m", np.array([0.0, 0.1])), None, None), None, np.zeros(1),
                       joint_columns=(0,))
-    store = ChunkStore(tmp_path / "store", "key", map_columns(1, scenarios), grid.size)
+    store = ChunkStore(tmp_path / "store", "key", map_columns(1, scenarios, statistic), grid.size)
     store.write(slice(None), {"reachable": np.ones(2, bool), "closest": np.zeros((2, 2)),
                               "scenario0_dominant_joint": np.zeros(2, int)})
-    workspace_map = MapResult(grid, ["x"], store, {"raw": ScenarioMap("raw", 5, 0, ["x"], store)})
+    workspace_map = MapResult(grid, ["x"], store, {"raw": ScenarioMap("raw", 5, 0, ["x"], store, statistic)})
     write_map_table(workspace_map, workspace_map.reference, tmp_path / "map.csv")
     with open(tmp_path / "map.csv", newline="") as handle:
         return next(csv.reader(handle))
 
 
 def test_the_store_the_estimate_and_map_csv_follow_the_figures_of_the_schema(tmp_path, monkeypatch):
-    assert map_columns(2, 3)["scenario2_figures"] == ((len(schema.MAP_FIGURES),), "f8")
-    assert map_bytes_per_target(2, 3) == 8 * (3 + 2 + 2) + 1 + 3 * 8 * (len(schema.MAP_FIGURES) + 2 + 1)
-    header = map_table_header(tmp_path / "before")
+    assert map_columns(2, 3, "one-test")["scenario2_figures"] == ((7,), "f8")
+    assert map_bytes_per_target(2, 3, "one-test") == 8 * (3 + 2 + 2) + 1 + 3 * 8 * (7 + 2 + 1)
+    header = map_table_header(tmp_path / "before", "one-test")
     assert header[:12] == ["x_m", "y_m", "z_m", "reachable", "RP_l_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg",
                            "RP_c_mdeg", "largest_semi_axis_um", "dominant_joint", "dominant_share"]
 
-    monkeypatch.setattr(schema, "MAP_FIGURES", (*schema.MAP_FIGURES, MapFigure("flatness_um")))
-    assert map_columns(2, 3)["scenario2_figures"] == ((8,), "f8")
-    assert map_bytes_per_target(2, 3) == 8 * (3 + 2 + 2) + 1 + 3 * 8 * (8 + 2 + 1)
-    assert map_table_header(tmp_path / "after") == header[:10] + ["flatness_um"] + header[10:]  # before the joint
+    monkeypatch.setattr(schema, "ALL_FIGURES", (*schema.ALL_FIGURES, MapFigure("flatness_um")))
+    assert map_columns(2, 3, "one-test")["scenario2_figures"] == ((8,), "f8")
+    assert map_bytes_per_target(2, 3, "one-test") == 8 * (3 + 2 + 2) + 1 + 3 * 8 * (8 + 2 + 1)
+    assert map_table_header(tmp_path / "after", "one-test") == header[:10] + ["flatness_um"] + header[10:]
+
+
+def test_an_expected_map_has_its_band_its_directional_figures_and_how_they_were_computed(tmp_path):
+    """Besides the one-test figures: the RP_l band, vAP_p and RP_l_multi; and per scenario the method, fallbacks,
+    engine bound (2 values) and band error columns."""
+    assert map_columns(2, 1, "expected")["scenario0_figures"] == ((11,), "f8")
+    assert map_bytes_per_target(2, 1, "expected") == 8 * (3 + 2 + 2) + 1 + 8 * (11 + 2 + 1) + 8 * (1 + 1 + 2 + 1)
+    assert map_table_header(tmp_path / "expected", "expected")[4:16] == [
+        "RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "AP_p_um", "vAP_p_um", "RP_l_multi_um", "RP_a_mdeg", "RP_b_mdeg",
+        "RP_c_mdeg", "largest_semi_axis_um", "dominant_joint", "dominant_share"]

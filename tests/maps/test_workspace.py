@@ -103,7 +103,7 @@ def ur5_map_study(cycles=30):
         "robot": {"name": "ur5", "payload_kg": 3.0},
         "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5, "bearing_span_m": 0.08},
         "map": {"kind": "plane", "origin_m": [0.0, -0.55, 0.2], "axis_u": [1, 0, 0], "axis_v": [0, 0, 1],
-                "extent_u_m": [-0.1, 0.1], "extent_v_m": [0.0, 0.1], "resolution": [3, 2]},
+                "extent_u_m": [-0.1, 0.1], "extent_v_m": [0.0, 0.1], "resolution": [3, 2], "statistic": "one-test"},
     }
 
 

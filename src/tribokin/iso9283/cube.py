@@ -78,14 +78,19 @@ def held_approach_signs(robot: Robot, q, directions) -> np.ndarray:
     else along ``d`` alone (``pinv(J_position) d``). A joint that does not move keeps sign 0: it adds no lost
     motion on that approach (unlike :func:`joint_approach_signs`, which the simulated cube uses).
     """
+    return approach_signs_from_jacobians(robot.tool_jacobian(q)[None], directions)[0]
+
+
+def approach_signs_from_jacobians(jacobians: np.ndarray, directions) -> np.ndarray:
+    """:func:`held_approach_signs` of (k, 6, nv) tool Jacobians: (k, m, nv)."""
     directions = np.atleast_2d(np.asarray(directions, dtype=float))
-    jacobian = robot.tool_jacobian(q)
-    if holds_orientation(robot, q):
-        velocities = np.linalg.pinv(jacobian) @ np.vstack([directions.T, np.zeros((3, len(directions)))])
-    else:
-        velocities = np.linalg.pinv(jacobian[:3]) @ directions.T
-    velocities = velocities.T
-    still = np.abs(velocities) <= STILL_RTOL * np.abs(velocities).max(axis=1, keepdims=True)
+    held = np.linalg.pinv(jacobians) @ np.vstack([directions.T, np.zeros((3, len(directions)))])
+    free = np.linalg.pinv(jacobians[:, :3]) @ directions.T
+    holds = np.zeros(len(jacobians), dtype=bool)
+    if jacobians.shape[2] >= 6:  # full rank, as holds_orientation decides
+        holds = np.linalg.matrix_rank(jacobians, tol=1e-6) == 6
+    velocities = np.swapaxes(np.where(holds[:, None, None], held, free), 1, 2)
+    still = np.abs(velocities) <= STILL_RTOL * np.abs(velocities).max(axis=2, keepdims=True)
     return np.where(still, 0.0, np.sign(velocities))
 
 

@@ -1,5 +1,5 @@
 """Measuring a block of map targets: each target's cycles drawn from its own stream and measured like a single
-pose (joint-space approach), keeping only its scalar figures (:data:`~tribokin.maps.result.MAP_FIGURES`)."""
+pose (joint-space approach), keeping only its scalar figures (``map.statistic = "one-test"``, :func:`~tribokin.maps.schema.map_figures`)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import numpy as np
 
 from tribokin.iso9283.metrics import orientation_repeatability, position_spread, variance_contributions
 from tribokin.maps.budget import TARGET_BLOCK_SAMPLES
-from tribokin.maps.schema import MAP_FIGURES
+from tribokin.maps.schema import map_figures
 from tribokin.propagation.exact import tool_deviations_at_poses
 from tribokin.simulation.pose_run import PoseRunner, joint_space_task
 from tribokin.streams import map_target_stream
@@ -18,7 +18,7 @@ from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twists: np.ndarray,
                     translations: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Figures (targets, ``MAP_FIGURES``), bearing loads [N] (targets, nv) and dominant joint (-1: none)
+    """One-test figures (targets, ``map_figures("one-test")``), bearing loads [N] (targets, nv) and dominant joint (-1: none)
     of the targets ``indices`` at configurations ``qs`` (targets, nv), each drawn from its own stream
     and measured like a single pose (joint-space approach); ``twists``, ``translations``: their
     :func:`~tribokin.propagation.exact.tool_frames`. Targets go through in blocks of even sizes, of at most about
@@ -27,7 +27,7 @@ def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twi
     study = runner.study
     task = joint_space_task("map target", np.zeros(qs.shape[1]))  # the draws use its approach directions only
     forces = runner.normal_forces_at(qs)
-    figures = np.empty((len(qs), len(MAP_FIGURES)))
+    figures = np.empty((len(qs), len(map_figures("one-test"))))
     dominant = np.empty(len(qs), dtype=int)
     blocks = math.ceil(len(qs) / max(1, TARGET_BLOCK_SAMPLES // study.cycles))
     for b in range(blocks):  # blocks of even sizes: no small last one paying the per-call costs alone
@@ -42,7 +42,7 @@ def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twi
 
 
 def block_figures(runner: PoseRunner, qs: np.ndarray, dq: np.ndarray, twists: np.ndarray, translations: np.ndarray):
-    """``MAP_FIGURES`` (targets, 7) and dominant joint (targets,) of deviations ``dq`` (targets, n, nv)."""
+    """One-test figures (targets, 7) and dominant joint (targets,) of deviations ``dq`` (targets, n, nv)."""
     positions, angles = tool_deviations_at_poses(runner.robot, qs, dq, runner.study.engine, twists, translations)
     shares = variance_contributions(twists[:, :3], dq)
     dominant = np.where(np.isnan(shares).all(axis=1), -1, np.argmax(np.nan_to_num(shares, nan=-1.0), axis=1))

@@ -7,9 +7,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tribokin.maps.expected import ANALYTIC, SAMPLED
 from tribokin.maps.grid import TargetGrid
 from tribokin.maps.rows import unreachable_reasons
-from tribokin.maps.schema import MAP_FIGURES, figure_index, scenario_column
+from tribokin.maps.schema import figure_index, map_figures, scenario_column
 from tribokin.maps.store import ChunkStore
 from tribokin.maps.streaming import blocks, spread
 
@@ -23,6 +24,7 @@ class ScenarioMap:
         number: the scenario's place in the study (its columns in the store).
         joint_names: active joints, in the order of ``q`` (the names of ``dominant_joint``'s indices).
         store: where the columns are (:class:`~tribokin.maps.store.ChunkStore`).
+        statistic: ``map.statistic`` (which figures it has: :func:`~tribokin.maps.schema.map_figures`).
     """
 
     name: str
@@ -30,20 +32,27 @@ class ScenarioMap:
     number: int
     joint_names: list[str]
     store: ChunkStore = field(repr=False)
+    statistic: str
 
     def read(self, name: str, targets=slice(None)) -> np.ndarray:
-        """Column ``name`` at ``targets``: ``figures`` (k, len(MAP_FIGURES)), ``normal_forces_N`` (k, nv)
+        """Column ``name`` at ``targets``: ``figures`` (k, len(map_figures(statistic))), ``normal_forces_N`` (k, nv)
         bearing loads [N], ``dominant_joint`` (k,) index in ``joint_names`` of the joint with the largest share of
-        the position variance (-1: none)."""
+        the position variance (-1: none); an expected map's ``method``, ``fallbacks``, ``engine_bound``, ``band_error``
+        (:func:`~tribokin.maps.expected.expected_targets`)."""
         return self.store.read(scenario_column(self.number, name), targets)
 
     def figure(self, name: str, targets=slice(None)) -> np.ndarray:
-        """Column ``name`` of ``MAP_FIGURES`` at ``targets`` (default: all; read the whole column only for small maps)."""
-        return self.read("figures", targets)[:, figure_index(name)]
+        """Figure ``name`` (:func:`~tribokin.maps.schema.map_figures`) at ``targets`` (default: all; read the whole
+        column only for small maps)."""
+        return self.read("figures", targets)[:, figure_index(name, self.statistic)]
+
+    def has(self, name: str) -> bool:
+        """Whether the map has figure ``name``."""
+        return name in [figure.name for figure in map_figures(self.statistic)]
 
     @property
     def figures(self) -> np.ndarray:
-        """(N, len(MAP_FIGURES)) figures of every target (the whole column, in memory)."""
+        """(N, figures) figures of every target (the whole column, in memory)."""
         return self.read("figures")
 
     @property
@@ -160,8 +169,9 @@ class MapResult:
             "reachable": reachable,
             "unreachable": size - reachable,
             "cycles": reference.cycles,
-            **{f.name: spread(lambda part, f=f: reference.figure(f.name, part), size) for f in MAP_FIGURES
-               if f.summarised},
+            "statistic": reference.statistic,
+            **{f.name: spread(lambda part, f=f: reference.figure(f.name, part), size)
+               for f in map_figures(reference.statistic) if f.summarised},
             "dominant_joint_counts": {name: int(count) for name, count in zip(self.joint_names, dominant)},
         }
         if len(self.scenarios) > 1:
@@ -174,7 +184,26 @@ class MapResult:
             } for s in self.scenarios.values()]
             block["wins"] = {name: int(count) for name, count in zip(self.scenarios, wins[1:])}
             block["ties"] = int(wins[0])
+        if reference.statistic == "expected":
+            block["computed"] = {s.name: self._computed(s) for s in self.scenarios.values()}
         return block
+
+    def _computed(self, scenario: ScenarioMap) -> dict:
+        """How an expected map's figures were computed: targets per method, fallbacks, the largest engine bound and
+        RP_l band error (:mod:`tribokin.maps.expected`)."""
+        analytic = sampled = fallback = 0
+        bound, band_error = np.zeros(2), 0.0
+        for part in self.blocks():
+            flags = self.read("reachable", part)
+            method = scenario.read("method", part)[flags]
+            analytic += int(np.sum(method == ANALYTIC))
+            sampled += int(np.sum(method == SAMPLED))
+            fallback += int(np.count_nonzero(scenario.read("fallbacks", part)[flags]))
+            bound = np.fmax(bound, np.nanmax(scenario.read("engine_bound", part)[flags], axis=0, initial=0.0))
+            band_error = max(band_error, float(np.nanmax(scenario.read("band_error", part)[flags], initial=0.0)))
+        return {"analytic_targets": analytic, "sampled_targets": sampled, "fallback_targets": fallback,
+                "engine_max_deviation_nm": float(bound[0] * 1e9), "engine_max_angle_deviation_nrad": float(bound[1] * 1e9),
+                "RP_l_band_max_mc_error": band_error}
 
     def first_reachable_q(self) -> np.ndarray | None:
         """The configuration of the first reachable target [m or rad], ``None`` if none is."""

@@ -22,6 +22,8 @@ from tribokin.errors import InputError
 from tribokin.execution import run_chunks
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
+from tribokin.iso9283.expected import ShapeTable
+from tribokin.maps.expected import ExpectedSetup, expected_targets
 from tribokin.maps.measure import measure_targets
 from tribokin.maps.result import MapResult, ScenarioMap
 from tribokin.maps.rows import fill_from_neighbours, solve_row, solve_row_heads
@@ -29,6 +31,7 @@ from tribokin.maps.schema import map_columns, scenario_column
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.propagation.exact import tool_frames
 from tribokin.simulation.pose_run import PoseRunner
+from tribokin.streams import expected_stream
 from tribokin.study.assembly import joint_models, load_robot
 from tribokin.study.spec import Study
 
@@ -37,12 +40,14 @@ from tribokin.study.spec import Study
 class MapJob:
     """What a chunk needs besides its rows: the study (robot, ``[map]``) and each scenario's study.
 
-    ``token`` names the job, so each process builds the robot, grid and runners once per job.
+    ``token`` names the job, so each process builds the robot, grid and runners once per job. ``setups``: each
+    scenario's :class:`~tribokin.maps.expected.ExpectedSetup` (``None`` for a one-test map).
     """
 
     token: str
     study: Study
     scenarios: tuple[Study, ...]
+    setups: tuple[ExpectedSetup | None, ...]
 
 
 #: Per thread (Pinocchio data is mutable, and a dask worker may run chunks in several threads):
@@ -68,38 +73,46 @@ def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, 
         the chunk's targets' values of every column of :func:`~tribokin.maps.schema.map_columns`, in index order.
     """
     robot, grid, runners = _job_context(job)
-    arrays = empty_arrays(len(rows) * grid.row_length, robot.model.nv, len(runners))
+    arrays = empty_arrays(len(rows) * grid.row_length, robot.model.nv, len(runners), job.study.map.statistic)
     for k, (row, head) in enumerate(zip(rows, heads)):
         q, reachable, closest = solve_row(robot, grid, row, head)
         span = slice(k * grid.row_length, (k + 1) * grid.row_length)
         indices = grid.row_indices(row)
         arrays["q"][span], arrays["reachable"][span], arrays["closest"][span] = q, reachable, closest
         arrays["position_m"][span] = target_positions_m(robot, grid, indices, q)
-        measure_into(arrays, span.start + np.flatnonzero(reachable), robot, runners, q[reachable], indices[reachable])
+        measure_into(arrays, span.start + np.flatnonzero(reachable), robot, runners, job.setups, q[reachable],
+                     indices[reachable])
     return arrays
 
 
-def empty_arrays(n: int, nv: int, scenarios: int) -> dict[str, np.ndarray]:
+def empty_arrays(n: int, nv: int, scenarios: int, statistic: str) -> dict[str, np.ndarray]:
     """The columns of ``n`` targets, all unreachable, before any is solved or measured."""
     arrays = {name: np.full((n, *shape), np.nan if dtype == "f8" else 0, dtype=dtype)
-              for name, (shape, dtype) in map_columns(nv, scenarios).items()}
+              for name, (shape, dtype) in map_columns(nv, scenarios, statistic).items()}
     for s in range(scenarios):
         arrays[scenario_column(s, "dominant_joint")][:] = -1
     return arrays
 
 
-def measure_into(arrays: dict, slots: np.ndarray, robot: Robot, runners: list[PoseRunner], qs: np.ndarray,
-                 indices: np.ndarray) -> None:
-    """Measure targets ``indices`` at configurations ``qs`` for every scenario, into ``slots`` of ``arrays``."""
+def measure_into(arrays: dict, slots: np.ndarray, robot: Robot, runners: list[PoseRunner],
+                 setups: tuple[ExpectedSetup | None, ...], qs: np.ndarray, indices: np.ndarray) -> None:
+    """Measure targets ``indices`` at configurations ``qs`` for every scenario, into ``slots`` of ``arrays``: their
+    expected figures (a scenario with a ``setups`` entry), else one test each."""
     twists, translations = tool_frames(robot, qs)
-    for s, runner in enumerate(runners):
-        figures, forces, dominant = measure_targets(runner, qs, indices, twists, translations)
-        arrays[scenario_column(s, "figures")][slots] = figures
-        arrays[scenario_column(s, "normal_forces_N")][slots] = forces
-        arrays[scenario_column(s, "dominant_joint")][slots] = dominant
+    for s, (runner, setup) in enumerate(zip(runners, setups)):
+        if setup is None:
+            figures, forces, dominant = measure_targets(runner, qs, indices, twists, translations)
+            values = {"figures": figures, "dominant_joint": dominant}
+        else:
+            forces = runner.normal_forces_at(qs)
+            values = expected_targets(runner, setup, qs, forces, twists, translations)
+        values["normal_forces_N"] = forces
+        for name, value in values.items():
+            arrays[scenario_column(s, name)][slots] = value
 
 
-def fill_holes(robot: Robot, grid, runners: list[PoseRunner], store: ChunkStore) -> None:
+def fill_holes(robot: Robot, grid, runners: list[PoseRunner], setups: tuple[ExpectedSetup | None, ...],
+               store: ChunkStore, statistic: str) -> None:
     """Reach and measure, in ``store``, the targets that IK reaches from a neighbour's configuration
     (:func:`~tribokin.maps.rows.fill_from_neighbours`) though not along their own row.
 
@@ -110,16 +123,29 @@ def fill_holes(robot: Robot, grid, runners: list[PoseRunner], store: ChunkStore)
     if filled is None:
         reached = fill_from_neighbours(robot, grid, store.read)
         indices = np.fromiter(reached, dtype=int, count=len(reached))
-        filled = {"index": indices, **empty_arrays(len(indices), robot.model.nv, len(runners))}
+        filled = {"index": indices, **empty_arrays(len(indices), robot.model.nv, len(runners), statistic)}
         if len(indices):
             q = np.array(list(reached.values()))
             filled["q"], filled["reachable"][:] = q, True
             filled["position_m"] = target_positions_m(robot, grid, indices, q)
-            measure_into(filled, np.arange(len(indices)), robot, runners, q, indices)
+            measure_into(filled, np.arange(len(indices)), robot, runners, setups, q, indices)
         store.save_record("filled", filled)
     indices = filled.pop("index")
     if len(indices):
         store.write(indices, filled)
+
+
+def expected_setups(study: Study, runners: list[PoseRunner]) -> tuple[ExpectedSetup | None, ...]:
+    """Each scenario's :class:`~tribokin.maps.expected.ExpectedSetup` (a shape table per cycles and seed), or
+    ``None`` each for a one-test map."""
+    if study.map.statistic != "expected":
+        return (None,) * len(runners)
+    tables = {}
+    for runner in runners:
+        key = runner.study.cycles, runner.study.seed
+        if key not in tables:
+            tables[key] = ShapeTable.simulate(key[0], expected_stream(key[1], "table"))
+    return tuple(ExpectedSetup.build(r, tables[r.study.cycles, r.study.seed]) for r in runners)
 
 
 def chunk_rows(study: Study, row_count: int) -> list[list[int]]:
@@ -134,7 +160,7 @@ def open_store(study: Study, studies: tuple[Study, ...], chunks: list[list[int]]
     is deleted with the store."""
     settings = {"study": study.mapping, "source": study.source, "chunks": chunks,
                 "scenarios": [[s.cycles, s.seed] for s in studies]}
-    columns = map_columns(nv, len(studies))
+    columns = map_columns(nv, len(studies), study.map.statistic)
     if checkpoint is not None:
         return ChunkStore(checkpoint, fingerprint(settings), columns, size, resume)
     return temporary_store(fingerprint(settings), columns, size)
@@ -191,7 +217,8 @@ def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunn
     chunks = chunk_rows(study, grid.row_count)
     store = open_store(study, studies, chunks, grid.size, robot.model.nv, checkpoint, resume)
     finished = set(store.finished())
-    job = MapJob(uuid.uuid4().hex, study, studies)
+    setups = expected_setups(study, runners)
+    job = MapJob(uuid.uuid4().hex, study, studies, setups)
     _local.cache = (job.token, robot, grid, runners)  # chunks run in this thread need not rebuild them
     todo = {k: (job, chunks[k], heads[chunks[k]]) for k in chunk_order(len(chunks)) if k not in finished}
     done_targets = sum(len(chunks[k]) for k in finished) * grid.row_length
@@ -205,7 +232,7 @@ def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunn
                 report(done_targets, grid.size)
     finally:
         _local.cache = None
-    fill_holes(robot, grid, runners, store)
-    maps = {name: ScenarioMap(name, s.cycles, i, robot.joint_names, store)
+    fill_holes(robot, grid, runners, setups, store, study.map.statistic)
+    maps = {name: ScenarioMap(name, s.cycles, i, robot.joint_names, store, study.map.statistic)
             for i, (name, s) in enumerate(zip(names, studies))}
     return MapResult(grid, robot.joint_names, store, maps)

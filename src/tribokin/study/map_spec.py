@@ -10,6 +10,9 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar
 
+#: ``map.statistic``: the expected figures over tests of ``cycles`` cycles (:mod:`tribokin.maps.expected`), or one
+#: simulated test per target (:mod:`tribokin.maps.measure`).
+STATISTICS = ("expected", "one-test")
 #: A map chunk holds about this many targets, rounded up to whole grid rows (``map.chunk_rows`` overrides).
 CHUNK_TARGETS = 256
 
@@ -20,7 +23,7 @@ Vector3 = tuple[float, float, float]
 class MapSpec:
     """What every ``[map]`` has: ``start_q`` [m or rad] (the IK's start posture, or the other joints' posture of
     a joint grid; ``None``: chosen) and ``chunk_rows`` (grid rows per chunk; ``None``: about ``CHUNK_TARGETS``
-    targets). Each kind has ``counts``: the targets along each axis, columns first."""
+    targets) and ``statistic`` (``"expected"``: each figure's mean over tests, or ``"one-test"``). Each kind has ``counts``: the targets along each axis, columns first."""
 
     kind: ClassVar[str]
     #: The study key that sets the number of targets.
@@ -28,6 +31,7 @@ class MapSpec:
 
     start_q: tuple[float, ...] | None = None
     chunk_rows: int | None = None
+    statistic: str = "expected"
 
     @property
     def target_count(self) -> int:

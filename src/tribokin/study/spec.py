@@ -18,7 +18,7 @@ from tribokin.checks import distinct_strings, finite, non_negative, number_list,
 from tribokin.errors import InputError, closest_hint
 from tribokin.iso9283.cube import known_approach
 from tribokin.simulation.joint_errors import APPROACH_MODES
-from tribokin.study.map_spec import MAP_SPECS, MapSpec
+from tribokin.study.map_spec import MAP_SPECS, STATISTICS, MapSpec
 
 
 # -- ranges: physically meaningful bounds, each with the reason a value outside is refused ---------------------
@@ -192,6 +192,7 @@ MAP_COMMON_KEYS = {
     "kind": (one_of(*MAP_KINDS), REQUIRED),
     "start_q": (partial(number_list, element=joint_value), None),
     "chunk_rows": (chunk_count, None),
+    "statistic": (one_of(*STATISTICS), "expected"),
 }
 #: What ``[calibration]`` may free (``fit``), and the instrument's noise floor range.
 CALIBRATION_PARAMETERS = ("stiffness", "backlash", "noise_floor")
