@@ -99,6 +99,12 @@ def text(value, source, key) -> str:
     return value
 
 
+def boolean(value, source, key) -> bool:
+    if not isinstance(value, bool):
+        raise InputError(f"must be true or false (got {value!r})", source, key)
+    return value
+
+
 def one_of(*choices):
     def check(value, source, key) -> str:
         if value not in choices:

@@ -12,8 +12,8 @@ import pytest
 from tribokin.iso9283.cube import APPROACH_DIRECTIONS, held_approach_signs
 from tribokin.iso9283.expected import BAND_PERCENTILES, ShapeTable, percentile_error
 from tribokin.iso9283.metrics import position_spread
-from tribokin.maps.expected import ANALYTIC, SAMPLED, EXPECTED_FIGURES, VAP_DIRECTIONS, ExpectedSetup, \
-    expected_targets
+from tribokin.maps.expected import ANALYTIC, SAMPLED, VAP_DIRECTIONS, ExpectedSetup, expected_targets
+from tribokin.maps.schema import map_figures
 from tribokin.propagation.exact import tool_deviations_exact, tool_frames
 from tribokin.simulation.joint_errors import sample_joint_deviations
 from tribokin.simulation.pose_run import PoseRunner
@@ -42,9 +42,9 @@ def runner_for(robot_name: str, law: str) -> PoseRunner:
 def expected_at(runner: PoseRunner, q: np.ndarray) -> dict:
     table = ShapeTable.simulate(CYCLES, expected_stream(runner.study.seed, "table"))
     twists, translations = tool_frames(runner.robot, q[None])
-    out = expected_targets(runner, ExpectedSetup.build(runner, table), q[None], runner.normal_forces_at(q[None]),
-                           twists, translations)
-    return {**dict(zip(EXPECTED_FIGURES, out["figures"][0])), "method": out["method"][0],
+    out = expected_targets(runner, ExpectedSetup.build(runner, table, "directional"), q[None],
+                           runner.normal_forces_at(q[None]), twists, translations)
+    return {**dict(zip([figure.name for figure in map_figures("directional")], out["figures"][0])), "method": out["method"][0],
             "fallbacks": out["fallbacks"][0], "band_error": out["band_error"][0]}
 
 

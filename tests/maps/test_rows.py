@@ -107,7 +107,7 @@ def test_the_reach_bounds_change_only_the_reasons_of_targets_beyond_them(monkeyp
     # every unreachable target
     assert (bounds == 0).sum() > 10 and (bounds == 1).sum() > 10
     np.testing.assert_array_equal(beyond, ~unbounded.reachable)
-    for column in map_columns(len(bounded.joint_names), len(bounded.scenarios), bounded.reference.statistic):
+    for column in map_columns(len(bounded.joint_names), len(bounded.scenarios), bounded.reference.figure_set):
         if column != "closest":
             np.testing.assert_array_equal(bounded.read(column), unbounded.read(column), err_msg=column)
     np.testing.assert_array_equal(bounded.read("closest")[~beyond], unbounded.read("closest")[~beyond])

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from statistics import NormalDist
 
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
@@ -29,6 +30,9 @@ from scipy.special import elliprd, elliprf, elliprg, gammaln
 
 #: Fewest cycles for which E[RP_l] is the delta method's (error under 0.5 %); fewer: the table's mean.
 ANALYTIC_MIN_CYCLES = 10
+#: From this many cycles on, one test's RP_l is taken as normal (:func:`normal_band`) and the largest semi-axis as the
+#: population's (bias O(1/n)): no shape table, no sampled tests.
+ASYMPTOTIC_CYCLES = 500
 #: Percentiles [%] of one test's RP_l that bound the band.
 BAND_PERCENTILES = (2.5, 97.5)
 #: Shape-table nodes along each of its axes √(λ₂/λ₁) and √(λ₃/λ₂).
@@ -76,17 +80,38 @@ def norm_moments(lam: np.ndarray) -> tuple[np.ndarray, ...]:
     return tuple(m * scale ** k for k, m in enumerate(_unit_moments(unit), start=1))
 
 
-def expected_rp_l(lam: np.ndarray, cycles: int) -> np.ndarray:
-    """E[RP_l] [m] of tests of ``cycles`` cycles with Gaussian deviations of covariance eigenvalues ``lam`` (..., 3)
-    [m²], by the delta method (module docstring; use from ``ANALYTIC_MIN_CYCLES`` cycles)."""
+def rp_l_from_moments(moments: tuple[np.ndarray, ...], cycles: int) -> tuple[np.ndarray, np.ndarray]:
+    """E[RP_l] and the standard deviation of one test's RP_l [m] over tests of ``cycles`` cycles, from the first four
+    moments E[l^k] [m^k] of one cycle's distance l to the barycentre, the cycles independent: to second order in the
+    delta method, E[S_l] = σ (1 - Var(S_l²) / (8 σ⁴)), Var(RP_l) = (σ² + 9 (μ₄ - σ⁴) / (4 σ²) + 3 μ₃ / σ) / n."""
     n = cycles
-    scale, unit = _scaled(lam)
-    m1, m2, m3, m4 = _unit_moments(unit)
+    m1, m2, m3, m4 = moments
     variance = np.maximum(m2 - m1 ** 2, 0.0)
+    central3 = m3 - 3 * m2 * m1 + 2 * m1 ** 3
     central4 = m4 - 4 * m3 * m1 + 6 * m2 * m1 ** 2 - 3 * m1 ** 4
     variance_of_s2 = central4 / n - variance ** 2 * (n - 3) / (n * (n - 1))
-    unit_rp = m1 + 3 * np.sqrt(variance) * (1 - variance_of_s2 / (8 * variance ** 2))
-    return unit_rp * scale * math.sqrt((n - 1) / n)
+    sigma = np.sqrt(variance)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mean = m1 + 3 * sigma * (1 - np.where(variance > 0, variance_of_s2 / (8 * variance ** 2), 0.0))
+        spread = np.where(variance > 0, variance + 9 * (central4 - variance ** 2) / (4 * variance)
+                          + 3 * central3 / sigma, 0.0) / n
+    return mean, np.sqrt(np.maximum(spread, 0.0))
+
+
+def expected_rp_l(lam: np.ndarray, cycles: int) -> tuple[np.ndarray, np.ndarray]:
+    """E[RP_l] [m] of tests of ``cycles`` cycles with Gaussian deviations of covariance eigenvalues ``lam`` (..., 3)
+    [m²] (:func:`rp_l_from_moments`: use from ``ANALYTIC_MIN_CYCLES`` cycles), and one test's standard deviation."""
+    n = cycles
+    scale, unit = _scaled(lam)
+    mean, spread = rp_l_from_moments(_unit_moments((n - 1) / n * unit), n)
+    return mean * scale, spread * scale
+
+
+def normal_band(mean: np.ndarray, spread: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The ``BAND_PERCENTILES`` of a normal law of ``mean`` and standard deviation ``spread``: one test's RP_l band
+    from ``ASYMPTOTIC_CYCLES`` cycles on (its skewness then moves them by under 0.5 %)."""
+    z = NormalDist().inv_cdf(BAND_PERCENTILES[1] / 100)
+    return mean - z * spread, mean + z * spread
 
 
 def c4(cycles: int) -> float:

@@ -76,7 +76,7 @@ def check_disk(study: Study, nv: int, folder) -> None:
         return
     targets = study.map.target_count
     scenarios = max(1, len(study.scenarios))
-    needed = targets * map_bytes_per_target(nv, scenarios, study.map.statistic)
+    needed = targets * map_bytes_per_target(nv, scenarios, study.map.figure_set)
     existing = Path(folder).absolute()
     while not existing.exists():
         existing = existing.parent
@@ -108,7 +108,7 @@ def estimate(study: Study, nv: int, directions: list[int], workers: int = 1) -> 
         scenarios = max(1, len(study.scenarios))
         cycles = max([s.study.cycles for s in study.scenarios] or [study.cycles])
         key, chunk, rows = study.map.size_key, study.map.chunk_targets, study.map.grid_rows
-        per_target = map_bytes_per_target(nv, scenarios, study.map.statistic)
+        per_target = map_bytes_per_target(nv, scenarios, study.map.figure_set)
         held = 2 * (max(1, workers) + 1) * chunk * per_target + 3 * FLOAT * nv * rows
         # chunks computed, in transit and written; a warm start per row (kept, sent, solved)
         parts.append((held, key, f"{_count(chunk, 'map target')} per chunk × {_count(scenarios, 'scenario')} × "

@@ -25,13 +25,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
 from tribokin.iso9283.cube import APPROACH_DIRECTIONS, approach_signs_from_jacobians
-from tribokin.iso9283.expected import ANALYTIC_MIN_CYCLES, BAND_PERCENTILES, ShapeTable, c4, expected_norm, \
-    expected_rp_l, percentile_error, standardised_shape
+from tribokin.iso9283.expected import ANALYTIC_MIN_CYCLES, ASYMPTOTIC_CYCLES, BAND_PERCENTILES, ShapeTable, c4, \
+    expected_norm, expected_rp_l, normal_band, percentile_error, rp_l_from_moments, standardised_shape
 from tribokin.iso9283.metrics import orientation_repeatability, position_repeatability, position_spread
+from tribokin.maps.schema import map_figures
 from tribokin.propagation.exact import tool_deviations_at_poses, tool_frames
 from tribokin.propagation.poe import DEFAULT_TOLERANCE, truncation_bound
 from tribokin.simulation.joint_errors import TAIL_STDS, JointErrorModel, approach_signs, friction_lever, friction_loads
@@ -42,8 +44,8 @@ from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 #: Sampled tests: about this many cycles in all (the RP_l band's error about 1 % at 30 cycles), at least 400 tests.
 SAMPLED_CYCLES, MIN_TESTS = 60_000, 400
-#: Tests of the random-direction mixture (only its mean is kept: about 0.5 % Monte Carlo error).
-MULTI_CYCLES = 12_000
+#: Cycles and fewest tests of the random-direction mixture (only its mean is kept: about 0.5 % Monte Carlo error).
+MULTI_CYCLES, MIN_MULTI_TESTS = 12_000, 20
 #: Sampled cycles of the targets computed together (their positions and angles in memory at once).
 BLOCK_CYCLES = 400_000
 #: The figures each sampled test gives.
@@ -58,9 +60,6 @@ LINEAR_TOLERANCE = 1e-3
 #: The approach directions of vAP_p: +x, +y, +z of the base frame.
 VAP_DIRECTIONS = ("+x", "+y", "+z")
 
-#: The figures of an expected map, in the store's order (µm, mdeg; ``dominant_share`` in [0, 1]).
-EXPECTED_FIGURES = ("RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "AP_p_um", "vAP_p_um", "RP_l_multi_um", "RP_a_mdeg",
-                    "RP_b_mdeg", "RP_c_mdeg", "largest_semi_axis_um", "dominant_share")
 #: How a target's figures were computed (its ``method`` column).
 ANALYTIC, SAMPLED = 0, 1
 
@@ -159,21 +158,23 @@ def linear_model(robot, moments: JointMoments, qs: np.ndarray, lever: np.ndarray
 @dataclass(frozen=True)
 class ExpectedSetup:
     """What every block of one scenario's expected map shares, built once per map: the tests' ``cycles``, the
-    scenario's :class:`JointMoments` and the shape table of Gaussian tests
-    (:class:`~tribokin.iso9283.expected.ShapeTable`)."""
+    scenario's :class:`JointMoments`, the shape table of Gaussian tests (:class:`~tribokin.iso9283.expected.ShapeTable`;
+    ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on) and the map's ``figure_set`` (``"directional"``: vAP_p and
+    RP_l_multi too)."""
 
     cycles: int
     moments: JointMoments
-    table: ShapeTable
+    table: ShapeTable | None
+    figure_set: str
 
     @classmethod
-    def build(cls, runner: PoseRunner, table: ShapeTable) -> ExpectedSetup:
-        return cls(runner.study.cycles, JointMoments.of(runner.models), table)
+    def build(cls, runner: PoseRunner, table: ShapeTable | None, figure_set: str) -> ExpectedSetup:
+        return cls(runner.study.cycles, JointMoments.of(runner.models), table, figure_set)
 
 
-def tests_for(cycles_in_all: int, cycles: int) -> int:
-    """Sampled tests of ``cycles`` cycles: about ``cycles_in_all`` cycles, at least ``MIN_TESTS`` tests."""
-    return max(MIN_TESTS, math.ceil(cycles_in_all / cycles))
+def tests_for(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> int:
+    """Sampled tests of ``cycles`` cycles: about ``cycles_in_all`` cycles, at least ``fewest`` tests."""
+    return max(fewest, math.ceil(cycles_in_all / cycles))
 
 
 def common_numbers(runner: PoseRunner, signs: np.ndarray, tests: int, purpose: str) -> np.ndarray:
@@ -233,23 +234,24 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     ``twists``, ``translations``: their :func:`~tribokin.propagation.exact.tool_frames`.
 
     Returns:
-        ``figures`` (k, len(EXPECTED_FIGURES)), ``dominant_joint`` (k,) (-1: none), ``method`` (k,) (``ANALYTIC``
-        or ``SAMPLED``), ``fallbacks`` (k,) how many of the three models (the test's, vAP_p's, RP_l_multi's) did not
-        meet the bound and went through the fast engine, ``engine_bound`` (k, 2) [m, rad] the largest bound of the
-        first-order models used, ``band_error`` (k,) the RP_l band's relative Monte Carlo error.
+        ``figures`` (k, figures) in the order of :func:`~tribokin.maps.schema.map_figures` of ``setup.figure_set``,
+        ``dominant_joint`` (k,) (-1: none), ``method`` (k,) (``ANALYTIC`` or ``SAMPLED``), ``fallbacks`` (k,) how many
+        of the models (the test's; vAP_p's, RP_l_multi's) did not meet the bound and went through the fast engine,
+        ``engine_bound`` (k, 2) [m, rad] the largest bound of the first-order models used, ``band_error`` (k,) the
+        RP_l band's relative Monte Carlo error.
     """
     models, robot, moments = runner.models, runner.robot, setup.moments
     lever = friction_loads(models, forces) * friction_lever(models, robot.joint_is_prismatic)
-    columns = {name: k for k, name in enumerate(EXPECTED_FIGURES)}
-    figures = np.full((len(qs), len(EXPECTED_FIGURES)), np.nan)
+    columns = {figure.name: k for k, figure in enumerate(map_figures(setup.figure_set))}
+    figures = np.full((len(qs), len(columns)), np.nan)
     unidirectional = runner.study.approach == "unidirectional"
-    signs = test_signs(runner, setup.cycles)
+    signs = test_signs(runner, sampled_shape(SAMPLED_CYCLES, setup.cycles))
     model = linear_model(robot, moments, qs, lever, np.broadcast_to(signs.mean(axis=(0, 1)), lever.shape),
                          mixed=not unidirectional)
     analytic = model.met & moments.gaussian & unidirectional
     out = {"figures": figures, "method": np.where(analytic, ANALYTIC, SAMPLED),
            "fallbacks": (~model.met).astype(int), "engine_bound": np.where(model.met[:, None], model.bound, 0.0),
-           "band_error": np.full(len(qs), setup.table.band_error)}
+           "band_error": np.full(len(qs), 0.0 if setup.table is None else setup.table.band_error)}
     if analytic.any():
         for name, values in _analytic(model, analytic, setup, translations[analytic]).items():
             figures[analytic, columns[name]] = values
@@ -258,11 +260,12 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
         out["band_error"][~analytic] = sampled.pop("band_error")
         for name, values in sampled.items():
             figures[~analytic, columns[name]] = values
-    vap, vap_bounds, vap_fallbacks = _vap(runner, moments, qs, lever, twists, setup.cycles)
-    multi, multi_bounds, multi_fallbacks = _multi(runner, setup, qs, lever)
-    figures[:, columns["vAP_p_um"]], figures[:, columns["RP_l_multi_um"]] = vap, multi
-    out["fallbacks"] += vap_fallbacks + multi_fallbacks
-    out["engine_bound"] = np.maximum(out["engine_bound"], np.maximum(vap_bounds, multi_bounds))
+    if setup.figure_set == "directional":
+        for name, (values, bounds, fallbacks) in {"vAP_p_um": _vap(runner, moments, qs, lever, twists, setup.cycles),
+                                                  "RP_l_multi_um": _multi(runner, setup, qs, lever)}.items():
+            figures[:, columns[name]] = values
+            out["fallbacks"] += fallbacks
+            out["engine_bound"] = np.maximum(out["engine_bound"], bounds)
     parts = model.deviation_variance * np.sum(model.jacobian[:, :3] ** 2, axis=1)
     total = parts.sum(axis=1)
     out["dominant_joint"] = np.where(total > 0, np.argmax(parts, axis=1), -1)
@@ -271,38 +274,105 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     return out
 
 
-def test_signs(runner: PoseRunner, cycles: int) -> np.ndarray:
-    """Joint signs (1 or tests, cycles, nv) of the sampled tests of a map target under the study's ``approach`` mode
-    (:func:`~tribokin.simulation.joint_errors.approach_signs` with every joint forwards, then backwards): the same for
-    every test unless the directions are drawn at random."""
+def sampled_shape(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> tuple[int, int]:
+    """(tests, cycles per test) sampled for tests of ``cycles`` cycles: :func:`tests_for` tests (at least ``fewest``),
+    or from ``ASYMPTOTIC_CYCLES`` on one series of ``cycles_in_all`` single cycles (:func:`cycle_moments`)."""
+    if cycles >= ASYMPTOTIC_CYCLES:
+        return 1, cycles_in_all
+    return tests_for(cycles_in_all, cycles, fewest), cycles
+
+
+def test_signs(runner: PoseRunner, shape: tuple[int, int]) -> np.ndarray:
+    """Joint signs (1 or tests, cycles, nv) of sampled tests of ``shape`` (tests, cycles) under the study's ``approach``
+    mode (:func:`~tribokin.simulation.joint_errors.approach_signs` with every joint forwards, then backwards): the
+    same for every test unless the directions are drawn at random."""
     nv, mode = len(runner.models), runner.study.approach
     rng = expected_stream(runner.study.seed, "signs")
     directions = np.vstack([np.ones(nv), -np.ones(nv)])
     if mode != "random":
-        return approach_signs(mode, cycles, directions, rng)[0][None]
-    tests = tests_for(SAMPLED_CYCLES, cycles)
-    return approach_signs(mode, tests * cycles, directions, rng)[0].reshape(tests, cycles, nv)
+        return approach_signs(mode, shape[1], directions, rng)[0][None]
+    return approach_signs(mode, math.prod(shape), directions, rng)[0].reshape(*shape, nv)
 
 
 def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chosen: np.ndarray, signs: np.ndarray,
              qs: np.ndarray, commanded: np.ndarray) -> dict[str, np.ndarray]:
     """The figures of targets ``chosen`` (mask) over the sampled tests, and their RP_l band's ``band_error``."""
     n, moments = setup.cycles, setup.moments
-    tests = tests_for(SAMPLED_CYCLES, n)
-    numbers = common_numbers(runner, np.broadcast_to(signs, (tests, n, signs.shape[2])) if signs.shape[0] == 1
-                             else signs, tests, "tests")
+    shape = sampled_shape(SAMPLED_CYCLES, n)
+    numbers = common_numbers(runner, np.broadcast_to(signs, (*shape, signs.shape[2])) if len(signs) == 1 else signs,
+                             shape[0], "tests")
+    summarise = partial(_summarise_cycles, cycles=n) if n >= ASYMPTOTIC_CYCLES else _summarise_tests
     indices = np.flatnonzero(chosen)
     values = {name: np.empty(len(indices)) for name in (*TEST_FIGURES, "RP_l_lo_um", "RP_l_hi_um", "band_error")}
     place = {k: i for i, k in enumerate(indices)}
     linear = indices[model.met[indices]]
-    for block in blocks_of(linear, tests * n):
-        positions = sampled_tests(model, moments, block, numbers, (tests, n), slice(0, 3))
-        angles = sampled_tests(model, moments, block, numbers, (tests, n), slice(3, 6))
-        _summarise_tests(values, [place[k] for k in block], positions, angles, commanded[block])
+    for block in blocks_of(linear, math.prod(shape)):
+        positions = sampled_tests(model, moments, block, numbers, shape, slice(0, 3))
+        angles = sampled_tests(model, moments, block, numbers, shape, slice(3, 6))
+        summarise(values, [place[k] for k in block], positions, angles, commanded[block])
     for k in indices[~model.met[indices]]:
-        positions, angles = engine_tests(runner, model, moments, k, qs[k], numbers, (tests, n))
-        _summarise_tests(values, [place[k]], positions[None], angles[None], commanded[[k]])
+        positions, angles = engine_tests(runner, model, moments, k, qs[k], numbers, shape)
+        summarise(values, [place[k]], positions[None], angles[None], commanded[[k]])
     return values
+
+
+def cycle_moments(positions: np.ndarray, cycles: int, normals: np.ndarray) -> tuple[tuple[np.ndarray, ...],
+                                                                                     np.ndarray]:
+    """E[l^k], k = 1..4 (k,) each, of the distance l [m] of one of ``cycles`` cycles to their barycentre, from (k, M, 3)
+    single cycles, and the distances (k, M).
+
+    The cycle x_j and the barycentre x̄ = x_j / n + (the other n - 1 cycles' sum) / n: the latter is drawn for each
+    single cycle as a normal of the cycles' covariance times (n - 1) / n² (the other cycles' mean, by the central
+    limit theorem), from standard ``normals`` (M, 3). The l_j of one test share x̄: E[S_l²] is Var(l) less their
+    covariance ē (Σ / n) ē, ē = E[(x_j - x̄) / l_j] (to first order), taken off the second moment.
+    """
+    n = cycles
+    centred = positions - positions.mean(axis=1, keepdims=True)
+    covariance = np.swapaxes(centred, 1, 2) @ centred / (positions.shape[1] - 1)
+    lam, vectors = np.linalg.eigh(covariance)
+    roots = vectors * np.sqrt(np.maximum(lam, 0.0) * (n - 1))[:, None, :] / n
+    offsets = (1 - 1 / n) * centred - normals @ np.swapaxes(roots, 1, 2)
+    squares = np.square(offsets).sum(axis=-1)
+    distances = np.sqrt(squares)
+    inverse = np.divide(1.0, distances, out=np.zeros_like(distances), where=distances > 0)
+    direction = (offsets * inverse[..., None]).mean(axis=1)
+    shared = np.einsum("ki,kij,kj->k", direction, covariance, direction) / n
+    moments = [distances.mean(axis=1), squares.mean(axis=1) - shared, (squares * distances).mean(axis=1),
+               np.square(squares).mean(axis=1)]
+    return tuple(moments), distances
+
+
+def barycentre_normals(count: int) -> np.ndarray:
+    """(count, 3) standard normals drawing the barycentre of each single cycle (:func:`cycle_moments`), the same at
+    every target and scenario."""
+    return expected_stream(0, "barycentre").standard_normal((count, 3))
+
+
+def _summarise_cycles(values: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
+                      commanded: np.ndarray, cycles: int) -> None:
+    """As :func:`_summarise_tests`, for tests of ``cycles`` >= ``ASYMPTOTIC_CYCLES`` cycles from (k, 1, M, 3) single
+    cycles: RP_l from their distances' moments (:func:`~tribokin.iso9283.expected.rp_l_from_moments`), its band
+    normal; AP_p, RP_a/b/c and the semi-axis from the cycles' mean and covariance as in the closed form. The band's
+    Monte Carlo error: that of the distances' mean and standard deviation over M cycles."""
+    positions, angles = positions[:, 0], angles[:, 0]
+    n, count = cycles, positions.shape[1]
+    moments, distances = cycle_moments(positions, n, barycentre_normals(positions.shape[1]))
+    mean, spread = rp_l_from_moments(moments, n)
+    low, high = normal_band(mean, spread)
+    offsets = positions - positions.mean(axis=1, keepdims=True)
+    covariance = np.einsum("kmi,kmj->kij", offsets, offsets) / (count - 1)
+    angle_std = angles.std(axis=1, ddof=1)
+    lengths = {"RP_l_um": mean, "RP_l_lo_um": low, "RP_l_hi_um": high,
+               "AP_p_um": expected_norm(positions.mean(axis=1) - commanded, covariance / n),
+               "largest_semi_axis_um": np.sqrt(np.maximum(np.linalg.eigvalsh(covariance)[:, -1], 0.0))}
+    for name, length in lengths.items():
+        values[name][slots] = length * UM_PER_M
+    for i, axis in enumerate("abc"):
+        values[f"RP_{axis}_mdeg"][slots] = 3 * c4(n) * angle_std[:, i] * MDEG_PER_RAD
+    sigma = distances.std(axis=1)
+    kurtosis = ((distances - moments[0][:, None]) ** 4).mean(axis=1) / np.where(sigma > 0, sigma ** 4, 1.0)
+    error = (sigma + 3 * sigma * np.sqrt(np.maximum(kurtosis - 1, 0.0) / 4)) / math.sqrt(count)
+    values["band_error"][slots] = np.where(low > 0, error / np.where(low > 0, low, 1.0), 0.0)
 
 
 def _summarise_tests(values: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
@@ -329,15 +399,20 @@ def _analytic(model: LinearModel, chosen: np.ndarray, setup: ExpectedSetup, comm
     position = model.covariance(slice(0, 3))[chosen]
     lam = np.linalg.eigvalsh(position)
     scale, shape = standardised_shape(lam)
-    mean, low, high, semi_axis = setup.table.at(shape)
-    rp_l = expected_rp_l(lam, n) if n >= ANALYTIC_MIN_CYCLES else mean * scale
-    with np.errstate(divide="ignore", invalid="ignore"):
-        band = [np.where(mean > 0, rp_l * ratio / mean, 0.0) for ratio in (low, high)]
+    rp_l, spread = expected_rp_l(lam, n)
+    if setup.table is None:  # from ASYMPTOTIC_CYCLES on
+        band, semi_axis = normal_band(rp_l, spread), scale
+    else:
+        mean, low, high, semi_axis = setup.table.at(shape)
+        rp_l = rp_l if n >= ANALYTIC_MIN_CYCLES else mean * scale
+        with np.errstate(divide="ignore", invalid="ignore"):
+            band = [np.where(mean > 0, rp_l * ratio / mean, 0.0) for ratio in (low, high)]
+        semi_axis = semi_axis * scale
     angle_std = np.sqrt(np.diagonal(model.covariance(slice(3, 6))[chosen], axis1=1, axis2=2))
     return {"RP_l_um": rp_l * UM_PER_M, "RP_l_lo_um": band[0] * UM_PER_M, "RP_l_hi_um": band[1] * UM_PER_M,
             "AP_p_um": expected_norm(model.position_m[chosen] - commanded, position / n) * UM_PER_M,
             **{f"RP_{axis}_mdeg": 3 * c4(n) * angle_std[:, i] * MDEG_PER_RAD for i, axis in enumerate("abc")},
-            "largest_semi_axis_um": semi_axis * scale * UM_PER_M}
+            "largest_semi_axis_um": semi_axis * UM_PER_M}
 
 
 def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.ndarray, twists: np.ndarray,
@@ -361,14 +436,13 @@ def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.nd
     vap = np.take_along_axis(expected, order[:, [0]], axis=1)[:, 0]
     close = np.flatnonzero(first - second <= TAIL_STDS * width)
     if len(close):
-        rng = expected_stream(runner.study.seed, "vap")
-        z = rng.standard_normal((VAP_DRAWS, len(directions), 3))
-        for k in close:
-            lam, vectors = np.linalg.eigh(noise[k])  # a root of each (3 directions, 3, 3), singular ones too
-            roots = vectors * np.sqrt(np.maximum(lam, 0.0))[:, None, :]
-            barycentres = centres[k] + np.einsum("dij,tdj->tdi", roots, z)
-            vap[k] = np.max([np.linalg.norm(barycentres[:, a] - barycentres[:, b], axis=-1) for a, b in pairs],
-                            axis=0).mean()
+        z = expected_stream(runner.study.seed, "vap").standard_normal((VAP_DRAWS, len(directions), 3))
+        lam, vectors = np.linalg.eigh(noise[close])  # a root of each (close, 3 directions, 3, 3), singular ones too
+        roots = vectors * np.sqrt(np.maximum(lam, 0.0))[..., None, :]
+        for block in np.array_split(np.arange(len(close)), max(1, len(close) * VAP_DRAWS // BLOCK_CYCLES)):
+            barycentres = centres[close[block], None] + np.einsum("kdij,tdj->ktdi", roots[block], z)
+            vap[close[block]] = np.max([np.linalg.norm(barycentres[:, :, a] - barycentres[:, :, b], axis=-1)
+                                        for a, b in pairs], axis=0).mean(axis=1)
     bounds = np.max([np.where(m.met[:, None], m.bound, 0.0) for m in models], axis=0)
     return vap * UM_PER_M, bounds, np.sum([~m.met for m in models], axis=0).clip(max=1)
 
@@ -377,17 +451,20 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, lever: np.n
            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """RP_l_multi [µm] (k,), the bound [m, rad] (k, 2) of its first-order model and its fallbacks (k,)."""
     n, moments = setup.cycles, setup.moments
-    tests = tests_for(MULTI_CYCLES, n)
+    shape = sampled_shape(MULTI_CYCLES, n, MIN_MULTI_TESTS)
     rng = expected_stream(runner.study.seed, "multi signs")
-    signs = rng.integers(0, 2, size=(tests, n, len(runner.models))) * 2.0 - 1.0
-    numbers = common_numbers(runner, signs, tests, "multi")
+    signs = rng.integers(0, 2, size=(*shape, len(runner.models))) * 2.0 - 1.0
+    numbers = common_numbers(runner, signs, shape[0], "multi")
     model = linear_model(runner.robot, moments, qs, lever, np.zeros_like(lever), mixed=True)
+
+    def repeatability(positions: np.ndarray) -> np.ndarray:  # (k, tests, cycles, 3) -> E[RP_l] (k,)
+        if n >= ASYMPTOTIC_CYCLES:
+            return rp_l_from_moments(cycle_moments(positions[:, 0], n, barycentre_normals(shape[1]))[0], n)[0]
+        return position_repeatability(positions)[0].mean(axis=1)
+
     rp = np.empty(len(qs))
-    linear = np.flatnonzero(model.met)
-    for block in blocks_of(linear, tests * n):
-        rp[block] = position_repeatability(sampled_tests(model, moments, block, numbers, (tests, n),
-                                                         slice(0, 3)))[0].mean(axis=1)
+    for block in blocks_of(np.flatnonzero(model.met), math.prod(shape)):
+        rp[block] = repeatability(sampled_tests(model, moments, block, numbers, shape, slice(0, 3)))
     for k in np.flatnonzero(~model.met):
-        rp[k] = position_repeatability(engine_tests(runner, model, moments, k, qs[k], numbers, (tests, n))[0]
-                                       )[0].mean()
+        rp[k] = repeatability(engine_tests(runner, model, moments, k, qs[k], numbers, shape)[0][None])[0]
     return rp * UM_PER_M, np.where(model.met[:, None], model.bound, 0.0), (~model.met).astype(int)

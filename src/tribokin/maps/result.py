@@ -24,7 +24,8 @@ class ScenarioMap:
         number: the scenario's place in the study (its columns in the store).
         joint_names: active joints, in the order of ``q`` (the names of ``dominant_joint``'s indices).
         store: where the columns are (:class:`~tribokin.maps.store.ChunkStore`).
-        statistic: ``map.statistic`` (which figures it has: :func:`~tribokin.maps.schema.map_figures`).
+        figure_set: which figures it has (:attr:`~tribokin.study.map_spec.MapSpec.figure_set`,
+            :func:`~tribokin.maps.schema.map_figures`).
     """
 
     name: str
@@ -32,10 +33,10 @@ class ScenarioMap:
     number: int
     joint_names: list[str]
     store: ChunkStore = field(repr=False)
-    statistic: str
+    figure_set: str
 
     def read(self, name: str, targets=slice(None)) -> np.ndarray:
-        """Column ``name`` at ``targets``: ``figures`` (k, len(map_figures(statistic))), ``normal_forces_N`` (k, nv)
+        """Column ``name`` at ``targets``: ``figures`` (k, len(map_figures(figure_set))), ``normal_forces_N`` (k, nv)
         bearing loads [N], ``dominant_joint`` (k,) index in ``joint_names`` of the joint with the largest share of
         the position variance (-1: none); an expected map's ``method``, ``fallbacks``, ``engine_bound``, ``band_error``
         (:func:`~tribokin.maps.expected.expected_targets`)."""
@@ -44,11 +45,11 @@ class ScenarioMap:
     def figure(self, name: str, targets=slice(None)) -> np.ndarray:
         """Figure ``name`` (:func:`~tribokin.maps.schema.map_figures`) at ``targets`` (default: all; read the whole
         column only for small maps)."""
-        return self.read("figures", targets)[:, figure_index(name, self.statistic)]
+        return self.read("figures", targets)[:, figure_index(name, self.figure_set)]
 
     def has(self, name: str) -> bool:
         """Whether the map has figure ``name``."""
-        return name in [figure.name for figure in map_figures(self.statistic)]
+        return name in [figure.name for figure in map_figures(self.figure_set)]
 
     @property
     def figures(self) -> np.ndarray:
@@ -169,9 +170,10 @@ class MapResult:
             "reachable": reachable,
             "unreachable": size - reachable,
             "cycles": reference.cycles,
-            "statistic": reference.statistic,
+            "statistic": "one-test" if reference.figure_set == "one-test" else "expected",
+            "directional": reference.figure_set == "directional",
             **{f.name: spread(lambda part, f=f: reference.figure(f.name, part), size)
-               for f in map_figures(reference.statistic) if f.summarised},
+               for f in map_figures(reference.figure_set) if f.summarised},
             "dominant_joint_counts": {name: int(count) for name, count in zip(self.joint_names, dominant)},
         }
         if len(self.scenarios) > 1:
@@ -184,7 +186,7 @@ class MapResult:
             } for s in self.scenarios.values()]
             block["wins"] = {name: int(count) for name, count in zip(self.scenarios, wins[1:])}
             block["ties"] = int(wins[0])
-        if reference.statistic == "expected":
+        if reference.figure_set != "one-test":
             block["computed"] = {s.name: self._computed(s) for s in self.scenarios.values()}
         return block
 

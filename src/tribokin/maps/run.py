@@ -22,7 +22,7 @@ from tribokin.errors import InputError
 from tribokin.execution import run_chunks
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
-from tribokin.iso9283.expected import ShapeTable
+from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES, ShapeTable
 from tribokin.maps.expected import ExpectedSetup, expected_targets
 from tribokin.maps.measure import measure_targets
 from tribokin.maps.result import MapResult, ScenarioMap
@@ -73,7 +73,7 @@ def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, 
         the chunk's targets' values of every column of :func:`~tribokin.maps.schema.map_columns`, in index order.
     """
     robot, grid, runners = _job_context(job)
-    arrays = empty_arrays(len(rows) * grid.row_length, robot.model.nv, len(runners), job.study.map.statistic)
+    arrays = empty_arrays(len(rows) * grid.row_length, robot.model.nv, len(runners), job.study.map.figure_set)
     for k, (row, head) in enumerate(zip(rows, heads)):
         q, reachable, closest = solve_row(robot, grid, row, head)
         span = slice(k * grid.row_length, (k + 1) * grid.row_length)
@@ -85,10 +85,10 @@ def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, 
     return arrays
 
 
-def empty_arrays(n: int, nv: int, scenarios: int, statistic: str) -> dict[str, np.ndarray]:
+def empty_arrays(n: int, nv: int, scenarios: int, figure_set: str) -> dict[str, np.ndarray]:
     """The columns of ``n`` targets, all unreachable, before any is solved or measured."""
     arrays = {name: np.full((n, *shape), np.nan if dtype == "f8" else 0, dtype=dtype)
-              for name, (shape, dtype) in map_columns(nv, scenarios, statistic).items()}
+              for name, (shape, dtype) in map_columns(nv, scenarios, figure_set).items()}
     for s in range(scenarios):
         arrays[scenario_column(s, "dominant_joint")][:] = -1
     return arrays
@@ -112,7 +112,7 @@ def measure_into(arrays: dict, slots: np.ndarray, robot: Robot, runners: list[Po
 
 
 def fill_holes(robot: Robot, grid, runners: list[PoseRunner], setups: tuple[ExpectedSetup | None, ...],
-               store: ChunkStore, statistic: str) -> None:
+               store: ChunkStore, figure_set: str) -> None:
     """Reach and measure, in ``store``, the targets that IK reaches from a neighbour's configuration
     (:func:`~tribokin.maps.rows.fill_from_neighbours`) though not along their own row.
 
@@ -123,7 +123,7 @@ def fill_holes(robot: Robot, grid, runners: list[PoseRunner], setups: tuple[Expe
     if filled is None:
         reached = fill_from_neighbours(robot, grid, store.read)
         indices = np.fromiter(reached, dtype=int, count=len(reached))
-        filled = {"index": indices, **empty_arrays(len(indices), robot.model.nv, len(runners), statistic)}
+        filled = {"index": indices, **empty_arrays(len(indices), robot.model.nv, len(runners), figure_set)}
         if len(indices):
             q = np.array(list(reached.values()))
             filled["q"], filled["reachable"][:] = q, True
@@ -144,8 +144,9 @@ def expected_setups(study: Study, runners: list[PoseRunner]) -> tuple[ExpectedSe
     for runner in runners:
         key = runner.study.cycles, runner.study.seed
         if key not in tables:
-            tables[key] = ShapeTable.simulate(key[0], expected_stream(key[1], "table"))
-    return tuple(ExpectedSetup.build(r, tables[r.study.cycles, r.study.seed]) for r in runners)
+            tables[key] = (None if key[0] >= ASYMPTOTIC_CYCLES
+                           else ShapeTable.simulate(key[0], expected_stream(key[1], "table")))
+    return tuple(ExpectedSetup.build(r, tables[r.study.cycles, r.study.seed], study.map.figure_set) for r in runners)
 
 
 def chunk_rows(study: Study, row_count: int) -> list[list[int]]:
@@ -160,7 +161,7 @@ def open_store(study: Study, studies: tuple[Study, ...], chunks: list[list[int]]
     is deleted with the store."""
     settings = {"study": study.mapping, "source": study.source, "chunks": chunks,
                 "scenarios": [[s.cycles, s.seed] for s in studies]}
-    columns = map_columns(nv, len(studies), study.map.statistic)
+    columns = map_columns(nv, len(studies), study.map.figure_set)
     if checkpoint is not None:
         return ChunkStore(checkpoint, fingerprint(settings), columns, size, resume)
     return temporary_store(fingerprint(settings), columns, size)
@@ -232,7 +233,7 @@ def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunn
                 report(done_targets, grid.size)
     finally:
         _local.cache = None
-    fill_holes(robot, grid, runners, setups, store, study.map.statistic)
-    maps = {name: ScenarioMap(name, s.cycles, i, robot.joint_names, store, study.map.statistic)
+    fill_holes(robot, grid, runners, setups, store, study.map.figure_set)
+    maps = {name: ScenarioMap(name, s.cycles, i, robot.joint_names, store, study.map.figure_set)
             for i, (name, s) in enumerate(zip(names, studies))}
     return MapResult(grid, robot.joint_names, store, maps)

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from tribokin.maps.store import row_bytes
-from tribokin.study.map_spec import STATISTICS
+from tribokin.study.map_spec import FIGURE_SETS
 
 
 @dataclass(frozen=True)
@@ -22,39 +22,40 @@ class MapFigure:
             none: dimensionless).
         summarised: ``summary.json`` gives its min, exact median and max over the map.
         after_dominant_joint: ``map.csv`` gives it after the dominant joint's name (a figure of that joint).
-        statistics: the ``map.statistic`` values that have it.
+        sets: the figure sets that have it (:attr:`~tribokin.study.map_spec.MapSpec.figure_set`).
     """
 
     name: str
     summarised: bool = False
     after_dominant_joint: bool = False
-    statistics: tuple[str, ...] = STATISTICS
+    sets: tuple[str, ...] = FIGURE_SETS
 
 
+_EXPECTED = ("expected", "directional")
 #: The figures of every map target, in the store's order (µm, mdeg; ``dominant_share`` in [0, 1]); an expected map's
-#: RP_l band of one test (2.5 and 97.5 %) and its directional figures (vAP_p along +x, +y, +z; RP_l of cycles from
-#: random joint-space directions) are its own.
-ALL_FIGURES = (MapFigure("RP_l_um", summarised=True), MapFigure("RP_l_lo_um", statistics=("expected",)),
-               MapFigure("RP_l_hi_um", statistics=("expected",)), MapFigure("AP_p_um", summarised=True),
-               MapFigure("vAP_p_um", summarised=True, statistics=("expected",)),
-               MapFigure("RP_l_multi_um", summarised=True, statistics=("expected",)),
+#: RP_l band of one test (2.5 and 97.5 %) and a directional map's vAP_p (along +x, +y, +z) and RP_l_multi (cycles
+#: from random joint-space directions) are their own.
+ALL_FIGURES = (MapFigure("RP_l_um", summarised=True), MapFigure("RP_l_lo_um", sets=_EXPECTED),
+               MapFigure("RP_l_hi_um", sets=_EXPECTED), MapFigure("AP_p_um", summarised=True),
+               MapFigure("vAP_p_um", summarised=True, sets=("directional",)),
+               MapFigure("RP_l_multi_um", summarised=True, sets=("directional",)),
                MapFigure("RP_a_mdeg"), MapFigure("RP_b_mdeg"), MapFigure("RP_c_mdeg"),
                MapFigure("largest_semi_axis_um"), MapFigure("dominant_share", after_dominant_joint=True))
 
 
-def map_figures(statistic: str) -> tuple[MapFigure, ...]:
-    """The figures of a map of ``statistic``, in the store's order."""
-    return tuple(figure for figure in ALL_FIGURES if statistic in figure.statistics)
+def map_figures(figure_set: str) -> tuple[MapFigure, ...]:
+    """The figures of a map's ``figure_set`` (:data:`~tribokin.study.map_spec.FIGURE_SETS`), in the store's order."""
+    return tuple(figure for figure in ALL_FIGURES if figure_set in figure.sets)
 
 
-def figure_index(name: str, statistic: str) -> int:
+def figure_index(name: str, figure_set: str) -> int:
     """Place of figure ``name`` in :func:`map_figures` (its column in the store's ``figures``)."""
-    return [figure.name for figure in map_figures(statistic)].index(name)
+    return [figure.name for figure in map_figures(figure_set)].index(name)
 
 
-def table_figures(statistic: str) -> list[str]:
+def table_figures(figure_set: str) -> list[str]:
     """The figures' columns of ``map.csv`` in order, ``dominant_joint`` (the joint's name) among them."""
-    figures = map_figures(statistic)
+    figures = map_figures(figure_set)
     names = [figure.name for figure in figures if not figure.after_dominant_joint]
     return names + ["dominant_joint"] + [figure.name for figure in figures if figure.after_dominant_joint]
 
@@ -68,19 +69,19 @@ class MapColumn:
         width: values per target: a number, ``"joints"`` (one per active joint), ``"figures"`` (one per
             :func:`map_figures`), or ``None`` (one value, no axis).
         dtype: NumPy type code.
-        statistics: the ``map.statistic`` values that have it.
+        sets: the figure sets whose maps have it.
     """
 
     name: str
     width: int | str | None
     dtype: str
-    statistics: tuple[str, ...] = STATISTICS
+    sets: tuple[str, ...] = FIGURE_SETS
 
-    def shape(self, nv: int, statistic: str) -> tuple[int, ...]:
+    def shape(self, nv: int, figure_set: str) -> tuple[int, ...]:
         """Shape of one target's value, with ``nv`` active joints."""
         if self.width is None:
             return ()
-        return ({"joints": nv, "figures": len(map_figures(statistic))}.get(self.width, self.width),)
+        return ({"joints": nv, "figures": len(map_figures(figure_set))}.get(self.width, self.width),)
 
 
 #: Columns of every target (see :class:`~tribokin.maps.result.MapResult`).
@@ -89,9 +90,9 @@ TARGET_COLUMNS = (MapColumn("position_m", 3, "f8"), MapColumn("q", "joints", "f8
 #: Columns of every target per scenario (see :class:`~tribokin.maps.result.ScenarioMap`); an expected map's also
 #: say how its figures were computed (:func:`~tribokin.maps.expected.expected_targets`).
 SCENARIO_COLUMNS = (MapColumn("figures", "figures", "f8"), MapColumn("normal_forces_N", "joints", "f8"),
-                    MapColumn("dominant_joint", None, "i8"), MapColumn("method", None, "i8", ("expected",)),
-                    MapColumn("fallbacks", None, "i8", ("expected",)),
-                    MapColumn("engine_bound", 2, "f8", ("expected",)), MapColumn("band_error", None, "f8", ("expected",)))
+                    MapColumn("dominant_joint", None, "i8"), MapColumn("method", None, "i8", _EXPECTED),
+                    MapColumn("fallbacks", None, "i8", _EXPECTED), MapColumn("engine_bound", 2, "f8", _EXPECTED),
+                    MapColumn("band_error", None, "f8", _EXPECTED))
 
 
 def scenario_column(scenario: int, name: str) -> str:
@@ -99,16 +100,16 @@ def scenario_column(scenario: int, name: str) -> str:
     return f"scenario{scenario}_{name}"
 
 
-def map_columns(nv: int, scenarios: int, statistic: str) -> dict[str, tuple[tuple, str]]:
-    """The store's columns of a map of ``statistic`` with ``nv`` active joints and ``scenarios`` scenarios:
+def map_columns(nv: int, scenarios: int, figure_set: str) -> dict[str, tuple[tuple, str]]:
+    """The store's columns of a map of ``figure_set`` with ``nv`` active joints and ``scenarios`` scenarios:
     ``name -> (shape of one target's value, dtype)``."""
-    columns = {column.name: (column.shape(nv, statistic), column.dtype) for column in TARGET_COLUMNS}
+    columns = {column.name: (column.shape(nv, figure_set), column.dtype) for column in TARGET_COLUMNS}
     for s in range(scenarios):
-        columns.update({scenario_column(s, column.name): (column.shape(nv, statistic), column.dtype)
-                        for column in SCENARIO_COLUMNS if statistic in column.statistics})
+        columns.update({scenario_column(s, column.name): (column.shape(nv, figure_set), column.dtype)
+                        for column in SCENARIO_COLUMNS if figure_set in column.sets})
     return columns
 
 
-def map_bytes_per_target(nv: int, scenarios: int, statistic: str) -> int:
+def map_bytes_per_target(nv: int, scenarios: int, figure_set: str) -> int:
     """Bytes a target takes in the store (:func:`map_columns`)."""
-    return row_bytes(map_columns(nv, scenarios, statistic))
+    return row_bytes(map_columns(nv, scenarios, figure_set))

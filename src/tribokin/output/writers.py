@@ -133,7 +133,8 @@ def map_table_columns(workspace_map: MapResult, scenario: ScenarioMap, targets: 
     columns = {"x_m": positions[:, 0], "y_m": positions[:, 1], "z_m": positions[:, 2],
                "reachable": workspace_map.read("reachable", targets)}
     columns.update({name: scenario.dominant_joint_names(targets) if name == "dominant_joint"
-                    else figures[:, figure_index(name, scenario.statistic)] for name in table_figures(scenario.statistic)})
+                    else figures[:, figure_index(name, scenario.figure_set)]
+                    for name in table_figures(scenario.figure_set)})
     if scenario is not workspace_map.reference:
         columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
         columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario, targets)

@@ -13,6 +13,8 @@ from typing import ClassVar
 #: ``map.statistic``: the expected figures over tests of ``cycles`` cycles (:mod:`tribokin.maps.expected`), or one
 #: simulated test per target (:mod:`tribokin.maps.measure`).
 STATISTICS = ("expected", "one-test")
+#: The sets of figures a map target has (:attr:`MapSpec.figure_set`).
+FIGURE_SETS = ("one-test", "expected", "directional")
 #: A map chunk holds about this many targets, rounded up to whole grid rows (``map.chunk_rows`` overrides).
 CHUNK_TARGETS = 256
 
@@ -23,7 +25,8 @@ Vector3 = tuple[float, float, float]
 class MapSpec:
     """What every ``[map]`` has: ``start_q`` [m or rad] (the IK's start posture, or the other joints' posture of
     a joint grid; ``None``: chosen) and ``chunk_rows`` (grid rows per chunk; ``None``: about ``CHUNK_TARGETS``
-    targets) and ``statistic`` (``"expected"``: each figure's mean over tests, or ``"one-test"``). Each kind has ``counts``: the targets along each axis, columns first."""
+    targets), ``statistic`` (``"expected"``: each figure's mean over tests, or ``"one-test"``) and ``directional``
+    (an expected map's vAP_p and RP_l_multi too). Each kind has ``counts``: the targets along each axis, columns first."""
 
     kind: ClassVar[str]
     #: The study key that sets the number of targets.
@@ -32,6 +35,13 @@ class MapSpec:
     start_q: tuple[float, ...] | None = None
     chunk_rows: int | None = None
     statistic: str = "expected"
+    directional: bool = False
+
+    @property
+    def figure_set(self) -> str:
+        """Which figures each target has (:data:`FIGURE_SETS`): ``"one-test"``, ``"expected"`` or, with
+        ``directional``, ``"directional"`` (the expected ones, vAP_p and RP_l_multi besides)."""
+        return "one-test" if self.statistic == "one-test" else "directional" if self.directional else "expected"
 
     @property
     def target_count(self) -> int:

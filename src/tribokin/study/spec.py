@@ -13,7 +13,7 @@ from dataclasses import asdict, dataclass, field, replace
 from functools import partial
 from pathlib import Path
 
-from tribokin.checks import distinct_strings, finite, non_negative, number_list, one_of, positive, positive_int, \
+from tribokin.checks import boolean, distinct_strings, finite, non_negative, number_list, one_of, positive, positive_int, \
     seed_int, string_list, table, text, whole_number, within
 from tribokin.errors import InputError, closest_hint
 from tribokin.iso9283.cube import known_approach
@@ -193,6 +193,7 @@ MAP_COMMON_KEYS = {
     "start_q": (partial(number_list, element=joint_value), None),
     "chunk_rows": (chunk_count, None),
     "statistic": (one_of(*STATISTICS), "expected"),
+    "directional": (boolean, False),
 }
 #: What ``[calibration]`` may free (``fit``), and the instrument's noise floor range.
 CALIBRATION_PARAMETERS = ("stiffness", "backlash", "noise_floor")
