@@ -192,6 +192,16 @@ def rp_l_norm(workspace_map: MapResult) -> Normalize:
     return value_norm(np.concatenate([s.figure("RP_l_um", shown) for s in workspace_map.scenarios.values()]))
 
 
+#: Heat maps of an expected map's own figures: (file, figure, colour bar label, title).
+EXPECTED_HEAT_MAPS = (
+    ("map_RP_l_hi.png", "RP_l_hi_um", "97.5 % of one test's RP_l [µm]",
+     "RP_l of one test: 1 test in 40 exceeds this"),
+    ("map_vAP_p.png", "vAP_p_um", "expected vAP_p [µm]",
+     "multi-directional position accuracy variation vAP_p, approached along +x, +y, +z"),
+    ("map_RP_l_multi.png", "RP_l_multi_um", "expected RP_l_multi [µm]",
+     "RP_l of cycles each approached from a random joint-space direction"))
+
+
 def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | None) -> dict[str, tuple]:
     """File name -> arguments of :func:`save_grid_image` (values, label, title, options) of each map figure,
     in the order a reader follows: the reference, each other scenario, their ratios and differences to
@@ -201,10 +211,11 @@ def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | No
     shared = " (colour scale shared by all scenarios)" if others else ""
     compared = f", {reference.name}" if others else ""
     joints = workspace_map.joint_names
+    expected = "expected " if reference.has("RP_l_hi_um") else ""
     figures = {
-        "map_RP_l.png": (lambda shown: reference.figure("RP_l_um", shown), "RP_l [µm]",
-                         f"position repeatability RP_l, {reference.cycles} cycles per target{compared}{shared}",
-                         {"norm": norm}),
+        "map_RP_l.png": (lambda shown: reference.figure("RP_l_um", shown), f"{expected}RP_l [µm]",
+                         f"position repeatability RP_l, {expected}over tests of {reference.cycles} cycles per target"
+                         f"{compared}{shared}", {"norm": norm}),
         "map_dominant_joint.png": (
             lambda shown: np.where(workspace_map.read("reachable", shown), reference.read("dominant_joint", shown),
                                    np.nan),
@@ -212,6 +223,8 @@ def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | No
             {"cmap": _categorical(len(joints)), "norm": BoundaryNorm(np.arange(-1.5, len(joints)), len(joints) + 1),
              "categories": ["none"] + joints}),
     }
+    figures.update({file: (lambda shown, name=name: reference.figure(name, shown), label, title, {})
+                    for file, name, label, title in EXPECTED_HEAT_MAPS if reference.has(name)})
     for s in others:
         figures[map_figure_file("RP_l", s.name)] = (lambda shown, s=s: s.figure("RP_l_um", shown), "RP_l [µm]",
                                              f"RP_l, {s.name}{shared}", {"norm": norm})
