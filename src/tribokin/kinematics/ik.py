@@ -125,14 +125,14 @@ def solve_ik_batch(chain: SerialChain, rotation: np.ndarray, positions_m: np.nda
         placements = chain.tool_in_joint(q[active])
         current_rotations = placements[:, 0, :3, :3]
         gaps = goals[active] - placements[:, 0, :3, 3]
-        position_error[active] = np.sqrt((gaps * gaps).sum(axis=1))
+        position_error[active] = distances = np.sqrt((gaps * gaps).sum(axis=1))
         local_gaps = (gaps[:, None, :] @ current_rotations)[:, 0]  # the gap in the tool frame
-        errors = local_gaps
+        errors, angles = local_gaps, 0.0
         if not position_only:
-            errors, angles = log6(np.swapaxes(current_rotations, 1, 2) @ rotation, local_gaps)
-            angle_error[active] = np.sqrt((errors[:, 3:] * errors[:, 3:]).sum(axis=1))
-        converged[active] = (position_error[active] < position_tol_m) & (angle_error[active] < angle_tol_rad)
-        going = ~converged[active] & (iteration < iterations)
+            errors, turns = log6(np.swapaxes(current_rotations, 1, 2) @ rotation, local_gaps)
+            angle_error[active] = angles = np.sqrt((errors[:, 3:] * errors[:, 3:]).sum(axis=1))
+        converged[active] = done = (distances < position_tol_m) & (angles < angle_tol_rad)
+        going = ~done & (iteration < iterations)
         active, errors, placements = active[going], errors[going], placements[going]
         if not len(active):
             break
@@ -140,7 +140,7 @@ def solve_ik_batch(chain: SerialChain, rotation: np.ndarray, positions_m: np.nda
         if position_only:
             jacobians = jacobians[:, :3]
         else:
-            jacobians = jlog6(errors[:, 3:], angles[going], local_gaps[going]) @ jacobians
+            jacobians = jlog6(errors[:, 3:], turns[going], local_gaps[going]) @ jacobians
         systems = jacobians @ np.swapaxes(jacobians, 1, 2) + regularisation
         steps = (np.swapaxes(jacobians, 1, 2) @ np.linalg.solve(systems, errors[..., None]))[..., 0]
         q[active] = np.minimum(np.maximum(q[active] + steps, lower), upper)

@@ -111,19 +111,14 @@ def extrapolate_rows(q: np.ndarray, streaks: np.ndarray) -> np.ndarray:
     return predicted
 
 
-def _stacked(results: list[IKResult], nv: int) -> IKResult:
-    """The IK results of several targets as one, of arrays (k, nv) and (k,)."""
-    return IKResult(np.array([r.q for r in results]).reshape(len(results), nv),
-                    *(np.array([getattr(r, name) for r in results], dtype=dtype) for name, dtype in
-                      (("position_error_m", float), ("angle_error_rad", float), ("success", bool))))
-
-
 def _solve_from_warm_starts(robot: Robot, chain: SerialChain | None, grid: TargetGrid, indices: np.ndarray,
                             positions_m: np.ndarray, q_starts: np.ndarray) -> IKResult:
-    """IK of targets ``indices`` at ``positions_m`` (k, 3) [m] from ``q_starts`` (k, nv), without restarts: all at
-    once (:func:`~tribokin.kinematics.ik.solve_ik_batch`) given the robot's ``chain``, else one by one."""
+    """IK of targets ``indices`` (k > 0) at ``positions_m`` (k, 3) [m] from ``q_starts`` (k, nv), without restarts:
+    all at once (:func:`~tribokin.kinematics.ik.solve_ik_batch`) given the robot's ``chain``, else one by one."""
     if chain is None:
-        return _stacked([_solve_from(robot, grid, index, q) for index, q in zip(indices, q_starts)], robot.model.nv)
+        results = [_solve_from(robot, grid, index, q) for index, q in zip(indices, q_starts)]
+        return IKResult(*(np.array([getattr(r, name) for r in results])
+                          for name in ("q", "position_error_m", "angle_error_rad", "success")))
     return solve_ik_batch(chain, _rotation(grid), positions_m, q_starts, position_only=grid.rotation is None)
 
 
@@ -161,17 +156,20 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True
         within = np.isnan(closest[:, column, 0])
         predicted = extrapolate_rows(q[:, :column], streaks)
         warm = np.flatnonzero(within & ~np.isnan(predicted[:, 0]))
-        first = _solve_from_warm_starts(robot, chain, grid, indices[warm, column], positions[warm, column],
-                                        predicted[warm])
-        reachable[warm[first.success], column] = True
-        retry = np.flatnonzero(within & ~reachable[:, column])  # from the row's last reached target, then restarts
-        again = _stacked([_solve(robot, grid, indices[r, column], q_start[r]) for r in retry], nv)
-        reachable[retry[again.success], column] = True
-        for tried, result in ((warm, first), (retry, again)):
-            q[tried[result.success], column] = q_start[tried[result.success]] = result.q[result.success]
-        failed = retry[~again.success]
-        closest[failed, column, 0] = again.position_error_m[~again.success]
-        closest[failed, column, 1] = np.nan if grid.rotation is None else again.angle_error_rad[~again.success]
+        if len(warm):
+            first = _solve_from_warm_starts(robot, chain, grid, indices[warm, column], positions[warm, column],
+                                            predicted[warm])
+            reached = warm[first.success]
+            reachable[reached, column] = True
+            q[reached, column] = q_start[reached] = first.q[first.success]
+        for row in np.flatnonzero(within & ~reachable[:, column]):  # from its last reached target, then restarts
+            result = _solve(robot, grid, indices[row, column], q_start[row])
+            reachable[row, column] = result.success
+            if result.success:
+                q[row, column] = q_start[row] = result.q
+            else:
+                closest[row, column] = result.position_error_m, np.nan if grid.rotation is None else \
+                    result.angle_error_rad
         streaks = np.where(reachable[:, column], streaks + 1, 0)
     return q, reachable, closest
 
