@@ -13,7 +13,8 @@ alone (:func:`tribokin.kinematics.reach.reach_sphere`), ``after`` as shipped (th
 * ``seconds``: the command's wall time in the child (``seconds_process``: the whole child, imports included);
 * the IK's time [s] per target, by outcome: reached, unreachable within the bounds, beyond the tool point's sphere
   (``beyond``), within it but beyond the last joint's (``beyond_last_joint``) (the time of every IK solve of a
-  target, warm start, restarts, row head and retries from neighbours, summed per target);
+  target, warm start, restarts, row head and retries from neighbours, summed per target; the time of a column's
+  warm starts solved together shared equally among its targets);
 * that the runs wrote the same bytes to ``map.csv`` (a target's reason for being beyond the reach is made from its
   position, so it reads the same whether the IK was tried there or not).
 
@@ -57,14 +58,22 @@ def child(mode: str, study: str, out: str, cycles: int) -> None:
         rows.beyond_reach_m = lambda grid, indices, bound=rows.beyond_reach_m: bound(
             dataclasses.replace(grid, reach=grid.reach[:1]), indices)
     ik_seconds = defaultdict(float)
-    for name in ("_solve", "_solve_from"):
-        def timed(robot, grid, index, q_start, solve=getattr(rows, name)):
+
+    def timed(solve, indices_of):
+        def run(*arguments):
             start = time.perf_counter()
             try:
-                return solve(robot, grid, index, q_start)
+                return solve(*arguments)
             finally:
-                ik_seconds[index] += time.perf_counter() - start
-        setattr(rows, name, timed)
+                indices = indices_of(*arguments)
+                for index in indices:
+                    ik_seconds[int(index)] += (time.perf_counter() - start) / len(indices)
+        return run
+
+    for name in ("_solve", "_solve_from"):
+        setattr(rows, name, timed(getattr(rows, name), lambda robot, grid, index, q_start: [index]))
+    rows._solve_from_warm_starts = timed(rows._solve_from_warm_starts,
+                                         lambda robot, chain, grid, indices, *rest: indices)
     start = time.perf_counter()
     status = main(["run", study, "--out", out, "--cycles", cycles, "--report", "light", "--workers", 1, "--force"])
     seconds = time.perf_counter() - start

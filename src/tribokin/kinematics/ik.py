@@ -1,4 +1,5 @@
-"""Inverse kinematics of the tool frame: damped least squares within joint limits."""
+"""Inverse kinematics of the tool frame: damped least squares within joint limits, for one target
+(:func:`solve_ik`, Pinocchio) or many at once (:func:`solve_ik_batch`, NumPy, :mod:`tribokin.kinematics.chain`)."""
 
 from __future__ import annotations
 
@@ -9,20 +10,27 @@ import numpy as np
 import pinocchio as pin
 from scipy.linalg.lapack import dposv
 
+from tribokin.kinematics.chain import SerialChain
 from tribokin.kinematics.robot import Robot
+from tribokin.kinematics.se3_log import jlog6, log6
 
 #: Iterations in a row without progress after which an IK solve gives up.
 STALL_ITERATIONS = 20
+#: Iterations :func:`solve_ik_batch` takes for all its targets together; a target still iterating after them goes on
+#: alone (from a warm start most converge in one or two, and a few slow ones would keep a whole batch's cost per
+#: iteration going for up to ``iterations``).
+BATCH_ITERATIONS = 4
 
 
 @dataclass(frozen=True)
 class IKResult:
-    """Outcome of one IK solve: ``q`` [m or rad], residual position [m] and angle [rad] errors."""
+    """Outcome of one IK solve: ``q`` [m or rad], residual position [m] and angle [rad] errors (of a batch's,
+    :func:`solve_ik_batch`: (k, nv) and (k,) arrays)."""
 
     q: np.ndarray
-    position_error_m: float
-    angle_error_rad: float
-    success: bool
+    position_error_m: float | np.ndarray
+    angle_error_rad: float | np.ndarray
+    success: bool | np.ndarray
 
 
 def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-10, angle_tol_rad: float = 1e-9,
@@ -46,14 +54,12 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
         current = pin.updateFramePlacement(model, data, frame)
         gap = goal - current.translation
         position_error = math.sqrt(gap @ gap)
-        if position_only:
-            angle_error = 0.0
-            converged = position_error < position_tol_m
-        else:
+        angle_error = 0.0
+        if not position_only:
             error_motion = current.actInv(target)
             error = pin.log6(error_motion).vector
             angle_error = math.sqrt(error[3:] @ error[3:])
-            converged = position_error < position_tol_m and angle_error < angle_tol_rad
+        converged = position_error < position_tol_m and angle_error < angle_tol_rad
         stalled = 0 if position_error + angle_error < 0.999 * best else stalled + 1
         best = min(best, position_error + angle_error)
         if converged or iteration == iterations or (patience is not None and stalled >= patience):
@@ -66,9 +72,14 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
         _, step, _ = dposv(jacobian @ jacobian.T + regularisation, error)  # SPD: Cholesky, without numpy's checks
         step = jacobian.T @ step
         q = np.minimum(np.maximum(q + step, lower), upper)
-    success = converged or (position_error < position_tol_m * 10
-                            and (position_only or angle_error < angle_tol_rad * 10))
-    return IKResult(q, position_error, angle_error, success)
+    return IKResult(q, position_error, angle_error, _succeeded(converged, position_error, angle_error, position_tol_m,
+                                                               angle_tol_rad))
+
+
+def _succeeded(converged, position_error_m, angle_error_rad, position_tol_m: float, angle_tol_rad: float):
+    """Whether an IK solve succeeded: it converged, or it ended within ten times the tolerances (the angle error is 0
+    when the orientation is not held); scalars or arrays."""
+    return converged | ((position_error_m < position_tol_m * 10) & (angle_error_rad < angle_tol_rad * 10))
 
 
 def solve_ik_with_restarts(robot: Robot, target: pin.SE3, q_start, rng, restarts: int = 8,
@@ -88,3 +99,55 @@ def solve_ik_with_restarts(robot: Robot, target: pin.SE3, q_start, rng, restarts
         if attempt.success or attempt.position_error_m < best.position_error_m:
             best = attempt
     return best
+
+
+def solve_ik_batch(chain: SerialChain, rotation: np.ndarray, positions_m: np.ndarray, q_start: np.ndarray,
+                   position_tol_m: float = 1e-10, angle_tol_rad: float = 1e-9, position_only: bool = False,
+                   iterations: int = 200, damping: float = 1e-6) -> IKResult:
+    """:func:`solve_ik` of ``chain``'s robot for k targets at once (without ``patience``): the tool frame at
+    ``positions_m`` (k, 3) [m], turned by ``rotation`` (3, 3) in the base frame (ignored when ``position_only``), from
+    ``q_start`` (k, nv) [m or rad].
+
+    The same iteration, error, damping, clipping, convergence tests and success rule as :func:`solve_ik`, each target
+    stopping when it converges, in NumPy (:class:`~tribokin.kinematics.chain.SerialChain`,
+    :mod:`~tribokin.kinematics.se3_log`) for its first ``BATCH_ITERATIONS`` iterations, then alone through
+    :func:`solve_ik` from where it is: its iterates differ from :func:`solve_ik`'s by rounding only, and do not depend
+    on the other targets of the batch.
+    """
+    lower, upper = chain.robot.lower_limits, chain.robot.upper_limits
+    goals = np.asarray(positions_m, dtype=float).reshape(-1, 3)
+    q = np.minimum(np.maximum(np.array(q_start, dtype=float).reshape(len(goals), len(lower)), lower), upper)
+    position_error, angle_error = np.zeros(len(goals)), np.zeros(len(goals))
+    converged = np.zeros(len(goals), dtype=bool)
+    regularisation = damping * np.eye(3 if position_only else 6)
+    active = np.arange(len(goals))
+    for iteration in range(min(iterations + 1, BATCH_ITERATIONS)):
+        placements = chain.tool_in_joint(q[active])
+        current_rotations = placements[:, 0, :3, :3]
+        gaps = goals[active] - placements[:, 0, :3, 3]
+        position_error[active] = distances = np.sqrt((gaps * gaps).sum(axis=1))
+        local_gaps = (gaps[:, None, :] @ current_rotations)[:, 0]  # the gap in the tool frame
+        errors, angles = local_gaps, 0.0
+        if not position_only:
+            errors, turns = log6(np.swapaxes(current_rotations, 1, 2) @ rotation, local_gaps)
+            angle_error[active] = angles = np.sqrt((errors[:, 3:] * errors[:, 3:]).sum(axis=1))
+        converged[active] = done = (distances < position_tol_m) & (angles < angle_tol_rad)
+        going = ~done & (iteration < iterations)
+        active, errors, placements = active[going], errors[going], placements[going]
+        if not len(active):
+            break
+        jacobians = chain.tool_jacobians(placements)
+        if position_only:
+            jacobians = jacobians[:, :3]
+        else:
+            jacobians = jlog6(errors[:, 3:], turns[going], local_gaps[going]) @ jacobians
+        systems = jacobians @ np.swapaxes(jacobians, 1, 2) + regularisation
+        steps = (np.swapaxes(jacobians, 1, 2) @ np.linalg.solve(systems, errors[..., None]))[..., 0]
+        q[active] = np.minimum(np.maximum(q[active] + steps, lower), upper)
+    success = _succeeded(converged, position_error, angle_error, position_tol_m, angle_tol_rad)
+    for k in active:  # still iterating: the rest alone
+        alone = solve_ik(chain.robot, pin.SE3(rotation, goals[k]), q[k], position_tol_m, angle_tol_rad,
+                         position_only, iterations - BATCH_ITERATIONS, damping)
+        q[k], position_error[k], angle_error[k], success[k] = alone.q, alone.position_error_m, alone.angle_error_rad, \
+            alone.success
+    return IKResult(q, position_error, angle_error, success)

@@ -4,7 +4,7 @@ Cartesian targets are solved by inverse kinematics,
 warm-started from a neighbour in an order that does not depend on how the rows are later
 split into chunks: the first target of every row (the *row heads*) is solved in one sequence
 from the start posture (:func:`solve_row_heads`), then each row is solved along its columns
-from its head (:func:`solve_row`). So a row's configurations depend on the grid only.
+from its head, a chunk's rows together (:func:`solve_rows`). So a row's configurations depend on the grid only.
 
 A target beyond the robot's reach (``grid.reach``, :mod:`tribokin.kinematics.reach`: the tool point's sphere, and with
 the tool's orientation held the last joint's) is unreachable without any IK iteration, except a row head: its failed
@@ -20,7 +20,8 @@ from collections import defaultdict
 import numpy as np
 import pinocchio as pin
 
-from tribokin.kinematics.ik import IKResult, solve_ik, solve_ik_with_restarts
+from tribokin.kinematics.chain import SerialChain, serial_chain
+from tribokin.kinematics.ik import IKResult, solve_ik, solve_ik_batch, solve_ik_with_restarts
 from tribokin.kinematics.reach import ReachSphere
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.grid import TargetGrid, axis_steps, grid_neighbours
@@ -33,8 +34,13 @@ IK_RESTARTS = 4
 EXTRAPOLATION_POINTS = 4
 
 
+def _rotation(grid: TargetGrid) -> np.ndarray:
+    """(3, 3) the tool orientation IK is given for the grid's targets (the identity when it is not held)."""
+    return np.eye(3) if grid.rotation is None else grid.rotation
+
+
 def _target(grid: TargetGrid, index: int) -> pin.SE3:
-    return pin.SE3(np.eye(3) if grid.rotation is None else grid.rotation, grid.positions_m([index])[0])
+    return pin.SE3(_rotation(grid), grid.positions_m([index])[0])
 
 
 def _solve_from(robot: Robot, grid: TargetGrid, index: int, q_start) -> IKResult:
@@ -91,53 +97,80 @@ def solve_row_heads(robot: Robot, grid: TargetGrid) -> np.ndarray:
     return heads
 
 
-def extrapolate_row(q: np.ndarray, reachable: np.ndarray) -> np.ndarray | None:
-    """Warm start [m or rad] for the next target of a row: the polynomial through the configurations ``q``
-    (k, nv) of the last reached targets in a row (up to ``EXTRAPOLATION_POINTS``), one step further;
-    ``None`` when fewer than two targets right before the next one were reached."""
-    count = 0
-    while count < min(EXTRAPOLATION_POINTS, len(q)) and reachable[len(q) - 1 - count]:
-        count += 1
-    if count < 2:
-        return None
-    return sum((-1) ** (j + 1) * math.comb(count, j) * q[len(q) - j] for j in range(1, count + 1))
+def extrapolate_rows(q: np.ndarray, streaks: np.ndarray) -> np.ndarray:
+    """Warm starts (rows, nv) [m or rad] for the next target of each row: the polynomial through the configurations
+    ``q`` (rows, columns, nv) of the row's last reached targets, one step further. ``streaks`` (rows,): how many
+    targets right before the next one were reached (up to ``EXTRAPOLATION_POINTS`` are used); NaN for the rows with
+    fewer than two."""
+    counts = np.minimum(streaks, EXTRAPOLATION_POINTS)
+    predicted = np.full((len(q), q.shape[2]), np.nan)
+    for count in range(2, EXTRAPOLATION_POINTS + 1):
+        rows = counts == count
+        if rows.any():
+            predicted[rows] = sum((-1) ** (j + 1) * math.comb(count, j) * q[rows, -j] for j in range(1, count + 1))
+    return predicted
 
 
-def solve_row(robot: Robot, grid: TargetGrid, row: int, head_q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Configurations of grid row ``row``, each target warm-started from the last reachable one (``head_q`` first),
-    extrapolated along the row when two or more targets right before it were reached (:func:`extrapolate_row`).
+def _solve_from_warm_starts(robot: Robot, chain: SerialChain | None, grid: TargetGrid, indices: np.ndarray,
+                            positions_m: np.ndarray, q_starts: np.ndarray) -> IKResult:
+    """IK of targets ``indices`` (k > 0) at ``positions_m`` (k, 3) [m] from ``q_starts`` (k, nv), without restarts:
+    all at once (:func:`~tribokin.kinematics.ik.solve_ik_batch`) given the robot's ``chain``, else one by one."""
+    if chain is None:
+        results = [_solve_from(robot, grid, index, q) for index, q in zip(indices, q_starts)]
+        return IKResult(*(np.array([getattr(r, name) for r in results])
+                          for name in ("q", "position_error_m", "angle_error_rad", "success")))
+    return solve_ik_batch(chain, _rotation(grid), positions_m, q_starts, position_only=grid.rotation is None)
 
-    Targets beyond the robot's reach are not solved (:func:`beyond_reach_m`).
+
+def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True) -> tuple[np.ndarray, np.ndarray,
+                                                                                            np.ndarray]:
+    """Configurations of grid rows ``rows``, each from its head (``heads`` (rows, nv) [m or rad]), column by column.
+
+    Each target is warm-started from the polynomial through its row's last reached targets when two or more right
+    before it were reached (:func:`extrapolate_rows`), the rows' targets of a column together
+    (:func:`~tribokin.kinematics.ik.solve_ik_batch`; one by one when ``batched`` is False or NumPy cannot compute the
+    robot's chain, :func:`~tribokin.kinematics.chain.serial_chain`); a target this does not solve is solved from its
+    row's last reached configuration (the head first), then from seeded random restarts, one by one. A row's
+    configurations depend on its head and the grid only, not on the other rows solved with it. Targets beyond the
+    robot's reach are not solved (:func:`beyond_reach_m`).
 
     Returns:
-        q (columns, nv) [m or rad] (NaN where unreachable), reachable (columns,), and for unreachable
-        targets how close the IK came (columns, 2): position error [m], orientation error [rad] (NaN
+        q (rows, columns, nv) [m or rad] (NaN where unreachable), reachable (rows, columns), and for unreachable
+        targets how close the IK came (rows, columns, 2): position error [m], orientation error [rad] (NaN
         for reachable targets, and the orientation when it is not held; beyond the reach, how far beyond [m]
         the first bound that refuses it (:func:`first_bound_beyond`), and NaN).
     """
-    indices = grid.row_indices(row)
-    closest = np.full((len(indices), 2), np.nan)
+    indices = np.array([grid.row_indices(row) for row in rows], dtype=int).reshape(-1, grid.row_length)
+    closest = np.full((*indices.shape, 2), np.nan)
     if grid.kind == "joint":
-        return grid.joint_q(indices), np.ones(len(indices), dtype=bool), closest
-    q = np.full((len(indices), robot.model.nv), np.nan)
-    reachable = np.zeros(len(indices), dtype=bool)
-    q_start = np.asarray(head_q, dtype=float)
-    beyond = beyond_reach_m(grid, indices)
-    for k, index in enumerate(indices):
-        if not np.isnan(beyond[k]):
-            closest[k, 0] = beyond[k]
-            continue
-        result = None
-        predicted = extrapolate_row(q[:k], reachable[:k])
-        if predicted is not None:
-            result = _solve_from(robot, grid, index, predicted)
-        if result is None or not result.success:
-            result = _solve(robot, grid, index, q_start)
-        reachable[k] = result.success
-        if result.success:
-            q[k] = q_start = result.q
-        else:
-            closest[k] = result.position_error_m, np.nan if grid.rotation is None else result.angle_error_rad
+        return grid.joint_q(indices.ravel()).reshape(*indices.shape, -1), np.ones(indices.shape, dtype=bool), closest
+    nv = robot.model.nv
+    chain = serial_chain(robot) if batched else None
+    positions = np.array([grid.positions_m(row) for row in indices]).reshape(*indices.shape, 3)  # row by row, as alone
+    closest[..., 0] = [beyond_reach_m(grid, row) for row in indices]
+    q = np.full((*indices.shape, nv), np.nan)
+    reachable = np.zeros(indices.shape, dtype=bool)
+    q_start = np.array(heads, dtype=float).reshape(len(indices), nv)
+    streaks = np.zeros(len(indices), dtype=int)  # targets reached right before the column, in each row
+    for column in range(grid.row_length):
+        within = np.isnan(closest[:, column, 0])
+        predicted = extrapolate_rows(q[:, :column], streaks)
+        warm = np.flatnonzero(within & ~np.isnan(predicted[:, 0]))
+        if len(warm):
+            first = _solve_from_warm_starts(robot, chain, grid, indices[warm, column], positions[warm, column],
+                                            predicted[warm])
+            reached = warm[first.success]
+            reachable[reached, column] = True
+            q[reached, column] = q_start[reached] = first.q[first.success]
+        for row in np.flatnonzero(within & ~reachable[:, column]):  # from its last reached target, then restarts
+            result = _solve(robot, grid, indices[row, column], q_start[row])
+            reachable[row, column] = result.success
+            if result.success:
+                q[row, column] = q_start[row] = result.q
+            else:
+                closest[row, column] = result.position_error_m, np.nan if grid.rotation is None else \
+                    result.angle_error_rad
+        streaks = np.where(reachable[:, column], streaks + 1, 0)
     return q, reachable, closest
 
 
@@ -211,7 +244,7 @@ def fill_from_neighbours(robot: Robot, grid: TargetGrid, read) -> dict[int, np.n
 
 def unreachable_reasons(grid: TargetGrid, positions_m: np.ndarray, closest: np.ndarray) -> np.ndarray:
     """Why each target is unreachable, for the map's ``reason`` column, as Python strings (``""``: reached), from
-    the targets' positions (k, 3) [m] and how close the IK came to them (k, 2) [m, rad] (:func:`solve_row`)."""
+    the targets' positions (k, 3) [m] and how close the IK came to them (k, 2) [m, rad] (:func:`solve_rows`)."""
     bounds, gaps = first_bound_beyond(grid, positions_m) if grid.reach else (np.full(len(closest), -1), None)
     return np.array([unreachable_reason(*c) if bound < 0 else beyond_reach_reason(grid.reach[bound], gaps[k])
                      for k, (c, bound) in enumerate(zip(closest, bounds))], dtype=object)

@@ -26,7 +26,7 @@ from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES, ShapeTable
 from tribokin.maps.expected import ExpectedSetup, expected_targets
 from tribokin.maps.measure import measure_targets
 from tribokin.maps.result import MapResult, ScenarioMap
-from tribokin.maps.rows import fill_from_neighbours, solve_row, solve_row_heads
+from tribokin.maps.rows import fill_from_neighbours, solve_row_heads, solve_rows
 from tribokin.maps.schema import map_columns, scenario_column
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.propagation.exact import tool_frames
@@ -66,16 +66,16 @@ def _job_context(job: MapJob):
 
 
 def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, np.ndarray]:
-    """Solve and measure grid rows ``rows`` from their ``heads`` (rows, nv), row by row (a row's reached targets
-    measured together, in blocks: :func:`measure_targets`).
+    """Solve grid rows ``rows`` from their ``heads`` (rows, nv), together (:func:`solve_rows`), then measure them row
+    by row (a row's reached targets measured together, in blocks: :func:`measure_targets`).
 
     Returns:
         the chunk's targets' values of every column of :func:`~tribokin.maps.schema.map_columns`, in index order.
     """
     robot, grid, runners = _job_context(job)
     arrays = empty_arrays(len(rows) * grid.row_length, robot.model.nv, len(runners), job.study.map.figure_set)
-    for k, (row, head) in enumerate(zip(rows, heads)):
-        q, reachable, closest = solve_row(robot, grid, row, head)
+    solved = solve_rows(robot, grid, rows, heads)
+    for k, (row, q, reachable, closest) in enumerate(zip(rows, *solved)):
         span = slice(k * grid.row_length, (k + 1) * grid.row_length)
         indices = grid.row_indices(row)
         arrays["q"][span], arrays["reachable"][span], arrays["closest"][span] = q, reachable, closest

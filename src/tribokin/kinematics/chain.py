@@ -1,0 +1,106 @@
+"""The tool frame's placement and Jacobian at many configurations at once, in NumPy, for a robot's serial chain.
+
+The reduced models of :mod:`tribokin.kinematics.robot` are serial chains of 1-DoF joints. When every joint turns
+about or slides along a fixed axis of its own frame (Pinocchio's RX, RY, RZ, RevoluteUnaligned, PX, PY, PZ,
+PrismaticUnaligned), :func:`serial_chain` gives the chain's constants, :meth:`SerialChain.tool_in_joint` the tool
+frame's placement (Pinocchio's ``forwardKinematics`` and ``updateFramePlacement``) and
+:meth:`SerialChain.tool_jacobians` its Jacobian (``getFrameJacobian``) for a batch of configurations, as Pinocchio
+gives them one configuration at a time (to rounding, about 1e-15). For any other joint type (a helical joint, a
+mimic joint) :func:`serial_chain` gives ``None``, and callers keep Pinocchio's one-configuration path.
+
+Each link of the chain is a homogeneous transform (4 × 4): joint ``i``'s placement in its parent's frame times its
+motion, ``base + cos(q_i)·turn_cos + sin(q_i)·turn_sin + q_i·slide`` (Rodrigues' formula for a turning joint, a
+translation along the axis for a sliding one), and last the tool frame's placement in the last joint's frame. The
+products of the links from each joint to the tool (``tool_in_joint``) give both the tool's placement (from the
+first) and each joint's column of the tool Jacobian, in a few batched matrix products (a doubling scan).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from tribokin.kinematics.robot import Robot
+
+#: Pinocchio joint models whose motion is a rotation about, or a translation along, a fixed axis of their frame.
+AXIS_JOINTS = frozenset({"JointModelRX", "JointModelRY", "JointModelRZ", "JointModelRevoluteUnaligned",
+                         "JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned"})
+
+
+@dataclass(frozen=True)
+class SerialChain:
+    """A serial chain of ``n`` axis joints (:data:`AXIS_JOINTS`) and the tool frame, as ``n + 1`` links
+    ``base + cos(q)·turn_cos + sin(q)·turn_sin + q·slide`` (4 × 4 each; the tool's with ``q = 0``).
+
+    Attributes:
+        robot: the robot whose chain this is.
+        base, turn_cos, turn_sin, slide: (n + 1, 4, 4) the links' terms [m in the translations].
+        turn_skews: (n, 3, 3) ``[axis]×`` of each turning joint in its own frame (zero for a sliding one).
+        slide_axes: (n, 3) unit axis of each sliding joint in its own frame (zero for a turning one).
+        turn_axes: (n, 3) unit axis of each turning joint in its own frame (zero for a sliding one).
+    """
+
+    robot: Robot
+    base: np.ndarray
+    turn_cos: np.ndarray
+    turn_sin: np.ndarray
+    slide: np.ndarray
+    turn_skews: np.ndarray
+    slide_axes: np.ndarray
+    turn_axes: np.ndarray
+
+    def tool_in_joint(self, q) -> np.ndarray:
+        """(k, n + 1, 4, 4) the tool frame's placement (homogeneous, [m]) in the base frame (index 0: as
+        ``robot.tool_placement``) and in each joint's frame after its motion (index ``i + 1`` for joint ``i``), at
+        configurations ``q`` (k, nq) [m or rad]."""
+        q = np.asarray(q, dtype=float).reshape(-1, len(self.turn_axes))
+        angles = np.zeros((len(q), len(self.base)))
+        angles[:, :-1] = q
+        factors = angles[..., None, None]
+        links = self.base + np.cos(factors) * self.turn_cos + np.sin(factors) * self.turn_sin + factors * self.slide
+        step = 1
+        while step < len(self.base):  # links[:, i] becomes the product of links i to i + 2 step - 1 (or the last)
+            links[:, :-step] = links[:, :-step] @ links[:, step:]
+            step *= 2
+        return links
+
+    def tool_jacobians(self, placements: np.ndarray) -> np.ndarray:
+        """(k, 6, nv) Jacobians of the tool frame in the tool frame (Pinocchio's ``LOCAL``: rows linear [m/unit],
+        angular [rad/unit]) at the configurations whose :meth:`tool_in_joint` are ``placements``."""
+        in_joints = placements[:, 1:]
+        linear = (self.turn_skews @ in_joints[..., :3, 3:])[..., 0] + self.slide_axes  # the tool's velocity per unit
+        motions = np.stack([linear, np.broadcast_to(self.turn_axes, linear.shape)], axis=-1)  # (k, n, 3, 2)
+        in_tool = np.swapaxes(in_joints[..., :3, :3], -1, -2) @ motions
+        return in_tool.transpose(0, 3, 2, 1).reshape(len(placements), 6, len(self.turn_axes))
+
+
+def serial_chain(robot: Robot) -> SerialChain | None:
+    """The :class:`SerialChain` of ``robot``, or ``None`` when a joint is not an axis joint (:data:`AXIS_JOINTS`)
+    or the joints are not one chain, in the order of ``q``, that carries the tool frame on its last joint."""
+    model = robot.model
+    joints = list(model.joints)[1:]
+    order = list(range(len(joints)))
+    serial = list(model.parents)[1:] == order and [j.idx_q for j in joints] == order and \
+        model.frames[robot.tool_frame_id].parentJoint == len(joints)
+    if not serial or any(joint.shortname() not in AXIS_JOINTS for joint in joints):
+        return None
+    placements = [p.homogeneous for p in list(model.jointPlacements)[1:]]
+    placements.append(model.frames[robot.tool_frame_id].placement.homogeneous)
+    placements = np.array(placements)
+    rotations = placements[:, :3, :3]
+    turning = np.append(~robot.joint_is_prismatic, False)[:, None, None]
+    sliding = np.append(robot.joint_is_prismatic, False)[:, None]
+    axes = np.vstack([robot.motion_axes, np.zeros(3)])
+    skews = np.array([pin.skew(axis) for axis in axes])
+    outer = axes[:, :, None] * axes[:, None, :]
+    terms = np.zeros((4, len(axes), 4, 4))  # base, turn_cos, turn_sin, slide
+    terms[0] = placements
+    terms[0, :, :3, :3] = np.where(turning, rotations @ outer, rotations)
+    terms[1, :, :3, :3] = np.where(turning, rotations - rotations @ outer, 0.0)
+    terms[2, :, :3, :3] = np.where(turning, rotations @ skews, 0.0)
+    terms[3, :, :3, 3] = np.where(sliding, (rotations @ axes[..., None])[..., 0], 0.0)
+    joint_turning = turning[:-1]
+    return SerialChain(robot, *terms, np.where(joint_turning, skews[:-1], 0.0),
+                       np.where(sliding[:-1], axes[:-1], 0.0), np.where(joint_turning[..., 0], axes[:-1], 0.0))
