@@ -76,6 +76,26 @@ class SerialChain:
         return in_tool.transpose(0, 3, 2, 1).reshape(len(placements), 6, len(self.turn_axes))
 
 
+    def world_jacobians(self, placements: np.ndarray) -> np.ndarray:
+        """(k, 6, nv) the tool Jacobians of :meth:`tool_jacobians` in world axes (Pinocchio's ``LOCAL_WORLD_ALIGNED``,
+        as ``robot.tool_jacobian``)."""
+        local = self.tool_jacobians(placements)
+        rotation = placements[:, 0, :3, :3]
+        return np.concatenate([rotation @ local[:, :3], rotation @ local[:, 3:]], axis=1)
+
+    @staticmethod
+    def joints_in_world(placements: np.ndarray) -> np.ndarray:
+        """(k, n, 4, 4) each joint frame's placement in the world after its motion (as ``data.oMi``), from the
+        :meth:`tool_in_joint` ``placements``: the tool's in the world times the inverse of the tool's in the joint."""
+        in_joint = placements[:, 1:]
+        inverse = np.zeros_like(in_joint)
+        rotation_t = np.swapaxes(in_joint[..., :3, :3], -1, -2)
+        inverse[..., :3, :3] = rotation_t
+        inverse[..., :3, 3] = -(rotation_t @ in_joint[..., :3, 3:])[..., 0]
+        inverse[..., 3, 3] = 1.0
+        return placements[:, :1] @ inverse
+
+
 def serial_chain(robot: Robot) -> SerialChain | None:
     """The :class:`SerialChain` of ``robot``, or ``None`` when a joint is not an axis joint (:data:`AXIS_JOINTS`)
     or the joints are not one chain, in the order of ``q``, that carries the tool frame on its last joint."""

@@ -46,6 +46,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
 
 
@@ -74,6 +75,10 @@ class BearingLoads:
         self.span_m = np.asarray(bearing_span_m, dtype=float)
         self.prismatic = robot.joint_is_prismatic
         self.axes = robot.motion_axes
+        self.chain = serial_chain(robot)
+        inertias = list(self.model.inertias)[1:]
+        self.weights_N = np.array([i.mass for i in inertias])[:, None] * self.model.gravity.linear  # (nv, 3)
+        self.centres_m = np.array([i.lever for i in inertias])  # (nv, 3) in each body's joint frame
 
     def wrenches(self, q) -> np.ndarray:
         """(nv, 6) static wrench (force [N], moment [N·m]) transmitted by each active joint, in its joint frame."""
@@ -81,11 +86,29 @@ class BearingLoads:
         pin.rnea(self.model, self.data, np.asarray(q, dtype=float), zero, zero)
         return np.array([self.data.f[i].vector for i in range(1, self.model.njoints)])
 
+    def chain_wrenches(self, q: np.ndarray) -> np.ndarray:
+        """(k, nv, 6) :meth:`wrenches` at configurations (k, nq) of a serial chain, in one pass: joint i holds up the
+        weights w_j of bodies j >= i, f_i = -Σ w_j and m_i = -Σ (c_j - o_i) × w_j in world axes (c_j the bodies'
+        centres of mass, o_i the joint's origin), turned into joint i's frame."""
+        frames = self.chain.joints_in_world(self.chain.tool_in_joint(q))  # (k, nv, 4, 4)
+        rotations, origins = frames[..., :3, :3], frames[..., :3, 3]
+        centres = origins + (rotations @ self.centres_m[..., None])[..., 0]
+        forces = -np.cumsum(self.weights_N[::-1], axis=0)[::-1]  # (nv, 3): the same at every configuration
+        moments_about_world = -np.cumsum(np.cross(centres, self.weights_N)[:, ::-1], axis=1)[:, ::-1]
+        moments = moments_about_world - np.cross(origins, forces)
+        local = np.swapaxes(rotations, -1, -2)
+        return np.concatenate([(local @ forces[..., None])[..., 0], (local @ moments[..., None])[..., 0]], axis=-1)
+
     def __call__(self, q) -> np.ndarray:
         """Bearing load N_i [N] of every active joint at configuration ``q`` (nq,), or (poses, nv) at
-        configurations (poses, nq)."""
+        configurations (poses, nq): for a serial chain (:func:`~tribokin.kinematics.chain.serial_chain`) from one
+        batched statics pass (:meth:`chain_wrenches`, RNEA's to rounding), else by RNEA at each."""
         q = np.asarray(q, dtype=float)
-        wrenches = np.array([self.wrenches(qi) for qi in q.reshape(-1, q.shape[-1])]).reshape(-1, self.model.nv, 6)
+        flat = q.reshape(-1, q.shape[-1])
+        if self.chain is not None:
+            wrenches = self.chain_wrenches(flat)
+        else:
+            wrenches = np.array([self.wrenches(qi) for qi in flat]).reshape(-1, self.model.nv, 6)
         loads = support_loads(wrenches[..., :3], wrenches[..., 3:], self.axes, self.prismatic, self.span_m)
         return loads.reshape(q.shape[:-1] + (self.model.nv,))
 

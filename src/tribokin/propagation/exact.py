@@ -7,6 +7,7 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
+from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
 from tribokin.propagation.poe import DEFAULT_TOLERANCE, evaluate_polynomial, tool_deviations_fast, \
     tool_twists, truncation_bound
@@ -54,7 +55,12 @@ def tool_deviations(robot: Robot, q: np.ndarray, dq: np.ndarray, engine: str = "
 
 
 def tool_frames(robot: Robot, qs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Joint twists about the tool origin (poses, 6, nv) and tool positions (poses, 3) [m] at configurations (poses, nq)."""
+    """Joint twists about the tool origin (poses, 6, nv) and tool positions (poses, 3) [m] at configurations (poses, nq);
+    for a serial chain (:func:`~tribokin.kinematics.chain.serial_chain`) in one batched pass, Pinocchio's to rounding."""
+    chain = serial_chain(robot)
+    if chain is not None:
+        placements = chain.tool_in_joint(np.asarray(qs, dtype=float).reshape(-1, robot.model.nq))
+        return chain.world_jacobians(placements), placements[:, 0, :3, 3].copy()
     return (np.array([tool_twists(robot, q) for q in qs]).reshape(len(qs), 6, robot.model.nv),
             np.array([robot.tool_placement(q).translation for q in qs]).reshape(len(qs), 3))
 

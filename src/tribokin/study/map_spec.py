@@ -16,7 +16,7 @@ STATISTICS = ("expected", "one-test")
 #: The sets of figures a map target has (:attr:`MapSpec.figure_set`).
 FIGURE_SETS = ("one-test", "expected", "directional")
 #: A map chunk holds about this many targets, rounded up to whole grid rows (``map.chunk_rows`` overrides).
-CHUNK_TARGETS = 256
+CHUNK_TARGETS = 8192
 
 Vector3 = tuple[float, float, float]
 

@@ -79,6 +79,12 @@ class FrictionLaw:
         self._value = value
         self.params = params
         self.provenance = provenance
+        self._known = {}  # moments and support, computed once (scipy's take up to milliseconds each)
+
+    def _once(self, name: str, compute):
+        if name not in self._known:
+            self._known[name] = compute()
+        return self._known[name]
 
     def rvs(self, size=None, random_state: np.random.Generator | None = None) -> np.ndarray:
         """Draw friction coefficients [-] with a NumPy generator."""
@@ -91,17 +97,17 @@ class FrictionLaw:
 
     def mean(self) -> float:
         """Mean friction coefficient [-]."""
-        return self._value if self._dist is None else float(self._dist.mean())
+        return self._value if self._dist is None else self._once("mean", lambda: float(self._dist.mean()))
 
     def std(self) -> float:
         """Standard deviation of the friction coefficient [-]."""
-        return 0.0 if self._dist is None else float(self._dist.std())
+        return 0.0 if self._dist is None else self._once("std", lambda: float(self._dist.std()))
 
     def support(self) -> tuple[float, float]:
         """Smallest and largest possible friction coefficient [-]."""
         if self._dist is None:
             return self.mean(), self.mean()
-        low, high = self._dist.support()
+        low, high = self._once("support", self._dist.support)
         return max(float(low), 0.0), float(high)
 
     def pdf(self, x) -> np.ndarray:
