@@ -41,13 +41,27 @@ def written(result, folder):
     return {name: (folder / name).read_bytes() for name in MAP_FILES}
 
 
+#: The map's figure sets: one simulated test per target; expected figures sampled by common random numbers (the
+#: raw steel's uniform law) with the directional ones; in closed form (the treated steel's Gaussian law everywhere).
+VARIANTS = {"one-test": ({"statistic": "one-test"}, "42CD4-raw"), "directional": ({"directional": True}, "42CD4-raw"),
+            "expected-closed-form": ({}, "42CD4-treated")}
+
+
+@pytest.fixture(scope="module", params=list(VARIANTS))
+def variant(request):
+    """UR5_MAP with one of the figure sets (:data:`VARIANTS`)."""
+    keys, preset = VARIANTS[request.param]
+    return {**UR5_MAP, "joints": {**UR5_MAP["joints"], "friction": {"preset": preset}},
+            "map": {**UR5_MAP["map"], **keys}}
+
+
 @pytest.fixture(scope="module")
-def reference(tmp_path_factory):
-    return written(run_study(UR5_MAP), tmp_path_factory.mktemp("reference") / "out")
+def reference(variant, tmp_path_factory):
+    return written(run_study(variant), tmp_path_factory.mktemp("reference") / "out")
 
 
-def with_chunk_rows(rows):
-    return {**UR5_MAP, "map": {**UR5_MAP["map"], "chunk_rows": rows}}
+def with_chunk_rows(study, rows):
+    return {**study, "map": {**study["map"], "chunk_rows": rows}}
 
 
 def test_reference_map_has_unreachable_targets_and_both_scenarios(reference):
@@ -58,13 +72,13 @@ def test_reference_map_has_unreachable_targets_and_both_scenarios(reference):
 
 
 @pytest.mark.parametrize("rows", [2, 5])
-def test_chunk_size_changes_nothing(reference, tmp_path, rows):
-    assert written(run_study(with_chunk_rows(rows)), tmp_path / "out") == reference
+def test_chunk_size_changes_nothing(variant, reference, tmp_path, rows):
+    assert written(run_study(with_chunk_rows(variant, rows)), tmp_path / "out") == reference
 
 
-def test_reading_results_in_small_blocks_changes_nothing(reference, tmp_path, monkeypatch):
+def test_reading_results_in_small_blocks_changes_nothing(variant, reference, tmp_path, monkeypatch):
     """Tables and summary (exact medians) are built block by block from the store: the block size is invisible."""
-    result = run_study(UR5_MAP)
+    result = run_study(variant)
     monkeypatch.setattr("tribokin.maps.streaming.BLOCK_TARGETS", 4)
     monkeypatch.setattr("tribokin.maps.streaming.BINS", 3)
     assert written(result, tmp_path / "out") == reference
@@ -72,7 +86,7 @@ def test_reading_results_in_small_blocks_changes_nothing(reference, tmp_path, mo
     assert json.loads(reference["summary.json"])["map"]["RP_l_um"]["median"] == np.nanmedian(rp)
 
 
-def test_two_local_workers_change_nothing(reference, tmp_path, monkeypatch):
+def test_two_local_workers_change_nothing(variant, reference, tmp_path, monkeypatch):
     import multiprocessing
     import threading
 
@@ -82,11 +96,11 @@ def test_two_local_workers_change_nothing(reference, tmp_path, monkeypatch):
     monkeypatch.setattr(multiprocessing, "get_context", lambda method=None: started.append(method) or
                         real_context(method))
     with executor_for(workers=2) as executor:
-        assert written(run_study(with_chunk_rows(2), executor=executor), tmp_path / "out") == reference
+        assert written(run_study(with_chunk_rows(variant, 2), executor=executor), tmp_path / "out") == reference
     assert started == ["fork" if alone else "spawn"]  # forked when this process runs no other thread
 
 
-def test_workers_are_spawned_when_another_thread_runs(reference, tmp_path, monkeypatch):
+def test_workers_are_spawned_when_another_thread_runs(variant, reference, tmp_path, monkeypatch):
     """Forking a process that runs threads can deadlock: the workers start clean instead."""
     import multiprocessing
     import threading
@@ -100,19 +114,19 @@ def test_workers_are_spawned_when_another_thread_runs(reference, tmp_path, monke
     other.start()
     try:
         with executor_for(workers=2) as executor:
-            assert written(run_study(with_chunk_rows(2), executor=executor), tmp_path / "out") == reference
+            assert written(run_study(with_chunk_rows(variant, 2), executor=executor), tmp_path / "out") == reference
     finally:
         stop.set()
         other.join()
     assert started == ["spawn"]
 
 
-def test_dask_cluster_changes_nothing(reference, tmp_path):
+def test_dask_cluster_changes_nothing(variant, reference, tmp_path):
     from dask.distributed import LocalCluster
 
     with LocalCluster(n_workers=2, threads_per_worker=2, processes=True, dashboard_address=None) as cluster:
         with executor_for(scheduler=cluster.scheduler_address) as executor:
-            result = run_study(UR5_MAP, executor=executor)
+            result = run_study(variant, executor=executor)
     assert written(result, tmp_path / "out") == reference
 
 
@@ -210,9 +224,10 @@ def without_command(summary: bytes) -> dict:
     return summary
 
 
-def test_run_killed_at_random_points_resumes_to_the_same_bytes(tmp_path):
+@pytest.mark.parametrize("statistic", ["expected", "one-test"])
+def test_run_killed_at_random_points_resumes_to_the_same_bytes(tmp_path, statistic):
     study = tmp_path / "study.toml"
-    study.write_text(GANTRY_MAP_TOML)
+    study.write_text(GANTRY_MAP_TOML.replace("[map]", f'[map]\nstatistic = "{statistic}"'))
     out, chunks = tmp_path / "out", tmp_path / "out.chunks"
     command = [sys.executable, "-m", "tribokin", "run", study, "--out", out]
     saved = 0

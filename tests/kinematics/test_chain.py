@@ -57,6 +57,13 @@ def test_placements_and_jacobians_match_pinocchio(name, tmp_path):
         for joint, in_joint in zip(range(1, robot.model.njoints), placement[1:]):
             np.testing.assert_allclose(in_joint, (robot.data.oMi[joint].inverse() * tool).homogeneous, atol=1e-12)
     assert chain.tool_in_joint(q[:0]).shape == (0, robot.model.nq + 1, 4, 4)
+    world = chain.world_jacobians(placements)
+    joints = chain.joints_in_world(placements)
+    for qi, jacobian, frames in zip(q, world, joints):
+        np.testing.assert_allclose(jacobian, robot.tool_jacobian(qi), rtol=0, atol=1e-12)
+        pin.forwardKinematics(robot.model, robot.data, qi)
+        for joint, frame in zip(range(1, robot.model.njoints), frames):
+            np.testing.assert_allclose(frame, robot.data.oMi[joint].homogeneous, rtol=0, atol=1e-12)
 
 
 def test_each_configuration_is_computed_alone():

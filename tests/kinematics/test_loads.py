@@ -6,7 +6,7 @@ import pytest
 
 from conftest import ROOT
 from tribokin.kinematics.loads import BearingLoads, support_forces, support_loads
-from tribokin.kinematics.robot import load_urdf
+from tribokin.kinematics.robot import load_example_robot, load_urdf
 
 G = 9.81
 # masses [kg] and centres of mass from urdf/cartesian_xyz.urdf
@@ -109,3 +109,18 @@ def test_loads_of_several_configurations_match_hand_statics_each(gantry):
     for q, row in zip(configurations, loads):
         assert row == pytest.approx(hand_loads(*q, 5.0), rel=1e-9, abs=1e-9)
     assert BearingLoads(gantry, 5.0, SPAN)(np.zeros((0, 3))).shape == (0, 3)
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda", "xarm7"])
+def test_the_batched_statics_of_a_serial_chain_match_rnea(name):
+    """One statics pass over many configurations (the chain's placements, the bodies' weights summed from the tool
+    down) gives RNEA's wrenches, and so its loads, to rounding."""
+    robot = load_example_robot(name)
+    loads = BearingLoads(robot, 2.5, np.full(robot.model.nv, 0.08))
+    q = np.random.default_rng(7).uniform(robot.lower_limits, robot.upper_limits, (40, robot.model.nv))
+    wrenches = loads.chain_wrenches(q)
+    for qi, wrench in zip(q, wrenches):
+        np.testing.assert_allclose(wrench, loads.wrenches(qi), rtol=0, atol=1e-11)
+    batched = loads(q)
+    loads.chain = None  # RNEA at each configuration
+    np.testing.assert_allclose(batched, loads(q), rtol=1e-13)
