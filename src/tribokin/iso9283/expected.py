@@ -12,7 +12,8 @@ and RP_a = 3 S_a per angle. Over tests:
 - The 2.5 / 97.5 % band of one test's RP_l and the expected largest semi-axis of its covariance ellipsoid
   (:class:`ShapeTable`): RP_l / √λ₁ depends on n and the shape (λ₂/λ₁, λ₃/λ₁) only, so both are simulated once per
   run on a grid of shapes, every node from the same standard normal draws (so the table is smooth), and
-  interpolated; each node's own Monte Carlo error is kept.
+  interpolated; each node's own Monte Carlo error is kept. From :data:`ASYMPTOTIC_CYCLES` cycles on, the band is
+  normal about E[RP_l] with the delta method's standard deviation (:func:`normal_band`) and the semi-axis √λ₁.
 - E[AP_p] = E|b + ȳ|, ȳ ~ N(0, Σ/n) (:func:`expected_norm`).
 - E[RP_a] = 3 c₄(n) σ_a exactly (:func:`c4`).
 """
