@@ -6,7 +6,7 @@ import pytest
 
 from conftest import AXIS_URDF
 from tribokin.kinematics.robot import load_example_robot, load_urdf
-from tribokin.propagation.exact import max_deviation_from_exact, tool_deviations_exact
+from tribokin.propagation.exact import engine_bound, tool_deviations, tool_deviations_exact
 from tribokin.propagation.poe import _exp_tail, _log_tail, tool_deviations_fast, tool_twists
 
 NANOMETRE = 1e-9
@@ -191,18 +191,21 @@ def test_empty_batch(robots):
     assert fast.positions.shape == (0, 3) and fast.angles.shape == (0, 3)
 
 
-def test_max_deviation_from_exact_checks_the_first_samples(robots):
+@pytest.mark.parametrize("size, engine", [(2e-6, "fast"), (2e-3, "exact")])
+def test_the_engine_bound_is_that_of_the_engine_used_over_every_sample(robots, size, engine):
+    """Friction-sized deviations: the fast engine, its bound holding against exact FK on every sample; deviations
+    past its tolerance: exact FK, bound 0 (not the bound of an engine that was not used)."""
     robot = robots["panda"]
     rng = np.random.default_rng(9)
     q = random_configurations(robot, 1, rng)[0]
-    dq = rng.uniform(-2e-3, 2e-3, (100, robot.model.nv))
-    fast = tool_deviations_fast(robot, q, dq)
-    positions, angles = tool_deviations_exact(robot, q, dq[:10])
-    discrepancy = max_deviation_from_exact(robot, q, dq, m=10)
-    assert discrepancy.samples == 10
-    assert discrepancy.position_m == pytest.approx(np.linalg.norm(fast.positions[:10] - positions, axis=1).max())
-    assert discrepancy.angle_rad == pytest.approx(np.linalg.norm(fast.angles[:10] - angles, axis=1).max())
-    assert 0.0 < discrepancy.position_m <= fast.bound.position_m
+    dq = rng.uniform(-size, size, (100, robot.model.nv))
+    used = engine_bound(robot, q, dq)
+    assert used.engine == engine
+    positions, angles = tool_deviations(robot, q, dq)
+    exact_positions, exact_angles = tool_deviations_exact(robot, q, dq)
+    assert np.linalg.norm(positions - exact_positions, axis=1).max() <= used.position_m + 1e-15
+    assert np.linalg.norm(angles - exact_angles, axis=1).max() <= used.angle_rad + 1e-15
+    assert (used.order > 0 and used.position_m > 0) if engine == "fast" else used == (engine, 0, 0.0, 0.0)
 
 
 def test_dq_of_the_wrong_width_is_refused(robots):

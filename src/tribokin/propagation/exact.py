@@ -9,8 +9,7 @@ import pinocchio as pin
 
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
-from tribokin.propagation.poe import DEFAULT_TOLERANCE, evaluate_polynomial, tool_deviations_fast, \
-    tool_twists, truncation_bound
+from tribokin.propagation.poe import DEFAULT_TOLERANCE, evaluate_polynomial, tool_twists, truncation_bound
 
 
 def tool_deviations_exact(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -90,41 +89,26 @@ def tool_deviations_at_poses(robot: Robot, qs: np.ndarray, dq: np.ndarray, engin
     return positions, angles
 
 
-class ExactDiscrepancy(NamedTuple):
-    """Largest difference between the fast and the exact engine on checked samples.
+class EngineBound(NamedTuple):
+    """The error bound of the engine :func:`tool_deviations` used for a batch of samples at one pose.
 
     Attributes:
-        position_m: max over samples of |fast - exact| tool position [m].
-        angle_rad: max over samples of |fast - exact| rotation vector [rad].
-        samples: number of samples compared.
+        engine: ``"fast"`` (the truncated product of exponentials) or ``"exact"`` (Pinocchio FK per sample).
+        order: the fast engine's truncation order (0 for exact FK).
+        position_m, angle_rad: its bound on |engine - exact| over every sample [m, rad] (0 for exact FK: rounding
+            only, about 1e-15 m).
     """
 
+    engine: str
+    order: int
     position_m: float
     angle_rad: float
-    samples: int
 
 
-def max_deviation_from_exact(robot: Robot, q: np.ndarray, dq: np.ndarray, m: int = 32,
-                             tolerance_m: float = DEFAULT_TOLERANCE, tolerance_rad: float = DEFAULT_TOLERANCE
-                             ) -> ExactDiscrepancy:
-    """Check the fast engine against exact Pinocchio FK on the first ``m`` samples of a batch.
-
-    The fast engine runs at the order it would choose for the whole batch.
-
-    Args:
-        robot, q, dq: as for :func:`tool_deviations_fast` (``dq`` is the whole batch).
-        m: number of samples to check.
-        tolerance_m, tolerance_rad: as for :func:`tool_deviations_fast`.
-
-    Returns:
-        the largest position [m] and rotation-vector [rad] differences, and the sample count.
-    """
-    dq = np.asarray(dq, dtype=float)
-    order = truncation_bound(tool_twists(robot, q), dq, None, tolerance_m, tolerance_rad).order
-    checked = dq[:m]
-    fast = tool_deviations_fast(robot, q, checked, order=order)
-    positions, angles = tool_deviations_exact(robot, q, checked)
-    if not len(checked):
-        return ExactDiscrepancy(0.0, 0.0, 0)
-    return ExactDiscrepancy(float(np.linalg.norm(fast.positions - positions, axis=1).max()),
-                            float(np.linalg.norm(fast.angles - angles, axis=1).max()), len(checked))
+def engine_bound(robot: Robot, q: np.ndarray, dq: np.ndarray, engine: str = "fast") -> EngineBound:
+    """The engine ``tool_deviations(robot, q, dq, engine)`` uses for every sample of ``dq`` (n, nv), and its bound."""
+    if engine == "fast":
+        bound = truncation_bound(tool_twists(robot, q), np.asarray(dq, dtype=float))
+        if bound.position_m <= DEFAULT_TOLERANCE and bound.angle_rad <= DEFAULT_TOLERANCE:
+            return EngineBound("fast", bound.order, bound.position_m, bound.angle_rad)
+    return EngineBound("exact", 0, 0.0, 0.0)

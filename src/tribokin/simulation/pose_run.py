@@ -12,7 +12,7 @@ from tribokin.iso9283.metrics import covariance_semi_axes, directional_metrics, 
     variance_contributions
 from tribokin.kinematics.loads import BearingLoads
 from tribokin.kinematics.robot import Robot
-from tribokin.propagation.exact import max_deviation_from_exact, tool_deviations
+from tribokin.propagation.exact import engine_bound, tool_deviations
 from tribokin.simulation.joint_errors import JointErrorModel, approach_signs, check_travel, joint_travel, \
     sample_joint_deviations
 from tribokin.simulation.pose_result import PoseResult
@@ -154,11 +154,11 @@ class PoseRunner:
         if task.friction is not None:
             result.extra["friction"] = task.friction.describe()
         result.direction_extra = self.beyond_iso(task, result.normal_forces_N, result, index)
-        if self.study.engine == "fast":
-            check = max_deviation_from_exact(self.robot, task.q, result.dq)
-            result.extra["engine_check_cycles"] = check.samples
-            result.extra["engine_max_deviation_nm"] = check.position_m * 1e9
-            result.extra["engine_max_angle_deviation_nrad"] = check.angle_rad * 1e9
+        if self.study.engine == "fast":  # the bound of the engine used, over every cycle it computed
+            used = engine_bound(self.robot, task.q, result.dq)
+            result.extra["engine_used"] = used.engine if used.engine == "exact" else f"fast, order {used.order}"
+            result.extra["engine_max_deviation_nm"] = used.position_m * 1e9
+            result.extra["engine_max_angle_deviation_nrad"] = used.angle_rad * 1e9
         return result
 
     def beyond_iso(self, task: PoseTask, forces_N, result: PoseResult, index: int) -> dict[str, dict]:
