@@ -87,3 +87,39 @@ def test_expected_figures_agree_with_a_monte_carlo_through_exact_kinematics(robo
     joint = 3 * np.hypot(expected["band_error"], simulated["band_error"])
     for name in ("RP_l_lo_um", "RP_l_hi_um"):
         assert expected[name] == pytest.approx(simulated[name], rel=joint), name
+
+
+def test_the_first_order_models_bound_holds_against_exact_kinematics_at_every_target_of_a_map():
+    """At every reachable target of a UR5 map, deviations anywhere within the laws' supports (corners of the box
+    and random points) reach positions and angles within the reported bound of J(q″) δ from exact FK."""
+    from tribokin import run_study
+    from tribokin.maps.expected import JointMoments, linear_model
+    from tribokin.simulation.joint_errors import friction_lever, friction_loads
+
+    study = {"study": {"name": "bound", "cycles": 30, "seed": 2}, "robot": {"name": "ur5", "payload_kg": 3.0},
+             "joints": {"friction": LAWS["uniform"], "stiffness": 1.0e5, "friction_radius_m": 0.02,
+                        "bearing_span_m": 0.08},
+             "map": {"kind": "plane", "origin_m": [0.0, -0.55, 0.1], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
+                     "extent_u_m": [-0.6, 0.6], "extent_v_m": [-0.35, 0.35], "resolution": [9, 6],
+                     "rpy_deg": [180, 0, 90]}}
+    result = run_study(study).map
+    computed = result.summary()["computed"]["bound"]
+    assert computed["fallback_targets"] == 0 and computed["sampled_targets"] == result.summary()["reachable"]
+    mapped = load_study(study)
+    robot = load_robot(mapped)
+    runner = PoseRunner(mapped, robot, joint_models(mapped, robot))
+    moments = JointMoments.of(runner.models)
+    qs = result.q[result.reachable]
+    lever = friction_loads(runner.models, runner.normal_forces_at(qs)) * friction_lever(runner.models,
+                                                                                     robot.joint_is_prismatic)
+    model = linear_model(robot, moments, qs, lever, np.ones_like(lever), mixed=False)
+    np.testing.assert_allclose(model.bound, result.reference.read("engine_bound")[result.reachable], rtol=1e-12)
+    rng = np.random.default_rng(8)
+    corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * 6)).reshape(6, -1).T
+    for k, q in enumerate(qs):
+        reach = lever[k] * moments.departure
+        deltas = np.vstack([corners, rng.uniform(-1, 1, (32, 6))]) * reach
+        positions, angles = tool_deviations_exact(robot, q + model.mean_dq[k], deltas)  # angles from q″'s
+        linear = model.position_m[k] + deltas @ model.jacobian[k, :3].T
+        assert np.linalg.norm(positions - linear, axis=1).max() <= model.bound[k, 0]
+        assert np.linalg.norm(angles - deltas @ model.jacobian[k, 3:].T, axis=1).max() <= model.bound[k, 1] + 1e-15
