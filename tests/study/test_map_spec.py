@@ -15,7 +15,7 @@ JOINT = {"kind": "joint", "joints": ["x"], "ranges": [[0.0, 0.3]], "counts": [7]
 # expected: the values of the helpers of maps/budget.py these replaced (grid_counts, map_target_count, grid_rows,
 # chunk_targets, size_key, rows_per_chunk), worked out by hand
 @pytest.mark.parametrize("table, kind, counts, targets, rows, chunk, key", [
-    (PLANE, PlaneMap, (25, 40), 1000, 40, 275, "map.resolution"),  # 11 rows of 25 hold 256 targets
+    (PLANE, PlaneMap, (25, 40), 1000, 40, 1000, "map.resolution"),  # 328 rows of 25 hold 8192: the whole map
     (BOX, BoxMap, (4, 3, 2), 24, 6, 24, "map.resolution"),  # one chunk holds the whole map
     (JOINT, JointMap, (7,), 7, 1, 7, "map.counts"),
     ({**PLANE, "chunk_rows": 3}, PlaneMap, (25, 40), 1000, 40, 75, "map.resolution"),

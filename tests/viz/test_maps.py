@@ -139,5 +139,6 @@ def test_map_figures_come_in_reading_order():
     from tribokin.viz.maps import map_figure_names
 
     assert map_figure_names(scenario_map()) == [
-        "map_RP_l.png", "map_dominant_joint.png", "map_RP_l_low.png", "map_RP_l_high.png", "map_RP_l_ratio_low.png",
+        "map_RP_l.png", "map_dominant_joint.png", "map_RP_l_hi.png", "map_RP_l_low.png", "map_RP_l_high.png",
+        "map_RP_l_ratio_low.png",
         "map_RP_l_ratio_high.png", "map_RP_l_diff_low.png", "map_RP_l_diff_high.png", "map_winner.png"]
