@@ -38,8 +38,9 @@ ASYMPTOTIC_CYCLES = 500
 BAND_PERCENTILES = (2.5, 97.5)
 #: Shape-table nodes along each of its axes √(λ₂/λ₁) and √(λ₃/λ₂).
 TABLE_NODES = 9
-#: Tests of the shape table: about this many cycles in all at each node, at least ``TABLE_MIN_TESTS`` tests.
-TABLE_CYCLES, TABLE_MIN_TESTS = 120_000, 400
+#: Tests of the shape table: about this many cycles in all at each node, at least ``TABLE_MIN_TESTS`` and at most
+#: ``TABLE_MAX_TESTS`` tests.
+TABLE_CYCLES, TABLE_MIN_TESTS, TABLE_MAX_TESTS = 120_000, 400, 8_000
 #: Below this ratio of the noise's variance to |b|², E|b + w| is taken from its expansion to second order
 #: (relative error about the ratio squared); above it, by quadrature.
 EXPANSION_RATIO = 1e-3
@@ -190,7 +191,7 @@ class ShapeTable:
     @classmethod
     def simulate(cls, cycles: int, rng: np.random.Generator) -> ShapeTable:
         """The table of tests of ``cycles`` cycles, every node from the same standard normal draws of ``rng``."""
-        tests = max(TABLE_MIN_TESTS, math.ceil(TABLE_CYCLES / cycles))
+        tests = min(max(TABLE_MIN_TESTS, math.ceil(TABLE_CYCLES / cycles)), TABLE_MAX_TESTS)
         draws = rng.standard_normal((tests, cycles, 3))
         offsets = draws - draws.mean(axis=1, keepdims=True)
         squares = (offsets ** 2).reshape(-1, 3)  # a node scales the axes: its distances² are these, weighted

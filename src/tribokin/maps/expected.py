@@ -42,8 +42,9 @@ from tribokin.streams import expected_stream
 from tribokin.tribology.laws import Constant, FrictionLaw, Gaussian, Scaled
 from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
-#: Sampled tests: about this many cycles in all (the RP_l band's error about 1 % at 30 cycles), at least 400 tests.
-SAMPLED_CYCLES, MIN_TESTS = 60_000, 400
+#: Sampled tests: about this many cycles in all (2 000 tests of 30 cycles: the RP_l band's error about 1 %, and as
+#: much at more cycles, whose RP_l spreads less), at least 100 and at most 2 000 tests.
+SAMPLED_CYCLES, MIN_TESTS, MAX_TESTS = 60_000, 100, 2_000
 #: Cycles and fewest tests of the random-direction mixture (only its mean is kept: about 0.5 % Monte Carlo error).
 MULTI_CYCLES, MIN_MULTI_TESTS = 12_000, 20
 #: Sampled cycles of the targets computed together (their positions and angles in memory at once).
@@ -55,8 +56,10 @@ VAP_DRAWS = 4_000
 #: Truncation of a Gaussian law below this probability counts as none: its tests are computed analytically.
 NEGLIGIBLE_TRUNCATION_SIGMAS = 6.0
 #: The first-order model serves where its bound is within this fraction of the deviation's size (or within
-#: ``DEFAULT_TOLERANCE``): each figure then moves by at most about 8 bounds (RP_l), 0.3 % of it in the worst case.
-LINEAR_TOLERANCE = 1e-3
+#: ``DEFAULT_TOLERANCE``). The bound is a worst case (every joint at its extreme at once): RP_l moves by at most
+#: about 8 bounds, 1.5 % of it; measured against the fast engine on the same draws (ur5-calibrate, bound 1.1e-3 of
+#: the size), the figures moved by 1.2e-5 relative at most.
+LINEAR_TOLERANCE = 5e-3
 #: The approach directions of vAP_p: +x, +y, +z of the base frame.
 VAP_DIRECTIONS = ("+x", "+y", "+z")
 
@@ -173,8 +176,8 @@ class ExpectedSetup:
 
 
 def tests_for(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> int:
-    """Sampled tests of ``cycles`` cycles: about ``cycles_in_all`` cycles, at least ``fewest`` tests."""
-    return max(fewest, math.ceil(cycles_in_all / cycles))
+    """Sampled tests of ``cycles`` cycles: about ``cycles_in_all`` cycles, at least ``fewest``, at most ``MAX_TESTS``."""
+    return min(max(fewest, math.ceil(cycles_in_all / cycles)), MAX_TESTS)
 
 
 def common_numbers(runner: PoseRunner, signs: np.ndarray, tests: int, purpose: str) -> np.ndarray:
