@@ -226,8 +226,11 @@ def without_command(summary: bytes) -> dict:
 
 @pytest.mark.parametrize("statistic", ["expected", "one-test"])
 def test_run_killed_at_random_points_resumes_to_the_same_bytes(tmp_path, statistic):
+    """Expected: the closed form (the treated steel's Gaussian law; the sampled expected figures resume in
+    test_finished_chunks_are_reused_on_resume_others_recomputed_and_settings_checked)."""
     study = tmp_path / "study.toml"
-    study.write_text(GANTRY_MAP_TOML.replace("[map]", f'[map]\nstatistic = "{statistic}"'))
+    text = GANTRY_MAP_TOML.replace("[map]", f'[map]\nstatistic = "{statistic}"')
+    study.write_text(text.replace("42CD4-raw", "42CD4-treated") if statistic == "expected" else text)
     out, chunks = tmp_path / "out", tmp_path / "out.chunks"
     command = [sys.executable, "-m", "tribokin", "run", study, "--out", out]
     saved = 0
