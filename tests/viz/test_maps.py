@@ -142,3 +142,26 @@ def test_map_figures_come_in_reading_order():
         "map_RP_l.png", "map_dominant_joint.png", "map_RP_l_hi.png", "map_RP_l_low.png", "map_RP_l_high.png",
         "map_RP_l_ratio_low.png",
         "map_RP_l_ratio_high.png", "map_RP_l_diff_low.png", "map_RP_l_diff_high.png", "map_winner.png"]
+
+
+def test_a_directional_maps_scene_has_its_figures_as_layers_each_quantity_on_its_own_scale():
+    """vAP_p and RP_l_multi are tens of times RP_l: on RP_l's scale they would all look alike, so each quantity has
+    its own colour scale (and colour bar)."""
+    from tribokin.study.assembly import load_robot
+    from tribokin.study.reading import load_study
+    from tribokin.viz.scene import build_scene
+    from tribokin.viz.static import static_visualizer
+
+    study = gantry_map_study()
+    study["map"].update(resolution=[5, 4], directional=True)
+    workspace_map = run_study(study).map
+    layers = map_scene_layers(workspace_map)
+    name = workspace_map.reference.name
+    assert list(layers) == [name, f"{name} vAP_p", f"{name} RP_l_multi"]
+    np.testing.assert_array_equal(layers[f"{name} vAP_p"].values_um, workspace_map.reference.figure("vAP_p_um"))
+    robot = load_robot(load_study(study))
+    info = build_scene(static_visualizer(), robot, workspace_map.first_reachable_q(), [], layers, variant="light")
+    assert list(info.colour_scales) == ["RP_l", "vAP_p", "RP_l_multi"]
+    for quantity, scale in info.colour_scales.items():
+        values = np.concatenate([layer.values_um for layer in layers.values() if layer.quantity == quantity])
+        assert (scale.low_um, scale.high_um) == (np.nanmin(values), np.nanmax(values))

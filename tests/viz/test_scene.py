@@ -63,13 +63,13 @@ def test_no_spread_is_not_magnified():
 def test_each_map_is_its_own_toggle_coloured_by_rp_l(drawn):
     vis, info, _ = drawn
     layers = grid_layers()
-    assert (info.colour_scale.low_um, info.colour_scale.high_um) == (1.0, 8.0)
+    assert (info.colour_scales["RP_l"].low_um, info.colour_scales["RP_l"].high_um) == (1.0, 8.0)
     maps = node(vis, "tribokin/maps")
     assert sorted(maps) == ["baseline", "treated"]
     for label, layer in layers.items():
         obj = unpack(maps[label].object)
         np.testing.assert_allclose(attribute(obj, "position"), layer.points_m, atol=1e-6)
-        np.testing.assert_allclose(attribute(obj, "color"), info.colour_scale.rgb(layer.values_um), atol=1e-6)
+        np.testing.assert_allclose(attribute(obj, "color"), info.colour_scales["RP_l"].rgb(layer.values_um), atol=1e-6)
     grey = attribute(unpack(maps["baseline"].object), "color")[0]
     np.testing.assert_allclose(grey, UNREACHABLE_RGB, atol=1e-6)
 

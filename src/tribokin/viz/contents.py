@@ -18,13 +18,24 @@ from tribokin.viz.scene_file import save_scene_inputs
 SCENE_TARGETS = 50_000
 
 
+#: The directional figures a map's scene shows as layers of their own (the reference scenario's).
+DIRECTIONAL_LAYERS = ("vAP_p", "RP_l_multi")
+
+
 def map_scene_layers(workspace_map: MapResult) -> dict[str, MapLayer]:
-    """The map's RP_l per scenario as scene layers, at most ``SCENE_TARGETS`` targets each, spread over the grid."""
+    """The map's RP_l per scenario as scene layers, and a directional map's vAP_p and RP_l_multi (``<reference>
+    vAP_p``...), at most ``SCENE_TARGETS`` targets each, spread over the grid."""
     shown, stride = workspace_map.grid.thinned(SCENE_TARGETS)
     shown = shown.ravel()
     points = workspace_map.read("position_m", shown)
-    return {s.name: MapLayer(points, s.figure("RP_l_um", shown), s.name, stride)
-            for s in workspace_map.scenarios.values()}
+    layers = {s.name: MapLayer(points, s.figure("RP_l_um", shown), s.name, stride)
+              for s in workspace_map.scenarios.values()}
+    reference = workspace_map.reference
+    for quantity in DIRECTIONAL_LAYERS:
+        if reference.has(f"{quantity}_um"):
+            label = f"{reference.name} {quantity}"
+            layers[label] = MapLayer(points, reference.figure(f"{quantity}_um", shown), label, stride, quantity)
+    return layers
 
 
 def study_cube(result: StudyResult) -> Cube | None:

@@ -113,9 +113,10 @@ def thinning_note(layers: dict[str, MapLayer]) -> str:
             "summary.json and map.csv cover all of them.</p>")
 
 
-def colour_bar(scale: ColourScale) -> str:
-    """The map colour bar, labelled with its range in µm, and the grey of unreachable targets."""
-    return (f'<div><b>RP_l [µm]</b> ({scale.name})</div><div class="colourbar" '
+def colour_bar(quantity: str, scale: ColourScale) -> str:
+    """The colour bar of a map quantity (``RP_l``...), labelled with its range in µm, and the grey of unreachable
+    targets."""
+    return (f'<div><b>{html.escape(quantity)} [µm]</b> ({scale.name})</div><div class="colourbar" '
             f'style="background: {scale.css_gradient()}"></div><div class="scale"><span>{scale.low_um:.3f} µm'
             f'</span><span>{scale.high_um:.3f} µm</span></div><div><span class="swatch" style="background: '
             f'rgb(158,158,158)"></span> unreachable target</div>')
@@ -255,7 +256,8 @@ def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: d
     srcdoc = scene_page.replace("&", "&amp;").replace('"', "&quot;")
     statistics = (f"<h3>Map statistics</h3>{thinning_note(layers)}{map_statistics(result.map)}"
                   if result.map is not None else "")
-    maps = f"<h2>RP_l maps</h2>{colour_bar(info.colour_scale)}{statistics}" if layers else ""
+    bars = "".join(colour_bar(quantity, scale) for quantity, scale in info.colour_scales.items())
+    maps = f"<h2>RP_l maps</h2>{bars}{statistics}" if layers else ""
     notes = "".join(f"<p><b>Note:</b> {html.escape(n)}</p>" for n in info.notes)
     title = html.escape(f"tribokin — {result.name}")
     clouds = (f"Cycle clouds and their 3σ covariance ellipsoids are drawn around their barycenter, magnified "

@@ -35,19 +35,22 @@ CUBE_COLOUR = 0x1D3557
 
 @dataclass
 class MapLayer:
-    """One RP_l map (a scenario) drawn as a coloured point cloud.
+    """One map figure (a scenario's RP_l, or a directional figure) drawn as a coloured point cloud.
 
     Attributes:
         points_m: (N, 3) target positions in the base frame [m].
-        values_um: (N,) RP_l at each target [µm]; NaN where the target is unreachable (drawn grey).
-        label: scenario name, shown in the GUI and the report.
+        values_um: (N,) the figure at each target [µm]; NaN where the target is unreachable (drawn grey).
+        label: the layer's name (the scenario's, for RP_l), shown in the GUI and the report.
         stride: 1 when the layer holds every target of its map, k when every k-th along each grid axis.
+        quantity: the figure shown (``"RP_l"``, ``"vAP_p"``, ``"RP_l_multi"``): layers of one quantity share a
+            colour scale.
     """
 
     points_m: np.ndarray
     values_um: np.ndarray
     label: str
     stride: int = 1
+    quantity: str = "RP_l"
 
     def __post_init__(self):
         self.points_m = np.asarray(self.points_m, dtype=float)
@@ -89,10 +92,11 @@ class Cube:
 
 @dataclass
 class SceneInfo:
-    """What :func:`build_scene` drew: the magnification, the map colour scale, and notes for the user."""
+    """What :func:`build_scene` drew: the magnification, the map colour scale of each quantity (RP_l first), and
+    notes for the user."""
 
     magnification: float
-    colour_scale: ColourScale | None
+    colour_scales: dict[str, ColourScale]
     notes: list[str] = field(default_factory=list)
 
 
@@ -164,11 +168,11 @@ def draw_robot(vis, robot: Robot, q, variant: str) -> list[str]:
     return []
 
 
-def draw_maps(vis, layers: dict[str, MapLayer], scale: ColourScale) -> None:
-    """Each layer as a point cloud ``tribokin/maps/<label>``, coloured by ``scale`` (NaN grey)."""
+def draw_maps(vis, layers: dict[str, MapLayer], scales: dict[str, ColourScale]) -> None:
+    """Each layer as a point cloud ``tribokin/maps/<label>``, coloured by its quantity's scale (NaN grey)."""
     for layer in layers.values():
         vis["tribokin/maps"][layer.label].set_object(mg.PointCloud(
-            layer.points_m.T, scale.rgb(layer.values_um).T, size=_point_size_m(layer.points_m)))
+            layer.points_m.T, scales[layer.quantity].rgb(layer.values_um).T, size=_point_size_m(layer.points_m)))
 
 
 def draw_cube(vis, cube: Cube) -> None:
@@ -222,7 +226,8 @@ def build_scene(vis, robot: Robot, q, poses, map_layers: dict[str, MapLayer] | N
         robot: the robot; q: its configuration [m or rad] for the drawing.
         poses: objects with ``name``, ``positions_m`` (n, 3) [m]
             (e.g. :class:`~tribokin.simulation.pose_result.PoseResult`).
-        map_layers: RP_l maps by scenario name, each toggled on its own in the GUI.
+        map_layers: map figures (RP_l by scenario, directional figures) by label, each toggled on its own in the GUI,
+            one colour scale per quantity.
         cube: the ISO 9283 test cube, drawn with P1–P5.
         magnification: cloud magnification [-] (default: :func:`choose_magnification`).
         variant: ``"full"`` (visual meshes) or ``"light"`` (collision meshes, far smaller pages).
@@ -235,9 +240,10 @@ def build_scene(vis, robot: Robot, q, poses, map_layers: dict[str, MapLayer] | N
     layers = dict(map_layers or {})
     magnification = magnification or choose_magnification(poses)
     notes = draw_robot(vis, robot, q, variant)
-    scale = ColourScale.spanning(*[layer.values_um for layer in layers.values()]) if layers else None
-    if layers:
-        draw_maps(vis, layers, scale)
+    quantities = dict.fromkeys(layer.quantity for layer in layers.values())
+    scales = {quantity: ColourScale.spanning(*[layer.values_um for layer in layers.values()
+                                               if layer.quantity == quantity]) for quantity in quantities}
+    draw_maps(vis, layers, scales)
     if cube is not None:
         draw_cube(vis, cube)
     for pose in poses:
@@ -249,4 +255,4 @@ def build_scene(vis, robot: Robot, q, poses, map_layers: dict[str, MapLayer] | N
     if cube is not None:
         extent.append(cube.corners_m())
     _set_camera(vis, np.vstack(extent))
-    return SceneInfo(magnification, scale, notes)
+    return SceneInfo(magnification, scales, notes)

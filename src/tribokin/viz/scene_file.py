@@ -50,7 +50,8 @@ def save_scene_inputs(folder: Path, q, magnification: float, map_layers: dict[st
     """Write ``folder/scene.npz``."""
     layers = list((map_layers or {}).values())
     arrays = {"robot_q": np.asarray(q, dtype=float), "magnification": np.float64(magnification),
-              "map_labels": np.array([layer.label for layer in layers], dtype=str)}
+              "map_labels": np.array([layer.label for layer in layers], dtype=str),
+              "map_quantities": np.array([layer.quantity for layer in layers], dtype=str)}
     for layer in layers:
         arrays[f"map/{layer.label}/points_m"] = layer.points_m
         arrays[f"map/{layer.label}/values_um"] = layer.values_um
@@ -77,8 +78,9 @@ def load_scene_inputs(folder) -> SceneInputs:
             poses = [CycleCloud(row["name"], samples[f"{row['name']}/positions_m"]) for row in summary["poses"]]
     with np.load(folder / SCENE_FILE) as scene:
         labels = [str(label) for label in scene["map_labels"]]
-        layers = {label: MapLayer(scene[f"map/{label}/points_m"], scene[f"map/{label}/values_um"], label)
-                  for label in labels}
+        quantities = [str(q) for q in scene["map_quantities"]] if "map_quantities" in scene else ["RP_l"] * len(labels)
+        layers = {label: MapLayer(scene[f"map/{label}/points_m"], scene[f"map/{label}/values_um"], label,
+                                  quantity=quantity) for label, quantity in zip(labels, quantities)}
         cube = Cube(tuple(scene["cube_centre_m"]), float(scene["cube_edge_m"])) if "cube_edge_m" in scene else None
         return SceneInputs(robot, scene["robot_q"], poses, layers, cube, float(scene["magnification"]))
 
