@@ -26,19 +26,20 @@ ROBOT_KEYS = {"name": "robot.name", "path": "robot.urdf", "tool_frame": "robot.t
               "package_dirs": "robot.package_dirs", None: "robot"}
 
 
-def load_robot_spec(spec: RobotSpec, source=None) -> Robot:
+def load_robot_spec(spec: RobotSpec, source=None, meshes: bool = True) -> Robot:
     """The robot a ``[robot]`` spec with absolute paths names (see :func:`robot_spec`); an error names
-    ``source`` and the key at fault."""
+    ``source`` and the key at fault. ``meshes``: load a URDF's meshes (to draw it; each must then be found), else
+    its kinematics only."""
     offset = tool_point_placement(spec.tool_offset_m, spec.tool_offset_rpy_deg)
     with located(source, lambda error: ROBOT_KEYS[error.argument]):
         if spec.name is not None:
             return load_example_robot(spec.name, spec.tool_frame, offset)
-        return load_urdf(spec.urdf, spec.tool_frame, list(spec.package_dirs), offset)
+        return load_urdf(spec.urdf, spec.tool_frame, list(spec.package_dirs), offset, meshes=meshes)
 
 
-def load_robot(study: Study) -> Robot:
-    """The robot a study names, reduced to its tool frame's chain."""
-    return load_robot_spec(robot_spec(study), study.source)
+def load_robot(study: Study, meshes: bool = True) -> Robot:
+    """The robot a study names, reduced to its tool frame's chain; ``meshes`` as for :func:`load_robot_spec`."""
+    return load_robot_spec(robot_spec(study), study.source, meshes)
 
 
 def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
