@@ -28,6 +28,7 @@ import pinocchio as pin
 
 from tribokin.errors import ConfigurationError, RobotDescriptionError, closest_hint
 from tribokin.kinematics.urdf_meshes import confine_meshes
+from tribokin.kinematics.urdf_xacro import urdf_text
 
 #: example-robot-data names tested with tribokin (any fixed-base arm it ships should load).
 TESTED_ROBOTS = ("ur3", "ur5", "ur10", "panda", "xarm7", "z1", "so100")
@@ -195,8 +196,9 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, o
 
 
 def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset: pin.SE3 | None = None,
-              meshes: bool = True) -> Robot:
-    """Load a robot from a URDF file, after checking its meshes lie inside ``package_dirs``.
+              meshes: bool = True, xacro_args: dict[str, str] | None = None) -> Robot:
+    """Load a robot from a URDF file (or a xacro file, expanded), after checking its meshes lie inside
+    ``package_dirs``.
 
     Args:
         path: the URDF file.
@@ -207,9 +209,10 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
             :func:`tool_point_placement`), which becomes the robot's tool frame; ``None``: the tool frame itself.
         meshes: load the visual and collision meshes (to draw the robot); every mesh must then be found.
             ``False``: kinematics only (no geometry models), a missing mesh is no error.
+        xacro_args: arguments of a ``.xacro`` file by name (:func:`tribokin.kinematics.urdf_xacro.expand_xacro`).
 
     Raises:
-        RobotDescriptionError: a missing or malformed URDF, a mesh outside ``package_dirs``
+        RobotDescriptionError: a missing or malformed URDF (or xacro), a mesh outside ``package_dirs``
             (:func:`tribokin.kinematics.urdf_meshes.confine_meshes`, before Pinocchio reads any file), with
             ``meshes`` a mesh not found or not readable, an unknown tool frame, a joint moving the tool that is
             not 1-DoF.
@@ -219,7 +222,7 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
         raise RobotDescriptionError(f"URDF file '{path}' not found", "path")
     dirs = [Path(p) for p in package_dirs] or [path.parent, path.parent.parent]
     try:
-        urdf = ET.fromstring(path.read_bytes())
+        urdf = ET.fromstring(urdf_text(path, dirs, xacro_args))
     except ET.ParseError as error:
         raise RobotDescriptionError(f"cannot read URDF '{path}': {error}", "path") from None
     confine_meshes(urdf, path, dirs, required=meshes)
