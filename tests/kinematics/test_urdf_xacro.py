@@ -2,6 +2,7 @@
 puts it), $(find) in the package folders, files confined like meshes, errors keyed by the argument at fault, and
 xacro's globals left as they were (bad input through the command line: tests/integration/test_bad_input.py)."""
 
+import json
 import math
 from pathlib import Path
 
@@ -10,7 +11,8 @@ import pytest
 import xacro
 from xacro import substitution_args
 
-from conftest import ROOT
+from conftest import ROOT, STUDIES
+from tribokin.cli import main
 from tribokin.errors import RobotDescriptionError
 from tribokin.kinematics.robot import load_urdf
 from tribokin.kinematics.urdf_xacro import expand_xacro
@@ -57,6 +59,30 @@ def test_the_two_link_arm_puts_its_tool_where_its_link_lengths_say(arguments, le
         assert robot.tool_placement(q).translation == pytest.approx(two_link_tool(*lengths, q), abs=1e-12)
     assert [g.meshPath for g in robot.visual_model.geometryObjects][0] == str(
         (ROOT / "urdf/two_link_description/meshes/base_plate.stl").resolve())  # package:// of the expanded URDF
+
+
+def test_a_pose_study_of_the_xacro_runs_and_records_its_arguments(tmp_path, capsys):
+    """The shipped study through the command line, then with a longer upper arm: the commanded tool position moves
+    as the closed form says; summary.json and the report record the arguments."""
+    study = (STUDIES / "two-link-xacro.toml").read_text()
+    positions = {}
+    for upper_arm_m in (0.5, 0.65):
+        path = tmp_path / f"arm-{upper_arm_m}.toml"
+        path.write_text(study.replace('upper_arm_m = "0.5"', f'upper_arm_m = "{upper_arm_m}"')
+                        .replace('"../urdf', f'"{ROOT}/urdf'))
+        out = tmp_path / f"out-{upper_arm_m}"
+        assert main(["run", str(path), "--out", str(out), "--cycles", "5"]) == 0, capsys.readouterr().err
+        summary = json.loads((out / "summary.json").read_text())
+        assert summary["study"]["robot_spec"]["xacro_args"] == {"upper_arm_m": str(upper_arm_m), "forearm_m": "0.35"}
+        pose = summary["poses"][0]
+        assert pose["q"] == [0.3, 0.8]
+        positions[upper_arm_m] = np.array(pose["commanded_position_m"])
+        assert positions[upper_arm_m] == pytest.approx(two_link_tool(upper_arm_m, 0.35, pose["q"]), abs=1e-12)
+        page = (out / "report.html").read_text()
+        assert f"xacro arguments</th><td>upper_arm_m = {upper_arm_m}, forearm_m = 0.35</td>" in page
+        assert "Robot drawn from its visual geometry (--report full): 1 mesh and 2 cylinders." in page
+    moved = positions[0.65] - positions[0.5]
+    assert moved == pytest.approx(0.15 * np.array([math.cos(0.3), math.sin(0.3), 0.0]), abs=1e-12)
 
 
 def test_find_resolves_in_the_package_folders_in_order(tmp_path):

@@ -209,6 +209,8 @@ def input_values(result: StudyResult) -> dict[str, str]:
     counted = [what for what, present in (("pose", result.poses), ("map target", result.map is not None)) if present]
     rows = {"study file": source if source.startswith("<") else shown_path(source),  # "<mapping>": no file
             "robot": f"{spec['name']} (example-robot-data)" if spec["name"] else shown_path(spec["urdf"]),
+            **({"xacro arguments": ", ".join(f"{name} = {value}" for name, value in spec["xacro_args"].items())}
+               if spec.get("xacro_args") else {}),
             "tool frame": settings["tool_frame"],
             **({"tool point offset": offset} if offset else {}),
             "payload": f"{settings['payload_kg']:g} kg",
