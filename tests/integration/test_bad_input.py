@@ -263,8 +263,8 @@ CASES = [
           expected=("robot.xacro_args.upper_arm", "has no argument 'upper_arm' (did you mean 'upper_arm_m'?); its "
                     "arguments: forearm_m, upper_arm_m"), id="xacro-unknown-argument"),
     study('upper_arm_m = "0.5"', 'upper_arm_m = "half a metre"', base=TWO_LINK,
-          expected=("robot.xacro_args.upper_arm_m", "with upper_arm_m = 'half a metre': unsupported operand type(s) for /: 'str' and 'int' when "
-                    "evaluating expression 'length / 2'"),
+          expected=("robot.xacro_args.upper_arm_m", "with upper_arm_m = 'half a metre': unsupported operand type(s) "
+                    "for /: 'str' and 'int' when evaluating expression 'length / 2'"),
           id="xacro-bad-argument-value"),
     study('upper_arm_m = "0.5"', "upper_arm_m = 0.5", base=TWO_LINK,
           expected=("robot.xacro_args.upper_arm_m", 'must be a string', 'write upper_arm_m = "0.5"'),

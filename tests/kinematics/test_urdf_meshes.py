@@ -157,7 +157,8 @@ def test_a_missing_mesh_is_an_error_unless_the_meshes_are_not_needed(tmp_path):
         load_urdf(urdf, "tool", [tmp_path / "share", tmp_path / "outside"])
     assert error.value.argument == "package_dirs" and error.value.message.startswith(
         f"mesh 'package://pkg/meshes/none.stl' of {urdf} is not found in the package folders ({tmp_path / 'share'}, "
-        f"{tmp_path / 'outside'}): no {tmp_path / 'share/pkg/meshes/none.stl'}, {tmp_path / 'outside/pkg/meshes/none.stl'}")
+        f"{tmp_path / 'outside'}): no {tmp_path / 'share/pkg/meshes/none.stl'}, "
+        f"{tmp_path / 'outside/pkg/meshes/none.stl'}")
     robot = load_urdf(urdf, "tool", [tmp_path / "share"], meshes=False)
     assert robot.joint_names == ["x"] and robot.visual_model is None and robot.collision_model is None
 
@@ -196,7 +197,8 @@ def test_ros_package_path_is_never_searched(tmp_path, monkeypatch):
 
 def _meshy_study(tmp_path, urdf: Path) -> Path:
     study = tmp_path / "study.toml"
-    study.write_text(f'[study]\ncycles = 5\n\n[robot]\nurdf = "{urdf}"\ntool_frame = "tool"\npackage_dirs = ["share"]\n\n'
+    study.write_text(f'[study]\ncycles = 5\n\n[robot]\nurdf = "{urdf}"\ntool_frame = "tool"\n'
+                     'package_dirs = ["share"]\n\n'
                      '[joints]\nfriction = { law = "uniform", low = 0.1, high = 0.2 }\nstiffness = 1e6\n'
                      'normal_force_N = 50.0\n\n[[poses]]\nq = [0.2]\n')
     return study
