@@ -205,7 +205,7 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     if study.calibration is None:
         raise InputError("no [calibration] section: add one naming what to fit (fit = [\"stiffness\", ...])",
                          study.source, "calibration")
-    robot = load_robot(study)
+    robot = load_robot(study, meshes=False)  # no robot drawn
     models = joint_models(study, robot)
     measurements = read_measurements(measurements_path, prismatic=[n for n, p in zip(robot.joint_names,
                                                                                      robot.joint_is_prismatic) if p])
@@ -227,7 +227,7 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     workspace_map = None
     if calibrated.map is not None:
         only_map = replace(calibrated, poses=(), iso_cube=None, calibration=None)
-        workspace_map = run_study(only_map, executor=executor, progress=progress).map
+        workspace_map = run_study(only_map, executor=executor, progress=progress, meshes=False).map
 
     summary = {
         "settings": {

@@ -128,7 +128,7 @@ def _compute_and_write(args, executor):
     try:
         with map_progress(warm_up=args.workers) as progress:
             result = run_study(args.study, cycles=args.cycles, seed=args.seed, executor=executor, checkpoint=chunks,
-                               resume=args.resume, progress=progress)
+                               resume=args.resume, progress=progress, meshes=args.report != "none")
         result.reproduce["command"] = ["tribokin", *args.argv]
         out = write_results(result, args.out, args.force, report=args.report)
     except InputError:

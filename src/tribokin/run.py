@@ -65,7 +65,8 @@ class StudyResult:
 
 
 def run_study(study, cycles: int | None = None, seed: int | None = None, *, executor: Executor | None = None,
-              checkpoint=None, resume: bool = False, progress: Callable[[int, int], None] | None = None) -> StudyResult:
+              checkpoint=None, resume: bool = False, progress: Callable[[int, int], None] | None = None,
+              meshes: bool = True) -> StudyResult:
     """Run a study from a TOML path, a mapping or a :class:`Study`.
 
     Args:
@@ -75,6 +76,8 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
             :func:`~tribokin.execution.executor_for`).
         checkpoint, resume: folder where the map's finished chunks are saved, and whether to reuse them.
         progress: called with the map's targets done and in all (:func:`~tribokin.maps.run.run_map`).
+        meshes: load the robot's meshes, to draw it in a report (every mesh of a URDF must then be found);
+            ``False``: its kinematics only.
 
     Returns:
         the per-pose samples and ISO 9283 figures, and the map's per-target figures.
@@ -86,7 +89,7 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     if resume and study.map is None and checkpoint is not None and Path(checkpoint).exists():
         raise InputError("this study has no [map], so these chunks are another run's; run that study with "
                          "--resume, or pass --force without --resume to start over", checkpoint, "--resume")
-    robot = load_robot(study)
+    robot = load_robot(study, meshes)
     models = joint_models(study, robot)
     tasks, cube = pose_tasks(study, robot)
     check_names(study, tasks)

@@ -58,6 +58,26 @@ MESHY_GANTRY_MAP = _replace(GANTRY_MAP, f'urdf = "{ROOT / "urdf" / "cartesian_xy
 STL = ("solid t\nfacet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 0 1 0\n endloop\n"
        "endfacet\nendsolid t\n")
 
+#: The shipped two-link study, its xacro and package folder named by absolute paths.
+TWO_LINK = _replace((ROOT / "studies" / "two-link-xacro.toml").read_text(), '"../urdf', f'"{ROOT}/urdf')
+#: A one-joint arm in xacro, ``{include}`` replaced by a case's include.
+ONE_JOINT_XACRO = """<robot name="one" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  {include}
+  <link name="base"/>
+  <joint name="x" type="prismatic"><parent link="base"/><child link="tool"/><axis xyz="1 0 0"/>
+    <limit lower="0" upper="0.4" effort="100" velocity="1"/></joint>
+  <link name="tool"/>
+</robot>
+"""
+XACRO_URDF = 'urdf = "share/pkg/one.urdf.xacro"\npackage_dirs = ["share"]'
+
+
+def xacro_case(include: str, *, expected, id, files=None):
+    """A `tribokin run` case of the axis study on ``share/pkg/one.urdf.xacro`` including ``include``."""
+    return study(f'urdf = "{AXIS_URDF}"', XACRO_URDF, expected=expected, id=id,
+                 files={"share/pkg/one.urdf.xacro": ONE_JOINT_XACRO.format(include=include), **(files or {})})
+
+
 GOOD_LOG = "cycle,mu\n" + "\n".join(f"{i},{0.12 + 0.01 * np.sin(i)}" for i in range(1, 41)) + "\n"
 GOOD_PROFILE = "x_m,z_m\n" + "\n".join(f"{i * 1e-6},{1e-6 * np.sin(i / 3)}" for i in range(200)) + "\n"
 TURNED = AXIS_URDF.parents[1] / "src" / "tribokin" / "data" / "profiles" / "turned.csv"
@@ -229,9 +249,40 @@ CASES = [
     study(f'urdf = "{AXIS_URDF}"', 'urdf = "share/pkg/meshy.urdf"\npackage_dirs = ["share"]',
           files={"share/pkg/meshy.urdf": MESHY_URDF.replace("evil.stl", "evil"), "evil": STL},
           expected=("robot.package_dirs", "evil'", "{tmp}/share"), id="mesh-outside-no-extension-report-none"),
+    study(f'urdf = "{AXIS_URDF}"', 'urdf = "share/pkg/meshy.urdf"\npackage_dirs = ["share"]', "--report", "light",
+          files={"share/pkg/meshy.urdf": MESHY_URDF.replace("../../evil.stl", "mehses/base.stl"),
+                 "share/pkg/meshes/base.stl": STL},
+          expected=("robot.package_dirs", "mesh 'package://pkg/mehses/base.stl' of {tmp}/share/pkg/meshy.urdf is not "
+                    "found in the package folders ({tmp}/share): no {tmp}/share/pkg/mehses/base.stl"),
+          id="mesh-misspelt-folder"),
     study(None, base=MESHY_GANTRY_MAP, files={"share/pkg/gantry.urdf": MESHY_GANTRY_URDF.format(mesh="../evil.stl"),
                                               "evil.stl": STL},
           expected=("robot.package_dirs", "evil.stl", "{tmp}/share"), id="mesh-outside-map-study"),
+    # -- xacro robot descriptions
+    study('upper_arm_m = "0.5"', 'upper_arm = "0.5"', base=TWO_LINK,
+          expected=("robot.xacro_args.upper_arm", "has no argument 'upper_arm' (did you mean 'upper_arm_m'?); its "
+                    "arguments: forearm_m, upper_arm_m"), id="xacro-unknown-argument"),
+    study('upper_arm_m = "0.5"', 'upper_arm_m = "half a metre"', base=TWO_LINK,
+          expected=("robot.xacro_args.upper_arm_m", "with upper_arm_m = 'half a metre': unsupported operand type(s) "
+                    "for /: 'str' and 'int' when evaluating expression 'length / 2'"),
+          id="xacro-bad-argument-value"),
+    study('upper_arm_m = "0.5"', "upper_arm_m = 0.5", base=TWO_LINK,
+          expected=("robot.xacro_args.upper_arm_m", 'must be a string', 'write upper_arm_m = "0.5"'),
+          id="xacro-argument-not-a-string"),
+    study('tool_frame = "tool"', 'tool_frame = "tool"\nxacro_args = { reach = "1" }',
+          expected=("robot.xacro_args", "only a xacro file", "prismatic_axis.urdf"), id="xacro-arguments-of-a-urdf"),
+    xacro_case('<xacro:include filename="parts.xacro"/>',
+               expected=("robot.urdf", "cannot expand xacro '{tmp}/share/pkg/one.urdf.xacro': No such file or "
+                         "directory: {tmp}/share/pkg/parts.xacro"), id="xacro-missing-include"),
+    xacro_case('<xacro:include filename="$(find parts)/parts.xacro"/>',
+               expected=("robot.urdf", "$(find parts): no folder 'parts' in the package folders ({tmp}/share)"),
+               id="xacro-unknown-package"),
+    xacro_case('<xacro:include filename="../../parts.xacro"/>', files={"parts.xacro": "<robot/>"},
+               expected=("robot.package_dirs", "xacro opens '{tmp}/share/pkg/../../parts.xacro', which resolves to "
+                         "'{tmp}/parts.xacro', outside"), id="xacro-include-outside"),
+    xacro_case('<link name="$(arg colour)"/>',
+               expected=("robot.xacro_args.colour", "Undefined substitution argument colour"),
+               id="xacro-undefined-argument"),
     # -- poses, the ISO cube and maps that cannot be reached
     study("q = [0.25]", "q = [0.25, 0.1]", expected=("poses[0].q", "needs 1 values"), id="pose-q-wrong-length"),
     study("q = [0.25]", "q = [0.75]", expected=("poses[0].q", "outside its limits"), id="pose-unreachable"),
@@ -525,7 +576,8 @@ def test_refused_before_any_pose_or_target_is_measured(tmp_path, capsys, monkeyp
 
 
 @pytest.mark.parametrize("files, argv, expected", [case for case in CASES if case.id in (
-    "toml-unclosed-table", "option-workers-zero", "log-not-a-number", "mesh-outside-package")])
+    "toml-unclosed-table", "option-workers-zero", "log-not-a-number", "mesh-outside-package", "mesh-misspelt-folder",
+    "xacro-missing-include", "xacro-bad-argument-value")])
 def test_bad_input_through_python_m_tribokin(tmp_path, files, argv, expected):
     _create(tmp_path, files)
     before = _tree(tmp_path)

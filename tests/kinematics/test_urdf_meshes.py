@@ -151,19 +151,89 @@ def test_default_package_folders_are_the_urdf_folder_and_its_parent(tmp_path):
         load_urdf(meshy_urdf(tmp_path / "t", "package://pkg/../../outside/evil.stl"), "tool")
 
 
-def test_a_missing_mesh_inside_the_package_still_loads_the_kinematics(tmp_path):
-    robot = load_urdf(meshy_urdf(tmp_path, "package://pkg/meshes/none.stl"), "tool", [tmp_path / "share"])
-    assert robot.joint_names == ["x"] and robot.visual_model is None
+def test_a_missing_mesh_is_an_error_unless_the_meshes_are_not_needed(tmp_path):
+    urdf = meshy_urdf(tmp_path, "package://pkg/meshes/none.stl")
+    with pytest.raises(RobotDescriptionError) as error:
+        load_urdf(urdf, "tool", [tmp_path / "share", tmp_path / "outside"])
+    assert error.value.argument == "package_dirs" and error.value.message.startswith(
+        f"mesh 'package://pkg/meshes/none.stl' of {urdf} is not found in the package folders ({tmp_path / 'share'}, "
+        f"{tmp_path / 'outside'}): no {tmp_path / 'share/pkg/meshes/none.stl'}, "
+        f"{tmp_path / 'outside/pkg/meshes/none.stl'}")
+    robot = load_urdf(urdf, "tool", [tmp_path / "share"], meshes=False)
+    assert robot.joint_names == ["x"] and robot.visual_model is None and robot.collision_model is None
+
+
+def test_a_missing_mesh_named_by_its_path_is_named_with_that_path(tmp_path):
+    urdf = meshy_urdf(tmp_path, INSIDE, "file://{tmp}/share/pkg/meshes/gone.stl")
+    with pytest.raises(RobotDescriptionError, match=f"gone.stl' of {urdf} is not found at "
+                                                    f"{tmp_path / 'share/pkg/meshes/gone.stl'};"):
+        load_urdf(urdf, "tool", [tmp_path / "share"])
+
+
+def test_an_unreadable_mesh_is_an_error_naming_it_unless_the_meshes_are_not_needed(tmp_path):
+    urdf = meshy_urdf(tmp_path, "package://pkg/meshes/broken.stl")
+    broken = tmp_path / "share/pkg/meshes/broken.stl"
+    broken.write_text("solid x\nendsolid x\n")  # no facet: assimp loads no mesh
+    with pytest.raises(RobotDescriptionError) as error:
+        load_urdf(urdf, "tool", [tmp_path / "share"])
+    assert error.value.argument == "path" and error.value.message.startswith(
+        f"cannot read the meshes of URDF '{urdf}': Could not load resource {broken.resolve()}")
+    assert "\n" not in error.value.message and "assimp.cpp" not in error.value.message
+    assert load_urdf(urdf, "tool", [tmp_path / "share"], meshes=False).joint_names == ["x"]
 
 
 def test_ros_package_path_is_never_searched(tmp_path, monkeypatch):
     """Pinocchio also searches ROS_PACKAGE_PATH for a package URI it does not find; tribokin hands it
-    the checked path only, so a mesh there is never read."""
+    the checked path only, so a mesh there is never read (and it is missing where tribokin looks)."""
     (tmp_path / "ros" / "pkg" / "meshes").mkdir(parents=True)
     (tmp_path / "ros" / "pkg" / "meshes" / "elsewhere.stl").write_text(TETRAHEDRON_STL)
     monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "ros"))
-    robot = load_urdf(meshy_urdf(tmp_path, "package://pkg/meshes/elsewhere.stl"), "tool", [tmp_path / "share"])
-    assert robot.visual_model is None
+    urdf = meshy_urdf(tmp_path, "package://pkg/meshes/elsewhere.stl")
+    with pytest.raises(RobotDescriptionError, match="elsewhere.stl' .* is not found in the package folders") as error:
+        load_urdf(urdf, "tool", [tmp_path / "share"])
+    assert str(tmp_path / "ros") not in error.value.message
+    assert load_urdf(urdf, "tool", [tmp_path / "share"], meshes=False).visual_model is None
+
+
+def _meshy_study(tmp_path, urdf: Path) -> Path:
+    study = tmp_path / "study.toml"
+    study.write_text(f'[study]\ncycles = 5\n\n[robot]\nurdf = "{urdf}"\ntool_frame = "tool"\n'
+                     'package_dirs = ["share"]\n\n'
+                     '[joints]\nfriction = { law = "uniform", low = 0.1, high = 0.2 }\nstiffness = 1e6\n'
+                     'normal_force_N = 50.0\n\n[[poses]]\nq = [0.2]\n')
+    return study
+
+
+def test_a_misspelt_mesh_folder_stops_a_run_with_a_report_not_one_without(tmp_path, capsys, monkeypatch):
+    """Before, Pinocchio printed an untagged line, the run ended with status 0 and the report said "robot meshes:
+    full" while drawing no robot."""
+    urdf = meshy_urdf(tmp_path, "package://pkg/mehses/inside.stl")
+    study = _meshy_study(tmp_path, urdf)
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", str(study), "--out", "out"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err == (
+        f"tribokin: error: {study}: robot.package_dirs: mesh 'package://pkg/mehses/inside.stl' of {urdf} is not found "
+        f"in the package folders ({tmp_path / 'share'}): no {tmp_path / 'share/pkg/mehses/inside.stl'}; correct its "
+        "path in the URDF or list the folder that holds it in robot.package_dirs (a run with --report none needs no "
+        "meshes)\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["outside", "share", "study.toml"]  # no output, no lock
+    assert main(["run", str(study), "--out", "out", "--report", "none"]) == 0
+    assert (tmp_path / "out" / "summary.json").is_file() and not (tmp_path / "out" / "report.html").exists()
+
+
+@pytest.mark.parametrize("report, drawn", [
+    ("full", "Robot drawn from its visual geometry (--report full): 1 mesh and 1 box."),
+    ("light", "Robot drawn from its collision geometry (--report light): 1 mesh."),
+])
+def test_the_report_says_which_meshes_it_drew(tmp_path, monkeypatch, report, drawn):
+    urdf = meshy_urdf(tmp_path, INSIDE)
+    study = _meshy_study(tmp_path, urdf)
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", str(study), "--out", "out", "--report", report]) == 0
+    page = (tmp_path / "out" / "report.html").read_text()
+    inside = (tmp_path / "share/pkg/meshes/inside.stl").resolve()
+    assert f"<p>{drawn}</p><details><summary>Mesh files drawn</summary><ul><li>{inside}</li></ul></details>" in page
 
 
 def test_resolve_mesh_searches_the_package_folders_in_order(tmp_path):

@@ -162,3 +162,25 @@ def test_scene_objects_are_named_by_a_counter_with_their_links_kept(drawn):
         assert obj["object"]["material"] == obj["materials"][0]["uuid"]
     labels = [obj for obj in objects if "textures" in obj]  # text sprites: material -> texture
     assert labels and all(obj["materials"][0]["map"] == obj["textures"][0]["uuid"] for obj in labels)
+
+
+def test_scene_info_says_what_it_drew_of_the_robot_and_what_meshcat_could_not(drawn, monkeypatch):
+    """The axis is two boxes; one that meshcat fails to load is named, not counted as drawn."""
+    from pinocchio.visualize import MeshcatVisualizer
+
+    _, info, result = drawn
+    assert (info.robot.geometry, info.robot.meshes, info.robot.shapes, info.robot.not_drawn) == (
+        "visual", [], ["box", "box"], [])
+    first = result.robot.visual_model.geometryObjects[0].name
+    load = MeshcatVisualizer.loadPrimitive
+
+    def failing(viewer, geometry_object):
+        if geometry_object.name == first:
+            raise RuntimeError("cannot load")
+        return load(viewer, geometry_object)
+
+    monkeypatch.setattr(MeshcatVisualizer, "loadPrimitive", failing)
+    info = build_scene(static_visualizer(), result.robot, result.poses[0].q, result.poses)
+    assert (info.robot.shapes, info.robot.not_drawn) == (["box"], [first])
+    assert info.notes == [f"{result.robot.label}: 1 visual geometry objects not drawn (meshcat cannot load them): "
+                          f"{first}"]

@@ -28,6 +28,7 @@ import pinocchio as pin
 
 from tribokin.errors import ConfigurationError, RobotDescriptionError, closest_hint
 from tribokin.kinematics.urdf_meshes import confine_meshes
+from tribokin.kinematics.urdf_xacro import urdf_text
 
 #: example-robot-data names tested with tribokin (any fixed-base arm it ships should load).
 TESTED_ROBOTS = ("ur3", "ur5", "ur10", "panda", "xarm7", "z1", "so100")
@@ -121,6 +122,14 @@ def _quiet(call, *args):
         return call(*args)
 
 
+def _loader_message(error: Exception) -> str:
+    """A Pinocchio or coal loader's error on one line: its ``message:`` part when it has one (not where in
+    their C++ it was raised, nor their hint)."""
+    lines = [line.strip() for line in str(error).splitlines() if line.strip() and not line.strip().startswith("Hint:")]
+    start = next((i for i, line in enumerate(lines) if line.startswith("message:")), 0)
+    return " ".join(lines[start:]).removeprefix("message: ") or "unreadable"
+
+
 def _make_frame_names_unique(model: pin.Model) -> None:
     """Rename a body frame that shares its name with a joint to ``<name>_link``.
 
@@ -186,8 +195,10 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, o
     return Robot(model, tool_frame, label, kept_q, visual, collision)
 
 
-def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset: pin.SE3 | None = None) -> Robot:
-    """Load a robot from a URDF file, after checking its meshes lie inside ``package_dirs``.
+def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset: pin.SE3 | None = None,
+              meshes: bool = True, xacro_args: dict[str, str] | None = None) -> Robot:
+    """Load a robot from a URDF file (or a xacro file, expanded), after checking its meshes lie inside
+    ``package_dirs``.
 
     Args:
         path: the URDF file.
@@ -196,21 +207,25 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
             meshes may be read from (default: the URDF's folder and its parent).
         tool_offset: placement of the tool point in ``tool_frame`` (translation [m], rotation;
             :func:`tool_point_placement`), which becomes the robot's tool frame; ``None``: the tool frame itself.
+        meshes: load the visual and collision meshes (to draw the robot); every mesh must then be found.
+            ``False``: kinematics only (no geometry models), a missing mesh is no error.
+        xacro_args: arguments of a ``.xacro`` file by name (:func:`tribokin.kinematics.urdf_xacro.expand_xacro`).
 
     Raises:
-        RobotDescriptionError: a missing or malformed URDF, a mesh outside ``package_dirs``
-            (:func:`tribokin.kinematics.urdf_meshes.confine_meshes`, before Pinocchio reads any file), an
-            unknown tool frame, a joint moving the tool that is not 1-DoF.
+        RobotDescriptionError: a missing or malformed URDF (or xacro), a mesh outside ``package_dirs``
+            (:func:`tribokin.kinematics.urdf_meshes.confine_meshes`, before Pinocchio reads any file), with
+            ``meshes`` a mesh not found or not readable, an unknown tool frame, a joint moving the tool that is
+            not 1-DoF.
     """
     path = Path(path)
     if not path.is_file():
         raise RobotDescriptionError(f"URDF file '{path}' not found", "path")
     dirs = [Path(p) for p in package_dirs] or [path.parent, path.parent.parent]
     try:
-        urdf = ET.fromstring(path.read_bytes())
+        urdf = ET.fromstring(urdf_text(path, dirs, xacro_args))
     except ET.ParseError as error:
         raise RobotDescriptionError(f"cannot read URDF '{path}': {error}", "path") from None
-    confine_meshes(urdf, path, dirs)
+    confine_meshes(urdf, path, dirs, required=meshes)
     text = ET.tostring(urdf, encoding="unicode")
     try:
         model = _quiet(pin.buildModelFromXML, text)
@@ -218,12 +233,13 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
         first = str(error).strip().splitlines()[0] if str(error).strip() else "unreadable"
         raise RobotDescriptionError(f"cannot read URDF '{path}': {first}", "path") from None
     visual = collision = None
-    try:
-        visual = _quiet(pin.buildGeomFromUrdfString, model, text, pin.GeometryType.VISUAL, None, list(map(str, dirs)))
-        collision = _quiet(pin.buildGeomFromUrdfString, model, text, pin.GeometryType.COLLISION, None,
-                           list(map(str, dirs)))
-    except (RuntimeError, ValueError):
-        pass  # kinematics do not need meshes; the viewers say when meshes are missing
+    if meshes:
+        try:
+            visual, collision = (_quiet(pin.buildGeomFromUrdfString, model, text, kind, None, list(map(str, dirs)))
+                                 for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION))
+        except (RuntimeError, ValueError) as error:
+            raise RobotDescriptionError(f"cannot read the meshes of URDF '{path}': {_loader_message(error)}",
+                                        "path") from None
     lower, upper = model.lowerPositionLimit, model.upperPositionLimit
     mid_range = np.where(np.isfinite(lower) & np.isfinite(upper) & (upper - lower < 1e3), (lower + upper) / 2,
                          pin.neutral(model))

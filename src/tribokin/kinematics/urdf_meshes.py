@@ -8,7 +8,8 @@ followed). A mesh outside every package folder is refused, whether its file
 exists or not, and so is a Collada (``.dae``) mesh whose images (textures, which
 the viewers read and embed) lie outside; the others are rewritten to their real
 paths, so Pinocchio opens exactly the files checked and searches no other folder
-(not even ``ROS_PACKAGE_PATH``).
+(not even ``ROS_PACKAGE_PATH``). When the meshes are to be drawn (``required``), one that is not a
+file is an error naming it, the URDF and where it was looked for.
 """
 
 from __future__ import annotations
@@ -23,6 +24,25 @@ from tribokin.errors import RobotDescriptionError
 PACKAGE_SCHEMES = ("package", "model")
 
 
+def mesh_candidates(reference: str, package_dirs: list[Path]) -> list[Path] | None:
+    """The files Pinocchio tries, in order, for the mesh ``reference``: a package URI or relative path in each of
+    ``package_dirs``, a ``file://`` URI or absolute path as it is; ``None`` for a URI scheme Pinocchio refuses (it
+    then reads nothing)."""
+    scheme, separator, rest = reference.partition("://")
+    if _names_a_file(reference):
+        return [Path(rest if separator else reference)]
+    if separator and scheme not in PACKAGE_SCHEMES:
+        return None
+    return [Path(f"{folder}/{rest if separator else reference}") for folder in package_dirs]
+
+
+def _names_a_file(reference: str) -> bool:
+    """Whether the mesh ``reference`` names its file directly (a ``file://`` URI or an absolute path), rather than
+    in the package folders."""
+    scheme, separator, _ = reference.partition("://")
+    return scheme == "file" if separator else os.path.isabs(reference)
+
+
 def resolve_mesh(reference: str, package_dirs: list[Path]) -> Path | None:
     """The real path of the file Pinocchio opens for the mesh ``reference``, or ``None`` for a URI
     scheme Pinocchio refuses (it then reads nothing).
@@ -30,12 +50,9 @@ def resolve_mesh(reference: str, package_dirs: list[Path]) -> Path | None:
     A package URI or relative path found in none of ``package_dirs`` resolves in the first one
     (where it is missing: Pinocchio reads nothing there either).
     """
-    scheme, separator, rest = reference.partition("://")
-    if (separator and scheme == "file") or (not separator and os.path.isabs(reference)):
-        return Path(rest if separator else reference).resolve()
-    if separator and scheme not in PACKAGE_SCHEMES:
+    candidates = mesh_candidates(reference, package_dirs)
+    if candidates is None:
         return None
-    candidates = [Path(f"{folder}/{rest if separator else reference}") for folder in package_dirs]
     return next((c for c in candidates if os.path.exists(c)), candidates[0]).resolve()
 
 
@@ -54,7 +71,7 @@ def collada_images(mesh: Path) -> list[Path]:
 
 
 def confine_meshes(urdf: ET.Element, urdf_path: Path, package_dirs: list[Path],
-                   allowed_dirs: list[Path] | None = None) -> None:
+                   allowed_dirs: list[Path] | None = None, required: bool = False) -> None:
     """Point every ``<mesh filename=...>`` of ``urdf`` (in place) at the real path of its file, after
     checking that file, and the images of a Collada mesh, lie inside ``allowed_dirs`` (default:
     ``package_dirs``).
@@ -62,11 +79,15 @@ def confine_meshes(urdf: ET.Element, urdf_path: Path, package_dirs: list[Path],
     Args:
         urdf: the root element of the URDF at ``urdf_path``.
         package_dirs: the folders Pinocchio searches, in order.
+        required: every mesh must be a file (the meshes are to be drawn); else one that is missing is left to
+            Pinocchio, which reads nothing there.
 
     Raises:
-        RobotDescriptionError: naming the first mesh (or image) that resolves outside ``allowed_dirs``.
+        RobotDescriptionError: naming the first mesh (or image) that resolves outside ``allowed_dirs``, else, when
+            ``required``, the first mesh that is not a file, the URDF and where it was looked for.
     """
     roots = [Path(folder).resolve() for folder in (package_dirs if allowed_dirs is None else allowed_dirs)]
+    missing = []
     for element in urdf.iter("mesh"):
         reference = element.get("filename")
         mesh = None if reference is None else resolve_mesh(reference, package_dirs)
@@ -77,4 +98,20 @@ def confine_meshes(urdf: ET.Element, urdf_path: Path, package_dirs: list[Path],
                 raise RobotDescriptionError(f"mesh '{reference}' of {urdf_path} {role} '{path}', outside the package "
                                             f"folders ({', '.join(map(str, roots))}); move it under one of them or "
                                             "list its folder in robot.package_dirs", "package_dirs")
+        if not mesh.is_file():
+            missing.append(reference)
         element.set("filename", str(mesh))
+    if required and missing:
+        raise missing_mesh_error(missing, urdf_path, package_dirs)
+
+
+def missing_mesh_error(missing: list[str], urdf_path: Path, package_dirs: list[Path]) -> RobotDescriptionError:
+    """The error of meshes ``missing`` (references as the URDF writes them, the first named) of ``urdf_path``."""
+    reference = missing[0]
+    searched = mesh_candidates(reference, package_dirs)
+    where = (f"at {searched[0]}" if _names_a_file(reference) else f"in the package folders "
+             f"({', '.join(map(str, package_dirs))}): no {', '.join(map(str, searched))}")
+    others = f" (and {len(missing) - 1} other meshes)" if len(missing) > 1 else ""
+    return RobotDescriptionError(f"mesh '{reference}' of {urdf_path} is not found {where}{others}; correct its path "
+                                 "in the URDF or list the folder that holds it in robot.package_dirs (a run with "
+                                 "--report none needs no meshes)", "package_dirs")

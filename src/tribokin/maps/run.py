@@ -59,7 +59,7 @@ def _job_context(job: MapJob):
     """(robot, grid, runners) of ``job``, built once per thread."""
     cache = getattr(_local, "cache", None)
     if cache is None or cache[0] != job.token:
-        robot = load_robot(job.study)
+        robot = load_robot(job.study, meshes=False)  # nothing drawn here
         runners = [PoseRunner(s, robot, joint_models(s, robot)) for s in job.scenarios]
         _local.cache = (job.token, robot, make_grid(robot, job.study.map), runners)
     return _local.cache[1:]

@@ -21,24 +21,26 @@ def robot_spec(study: Study) -> RobotSpec:
     return study.robot.absolute(study.base_dir)
 
 
-#: The key of a ``[robot]`` table that sets each argument of the robot loaders (``None``: the robot as a whole).
+#: The key of a ``[robot]`` table that sets each argument of the robot loaders (``None``: the robot as a whole);
+#: any other argument (``xacro_args.<name>``) is the key ``robot.<argument>``.
 ROBOT_KEYS = {"name": "robot.name", "path": "robot.urdf", "tool_frame": "robot.tool_frame",
               "package_dirs": "robot.package_dirs", None: "robot"}
 
 
-def load_robot_spec(spec: RobotSpec, source=None) -> Robot:
+def load_robot_spec(spec: RobotSpec, source=None, meshes: bool = True) -> Robot:
     """The robot a ``[robot]`` spec with absolute paths names (see :func:`robot_spec`); an error names
-    ``source`` and the key at fault."""
+    ``source`` and the key at fault. ``meshes``: load a URDF's meshes (to draw it; each must then be found), else
+    its kinematics only."""
     offset = tool_point_placement(spec.tool_offset_m, spec.tool_offset_rpy_deg)
-    with located(source, lambda error: ROBOT_KEYS[error.argument]):
+    with located(source, lambda error: ROBOT_KEYS.get(error.argument, f"robot.{error.argument}")):
         if spec.name is not None:
             return load_example_robot(spec.name, spec.tool_frame, offset)
-        return load_urdf(spec.urdf, spec.tool_frame, list(spec.package_dirs), offset)
+        return load_urdf(spec.urdf, spec.tool_frame, list(spec.package_dirs), offset, meshes, spec.xacro_args)
 
 
-def load_robot(study: Study) -> Robot:
-    """The robot a study names, reduced to its tool frame's chain."""
-    return load_robot_spec(robot_spec(study), study.source)
+def load_robot(study: Study, meshes: bool = True) -> Robot:
+    """The robot a study names, reduced to its tool frame's chain; ``meshes`` as for :func:`load_robot_spec`."""
+    return load_robot_spec(robot_spec(study), study.source, meshes)
 
 
 def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:

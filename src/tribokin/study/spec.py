@@ -17,6 +17,7 @@ from tribokin.checks import boolean, distinct_strings, finite, non_negative, num
     seed_int, string_list, table, text, whole_number, within
 from tribokin.errors import InputError, closest_hint
 from tribokin.iso9283.cube import known_approach
+from tribokin.kinematics.urdf_xacro import XACRO_SUFFIX, is_xacro
 from tribokin.simulation.joint_errors import APPROACH_MODES
 from tribokin.study.map_spec import MAP_SPECS, STATISTICS, MapSpec
 
@@ -133,6 +134,17 @@ def count_list(value, source, key) -> list[int]:
 position3 = partial(vector3, element=coordinate)
 angles3 = partial(vector3, element=angle_deg)
 
+
+def xacro_arguments(value, source, key) -> dict[str, str]:
+    """A table of a xacro's arguments by name, each a string (xacro substitutes text; it may be empty)."""
+    for name, argument in table(value, source, key).items():
+        if not isinstance(argument, str):
+            quoted = str(argument).lower() if isinstance(argument, bool) else argument
+            raise InputError(f"must be a string, as xacro substitutes text (got {argument!r}); write {name} = "
+                             f"\"{quoted}\"", source, f"{key}.{name}")
+    return dict(value)
+
+
 ROBOT_KEYS = {
     "urdf": (text, None),
     "name": (text, None),
@@ -141,6 +153,7 @@ ROBOT_KEYS = {
     "payload_kg": (payload, 0.0),
     "tool_offset_m": (partial(vector3, element=tool_reach), None),
     "tool_offset_rpy_deg": (angles3, None),
+    "xacro_args": (xacro_arguments, None),
 }
 
 ISO_CUBE_KEYS = {
@@ -267,7 +280,8 @@ class RobotSpec:
     """The ``[robot]`` table: a ``urdf`` file (its meshes under ``package_dirs``) or an example-robot-data
     ``name``, the ``tool_frame`` (``None``: the last frame), the ``payload_kg`` [kg] and the tool point's offset in
     the tool frame, ``tool_offset_m`` [m] and ``tool_offset_rpy_deg`` (roll, pitch, yaw) [deg] (``None``: zero;
-    both ``None``: no tool point; :func:`~tribokin.kinematics.robot.tool_point_placement`). The offsets default to
+    both ``None``: no tool point; :func:`~tribokin.kinematics.robot.tool_point_placement`), and the arguments of a
+    ``.xacro`` ``urdf`` by name, ``xacro_args`` (strings; ``None``: none given). The offsets and arguments default to
     ``None`` so that a ``summary.json`` written without them still gives its spec."""
 
     urdf: str | None
@@ -277,6 +291,7 @@ class RobotSpec:
     payload_kg: float
     tool_offset_m: tuple[float, float, float] | None = None
     tool_offset_rpy_deg: tuple[float, float, float] | None = None
+    xacro_args: dict[str, str] | None = None
 
     def absolute(self, base_dir: Path) -> RobotSpec:
         """The spec with its paths made absolute against ``base_dir``: it loads the same robot from any folder."""
@@ -284,9 +299,10 @@ class RobotSpec:
         return replace(self, urdf=urdf, package_dirs=tuple(str((base_dir / p).absolute()) for p in self.package_dirs))
 
     def as_settings(self) -> dict:
-        """The spec as ``summary.json`` records it (``robot_spec``): tuples as lists, the offsets only when set."""
+        """The spec as ``summary.json`` records it (``robot_spec``): tuples as lists, the offsets and the xacro's
+        arguments only when set."""
         return {key: list(value) if isinstance(value, tuple) else value for key, value in asdict(self).items()
-                if value is not None or not key.startswith("tool_offset")}
+                if value is not None or not key.startswith(("tool_offset", "xacro_args"))}
 
 
 @dataclass(frozen=True)
@@ -443,6 +459,10 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
     robot = check_table(table(mapping["robot"], source, "robot"), ROBOT_KEYS, source, "robot")
     if (robot["urdf"] is None) == (robot["name"] is None):
         raise InputError("give exactly one of urdf = \"path/to/robot.urdf\" or name = \"ur5\"", source, "robot")
+    if robot["xacro_args"] is not None and (robot["urdf"] is None or not is_xacro(robot["urdf"])):
+        given = f"robot.urdf is '{robot['urdf']}'" if robot["urdf"] else f"robot.name is '{robot['name']}'"
+        raise InputError(f"only a xacro file (robot.urdf ending {XACRO_SUFFIX}) takes arguments, and {given}; remove "
+                         "robot.xacro_args", source, "robot.xacro_args")
     joints_table = table(mapping["joints"], source, "joints")
     overrides = {k: v for k, v in joints_table.items() if k not in JOINT_KEYS and isinstance(v, dict)}
     joints = check_table(joints_table, JOINT_KEYS, source, "joints", extra_ok=tuple(overrides))

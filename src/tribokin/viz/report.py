@@ -21,7 +21,7 @@ from tribokin.maps.grid import TargetGrid
 from tribokin.maps.result import MapResult
 from tribokin.run import StudyResult
 from tribokin.viz.colours import ColourScale
-from tribokin.viz.scene import Cube, MapLayer, SceneInfo, build_scene
+from tribokin.viz.scene import Cube, MapLayer, RobotDrawn, SceneInfo, build_scene
 from tribokin.viz.static import static_visualizer
 
 REPORT_FILE = "report.html"
@@ -210,6 +210,8 @@ def input_values(result: StudyResult) -> dict[str, str]:
     counted = [what for what, present in (("pose", result.poses), ("map target", result.map is not None)) if present]
     rows = {"study file": source if source.startswith("<") else shown_path(source),  # "<mapping>": no file
             "robot": f"{spec['name']} (example-robot-data)" if spec["name"] else shown_path(spec["urdf"]),
+            **({"xacro arguments": ", ".join(f"{name} = {value}" for name, value in spec["xacro_args"].items())}
+               if spec.get("xacro_args") else {}),
             "tool frame": settings["tool_frame"],
             **({"tool point offset": offset} if offset else {}),
             "payload": f"{settings['payload_kg']:g} kg",
@@ -249,6 +251,23 @@ def embedded_figures(folder: Path, names: list[str]) -> str:
     return "".join(parts)
 
 
+def robot_geometry(drawn: RobotDrawn | None, variant: str) -> str:
+    """What the scene drew of the robot: how many meshes of which geometry set (and primitive shapes), the mesh
+    files listed below a toggle."""
+    if drawn is None or not drawn.meshes + drawn.shapes:
+        geometry = "visual" if variant == "full" else "collision"
+        return f"<p>Robot not drawn: no {geometry} geometry (--report {variant}).</p>"
+    shapes = {kind: drawn.shapes.count(kind) for kind in sorted(set(drawn.shapes))}
+    shown = ", ".join(f"{count} {kind}{'es' if kind.endswith('x') and count > 1 else 's' if count > 1 else ''}"
+                      for kind, count in shapes.items())
+    plural = "" if len(drawn.meshes) == 1 else "es"
+    text = (f"Robot drawn from its {drawn.geometry} geometry (--report {variant}): {len(drawn.meshes)} mesh{plural}"
+            + (f" and {shown}" if shown else "") + ".")
+    files = "".join(f"<li>{html.escape(path)}</li>" for path in drawn.meshes)
+    return f"<p>{html.escape(text)}</p>" + (f"<details><summary>Mesh files drawn</summary><ul>{files}</ul></details>"
+                                           if files else "")
+
+
 def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: dict[str, MapLayer],
                 folder: Path, figures: list[str], variant: str, prismatic) -> str:
     """The report page around ``scene_page`` (a full meshcat static page), embedding the PNGs ``figures`` of
@@ -270,7 +289,8 @@ def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: d
 <body><h1>{title}</h1>
 <p>{html.escape(summary[:1].upper() + summary[1:])}. All inputs are listed below the scene.</p>
 <h2>Scene</h2>
-<p>{clouds}Robot meshes: {variant}. Open Controls (top right) toggles the robot, each map and each pose.</p>
+<p>{clouds}Open Controls (top right) toggles the robot, each map and each pose.</p>
+{robot_geometry(info.robot, variant)}
 <iframe title="3-D scene" srcdoc="{srcdoc}"></iframe>
 {notes}
 {inputs_section(result, prismatic)}

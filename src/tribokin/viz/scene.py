@@ -14,6 +14,7 @@ magnified by a factor written on screen (``clouds ×20000``; not drawn without p
 from __future__ import annotations
 
 import math
+import os
 import warnings
 from dataclasses import dataclass, field
 
@@ -91,13 +92,31 @@ class Cube:
 
 
 @dataclass
+class RobotDrawn:
+    """The robot's geometry :func:`draw_robot` drew.
+
+    Attributes:
+        geometry: the geometry set, ``"visual"`` (variant ``"full"``) or ``"collision"`` (``"light"``).
+        meshes: the mesh file of each mesh object drawn, in the model's order (a file drawn twice is named twice).
+        shapes: the kind of each primitive shape drawn (``"box"``, ``"cylinder"``, ...).
+        not_drawn: names of the geometry objects meshcat could not draw.
+    """
+
+    geometry: str
+    meshes: list[str] = field(default_factory=list)
+    shapes: list[str] = field(default_factory=list)
+    not_drawn: list[str] = field(default_factory=list)
+
+
+@dataclass
 class SceneInfo:
-    """What :func:`build_scene` drew: the magnification, the map colour scale of each quantity (RP_l first), and
-    notes for the user."""
+    """What :func:`build_scene` drew: the magnification, the map colour scale of each quantity (RP_l first), notes
+    for the user and the robot's geometry (``None``: the robot has none of the variant's set, not drawn)."""
 
     magnification: float
     colour_scales: dict[str, ColourScale]
     notes: list[str] = field(default_factory=list)
+    robot: RobotDrawn | None = None
 
 
 def _nice(value: float) -> float:
@@ -149,23 +168,35 @@ def _point_size_m(points_m: np.ndarray) -> float:
     return float(np.clip(0.6 * spacing, 0.004, 0.05))
 
 
-def draw_robot(vis, robot: Robot, q, variant: str) -> list[str]:
-    """The robot at ``q`` under ``vis["tribokin/robot"]``; returns notes (e.g. meshes missing).
+def draw_robot(vis, robot: Robot, q, variant: str) -> tuple[list[str], RobotDrawn | None]:
+    """The robot at ``q`` under ``vis["tribokin/robot"]``; returns notes (e.g. no geometry) and what it drew.
 
     ``"full"`` draws the visual meshes, ``"light"`` the (much smaller) collision meshes.
     """
     from pinocchio.visualize import MeshcatVisualizer
 
+    kind = "visual" if variant == "full" else "collision"
     geometry = robot.visual_model if variant == "full" else robot.collision_model
     if geometry is None:
-        return [f"no {'visual' if variant == 'full' else 'collision'} geometry for {robot.label}: robot not drawn"]
+        return [f"no {kind} geometry for {robot.label}: robot not drawn"], None
     viewer = MeshcatVisualizer(robot.model, None, geometry)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # pinocchio warns that a custom window has no image capture
-        viewer.initViewer(viewer=vis)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")  # recorded, not shown: pinocchio warns that a custom window has no image
+        viewer.initViewer(viewer=vis)     # capture, and of each object it cannot load
         viewer.loadViewerModel(rootNodeName="tribokin/robot")
     viewer.display(np.asarray(q, dtype=float))
-    return []
+    messages = [str(warning.message) for warning in caught]
+    drawn = RobotDrawn(kind)
+    for item in geometry.geometryObjects:
+        if any(f"geometry object: {item.name}\n" in m or f"object named {item.name} is not" in m for m in messages):
+            drawn.not_drawn.append(item.name)
+        elif os.path.isabs(item.meshPath):
+            drawn.meshes.append(item.meshPath)
+        else:
+            drawn.shapes.append(type(item.geometry).__name__.lower())
+    notes = [f"{robot.label}: {len(drawn.not_drawn)} {kind} geometry objects not drawn (meshcat cannot load them): "
+             f"{', '.join(drawn.not_drawn)}"] if drawn.not_drawn else []
+    return notes, drawn
 
 
 def draw_maps(vis, layers: dict[str, MapLayer], scales: dict[str, ColourScale]) -> None:
@@ -239,7 +270,7 @@ def build_scene(vis, robot: Robot, q, poses, map_layers: dict[str, MapLayer] | N
         raise InputError(f"must be one of {', '.join(VARIANTS)} (got {variant!r})", "command line", "--report")
     layers = dict(map_layers or {})
     magnification = magnification or choose_magnification(poses)
-    notes = draw_robot(vis, robot, q, variant)
+    notes, drawn = draw_robot(vis, robot, q, variant)
     quantities = dict.fromkeys(layer.quantity for layer in layers.values())
     scales = {quantity: ColourScale.spanning(*[layer.values_um for layer in layers.values()
                                                if layer.quantity == quantity]) for quantity in quantities}
@@ -255,4 +286,4 @@ def build_scene(vis, robot: Robot, q, poses, map_layers: dict[str, MapLayer] | N
     if cube is not None:
         extent.append(cube.corners_m())
     _set_camera(vis, np.vstack(extent))
-    return SceneInfo(magnification, scales, notes)
+    return SceneInfo(magnification, scales, notes, drawn)

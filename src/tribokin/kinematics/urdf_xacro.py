@@ -1,0 +1,223 @@
+"""Robot descriptions written in xacro (``robot.urdf.xacro``): expanded to URDF text with the PyPI ``xacro``
+package, without ROS.
+
+:func:`urdf_text` gives the XML of a robot description file: a URDF's bytes as they are, a ``.xacro`` file
+expanded with its arguments. While xacro expands it,
+
+- ``$(find pkg)`` (and ``$(eval find('pkg'))``) is the folder named ``pkg`` in the first of the package folders
+  that has one, as ``package://pkg/...`` mesh paths resolve; ROS's package index is never asked;
+- every file xacro opens (the xacro, its includes, YAML files of ``xacro.load_yaml``) must resolve (symlinks
+  followed) inside the xacro's own folder or a package folder; one outside is refused before it is read;
+- xacro's warnings are kept from the terminal.
+
+xacro keeps its state in module globals (the file stack, the arguments, its ``find``); an expansion holds a lock
+and puts back every global it touches, so other users of xacro in this process see it as it was.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import threading
+from pathlib import Path
+
+from tribokin.errors import RobotDescriptionError, closest_hint
+
+#: The ending of a file expanded by xacro.
+XACRO_SUFFIX = ".xacro"
+
+_lock = threading.Lock()
+
+
+def is_xacro(path) -> bool:
+    """Whether ``path`` names a xacro file (its name ends with ``.xacro``)."""
+    return str(path).endswith(XACRO_SUFFIX)
+
+
+class _Refused(Exception):
+    """A file or package the expansion may not use; raised through xacro, reported by :func:`expand_xacro`."""
+
+    def __init__(self, error: RobotDescriptionError):
+        super().__init__(error.message)
+        self.error = error
+
+
+class _RecordedArguments(dict):
+    """xacro's argument table (``mappings``), recording every name the xacro declares (``<xacro:arg>``) or reads
+    (``$(arg name)``)."""
+
+    def __init__(self, values: dict[str, str]):
+        super().__init__(values)
+        self.names: set[str] = set()
+
+    def __contains__(self, name) -> bool:
+        self.names.add(name)
+        return super().__contains__(name)
+
+    def __getitem__(self, name):
+        value = super().__getitem__(name)
+        self.names.add(name)
+        return value
+
+
+def _package_finder(package_dirs: list[Path], refusals: list):
+    """xacro's ``find``: the folder ``pkg`` in the first of ``package_dirs`` that has it."""
+
+    def find(package: str) -> str:
+        candidates = [Path(folder) / package for folder in package_dirs]
+        found = next((c for c in candidates if c.is_dir()), None)
+        if package in ("", ".", "..") or "/" in package or found is None:
+            error = RobotDescriptionError(
+                f"$(find {package}): no folder '{package}' in the package folders "
+                f"({', '.join(map(str, package_dirs))}); list the folder that holds it in robot.package_dirs",
+                "path")
+            refusals.append(error)
+            raise _Refused(error)
+        return str(found.resolve())
+
+    return find
+
+
+def _confined_open(roots: list[Path], refusals: list):
+    """``open`` for xacro: a file that resolves outside every folder of ``roots`` is refused before it is read."""
+
+    def confined(file, *args, **kwargs):
+        real = Path(file).resolve()
+        if not any(real.is_relative_to(root) for root in roots):
+            resolved = "" if str(real) == str(file) else f", which resolves to '{real}',"
+            error = RobotDescriptionError(
+                f"xacro opens '{file}'{resolved} outside the xacro's folder and the package folders "
+                f"({', '.join(map(str, roots))}); move it under one of them or list its folder in robot.package_dirs",
+                "package_dirs")
+            refusals.append(error)
+            raise _Refused(error)
+        return open(real, *args, **kwargs)
+
+    return confined
+
+
+@contextlib.contextmanager
+def _hooked_xacro(find, opener):
+    """xacro with ``find`` and ``opener`` in place of its own, its messages kept from the terminal; every global
+    touched is put back on leaving."""
+    import xacro
+    from xacro import substitution_args
+
+    with _lock:
+        saved = (substitution_args._eval_find, substitution_args._eval_dict["find"], xacro.filestack,
+                 xacro.macrostack, dict(xacro.substitution_args_context), len(xacro.all_includes))
+        substitution_args._eval_find = substitution_args._eval_dict["find"] = find
+        xacro.open = opener  # a module global: xacro's parse() and load_yaml() open files through it
+        try:
+            with contextlib.redirect_stderr(io.StringIO()), contextlib.redirect_stdout(io.StringIO()):
+                yield xacro
+        finally:
+            del xacro.open
+            (substitution_args._eval_find, substitution_args._eval_dict["find"], xacro.filestack,
+             xacro.macrostack) = saved[:4]
+            xacro.substitution_args_context.clear()
+            xacro.substitution_args_context.update(saved[4])
+            del xacro.all_includes[saved[5]:]
+
+
+def _expand(path: Path, arguments: dict[str, str], package_dirs: list[Path]) -> tuple[str, set[str]]:
+    """The URDF text of the xacro ``path`` and the argument names it declares or reads.
+
+    Raises:
+        RobotDescriptionError: a file or package refused (:func:`_confined_open`, :func:`_package_finder`), or
+            xacro's own error (``argument`` ``"path"``; :func:`expand_xacro` finds the argument at fault).
+    """
+    refusals: list[RobotDescriptionError] = []
+    roots = list(dict.fromkeys([path.parent, *(Path(folder).resolve() for folder in package_dirs)]))
+    recorded = _RecordedArguments(arguments)
+    with _hooked_xacro(_package_finder(package_dirs, refusals), _confined_open(roots, refusals)) as xacro:
+        try:
+            text = xacro.process_file(str(path), mappings=recorded).toxml()
+            failure = None
+        except Exception as error:  # noqa: BLE001 - xacro raises many kinds for a bad file; all are input errors
+            failure = _xacro_message(error, xacro.filestack, path)
+    if refusals:
+        raise refusals[0]
+    if failure is not None:
+        raise failure
+    return text, recorded.names
+
+
+def _xacro_message(error: Exception, filestack, path: Path) -> RobotDescriptionError:
+    """xacro's ``error`` as one error naming the xacro (and the file being expanded, when another), the key
+    ``robot.xacro_args.<name>`` for an argument it lacks, else ``robot.urdf``."""
+    from xacro.substitution_args import ArgException
+
+    cause = getattr(error, "exc", None)
+    text = f"{cause.strerror}: {cause.filename}" if isinstance(cause, OSError) else str(error) or type(error).__name__
+    message = " ".join(text.split())
+    current = next((f for f in reversed(filestack or []) if f), None)
+    where = "" if current is None or Path(current).resolve() == path else f" (in {current})"
+    if isinstance(cause, ArgException):
+        name = str(cause)
+        return RobotDescriptionError(f"xacro '{path}'{where}: {message}: set robot.xacro_args.{name} = \"...\"",
+                                     f"xacro_args.{name}")
+    return RobotDescriptionError(f"cannot expand xacro '{path}'{where}: {message}", "path")
+
+
+def expand_xacro(path, xacro_args: dict[str, str] | None = None, package_dirs=()) -> str:
+    """The URDF text of the xacro file ``path`` expanded with the arguments ``xacro_args`` (strings).
+
+    Args:
+        path: the ``.xacro`` file (symlinks followed; includes resolve from its real folder).
+        xacro_args: values of the xacro's ``<xacro:arg>``\\ s by name; each must be one the xacro declares or reads.
+        package_dirs: folders that ``$(find pkg)`` resolves against (each holding package folders), and with the
+            xacro's folder the only folders xacro may read files from.
+
+    Raises:
+        RobotDescriptionError: with ``argument`` ``"path"`` (robot.urdf: a missing or malformed file or include,
+            an unknown package, another xacro error), ``"xacro_args.<name>"`` (an argument the xacro lacks, does
+            not know, or whose value makes the expansion fail) or ``"package_dirs"`` (a file outside the folders).
+    """
+    real = Path(path).resolve()
+    if not real.is_file():
+        raise RobotDescriptionError(f"xacro file '{path}' not found", "path")
+    arguments = dict(xacro_args or {})
+    dirs = [Path(folder) for folder in package_dirs]
+    try:
+        text, names = _expand(real, arguments, dirs)
+    except RobotDescriptionError as error:
+        raise _blamed(error, real, arguments, dirs) from None
+    for name in arguments:
+        if name not in names:
+            known = sorted(names)
+            raise RobotDescriptionError(f"xacro '{path}' has no argument '{name}'{closest_hint(name, known)}; its "
+                                        f"arguments: {', '.join(known) or 'none'}", f"xacro_args.{name}")
+    return text
+
+
+def _blamed(error: RobotDescriptionError, path: Path, arguments: dict[str, str], dirs: list[Path]):
+    """``error`` of expanding ``path`` with ``arguments``, keyed by the first argument without which the expansion
+    fails otherwise (its value is at fault); unchanged when it names an argument already or none is at fault."""
+    if error.argument != "path" or not arguments:
+        return error
+    for name in arguments:
+        others = {key: value for key, value in arguments.items() if key != name}
+        try:
+            _expand(path, others, dirs)
+        except RobotDescriptionError as without:
+            if without.message == error.message:
+                continue
+        message = error.message.replace(f"cannot expand xacro '{path}'", f"xacro '{path}' with {name} = "
+                                        f"{arguments[name]!r}")
+        return RobotDescriptionError(message, f"xacro_args.{name}")
+    return error
+
+
+def urdf_text(path: Path, package_dirs: list[Path], xacro_args: dict[str, str] | None = None) -> bytes | str:
+    """The XML of the robot description ``path``: a URDF's bytes, or a xacro expanded (:func:`expand_xacro`).
+
+    Raises:
+        RobotDescriptionError: ``xacro_args`` given for a file that is not a xacro, or as :func:`expand_xacro`.
+    """
+    if is_xacro(path):
+        return expand_xacro(path, xacro_args, package_dirs)
+    if xacro_args:
+        raise RobotDescriptionError(f"'{path}' is not a xacro file (its name does not end with {XACRO_SUFFIX}): "
+                                    "it takes no arguments; remove robot.xacro_args", "xacro_args")
+    return path.read_bytes()
