@@ -246,8 +246,11 @@ def unreachable_reasons(grid: TargetGrid, positions_m: np.ndarray, closest: np.n
     """Why each target is unreachable, for the map's ``reason`` column, as Python strings (``""``: reached), from
     the targets' positions (k, 3) [m] and how close the IK came to them (k, 2) [m, rad] (:func:`solve_rows`)."""
     bounds, gaps = first_bound_beyond(grid, positions_m) if grid.reach else (np.full(len(closest), -1), None)
-    return np.array([unreachable_reason(*c) if bound < 0 else beyond_reach_reason(grid.reach[bound], gaps[k])
-                     for k, (c, bound) in enumerate(zip(closest, bounds))], dtype=object)
+    reasons = np.full(len(closest), "", dtype=object)
+    for k in np.flatnonzero((bounds >= 0) | ~np.isnan(closest[:, 0])):  # the others were reached: no reason
+        reasons[k] = unreachable_reason(*closest[k]) if bounds[k] < 0 else \
+            beyond_reach_reason(grid.reach[bounds[k]], gaps[k])
+    return reasons
 
 
 def beyond_reach_reason(reach: ReachSphere, gap_m: float) -> str:
