@@ -21,6 +21,7 @@ import numpy as np
 
 from tribokin.errors import InputError
 from tribokin.execution import run_chunks
+from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
 from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES, ShapeTable
@@ -99,13 +100,15 @@ def measure_into(arrays: dict, slots: np.ndarray, robot: Robot, runners: list[Po
                  setups: tuple[ExpectedSetup | None, ...], qs: np.ndarray, indices: np.ndarray) -> None:
     """Measure targets ``indices`` at configurations ``qs`` for every scenario, into ``slots`` of ``arrays``: their
     expected figures (a scenario with a ``setups`` entry), else one test each."""
-    twists, translations = tool_frames(robot, qs)
+    chain = serial_chain(robot)
+    placements = None if chain is None else chain.tool_in_joint(qs)  # for the tool frames and the loads
+    twists, translations = tool_frames(robot, qs, placements)
     for s, (runner, setup) in enumerate(zip(runners, setups)):
         if setup is None:
             figures, forces, dominant = measure_targets(runner, qs, indices, twists, translations)
             values = {"figures": figures, "dominant_joint": dominant}
         else:
-            forces = runner.normal_forces_at(qs)
+            forces = runner.normal_forces_at(qs, placements)
             values = expected_targets(runner, setup, qs, forces, twists, translations)
         values["normal_forces_N"] = forces
         for name, value in values.items():
