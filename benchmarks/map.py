@@ -22,8 +22,9 @@ default ``map.statistic = "expected"``) with only ``map.resolution`` and ``study
 * ``stages``: µs per target (all targets of the plane) of each stage of one in-process run of the command on the
   big plane (1 worker), from timing hooks wrapped around the functions that do each stage, each stage's time its own
   (a stage inside another counts for itself only): imports, the robot (URDF and meshes), IK (rows' heads, rows,
-  holes from neighbours), bearing loads, tool frames, expected figures, the map's store, map.csv, figures and
-  report, and the rest (``other``: the command line, reading the study, budget checks, summary.json, the folder);
+  holes from neighbours), bearing loads, tool frames (what measuring a row takes besides the loads and the
+  figures), expected figures, the map's store, map.csv, figures and report, and the rest (``other``: the command
+  line, reading the study, budget checks, the grid, summary.json, the folder);
 * ``million``: a 10^6-target (1000 × 1000) × ``--cycles`` map on 2 workers: ``computed_s``, the time of
   ``run_study`` in a child process, after its imports (reading the study and the robot, IK, loads, figures, the
   store, holes from neighbours), and ``command_s``, the whole command with its outputs;
@@ -189,7 +190,7 @@ STAGE_HOOKS = (
     ("tribokin.maps.run", "solve_rows", "IK: rows"),
     ("tribokin.maps.run", "fill_from_neighbours", "IK: holes from neighbours"),
     ("tribokin.simulation.pose_run", "PoseRunner.normal_forces_at", "loads"),
-    ("tribokin.maps.run", "tool_frames", "tool frames"),
+    ("tribokin.maps.run", "measure_into", "tool frames"),  # the rest of measuring a row: its tool frames
     ("tribokin.maps.run", "expected_targets", "expected figures"),
     ("tribokin.maps.run", "measure_targets", "one-test figures"),
     ("tribokin.maps.store", "ChunkStore.save", "store"),
