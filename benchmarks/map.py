@@ -1,114 +1,255 @@
-"""Throughput and memory of workspace maps on a UR5 plane.
+"""Speed and memory of workspace maps: the whole ``tribokin run`` command on a UR5 plane, in one run.
 
-Run from the repository root: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src python benchmarks/map.py``
-(``--side 40 --cycles 300`` for a quicker run). Writes ``benchmarks/results/map.json`` and prints
-a summary. Figures:
+Run from the repository root: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src python benchmarks/map.py`` (about 10 minutes on
+2 cores; ``--quick`` for a small run of about a minute, printed and not written unless ``--results`` is given).
+Writes ``benchmarks/results/map.json`` and prints it.
 
-* target-cycles/s of a whole map (IK, bearing loads, sampling, FK, metrics), 1 worker and 2 workers;
-* the same rate over per-sample Pinocchio FK loops: the exact engine's (position and orientation, what
-  the map would run without the fast engine) and a bare position-only one; and over drawing the same
-  random numbers alone (the map's own draws: a fresh generator per target, every joint's friction law);
-* how far the resident memory of a child process rises while it computes and writes a 10^4, 10^5,
-  10^6 and 2·10^6 target map (few cycles; the kernel's recorded peak, and samples every 10 ms, Linux):
-  per-target results go to the map's store on disk, tables are written block by block, figures
-  and the scene show at most a bounded number of targets, so it should not grow with targets;
-* which of the issue's goals this run meets (``goals``).
+Every map is the shipped ``studies/ur5-map-horizontal.toml`` (its robot, payload, friction law and loads; the
+default ``map.statistic = "expected"``) with only ``map.resolution`` and ``study.cycles`` changed (and
+``map.statistic`` for the one-test runs). Figures:
 
-Timings are wall clock on whatever machine runs this, which may be shared: read them as orders
-of magnitude, and compare ratios measured in the same run. A small map runs first, so one-off costs
-(imports, reading the robot's meshes) stay out of the timings.
+* ``command``: the wall time of ``python -m tribokin run <study> --out <tmp> --report light`` in a child process
+  (imports, IK, figures, map.csv, heat maps, report: what a user waits for) on a ``--side`` × ``--side`` plane
+  (600 × 600) × ``--cycles`` (1000), on 1 worker and on 2 (``--workers 2``), and the target-cycles/s it makes
+  (reachable targets × cycles / wall time); that the two wrote the same ``map.csv``; the 2-worker speed-up;
+* ``fk_loop``: a single-core loop of Pinocchio frame forward kinematics per sample (``pin.forwardKinematics`` and
+  ``pin.updateFramePlacement`` at UR5 configurations), its time per sample, and the command's rate over it: the
+  loop's time for reachable targets × cycles samples over the command's wall time (the goal: 100× on 2 workers);
+* ``one_test``: the same command with ``map.statistic = "one-test"`` (one simulated test per target: the engine
+  before expected maps) on a ``--one-test-side`` plane (a 600 × 600 one would take minutes), beside the expected
+  map on the same plane; its time per reachable target scaled to the big plane's reachable targets (``scaled``) for
+  the ratio of one-test to expected time there, and the ratio measured on the same plane;
+* ``stages``: µs per target (all targets of the plane) of each stage of one in-process run of the command on the
+  big plane (1 worker), from timing hooks wrapped around the functions that do each stage, each stage's time its own
+  (a stage inside another counts for itself only): imports, the robot (URDF and meshes), IK (rows' heads, rows,
+  holes from neighbours), bearing loads, tool frames (what measuring a row takes besides the loads and the
+  figures), expected figures, the map's store, map.csv, figures and report, and the rest (``other``: the command
+  line, reading the study, budget checks, the grid, summary.json, the folder);
+* ``million``: a 10^6-target (1000 × 1000) × ``--cycles`` map on 2 workers: ``computed_s``, the time of
+  ``run_study`` in a child process, after its imports (reading the study and the robot, IK, loads, figures, the
+  store, holes from neighbours), and ``command_s``, the whole command with its outputs;
+* ``memory``: how far the resident memory of a child process rises while it computes and writes (results, map.csv,
+  heat maps, light report; 1 worker) a map of 10^4, 10^6 and 2·10^6 targets (the kernel's recorded peak, and
+  samples every 10 ms; Linux): per-target results go to the map's store on disk, tables are written block by block,
+  heat maps and the scene show at most a bounded number of targets; the growth per target from 10^6 to 2·10^6
+  (the caps are reached by 10^6) is what grows with the map;
+* ``goals``: which of the issue's goals this run meets.
+
+Timings are wall clock on whatever machine runs this, which may be shared (``machine.load_average`` before and after
+the run says how busy it was): read them as orders of magnitude, and compare ratios measured in the same run.
 """
 
 from __future__ import annotations
 
 import argparse
+import builtins
+import importlib
 import json
 import os
 import platform
+import shutil
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from pathlib import Path
 
-import numpy as np
-import pinocchio as pin
+START = time.perf_counter()
 
-RESULTS = Path(__file__).resolve().parent / "results" / "map.json"
-MEMORY_CYCLES = 10
-
-
-SHIPPED_STUDY = Path(__file__).resolve().parents[1] / "studies" / "ur5-map-horizontal.toml"
-
-
-def ur5_plane(side_u: int, side_v: int, cycles: int, engine: str = "fast") -> dict:
-    """A UR5 map on a horizontal plane in front of the base, tool down, every target reachable;
-    robot, payload and joint model those of the shipped ``studies/ur5-map-horizontal.toml``."""
-    from tribokin.study.reading import read_study_file
-
-    shipped = read_study_file(SHIPPED_STUDY).mapping
-    return {
-        "study": {"name": "bench", "cycles": cycles, "seed": 1, "engine": engine},
-        "robot": shipped["robot"],
-        "joints": shipped["joints"],
-        "map": {"kind": "plane", "origin_m": [0.0, -0.55, 0.1], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
-                "extent_u_m": [-0.4, 0.4], "extent_v_m": [0.0, 0.3], "resolution": [side_u, side_v],
-                "rpy_deg": [180, 0, 90]},
-    }
+ROOT = Path(__file__).resolve().parents[1]
+RESULTS = ROOT / "benchmarks" / "results" / "map.json"
+STUDY = ROOT / "studies" / "ur5-map-horizontal.toml"
+#: Goals of the issue: the command on 2 workers over the FK loop, a 10^6-target map's computation and command [s],
+#: and the memory growth per target from 10^6 to 2·10^6 targets [B].
+GOAL_FK_RATIO, GOAL_MILLION_COMPUTED_S, GOAL_MILLION_COMMAND_S, GOAL_GROWTH_B = 100, 10.0, 20.0, 1.0
 
 
-def timed_map(study: dict, workers: int) -> tuple[float, object]:
-    from tribokin import run_study
-    from tribokin.execution import executor_for
+def study_text(side_u: int, side_v: int, cycles: int, statistic: str = "expected") -> str:
+    """The shipped study's text with ``map.resolution = [side_u, side_v]``, ``study.cycles`` and, unless
+    ``"expected"`` (the default), ``map.statistic``."""
+    import tomlkit
 
+    study = tomlkit.parse(STUDY.read_text())
+    study["study"]["cycles"] = cycles
+    study["map"]["resolution"] = [side_u, side_v]
+    if statistic != "expected":
+        study["map"]["statistic"] = statistic
+    return tomlkit.dumps(study)
+
+
+def write_study(folder: Path, side_u: int, side_v: int, cycles: int, statistic: str = "expected") -> Path:
+    path = folder / f"map-{side_u}x{side_v}-{cycles}-{statistic}.toml"
+    path.write_text(study_text(side_u, side_v, cycles, statistic))
+    return path
+
+
+def child_env() -> dict:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), *filter(None, [env.get("PYTHONPATH")])])
+    return env
+
+
+def child(*arguments) -> dict:
+    """The JSON line this script prints last when run in a child process with ``arguments``."""
+    done = subprocess.run([sys.executable, __file__, *map(str, arguments)], capture_output=True, text=True,
+                          check=True, env=child_env())
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def command(study: Path, out: Path, workers: int = 1) -> dict:
+    """Wall time of ``tribokin run study --out out --report light --workers N`` in a child process, and the map's
+    targets and reachable targets (its summary.json)."""
+    shutil.rmtree(out, ignore_errors=True)
     start = time.perf_counter()
-    with executor_for(workers) as executor:
-        result = run_study(study, executor=executor)
-    return time.perf_counter() - start, result.map
+    subprocess.run([sys.executable, "-m", "tribokin", "run", str(study), "--out", str(out), "--report", "light",
+                    "--workers", str(workers)], check=True, env=child_env(), stdout=subprocess.DEVNULL,
+                   stderr=subprocess.DEVNULL)
+    seconds = time.perf_counter() - start
+    summary = json.loads((out / "summary.json").read_text())["map"]
+    return {"workers": workers, "seconds": seconds, "targets": summary["count"], "reachable": summary["reachable"]}
 
 
-def fk_loop_rates(samples: int) -> dict:
-    """Samples/s of per-sample Pinocchio loops at one UR5 configuration:
+def rates(run: dict, cycles: int) -> dict:
+    """``run`` with its target-cycles/s and µs per target."""
+    return {**run, "target_cycles_per_s": run["reachable"] * cycles / run["seconds"],
+            "us_per_target": run["seconds"] / run["targets"] * 1e6}
 
-    * ``exact_engine``: tribokin's reference engine (forward kinematics, tool frame, rotation vector),
-      i.e. what the map would run without the fast engine;
-    * ``position_only``: the bare minimum, forward kinematics and the tool frame's translation.
-    """
+
+def fk_loop_seconds_per_sample(samples: int, repeats: int = 3) -> float:
+    """Seconds per sample of a loop of Pinocchio frame forward kinematics (``forwardKinematics`` and
+    ``updateFramePlacement``, the tool frame's translation kept) at UR5 configurations a few µrad apart (best of
+    ``repeats``)."""
+    import numpy as np
+    import pinocchio as pin
+
     from tribokin.kinematics.robot import load_example_robot
-    from tribokin.propagation.exact import tool_deviations_exact
 
     robot = load_example_robot("ur5")
     model, data, frame = robot.model, robot.data, robot.tool_frame_id
-    dq = 1e-5 * np.random.default_rng(0).standard_normal((samples, model.nv))
-    start = time.perf_counter()
-    tool_deviations_exact(robot, robot.reference_q, dq)
-    exact_rate = samples / (time.perf_counter() - start)
+    qs = robot.reference_q + 1e-5 * np.random.default_rng(0).standard_normal((samples, model.nq))
     out = np.empty((samples, 3))
-    start = time.perf_counter()
-    for j, q in enumerate(robot.reference_q + dq):
-        pin.forwardKinematics(model, data, q)
-        out[j] = pin.updateFramePlacement(model, data, frame).translation
-    return {"exact_engine_samples_per_s": exact_rate, "position_only_samples_per_s": samples / (time.perf_counter() - start)}
+    best = float("inf")
+    for _ in range(repeats):
+        start = time.perf_counter()
+        for j, q in enumerate(qs):
+            pin.forwardKinematics(model, data, q)
+            out[j] = pin.updateFramePlacement(model, data, frame).translation
+        best = min(best, (time.perf_counter() - start) / samples)
+    return best
 
 
-def draw_rate(study: dict, targets: int) -> float:
-    """Target-cycles/s of drawing a map's random numbers alone, as the map draws them: per target its
-    own stream, the approach signs and every joint's friction coefficients, turned into deviations."""
-    from tribokin.simulation.pose_run import PoseRunner, joint_space_task
-    from tribokin.streams import map_target_stream
-    from tribokin.study.assembly import joint_models, load_robot
+# --- stages: one in-process run of the command, timed by hooks --------------------------------------------------
+
+class StageClock:
+    """Exclusive wall time per named stage: time spent in a stage entered from another counts for the inner one."""
+
+    def __init__(self):
+        self.seconds, self.stack = {}, []
+
+    def enter(self, name: str) -> None:
+        self.stack.append([name, time.perf_counter(), 0.0])
+
+    def leave(self) -> None:
+        name, start, inner = self.stack.pop()
+        spent = time.perf_counter() - start
+        self.seconds[name] = self.seconds.get(name, 0.0) + spent - inner
+        if self.stack:
+            self.stack[-1][2] += spent
+
+    def wrap(self, name: str, function):
+        def timed(*arguments, **keywords):
+            self.enter(name)
+            try:
+                return function(*arguments, **keywords)
+            finally:
+                self.leave()
+        return timed
+
+    def wrap_imports(self) -> None:
+        """Count every import (the outermost one of nested imports) as the stage ``imports``."""
+        plain = builtins.__import__
+
+        def timed_import(*arguments, **keywords):
+            if self.stack and self.stack[-1][0] == "imports":
+                return plain(*arguments, **keywords)
+            self.enter("imports")
+            try:
+                return plain(*arguments, **keywords)
+            finally:
+                self.leave()
+
+        builtins.__import__ = timed_import
+        importlib.import_module = self.wrap("imports", importlib.import_module)
+
+
+#: (module, attribute, stage): the functions each stage's time is measured around, where the code calls them.
+STAGE_HOOKS = (
+    ("tribokin.run", "load_robot", "robot"),
+    ("tribokin.maps.run", "solve_row_heads", "IK: rows' heads"),
+    ("tribokin.maps.run", "solve_rows", "IK: rows"),
+    ("tribokin.maps.run", "fill_from_neighbours", "IK: holes from neighbours"),
+    ("tribokin.simulation.pose_run", "PoseRunner.normal_forces_at", "loads"),
+    ("tribokin.maps.run", "measure_into", "tool frames"),  # the rest of measuring a row: its tool frames
+    ("tribokin.maps.run", "expected_targets", "expected figures"),
+    ("tribokin.maps.run", "measure_targets", "one-test figures"),
+    ("tribokin.maps.store", "ChunkStore.save", "store"),
+    ("tribokin.maps.store", "ChunkStore.write", "store"),
+    ("tribokin.output.writers", "write_map_table", "map.csv"),
+    ("tribokin.viz.contents", "write_views", "figures and report"),
+)
+
+
+def stages_child(study: str, out: str) -> None:
+    """In a child process: ``tribokin run study --out out --report light`` (1 worker) in this process, its stages
+    timed (:data:`STAGE_HOOKS`); print the seconds per stage as one JSON line."""
+    clock = StageClock()
+    clock.wrap_imports()
+    clock.enter("other")
+    from tribokin.cli import main
+
+    for module, attribute, stage in STAGE_HOOKS:
+        owner = importlib.import_module(module)
+        *path, name = attribute.split(".")
+        for part in path:
+            owner = getattr(owner, part)
+        setattr(owner, name, clock.wrap(stage, getattr(owner, name)))
+    status = main(["run", study, "--out", out, "--report", "light"])
+    clock.leave()
+    assert status == 0, status
+    print(json.dumps({"seconds": clock.seconds, "process_seconds": time.perf_counter() - START,
+                      "cpu_seconds": time.process_time()}))
+
+
+def stages(study: Path, out: Path) -> dict:
+    shutil.rmtree(out, ignore_errors=True)
+    timed = child("--stages-child", study, out)
+    targets = json.loads((out / "summary.json").read_text())["map"]["count"]
+    seconds = dict(sorted(timed["seconds"].items(), key=lambda item: -item[1]))
+    return {"targets": targets, "process_seconds": timed["process_seconds"], "cpu_seconds": timed["cpu_seconds"],
+            "seconds": seconds, "us_per_target": {name: s / targets * 1e6 for name, s in seconds.items()}}
+
+
+# --- a 10^6-target map's computation on 2 workers ----------------------------------------------------------------
+
+def computed_child(study: str, workers: int) -> None:
+    """In a child process: ``run_study`` of ``study`` on ``workers`` local processes, timed after the imports (the
+    robot read once before, as the command's imports do); print its seconds as one JSON line."""
+    from tribokin import run_study
+    from tribokin.execution import executor_for
+    from tribokin.study.assembly import load_robot
     from tribokin.study.reading import load_study
 
-    loaded = load_study(study)
-    robot = load_robot(loaded)
-    runner = PoseRunner(loaded, robot, joint_models(loaded, robot))
-    task = joint_space_task("target", robot.reference_q)
-    forces = np.full(robot.model.nv, 100.0)
-    start = time.perf_counter()
-    for index in range(targets):
-        runner.draw(task, forces, loaded.cycles, loaded.approach, map_target_stream(loaded.seed, index))
-    return targets * loaded.cycles / (time.perf_counter() - start)
+    load_robot(load_study(study))  # imports done, meshes read (as the command's first steps)
+    with executor_for(workers) as executor:
+        start = time.perf_counter()
+        result = run_study(study, executor=executor)
+        seconds = time.perf_counter() - start
+    print(json.dumps({"seconds": seconds, "targets": result.map.grid.size,
+                      "reachable": int(result.map.reachable.sum())}))
 
+
+# --- memory -----------------------------------------------------------------------------------------------------
 
 def status_mib(field: str) -> float:
     """``field`` of /proc/self/status (``VmRSS``: resident memory now, ``VmHWM``: its peak) [MiB] (Linux)."""
@@ -118,21 +259,19 @@ def status_mib(field: str) -> float:
     raise KeyError(field)
 
 
-def memory_child(targets_v: int) -> None:
-    """In a child process: run and write a 1000 x ``targets_v`` map as ``tribokin run`` does (results,
-    tables, heat maps and the light report) and print how far the resident memory rose above its level
-    before [MiB]: the peak the kernel recorded (VmHWM), and sampled every 10 ms."""
-    import tempfile
-
+def memory_child(study: str) -> None:
+    """In a child process: run and write ``study`` as ``tribokin run`` does (results, tables, heat maps and the light
+    report; 1 worker) and print how far the resident memory rose above its level before [MiB]: the peak the kernel
+    recorded (VmHWM), and sampled every 10 ms."""
     from tribokin import run_study
     from tribokin.maps.store import chunk_folder
     from tribokin.output.writers import write_results
     from tribokin.study.assembly import load_robot
     from tribokin.study.reading import load_study
 
-    study = ur5_plane(1000, targets_v, MEMORY_CYCLES)
     load_robot(load_study(study))  # imports done and meshes read before the baseline
     import tribokin.viz.report  # noqa: F401  (the writers' imports: matplotlib, meshcat)
+
     out = Path(tempfile.mkdtemp(prefix="tribokin-bench-")) / "out"
     baseline, peak, running = status_mib("VmRSS"), [0.0], [True]
 
@@ -153,64 +292,125 @@ def memory_child(targets_v: int) -> None:
     summary = json.loads((out / "summary.json").read_text())["map"]
     with open(out / "map.csv") as table:
         csv_rows = sum(1 for _ in table) - 1
+    shutil.rmtree(out.parent, ignore_errors=True)
     print(json.dumps({"targets": summary["count"], "reachable": summary["reachable"], "csv_rows": csv_rows,
-                      "cycles": MEMORY_CYCLES, "seconds": seconds, "rss_before_MiB": baseline,
+                      "cycles": summary["cycles"], "seconds": seconds, "rss_before_MiB": baseline,
                       "peak_rss_growth_MiB": max(peak[0], status_mib("VmHWM")) - baseline,
                       "sampled_peak_growth_MiB": peak[0] - baseline}))
 
 
-def memory_run(targets_v: int) -> dict:
-    command = [sys.executable, __file__, "--memory-child", str(targets_v)]
-    done = subprocess.run(command, capture_output=True, text=True, check=True, env=os.environ)
-    return json.loads(done.stdout.strip().splitlines()[-1])
+# --- the run ----------------------------------------------------------------------------------------------------
+
+def same_table(a: Path, b: Path) -> bool:
+    return (a / "map.csv").read_bytes() == (b / "map.csv").read_bytes()
+
+
+def benchmark(side: int, cycles: int, one_test_side: int, million_side: int, memory_sides: list[tuple[int, int]],
+              fk_samples: int, quick: bool) -> dict:
+    folder = Path(tempfile.mkdtemp(prefix="tribokin-bench-"))
+    try:
+        return measure(folder, side, cycles, one_test_side, million_side, memory_sides, fk_samples, quick)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_side: int,
+            memory_sides: list[tuple[int, int]], fk_samples: int, quick: bool) -> dict:
+    load_before = os.getloadavg()
+    command(write_study(folder, 3, 3, cycles), folder / "warm-up")  # the files read once, into the page cache
+    big = write_study(folder, side, side, cycles)
+    serial = rates(command(big, folder / "one-worker"), cycles)
+    two = rates(command(big, folder / "two-workers", workers=2), cycles)
+    identical = same_table(folder / "one-worker", folder / "two-workers")
+    loop_s = fk_loop_seconds_per_sample(fk_samples)
+    loop_rate = 1 / loop_s
+
+    small = write_study(folder, one_test_side, one_test_side, cycles)
+    one_test = rates(command(write_study(folder, one_test_side, one_test_side, cycles, "one-test"),
+                             folder / "one-test", workers=2), cycles)
+    expected_small = rates(command(small, folder / "expected-small", workers=2), cycles)
+    one_test_scaled_s = one_test["seconds"] / one_test["reachable"] * two["reachable"]
+
+    stage_run = stages(big, folder / "stages")
+    million_study = write_study(folder, million_side, million_side, cycles)
+    million_computed = child("--computed-child", million_study, 2)
+    million_command = command(million_study, folder / "million", workers=2)
+    memory = [child("--memory-child", write_study(folder, u, v, cycles)) for u, v in memory_sides]
+    growth = ((memory[-1]["peak_rss_growth_MiB"] - memory[-2]["peak_rss_growth_MiB"]) * 2**20
+              / (memory[-1]["targets"] - memory[-2]["targets"]))
+
+    results = {
+        "machine": {"python": platform.python_version(), "cpus": os.cpu_count(), "platform": platform.platform(),
+                    "OPENBLAS_NUM_THREADS": os.environ.get("OPENBLAS_NUM_THREADS"),
+                    "load_average": {"before": load_before[0], "after": os.getloadavg()[0]}},
+        "quick": quick,
+        "map": {"study": str(STUDY.relative_to(ROOT)), "statistic": "expected", "resolution": [side, side],
+                "cycles": cycles, "targets": serial["targets"], "reachable": serial["reachable"],
+                "report": "light"},
+        "command": {"one_worker": serial, "two_workers": two, "speed_up": serial["seconds"] / two["seconds"],
+                    "identical_map_csv": identical},
+        "fk_loop": {"seconds_per_sample": loop_s, "samples_per_s": loop_rate,
+                    "equivalent_seconds": two["reachable"] * cycles * loop_s,
+                    "one_worker_over_loop": serial["target_cycles_per_s"] / loop_rate,
+                    "two_workers_over_loop": two["target_cycles_per_s"] / loop_rate},
+        "one_test": {"resolution": [one_test_side, one_test_side], "workers": 2, "run": one_test,
+                     "expected_same_plane": expected_small,
+                     "one_test_over_expected_same_plane": one_test["seconds"] / expected_small["seconds"],
+                     "scaled": {"how": f"one-test seconds per reachable target on {one_test_side} x {one_test_side} "
+                                       f"times the {side} x {side} plane's reachable targets (not run there: it "
+                                       f"would take minutes)",
+                                "one_test_seconds": one_test_scaled_s,
+                                "one_test_over_expected": one_test_scaled_s / two["seconds"]}},
+        "stages": stage_run,
+        "million": {"resolution": [million_side, million_side], "cycles": cycles, "workers": 2,
+                    "targets": million_command["targets"], "reachable": million_command["reachable"],
+                    "computed_s": million_computed["seconds"], "command_s": million_command["seconds"]},
+        "memory": memory,
+        "memory_growth_per_target_B": growth,
+    }
+    million_measured = million_command["targets"] >= 10**6
+    results["goals"] = {
+        "100x_fk_loop_two_workers": results["fk_loop"]["two_workers_over_loop"] >= GOAL_FK_RATIO,
+        "million_computed_under_10_s": million_computed["seconds"] < GOAL_MILLION_COMPUTED_S if million_measured
+        else None,
+        "million_command_under_20_s": million_command["seconds"] < GOAL_MILLION_COMMAND_S if million_measured else None,
+        "memory_independent_of_targets": growth < GOAL_GROWTH_B,
+        "two_workers_same_map_csv": identical,
+    }
+    return results
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--side", type=int, default=100, help="targets per side of the plane (default 100)")
+    parser.add_argument("--side", type=int, default=600, help="targets per side of the plane (default 600)")
     parser.add_argument("--cycles", type=int, default=1000, help="cycles per target (default 1000)")
-    parser.add_argument("--engine", choices=("fast", "exact"), default="fast", help="propagation engine (default fast)")
-    parser.add_argument("--memory-child", type=int, help=argparse.SUPPRESS)
+    parser.add_argument("--one-test-side", type=int, default=200,
+                        help="targets per side of the one-test map's plane (default 200)")
+    parser.add_argument("--quick", action="store_true",
+                        help="a small run (120 x 120, one-test 60 x 60, 10^5 targets for the million, memory at "
+                             "10^4, 4·10^4 and 8·10^4 targets); printed, written only with --results")
+    parser.add_argument("--results", type=Path, help=f"where to write the JSON (default {RESULTS.relative_to(ROOT)})")
+    parser.add_argument("--memory-child", help=argparse.SUPPRESS)
+    parser.add_argument("--stages-child", nargs=2, help=argparse.SUPPRESS)
+    parser.add_argument("--computed-child", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.memory_child:
         return memory_child(args.memory_child)
+    if args.stages_child:
+        return stages_child(*args.stages_child)
+    if args.computed_child:
+        return computed_child(args.computed_child[0], int(args.computed_child[1]))
 
-    study = ur5_plane(args.side, args.side, args.cycles, args.engine)
-    timed_map(ur5_plane(3, 3, 10, args.engine), workers=1)  # warm-up: imports, the robot read once per process
-    serial_s, serial = timed_map(study, workers=1)
-    targets = serial.grid.size
-    target_cycles = int(serial.reachable.sum()) * args.cycles
-    two_s, two = timed_map(study, workers=2)
-    assert np.array_equal(serial.reference.figures, two.reference.figures, equal_nan=True)
-    map_rate = target_cycles / serial_s
-    fk_rates = fk_loop_rates(50_000)
-    random_rate = draw_rate(study, min(targets, 2000))
-    results = {
-        "machine": {"python": platform.python_version(), "cpus": os.cpu_count(), "platform": platform.platform(),
-                    "OPENBLAS_NUM_THREADS": os.environ.get("OPENBLAS_NUM_THREADS")},
-        "map": {"robot": "ur5", "kind": "plane", "targets": targets, "reachable": int(serial.reachable.sum()),
-                "cycles": args.cycles, "engine": args.engine},
-        "serial": {"seconds": serial_s, "target_cycles_per_s": map_rate, "targets_per_s": targets / serial_s},
-        "two_workers": {"seconds": two_s, "target_cycles_per_s": target_cycles / two_s, "speed_up": serial_s / two_s,
-                        "identical_to_serial": True},
-        "fk_loop": {**fk_rates, "map_rate_over_exact_engine_loop": map_rate / fk_rates["exact_engine_samples_per_s"],
-                    "map_rate_over_position_only_loop": map_rate / fk_rates["position_only_samples_per_s"]},
-        "random_draws_alone": {"target_cycles_per_s": random_rate, "map_rate_over_draws": map_rate / random_rate},
-        "memory": [memory_run(targets_v) for targets_v in (10, 100, 1000, 2000)],
-    }
-    memory = results["memory"]
-    # blocks (65 536 targets), heat maps (400 x 400 per panel) and the scene (50 000 points) reach their
-    # caps by 10^6 targets: the growth from there on is what grows with the map
-    results["memory_growth_per_target_B"] = ((memory[-1]["peak_rss_growth_MiB"] - memory[-2]["peak_rss_growth_MiB"])
-                                             * 2**20 / (memory[-1]["targets"] - memory[-2]["targets"]))
-    results["goals"] = {
-        "30x_exact_engine_loop": results["fk_loop"]["map_rate_over_exact_engine_loop"] >= 30,
-        "half_of_random_draws": results["random_draws_alone"]["map_rate_over_draws"] >= 0.5,
-        "1.6x_with_two_workers": results["two_workers"]["speed_up"] >= 1.6,
-        "memory_independent_of_targets": results["memory_growth_per_target_B"] < 1,
-    }
-    RESULTS.parent.mkdir(exist_ok=True)
-    RESULTS.write_text(json.dumps(results, indent=2) + "\n")
+    if args.quick:
+        results = benchmark(120, args.cycles, 60, 316, [(100, 100), (200, 200), (200, 400)], 20_000, quick=True)
+    else:
+        results = benchmark(args.side, args.cycles, args.one_test_side, 1000, [(100, 100), (1000, 1000), (1000, 2000)],
+                            200_000, quick=False)
+    results["benchmark_seconds"] = time.perf_counter() - START
+    path = args.results or (None if args.quick else RESULTS)
+    if path is not None:
+        path.parent.mkdir(exist_ok=True)
+        path.write_text(json.dumps(results, indent=2) + "\n")
     print(json.dumps(results, indent=2))
 
 

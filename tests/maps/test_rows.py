@@ -49,6 +49,22 @@ def test_a_missed_row_and_a_hole_are_reached_from_their_neighbours(solved):
         np.testing.assert_allclose(reached.rotation, grid.rotation, atol=1e-8)
 
 
+def test_holes_filled_with_their_first_tries_solved_beforehand_are_filled_alike(solved, monkeypatch):
+    robot, grid, q_solved, _ = solved
+    q, reachable = q_solved.copy(), np.ones(grid.size, dtype=bool)
+    q[[5, 6, 7, 8, 9, 13]], reachable[[5, 6, 7, 8, 9, 13]] = np.nan, False
+    read = reader(q, reachable)
+    tries = map_rows.first_tries(grid, read)
+    before = dict(zip(tries, map_rows.solve_tries(robot, grid, [(i, q[n]) for i, n in tries])))
+    alone = fill_from_neighbours(robot, grid, read)
+    solves = []
+    monkeypatch.setattr(map_rows, "_solve_from", lambda robot, grid, index, q_start, solve=map_rows._solve_from:
+                        solves.append((index, q_start.tobytes())) or solve(robot, grid, index, q_start))
+    together = fill_from_neighbours(robot, grid, read, before)
+    assert list(together) == list(alone) and all(np.array_equal(together[i], alone[i]) for i in alone)
+    assert tries and not set(solves) & {(i, q[n].tobytes()) for i, n in tries}  # none solved again
+
+
 def test_holes_beside_reached_targets_are_found_block_by_block(monkeypatch):
     class Box:  # 3 layers x 4 rows x 5 columns
         shape, size = (3, 4, 5), 60

@@ -3,7 +3,7 @@
 import pytest
 
 from conftest import axis_study
-from tribokin.study.map_spec import CHUNK_TARGETS, BoxMap, JointMap, PlaneMap
+from tribokin.study.map_spec import BoxMap, JointMap, PlaneMap
 from tribokin.study.reading import load_study
 
 PLANE = {"kind": "plane", "origin_m": [0.0, 0.0, 0.0], "axis_u": [1.0, 0.0, 0.0], "axis_v": [0.0, 1.0, 0.0],
@@ -15,8 +15,8 @@ JOINT = {"kind": "joint", "joints": ["x"], "ranges": [[0.0, 0.3]], "counts": [7]
 # expected: the values of the helpers of maps/budget.py these replaced (grid_counts, map_target_count, grid_rows,
 # chunk_targets, size_key, rows_per_chunk), worked out by hand
 @pytest.mark.parametrize("table, kind, counts, targets, rows, chunk, key", [
-    (PLANE, PlaneMap, (25, 40), 1000, 40, 1000, "map.resolution"),  # 328 rows of 25 hold 8192: the whole map
-    (BOX, BoxMap, (4, 3, 2), 24, 6, 24, "map.resolution"),  # one chunk holds the whole map
+    (PLANE, PlaneMap, (25, 40), 1000, 40, 250, "map.resolution"),  # MIN_CHUNKS (4) chunks of 10 rows of 25
+    (BOX, BoxMap, (4, 3, 2), 24, 6, 8, "map.resolution"),  # 6 rows in 3 chunks of 2 (4 would leave one empty)
     (JOINT, JointMap, (7,), 7, 1, 7, "map.counts"),
     ({**PLANE, "chunk_rows": 3}, PlaneMap, (25, 40), 1000, 40, 75, "map.resolution"),
 ])
@@ -25,4 +25,4 @@ def test_a_map_kind_knows_its_targets_rows_chunks_and_size_key(table, kind, coun
     assert type(spec) is kind and spec.kind == table["kind"]
     assert (spec.counts, spec.target_count, spec.grid_rows, spec.chunk_targets, spec.size_key) == \
         (counts, targets, rows, chunk, key)
-    assert spec.rows_per_chunk == table.get("chunk_rows", -(-CHUNK_TARGETS // counts[0]))
+    assert spec.rows_per_chunk * counts[0] == chunk

@@ -18,6 +18,7 @@ first) and each joint's column of the tool Jacobian, in a few batched matrix pro
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import pinocchio as pin
@@ -58,13 +59,30 @@ class SerialChain:
         q = np.asarray(q, dtype=float).reshape(-1, len(self.turn_axes))
         angles = np.zeros((len(q), len(self.base)))
         angles[:, :-1] = q
-        factors = angles[..., None, None]
-        links = self.base + np.cos(factors) * self.turn_cos + np.sin(factors) * self.turn_sin + factors * self.slide
+        base, terms = self._link_terms
+        links = np.empty((len(q), *base.shape))
+        links[:] = base
+        for factor, term in terms:  # base + cos(q)·turn_cos + sin(q)·turn_sin + q·slide, in rows of 16
+            links += (np.cos(angles) if factor == "cos" else np.sin(angles) if factor == "sin" else angles)[..., None] \
+                * term
+        links = links.reshape(len(q), len(self.base), 4, 4)
         step = 1
         while step < len(self.base):  # links[:, i] becomes the product of links i to i + 2 step - 1 (or the last)
             links[:, :-step] = links[:, :-step] @ links[:, step:]
             step *= 2
         return links
+
+    @cached_property
+    def _link_terms(self) -> tuple[np.ndarray, tuple[tuple[str, np.ndarray], ...]]:
+        """The links' terms as (n + 1, 16) rows, for :meth:`tool_in_joint`: ``base``, and ``(factor, term)`` for
+        ``turn_cos``, ``turn_sin``, ``slide`` (factor ``"cos"``, ``"sin"``, ``"q"``) except those that are zero
+        throughout. A zero term adds ±0, which changes no partial sum unless one is -0, and none is unless ``base``
+        holds a -0: then every term is kept."""
+        rows = len(self.base), 16
+        negative_zero = bool(np.any((self.base == 0) & np.signbit(self.base)))
+        terms = zip(("cos", "sin", "q"), (self.turn_cos, self.turn_sin, self.slide))
+        return self.base.reshape(rows), tuple((factor, term.reshape(rows)) for factor, term in terms
+                                              if negative_zero or term.any())
 
     def tool_jacobians(self, placements: np.ndarray) -> np.ndarray:
         """(k, 6, nv) Jacobians of the tool frame in the tool frame (Pinocchio's ``LOCAL``: rows linear [m/unit],
@@ -98,7 +116,14 @@ class SerialChain:
 
 def serial_chain(robot: Robot) -> SerialChain | None:
     """The :class:`SerialChain` of ``robot``, or ``None`` when a joint is not an axis joint (:data:`AXIS_JOINTS`)
-    or the joints are not one chain, in the order of ``q``, that carries the tool frame on its last joint."""
+    or the joints are not one chain, in the order of ``q``, that carries the tool frame on its last joint; built at
+    the first call and kept on ``robot`` (a map asks for it at every row: building it costs about 200 µs)."""
+    if "_serial_chain" not in robot.__dict__:
+        robot.__dict__["_serial_chain"] = _build_serial_chain(robot)
+    return robot.__dict__["_serial_chain"]
+
+
+def _build_serial_chain(robot: Robot) -> SerialChain | None:
     model = robot.model
     joints = list(model.joints)[1:]
     order = list(range(len(joints)))

@@ -42,6 +42,10 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
     each step clipped to the joint limits. ``position_only`` ignores orientation. Gives up
     after ``iterations``, or, given a ``patience``, once that many iterations in a row have not
     cut the error [m + rad] by 0.1 % (stuck at a joint limit or in a local minimum).
+
+    An iterate depends on the one before only, so once ``q`` comes back to an earlier iterate to the bit (a solve
+    that cannot converge often does, within about 50 iterations), the iterates go round the same cycle: the rest of
+    the solve reads them back instead of computing them again (the same result, sooner).
     """
     model, data, frame = robot.model, robot.data, robot.tool_frame_id
     lower, upper = robot.lower_limits, robot.upper_limits
@@ -49,21 +53,31 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
     goal = target.translation
     regularisation = damping * np.eye(3 if position_only else 6)  # rows of the error: position (and angle)
     best, stalled = math.inf, 0
+    seen, iterates, cycle = {}, [], None  # iteration of each q met (by its bytes); (q, errors) of each; (start, length)
     for iteration in range(iterations + 1):
-        pin.computeJointJacobians(model, data, q)  # forward kinematics and joint Jacobians in one pass
-        current = pin.updateFramePlacement(model, data, frame)
-        gap = goal - current.translation
-        position_error = math.sqrt(gap @ gap)
-        angle_error = 0.0
-        if not position_only:
-            error_motion = current.actInv(target)
-            error = pin.log6(error_motion).vector
-            angle_error = math.sqrt(error[3:] @ error[3:])
+        if cycle is None:
+            first = seen.setdefault(q.tobytes(), iteration)
+            cycle = None if first == iteration else (first, iteration - first)
+        if cycle is not None:  # the iterate of the cycle's start this many iterations on
+            q, position_error, angle_error = iterates[cycle[0] + (iteration - cycle[0]) % cycle[1]]
+        else:
+            pin.computeJointJacobians(model, data, q)  # forward kinematics and joint Jacobians in one pass
+            current = pin.updateFramePlacement(model, data, frame)
+            gap = goal - current.translation
+            position_error = math.sqrt(gap @ gap)
+            angle_error = 0.0
+            if not position_only:
+                error_motion = current.actInv(target)
+                error = pin.log6(error_motion).vector
+                angle_error = math.sqrt(error[3:] @ error[3:])
+            iterates.append((q, position_error, angle_error))
         converged = position_error < position_tol_m and angle_error < angle_tol_rad
         stalled = 0 if position_error + angle_error < 0.999 * best else stalled + 1
         best = min(best, position_error + angle_error)
         if converged or iteration == iterations or (patience is not None and stalled >= patience):
             break
+        if cycle is not None:
+            continue
         jacobian = pin.getFrameJacobian(model, data, frame, pin.LOCAL)
         if position_only:  # translation error in the tool frame, d(position)/dq in the tool frame
             error, jacobian = current.rotation.T @ gap, jacobian[:3]

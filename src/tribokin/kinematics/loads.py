@@ -86,11 +86,14 @@ class BearingLoads:
         pin.rnea(self.model, self.data, np.asarray(q, dtype=float), zero, zero)
         return np.array([self.data.f[i].vector for i in range(1, self.model.njoints)])
 
-    def chain_wrenches(self, q: np.ndarray) -> np.ndarray:
+    def chain_wrenches(self, q: np.ndarray, placements: np.ndarray | None = None) -> np.ndarray:
         """(k, nv, 6) :meth:`wrenches` at configurations (k, nq) of a serial chain, in one pass: joint i holds up the
         weights w_j of bodies j >= i, f_i = -Σ w_j and m_i = -Σ (c_j - o_i) × w_j in world axes (c_j the bodies'
-        centres of mass, o_i the joint's origin), turned into joint i's frame."""
-        frames = self.chain.joints_in_world(self.chain.tool_in_joint(q))  # (k, nv, 4, 4)
+        centres of mass, o_i the joint's origin), turned into joint i's frame; from the configurations' ``placements``
+        (the chain's :meth:`~tribokin.kinematics.chain.SerialChain.tool_in_joint`) when given."""
+        if placements is None:
+            placements = self.chain.tool_in_joint(q)
+        frames = self.chain.joints_in_world(placements)  # (k, nv, 4, 4)
         rotations, origins = frames[..., :3, :3], frames[..., :3, 3]
         centres = origins + (rotations @ self.centres_m[..., None])[..., 0]
         forces = -np.cumsum(self.weights_N[::-1], axis=0)[::-1]  # (nv, 3): the same at every configuration
@@ -99,14 +102,15 @@ class BearingLoads:
         local = np.swapaxes(rotations, -1, -2)
         return np.concatenate([(local @ forces[..., None])[..., 0], (local @ moments[..., None])[..., 0]], axis=-1)
 
-    def __call__(self, q) -> np.ndarray:
+    def __call__(self, q, placements: np.ndarray | None = None) -> np.ndarray:
         """Bearing load N_i [N] of every active joint at configuration ``q`` (nq,), or (poses, nv) at
         configurations (poses, nq): for a serial chain (:func:`~tribokin.kinematics.chain.serial_chain`) from one
-        batched statics pass (:meth:`chain_wrenches`, RNEA's to rounding), else by RNEA at each."""
+        batched statics pass (:meth:`chain_wrenches`, RNEA's to rounding; ``placements``: its ``tool_in_joint`` at
+        the configurations, if already computed), else by RNEA at each."""
         q = np.asarray(q, dtype=float)
         flat = q.reshape(-1, q.shape[-1])
         if self.chain is not None:
-            wrenches = self.chain_wrenches(flat)
+            wrenches = self.chain_wrenches(flat, placements)
         else:
             wrenches = np.array([self.wrenches(qi) for qi in flat]).reshape(-1, self.model.nv, 6)
         loads = support_loads(wrenches[..., :3], wrenches[..., 3:], self.axes, self.prismatic, self.span_m)

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import partial
+from functools import cached_property, partial
 
 import numpy as np
 
@@ -128,7 +128,7 @@ class LinearModel:
         part = self.jacobian[:, rows]
         return np.einsum("kin,kn,kjn->kij", part, self.deviation_variance, part)
 
-    @property
+    @cached_property
     def met(self) -> np.ndarray:
         """(k,) the bound is within ``DEFAULT_TOLERANCE``, or ``LINEAR_TOLERANCE`` of the deviation's own size (the
         root of its covariance's trace), in position [m] and in angle [rad]."""

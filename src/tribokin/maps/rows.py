@@ -197,7 +197,32 @@ def holes_beside_reached(grid: TargetGrid, read) -> list[int]:
     return holes
 
 
-def fill_from_neighbours(robot: Robot, grid: TargetGrid, read) -> dict[int, np.ndarray]:
+def _within_reach(grid: TargetGrid, indices: list[int]) -> list[int]:
+    return [index for index, gap in zip(indices, beyond_reach_m(grid, indices)) if np.isnan(gap)]
+
+
+def first_tries(grid: TargetGrid, read) -> list[tuple[int, int]]:
+    """``(target, neighbour)``: the IK solves :func:`fill_from_neighbours` starts with, each target it starts with (a
+    hole beside a reached target, within reach) from each of its neighbours reached along the rows, in the order it
+    tries them (it makes them all but those after a target's first success). Solved beforehand, elsewhere
+    (:func:`solve_tries`), and passed to it, they change nothing but the time it takes."""
+    if grid.kind == "joint":
+        return []
+    tries = []
+    for index in _within_reach(grid, holes_beside_reached(grid, read)):
+        neighbours = grid_neighbours(grid, index)
+        tries += [(index, neighbour) for neighbour, reached in zip(neighbours, read("reachable", neighbours)) if reached]
+    return tries
+
+
+def solve_tries(robot: Robot, grid: TargetGrid, tries: list[tuple[int, np.ndarray]]) -> list[IKResult]:
+    """The IK of each ``(target, configuration)`` of ``tries`` from that configuration, as :func:`fill_from_neighbours`
+    solves it."""
+    return [_solve_from(robot, grid, index, q) for index, q in tries]
+
+
+def fill_from_neighbours(robot: Robot, grid: TargetGrid, read,
+                         solved: dict[tuple[int, int], IKResult] | None = None) -> dict[int, np.ndarray]:
     """Retry unreachable targets from the configurations of their reached neighbours.
 
     Rows are solved independently, so a target missed along its row (the IK left for another
@@ -208,21 +233,20 @@ def fill_from_neighbours(robot: Robot, grid: TargetGrid, read) -> dict[int, np.n
     Args:
         read: ``read(column, index)`` of the rows' results: ``"reachable"`` (N,) flags and ``"q"``
             (N, nv) configurations [m or rad] (e.g. :meth:`~tribokin.maps.store.ChunkStore.read`).
+        solved: the IK of some ``(target, neighbour)`` tries from a neighbour reached along the rows, solved
+            beforehand (:func:`first_tries`, :func:`solve_tries`); the others are solved here.
 
     Returns:
         the configurations of the targets newly reached, by index in increasing order.
     """
     if grid.kind == "joint":
         return {}
-    filled = {}
+    filled, solved = {}, solved or {}
 
     def reached(indices: list[int]) -> np.ndarray:
         return read("reachable", indices) | np.isin(indices, list(filled))
 
-    def within_reach(indices: list[int]) -> list[int]:
-        return [index for index, gap in zip(indices, beyond_reach_m(grid, indices)) if np.isnan(gap)]
-
-    pending = within_reach(holes_beside_reached(grid, read))
+    pending = _within_reach(grid, holes_beside_reached(grid, read))
     tried = defaultdict(set)  # target -> neighbours it was tried from
     while pending:
         index = pending.pop(0)
@@ -231,12 +255,15 @@ def fill_from_neighbours(robot: Robot, grid: TargetGrid, read) -> dict[int, np.n
             if not was_reached or neighbour in tried[index]:
                 continue
             tried[index].add(neighbour)
-            result = _solve_from(robot, grid, index, filled[neighbour] if neighbour in filled else read("q", neighbour))
+            if neighbour in filled:
+                result = _solve_from(robot, grid, index, filled[neighbour])
+            else:
+                result = solved.get((index, neighbour)) or _solve_from(robot, grid, index, read("q", neighbour))
             if result.success:
                 filled[index] = result.q
                 around = grid_neighbours(grid, index)
-                pending += within_reach([other for other, done in zip(around, reached(around))
-                                         if not done and other not in pending])
+                pending += _within_reach(grid, [other for other, done in zip(around, reached(around))
+                                                if not done and other not in pending])
                 pending.sort()
                 break
     return dict(sorted(filled.items()))
@@ -246,8 +273,11 @@ def unreachable_reasons(grid: TargetGrid, positions_m: np.ndarray, closest: np.n
     """Why each target is unreachable, for the map's ``reason`` column, as Python strings (``""``: reached), from
     the targets' positions (k, 3) [m] and how close the IK came to them (k, 2) [m, rad] (:func:`solve_rows`)."""
     bounds, gaps = first_bound_beyond(grid, positions_m) if grid.reach else (np.full(len(closest), -1), None)
-    return np.array([unreachable_reason(*c) if bound < 0 else beyond_reach_reason(grid.reach[bound], gaps[k])
-                     for k, (c, bound) in enumerate(zip(closest, bounds))], dtype=object)
+    reasons = np.full(len(closest), "", dtype=object)
+    for k in np.flatnonzero((bounds >= 0) | ~np.isnan(closest[:, 0])):  # the others were reached: no reason
+        reasons[k] = unreachable_reason(*closest[k]) if bounds[k] < 0 else \
+            beyond_reach_reason(grid.reach[bounds[k]], gaps[k])
+    return reasons
 
 
 def beyond_reach_reason(reach: ReachSphere, gap_m: float) -> str:

@@ -10,6 +10,7 @@ measured at the same configurations with the same streams.
 
 from __future__ import annotations
 
+import math
 import threading
 import uuid
 from collections.abc import Callable
@@ -20,13 +21,14 @@ import numpy as np
 
 from tribokin.errors import InputError
 from tribokin.execution import run_chunks
+from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
 from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES, ShapeTable
 from tribokin.maps.expected import ExpectedSetup, expected_targets
 from tribokin.maps.measure import measure_targets
 from tribokin.maps.result import MapResult, ScenarioMap
-from tribokin.maps.rows import fill_from_neighbours, solve_row_heads, solve_rows
+from tribokin.maps.rows import fill_from_neighbours, first_tries, solve_row_heads, solve_rows, solve_tries
 from tribokin.maps.schema import map_columns, scenario_column
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.propagation.exact import tool_frames
@@ -98,30 +100,57 @@ def measure_into(arrays: dict, slots: np.ndarray, robot: Robot, runners: list[Po
                  setups: tuple[ExpectedSetup | None, ...], qs: np.ndarray, indices: np.ndarray) -> None:
     """Measure targets ``indices`` at configurations ``qs`` for every scenario, into ``slots`` of ``arrays``: their
     expected figures (a scenario with a ``setups`` entry), else one test each."""
-    twists, translations = tool_frames(robot, qs)
+    chain = serial_chain(robot)
+    placements = None if chain is None else chain.tool_in_joint(qs)  # for the tool frames and the loads
+    twists, translations = tool_frames(robot, qs, placements)
     for s, (runner, setup) in enumerate(zip(runners, setups)):
         if setup is None:
             figures, forces, dominant = measure_targets(runner, qs, indices, twists, translations)
             values = {"figures": figures, "dominant_joint": dominant}
         else:
-            forces = runner.normal_forces_at(qs)
+            forces = runner.normal_forces_at(qs, placements)
             values = expected_targets(runner, setup, qs, forces, twists, translations)
         values["normal_forces_N"] = forces
         for name, value in values.items():
             arrays[scenario_column(s, name)][slots] = value
 
 
+#: The first tries of the holes from their neighbours go to an executor's workers in parts of about this many.
+TRIES_PER_PART = 16
+
+
+def solve_tries_of(job: MapJob, tries: list[tuple[int, np.ndarray]]) -> list:
+    """:func:`~tribokin.maps.rows.solve_tries` of ``job``'s map (run where the executor runs it)."""
+    robot, grid, _ = _job_context(job)
+    return solve_tries(robot, grid, tries)
+
+
+def first_tries_solved(job: MapJob, grid: TargetGrid, read, executor: Executor) -> dict:
+    """The first tries of :func:`~tribokin.maps.rows.fill_from_neighbours` (:func:`~tribokin.maps.rows.first_tries`)
+    solved on ``executor``'s workers, by ``(target, neighbour)``: the same solves it would make one after another."""
+    tries = first_tries(grid, read)
+    parts = math.ceil(len(tries) / TRIES_PER_PART)
+    todo = {k: (job, [(index, read("q", neighbour)) for index, neighbour in tries[k::parts]]) for k in range(parts)}
+    solved = {}
+    with run_chunks(solve_tries_of, todo, executor) as results:
+        for k, part in results:
+            solved.update(zip(tries[k::parts], part))
+    return solved
+
+
 def fill_holes(robot: Robot, grid, runners: list[PoseRunner], setups: tuple[ExpectedSetup | None, ...],
-               store: ChunkStore, figure_set: str) -> None:
+               store: ChunkStore, figure_set: str, job: MapJob | None = None, executor: Executor | None = None) -> None:
     """Reach and measure, in ``store``, the targets that IK reaches from a neighbour's configuration
-    (:func:`~tribokin.maps.rows.fill_from_neighbours`) though not along their own row.
+    (:func:`~tribokin.maps.rows.fill_from_neighbours`) though not along their own row; with an ``executor``, its
+    first tries solved beforehand on the executor's workers (:func:`first_tries_solved`, ``job`` the map's).
 
     The outcome is kept as the record ``filled`` before the store is changed, so a run killed while
     changing it writes the same values again on resume instead of searching anew from a changed store.
     """
     filled = store.load_record("filled")
     if filled is None:
-        reached = fill_from_neighbours(robot, grid, store.read)
+        solved = None if executor is None else first_tries_solved(job, grid, store.read, executor)
+        reached = fill_from_neighbours(robot, grid, store.read, solved)
         indices = np.fromiter(reached, dtype=int, count=len(reached))
         filled = {"index": indices, **empty_arrays(len(indices), robot.model.nv, len(runners), figure_set)}
         if len(indices):
@@ -233,7 +262,7 @@ def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunn
                 report(done_targets, grid.size)
     finally:
         _local.cache = None
-    fill_holes(robot, grid, runners, setups, store, study.map.figure_set)
+    fill_holes(robot, grid, runners, setups, store, study.map.figure_set, job, executor)
     maps = {name: ScenarioMap(name, s.cycles, i, robot.joint_names, store, study.map.figure_set)
             for i, (name, s) in enumerate(zip(names, studies))}
     return MapResult(grid, robot.joint_names, store, maps)

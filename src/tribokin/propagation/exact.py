@@ -53,12 +53,15 @@ def tool_deviations(robot: Robot, q: np.ndarray, dq: np.ndarray, engine: str = "
     return positions[0], angles[0]
 
 
-def tool_frames(robot: Robot, qs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def tool_frames(robot: Robot, qs: np.ndarray, placements: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Joint twists about the tool origin (poses, 6, nv) and tool positions (poses, 3) [m] at configurations (poses, nq);
-    for a serial chain (:func:`~tribokin.kinematics.chain.serial_chain`) in one batched pass, Pinocchio's to rounding."""
+    for a serial chain (:func:`~tribokin.kinematics.chain.serial_chain`) in one batched pass, Pinocchio's to rounding,
+    from the configurations' ``placements`` (its :meth:`~tribokin.kinematics.chain.SerialChain.tool_in_joint`) when
+    given."""
     chain = serial_chain(robot)
     if chain is not None:
-        placements = chain.tool_in_joint(np.asarray(qs, dtype=float).reshape(-1, robot.model.nq))
+        if placements is None:
+            placements = chain.tool_in_joint(np.asarray(qs, dtype=float).reshape(-1, robot.model.nq))
         return chain.world_jacobians(placements), placements[:, 0, :3, 3].copy()
     return (np.array([tool_twists(robot, q) for q in qs]).reshape(len(qs), 6, robot.model.nv),
             np.array([robot.tool_placement(q).translation for q in qs]).reshape(len(qs), 3))

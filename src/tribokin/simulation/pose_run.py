@@ -95,18 +95,20 @@ class PoseRunner:
         self.check_travel(forces, self.models_at(task))
         return forces
 
-    def normal_forces_at(self, q: np.ndarray) -> np.ndarray:
+    def normal_forces_at(self, q: np.ndarray, placements: np.ndarray | None = None) -> np.ndarray:
         """Bearing loads [N] at configuration ``q`` (nq,) or configurations (poses, nq): each joint's
-        fixed value, else statics; refused (:meth:`check_travel`) if they would move a joint beyond its range."""
-        forces = self._loads_at(q)
+        fixed value, else statics (from ``placements``, the robot's serial chain's
+        :meth:`~tribokin.kinematics.chain.SerialChain.tool_in_joint` at ``q``, when given); refused
+        (:meth:`check_travel`) if they would move a joint beyond its range."""
+        forces = self._loads_at(q, placements)
         self.check_travel(forces, self.models)
         return forces
 
-    def _loads_at(self, q: np.ndarray) -> np.ndarray:
+    def _loads_at(self, q: np.ndarray, placements: np.ndarray | None = None) -> np.ndarray:
         fixed = np.array([np.nan if m.normal_force_N is None else m.normal_force_N for m in self.models])
         if self.loads is None:
             return np.broadcast_to(fixed, np.shape(q)[:-1] + fixed.shape).copy()
-        return np.where(np.isnan(fixed), self.loads(q), fixed)
+        return np.where(np.isnan(fixed), self.loads(q, placements), fixed)
 
     def check_travel(self, forces_N: np.ndarray, models: list[JointErrorModel]) -> None:
         """Refuse loads ``forces_N`` (..., nv) [N] under which a joint's deviation could exceed its range."""
