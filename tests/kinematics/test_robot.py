@@ -1,7 +1,10 @@
 """Robots: example-robot-data arms and URDFs, reduced to the tool's chain, with a tool point at an offset; errors
 list valid names."""
 
+from pathlib import Path
+
 import numpy as np
+import pinocchio as pin
 import pytest
 
 from conftest import AXIS_URDF, ROOT
@@ -21,6 +24,24 @@ def test_example_robots_load_with_one_dof_chains(name):
 def test_panda_fingers_are_locked():
     panda = load_example_robot("panda")
     assert panda.joint_names == [f"panda_joint{i}" for i in range(1, 8)]
+
+
+def test_a_urdf_in_a_robots_folder_of_its_own_reads_example_robot_datas_meshes():
+    """tiago (like kinova, anymal, solo) keeps its URDF in tiago_description/robots/, inside example-robot-data's
+    robots folder: its meshes resolve against the outer one (they were refused as outside the inner one)."""
+    tiago = load_example_robot("tiago", "arm_7_link")
+    meshes = [Path(geometry.meshPath).resolve() for geometry in tiago.visual_model.geometryObjects
+              if "/" in geometry.meshPath]  # not a primitive ("BOX")
+    assert len(meshes) > 20 and all(path.is_file() for path in meshes)
+    assert all("example-robot-data/robots/tiago_description/meshes/" in path.as_posix() for path in meshes)
+
+
+@pytest.mark.skipif(pin.WITH_SDFORMAT, reason="this Pinocchio reads SDF files")
+def test_a_robot_example_robot_data_cannot_load_is_refused_on_one_line():
+    with pytest.raises(RobotDescriptionError, match="example-robot-data cannot load 'cassie': its description is an "
+                       "SDF file, and this Pinocchio .* was built without SDF") as error:
+        load_example_robot("cassie")
+    assert error.value.argument == "name" and "\n" not in str(error.value)
 
 
 def test_unknown_robot_and_frame_list_the_valid_ones():

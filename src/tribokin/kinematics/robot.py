@@ -265,11 +265,18 @@ def _example_robot(name: str):
     Its meshes must lie inside example-robot-data's ``robots`` folder; they are checked after
     example-robot-data has loaded them (its files, named by no user input).
     """
-    import example_robot_data
+    from example_robot_data.robots_loader import loader
 
-    wrapper = _quiet(example_robot_data.load, name)
-    urdf = Path(wrapper.urdf).resolve()
-    robots = next((p for p in urdf.parents if p.name == "robots"), urdf.parent)
+    try:
+        robot_loader = _quiet(loader, name)
+    except (ImportError, OSError, RuntimeError, ValueError) as error:
+        reason = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
+        if "SDF" in reason and not pin.WITH_SDFORMAT:
+            reason = f"its description is an SDF file, and this Pinocchio ({pin.__version__}) was built without SDF"
+        raise RobotDescriptionError(f"example-robot-data cannot load '{name}': {reason}", "name") from None
+    wrapper = robot_loader.robot
+    urdf = Path(robot_loader.df_path).resolve()
+    robots = Path(robot_loader.model_path).resolve()  # its robots folder (a URDF may lie in a robots folder inside it)
     confine_meshes(ET.parse(urdf).getroot(), urdf, [robots.parent.parent], allowed_dirs=[robots])
     reference_q = wrapper.q0 if wrapper.q0 is not None else pin.neutral(wrapper.model)
     return wrapper.model, wrapper.visual_model, wrapper.collision_model, np.asarray(reference_q)
