@@ -15,7 +15,7 @@ from tribokin.kinematics.robot import TESTED_ROBOTS, load_example_robot, load_ur
 @pytest.mark.parametrize("name", TESTED_ROBOTS)
 def test_example_robots_load_with_one_dof_chains(name):
     robot = load_example_robot(name)
-    assert robot.model.nq == robot.model.nv == len(robot.joint_names) >= 5
+    assert robot.model.nq == robot.model.nv + robot.continuous.sum() and robot.model.nv == len(robot.joint_names) >= 5
     q = np.clip(robot.reference_q, robot.lower_limits, robot.upper_limits)
     assert np.all(np.isfinite(robot.tool_placement(q).translation))
     assert robot.tool_frame == [f.name for f in robot.model.frames][-1] or robot.tool_frame
@@ -82,7 +82,7 @@ def configurations(robot, count=5, seed=3):
     """``count`` random configurations within the joint limits and a turn either way [rad]."""
     rng = np.random.default_rng(seed)
     return rng.uniform(np.maximum(robot.lower_limits, -np.pi), np.minimum(robot.upper_limits, np.pi),
-                       (count, robot.model.nq))
+                       (count, robot.model.nv))
 
 
 def test_a_tool_offset_is_a_point_fixed_to_the_tool_frame():

@@ -3,7 +3,13 @@
 The joints that move the tool frame (its kinematic chain from the base) are
 the robot's *active joints*; every other joint (gripper fingers, a floating
 base) is locked at the robot's reference posture. Only one-degree-of-freedom
-joints (revolute, prismatic) may be active.
+joints (revolute, continuous, prismatic) may be active.
+
+tribokin gives a configuration as one value per active joint (``q``, length nv: [m] or [rad]). Pinocchio gives a
+continuous joint (a revolute joint without limits, ``JointModelRUBX/Y/Z``) two: the cosine and sine of its angle
+(nq = 2, nv = 1). :meth:`Robot.configuration` turns tribokin's ``q`` into Pinocchio's wherever Pinocchio is called, so
+``q + dq`` is Pinocchio's ``integrate`` for every joint, and a continuous joint's angle is never clipped, only wrapped
+into [-π, π] by the IK (:meth:`Robot.wrapped`).
 
 A *tool offset* (:func:`tool_point_placement`) places a tool point (a probe's tip, a tracker's reflector) on the tool
 frame: a translation [m] and a rotation from roll, pitch, yaw [deg], both expressed in the tool frame. The
@@ -17,6 +23,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import io
+import math
 import warnings
 import xml.etree.ElementTree as ET
 from collections import Counter
@@ -31,7 +38,7 @@ from tribokin.kinematics.urdf_meshes import confine_meshes
 from tribokin.kinematics.urdf_xacro import urdf_text
 
 #: example-robot-data names tested with tribokin (any fixed-base arm it ships should load).
-TESTED_ROBOTS = ("ur3", "ur5", "ur10", "panda", "xarm7", "z1", "so100")
+TESTED_ROBOTS = ("ur3", "ur5", "ur10", "panda", "xarm7", "z1", "so100", "kinova")
 
 
 def example_robot_names() -> list[str]:
@@ -39,6 +46,11 @@ def example_robot_names() -> list[str]:
     from example_robot_data.robots_loader import ROBOTS
 
     return sorted(ROBOTS)
+
+
+def wrap_angles(angles):
+    """``angles`` [rad] shifted by whole turns into [-π, π] (unchanged, to the bit, within it)."""
+    return angles - 2 * math.pi * np.round(np.asarray(angles) / (2 * math.pi))
 
 
 @dataclass
@@ -49,9 +61,10 @@ class Robot:
         model: the reduced model; its joints are the active joints, in chain order.
         tool_frame: name of the frame whose pose is measured (``<frame>_tool_point`` when a tool offset is given).
         label: robot name or URDF path, for reports.
-        reference_q: (nq,) a typical working posture [m or rad] (example-robot-data's, else mid-range).
+        reference_q: (nv,) a typical working posture [m or rad] (example-robot-data's, else mid-range).
         visual_model, collision_model: geometry models (may be ``None``).
         joint_is_prismatic: (nv,) True for prismatic joints (deviations in [m]), False for revolute ([rad]).
+        continuous: (nv,) True for continuous joints (revolute, no limits; two values in Pinocchio's configuration).
         motion_axes: (nv, 3) unit motion axis of each joint in its own frame (linear or angular).
     """
 
@@ -70,6 +83,16 @@ class Robot:
         self.joint_is_prismatic = np.linalg.norm(subspaces[:, :3], axis=1) > 0
         axes = np.where(self.joint_is_prismatic[:, None], subspaces[:, :3], subspaces[:, 3:])
         self.motion_axes = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+        joints = list(self.model.joints)[1:]
+        self.continuous = np.array([joint.nq == 2 for joint in joints], dtype=bool)
+        self._has_continuous = bool(self.continuous.any())
+        q_index = np.array([joint.idx_q for joint in joints], dtype=int)  # a joint's value (or cosine) in nq
+        self._plain, self._turning = np.flatnonzero(~self.continuous), np.flatnonzero(self.continuous)
+        self._plain_q, self._cosine_q = q_index[self._plain], q_index[self._turning]
+        self._lower = np.where(self.continuous, -np.inf, np.asarray(self.model.lowerPositionLimit)[q_index])
+        self._upper = np.where(self.continuous, np.inf, np.asarray(self.model.upperPositionLimit)[q_index])
+        self._drawn = (np.where(self.continuous, -math.pi, self._lower),
+                       np.where(self.continuous, math.pi, self._upper))
 
     @property
     def joint_names(self) -> list[str]:
@@ -78,27 +101,50 @@ class Robot:
 
     @property
     def lower_limits(self) -> np.ndarray:
-        """Lower position limits [m or rad]."""
-        return np.asarray(self.model.lowerPositionLimit, dtype=float)
+        """(nv,) lower position limits [m or rad] (``-inf`` for a continuous joint)."""
+        return self._lower
 
     @property
     def upper_limits(self) -> np.ndarray:
-        """Upper position limits [m or rad]."""
-        return np.asarray(self.model.upperPositionLimit, dtype=float)
+        """(nv,) upper position limits [m or rad] (``inf`` for a continuous joint)."""
+        return self._upper
+
+    def configuration(self, q) -> np.ndarray:
+        """Pinocchio's configuration (..., nq) of joint values ``q`` (..., nv) [m or rad]: a continuous joint's angle
+        becomes its cosine and sine; ``q`` itself (as a float array) when the robot has no continuous joint."""
+        q = np.asarray(q, dtype=float)
+        if not self._has_continuous:
+            return q
+        configuration = np.empty(q.shape[:-1] + (self.model.nq,))
+        configuration[..., self._plain_q] = q[..., self._plain]
+        angles = q[..., self._turning]
+        configuration[..., self._cosine_q] = np.cos(angles)
+        configuration[..., self._cosine_q + 1] = np.sin(angles)
+        return configuration
+
+    def wrapped(self, q) -> np.ndarray:
+        """``q`` (..., nv) [m or rad], each continuous joint's angle brought into [-π, π] (:func:`wrap_angles`)."""
+        return np.where(self.continuous, wrap_angles(q), q) if self._has_continuous else q
+
+    def random_configuration(self, rng: np.random.Generator) -> np.ndarray:
+        """(nv,) a configuration drawn uniformly within the joint limits [m or rad], a continuous joint's angle in
+        [-π, π] (one ``rng.uniform`` call over the joints)."""
+        return rng.uniform(*self._drawn)
 
     def tool_placement(self, q) -> pin.SE3:
         """Pose of the tool frame in the world (base) frame at configuration ``q``."""
-        pin.forwardKinematics(self.model, self.data, np.asarray(q, dtype=float))
+        pin.forwardKinematics(self.model, self.data, self.configuration(q))
         return pin.updateFramePlacement(self.model, self.data, self.tool_frame_id).copy()
 
     def tool_jacobian(self, q) -> np.ndarray:
         """(6, nv) Jacobian of the tool frame, LOCAL_WORLD_ALIGNED: rows (linear [m/unit], angular [rad/unit])."""
-        jacobian = pin.computeFrameJacobian(self.model, self.data, np.asarray(q, dtype=float), self.tool_frame_id,
+        jacobian = pin.computeFrameJacobian(self.model, self.data, self.configuration(q), self.tool_frame_id,
                                             pin.LOCAL_WORLD_ALIGNED)
         return np.asarray(jacobian).reshape(6, self.model.nv)
 
     def check_configuration(self, q) -> np.ndarray:
-        """``q`` as an array, or a :class:`ConfigurationError` if its length or limits are wrong."""
+        """``q`` as an array, or a :class:`ConfigurationError` if its length or limits are wrong (a continuous
+        joint's angle has none)."""
         try:
             q = np.asarray(q, dtype=float)
         except (TypeError, ValueError):
@@ -165,6 +211,12 @@ def _add_tool_point(model: pin.Model, tool_frame: str, offset: pin.SE3) -> str:
     return name
 
 
+def _joint_value(joint, q) -> float:
+    """A 1-DoF joint's value [m or rad] in Pinocchio's configuration ``q``: a continuous joint's angle from its
+    cosine and sine."""
+    return math.atan2(q[joint.idx_q + 1], q[joint.idx_q]) if joint.nq == 2 else float(q[joint.idx_q])
+
+
 def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, offset=None) -> Robot:
     """Lock every joint that does not move ``tool_frame``; check the rest are 1-DoF; add the tool point at
     ``offset`` (:func:`tool_point_placement`) in ``tool_frame``, if given."""
@@ -184,12 +236,12 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, o
         else:
             model, (visual, collision) = pin.buildReducedModel(model, [visual, collision], locked, reference_q)
     for joint, name in zip(model.joints[1:], list(model.names)[1:]):
-        if joint.nq != 1 or joint.nv != 1:
+        if joint.nv != 1 or joint.nq > 2:
             raise RobotDescriptionError(f"joint '{name}' ({joint.shortname()}) moves the tool but is not a 1-DoF "
-                                        "revolute or prismatic joint; tribokin cannot model it")
+                                        "revolute, continuous or prismatic joint; tribokin cannot model it")
     if model.nq == 0:
         raise RobotDescriptionError(f"frame '{tool_frame}' is not moved by any joint", "tool_frame")
-    kept_q = np.array([reference_q[full.joints[full.getJointId(name)].idx_q] for name in list(model.names)[1:]])
+    kept_q = np.array([_joint_value(full.joints[full.getJointId(name)], reference_q) for name in list(model.names)[1:]])
     if offset is not None:
         tool_frame = _add_tool_point(model, tool_frame, offset)
     return Robot(model, tool_frame, label, kept_q, visual, collision)
@@ -240,9 +292,11 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
         except (RuntimeError, ValueError) as error:
             raise RobotDescriptionError(f"cannot read the meshes of URDF '{path}': {_loader_message(error)}",
                                         "path") from None
-    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
-    mid_range = np.where(np.isfinite(lower) & np.isfinite(upper) & (upper - lower < 1e3), (lower + upper) / 2,
-                         pin.neutral(model))
+    mid_range = pin.neutral(model)
+    for joint in model.joints[1:]:  # a 1-DoF joint's mid-range; the rest (a continuous joint's cosine and sine) neutral
+        low, high = model.lowerPositionLimit[joint.idx_q], model.upperPositionLimit[joint.idx_q]
+        if joint.nq == 1 and np.isfinite(low) and np.isfinite(high) and high - low < 1e3:
+            mid_range[joint.idx_q] = (low + high) / 2
     return _reduce_to_chain(model, visual, collision, mid_range, tool_frame, str(path), tool_offset)
 
 

@@ -96,7 +96,7 @@ class PoseRunner:
         return forces
 
     def normal_forces_at(self, q: np.ndarray) -> np.ndarray:
-        """Bearing loads [N] at configuration ``q`` (nq,) or configurations (poses, nq): each joint's
+        """Bearing loads [N] at configuration ``q`` (nv,) or configurations (poses, nv): each joint's
         fixed value, else statics; refused (:meth:`check_travel`) if they would move a joint beyond its range."""
         forces = self._loads_at(q)
         self.check_travel(forces, self.models)

@@ -61,7 +61,7 @@ class CalibrationInput:
         model: the study's joint model with the parameters ``[calibration]`` frees.
         poses: per measured pose with a series of known approach (in file order) its kinematics, friction and
             series.
-        configurations: (n_poses, nq) the configuration of each of ``poses`` [rad or m].
+        configurations: (n_poses, nv) the configuration of each of ``poses`` [rad or m].
         configuration_source: how they were found (the file's ``q_`` columns, or IK of commanded positions).
         registration: of the measuring frame to the base, or None (the points are in the measuring frame).
         left_out: series without a known approach, not used.
@@ -118,7 +118,7 @@ def _configuration_by_ik(study: Study, robot: Robot, measurements: Measurements,
 
 
 def configurations(study: Study, robot: Robot, measurements: Measurements) -> tuple[np.ndarray, str]:
-    """(n_poses, nq) the measured poses' configurations and how they were found (module docstring)."""
+    """(n_poses, nv) the measured poses' configurations and how they were found (module docstring)."""
     names = robot.joint_names
     if measurements.joints:
         for name in measurements.joints:

@@ -1,0 +1,96 @@
+"""Studies of robots with continuous joints (Kinova's Gen3): poses and maps as with the joints made revolute within
+±1000 rad, a map row whose IK crosses ±π, and outputs that give one angle per joint."""
+
+import csv
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import GEN3_URDF
+from kinematics.test_continuous import wide_revolute_urdf
+from tribokin import run_study
+from tribokin.kinematics.robot import wrap_angles
+
+#: Gen3's continuous joints among its seven.
+CONTINUOUS = np.array([True, False, True, False, True, False, True])
+#: Joint 1 at π: the tool behind the base, pointing down at (-0.48, 0.03, 0.28) m.
+BEHIND = [3.14159, 0.6, 0.0, 1.6, 0.0, 1.0, 0.0]
+
+
+def gen3_study(urdf, **sections) -> dict:
+    return {"study": {"cycles": 30, "seed": 2}, "robot": {"urdf": str(urdf), "tool_frame": "tool_frame",
+                                                          "payload_kg": 1.0},
+            "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 5.0e4}, **sections}
+
+
+def test_poses_are_those_of_the_joints_made_wide_revolute(tmp_path):
+    poses = {"poses": [{"name": "turned", "q": [4.0, 0.5, -3.5, 1.2, 7.0, -0.6, -3.2]},
+                       {"name": "behind", "q": BEHIND}]}
+    continuous = run_study(gen3_study(GEN3_URDF, **poses))
+    revolute = run_study(gen3_study(wide_revolute_urdf(tmp_path), **poses))
+    for got, expected in zip(continuous.poses, revolute.poses):
+        np.testing.assert_array_equal(got.q, expected.q)  # one angle per joint, as given (4 and 7 rad kept)
+        np.testing.assert_allclose(got.normal_forces_N, expected.normal_forces_N, rtol=1e-12)
+        np.testing.assert_allclose(got.positions_m, expected.positions_m, rtol=0, atol=1e-15)
+        for row, other in zip(got.direction_rows(), expected.direction_rows()):
+            assert row["RP_l_um"] == pytest.approx(other["RP_l_um"], rel=1e-9) and row["RP_l_um"] > 0
+
+
+def test_a_map_row_crosses_pi_as_the_wide_revolute_joints_turn_past_it(tmp_path):
+    plane = {"map": {"kind": "plane", "origin_m": [-0.48, 0.0, 0.28], "axis_u": [0, 1, 0], "axis_v": [1, 0, 0],
+                     "extent_u_m": [-0.2, 0.2], "extent_v_m": [-0.05, 0.05], "resolution": [9, 3],
+                     "start_q": BEHIND}}
+    continuous = run_study(gen3_study(GEN3_URDF, **plane)).map
+    revolute = run_study(gen3_study(wide_revolute_urdf(tmp_path), **plane)).map
+    assert continuous.reachable.all() and revolute.reachable.all()
+    turned = revolute.q[:, 0]  # joint_1 past π along every row
+    assert turned.min() < 2.8 and turned.max() > 3.4
+    assert np.abs(continuous.q[:, CONTINUOUS]).max() <= np.pi  # IK gives continuous angles in [-π, π]
+    np.testing.assert_allclose(continuous.q, np.where(CONTINUOUS, wrap_angles(revolute.q), revolute.q), rtol=0,
+                               atol=1e-12)
+    reference = next(iter(continuous.scenarios))
+    np.testing.assert_allclose(continuous.scenarios[reference].figure("RP_l_um"),
+                               revolute.scenarios[reference].figure("RP_l_um"), rtol=1e-9)
+
+
+def test_outputs_give_one_angle_per_joint(tmp_path):
+    study = tmp_path / "gen3.toml"
+    study.write_text(f"""
+[study]
+cycles = 10
+[robot]
+urdf = "{GEN3_URDF}"
+[joints]
+friction = {{ preset = "42CD4-raw" }}
+stiffness = 5.0e4
+[[poses]]
+name = "P"
+q = [4.0, 0.5, -3.5, 1.2, 7.0, -0.6, -3.2]
+[map]
+kind = "joint"
+joints = ["joint_1", "joint_2"]
+ranges = [[-4.0, 4.0], [-0.5, 0.5]]
+counts = [5, 2]
+start_q = {BEHIND}
+""")
+    out = tmp_path / "out"
+    done = subprocess.run([sys.executable, "-m", "tribokin", "run", study, "--out", out, "--report", "none"],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    names = [f"q_joint_{i}" for i in range(1, 8)]
+    with open(out / "poses.csv", newline="") as file:
+        rows = list(csv.DictReader(file))
+    assert [key for key in rows[0] if key.startswith("q_")] == names
+    assert [float(rows[0][name]) for name in names] == [4.0, 0.5, -3.5, 1.2, 7.0, -0.6, -3.2]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["poses"][0]["q"] == [4.0, 0.5, -3.5, 1.2, 7.0, -0.6, -3.2] and summary["study"]["joints"] == [
+        name[2:] for name in names]
+    with open(out / "map.csv", newline="") as file:
+        targets = list(csv.DictReader(file))
+    assert [key for key in targets[0] if key.startswith("q_")] == names
+    assert [float(t["q_joint_1"]) for t in targets[:5]] == [-4.0, -2.0, 0.0, 2.0, 4.0]  # the grid, not wrapped
+    assert all(t["reachable"] == "true" for t in targets) and len(targets) == 10
+
