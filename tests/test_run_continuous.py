@@ -11,8 +11,11 @@ import pytest
 
 from conftest import GEN3_URDF
 from kinematics.test_continuous import wide_revolute_urdf
-from tribokin import run_study
-from tribokin.kinematics.robot import wrap_angles
+from measurement.measurement_fixtures import write_csv
+from tribokin import InputError, run_study
+from tribokin.kinematics.robot import load_urdf, wrap_angles
+from tribokin.measurement.contract import read_measurements
+from tribokin.study.calibration_data import read_robot_measurements
 
 #: Gen3's continuous joints among its seven.
 CONTINUOUS = np.array([True, False, True, False, True, False, True])
@@ -94,3 +97,12 @@ start_q = {BEHIND}
     assert [float(t["q_joint_1"]) for t in targets[:5]] == [-4.0, -2.0, 0.0, 2.0, 4.0]  # the grid, not wrapped
     assert all(t["reachable"] == "true" for t in targets) and len(targets) == 10
 
+
+def test_a_calibrations_q_columns_take_a_continuous_joint_across_pi_as_one_angle(tmp_path):
+    header = "pose,cycle,x_m,y_m,z_m," + ",".join(f"q_joint_{i}" for i in range(1, 8))
+    path = write_csv(tmp_path, header, [f"P,{cycle},0.4,0.0,0.3,{joint_1},0.5,0,1,0,0.2,0"
+                                        for cycle, joint_1 in ((1, 3.1412), (2, -3.1412))])  # 0.0008 rad apart
+    measured = read_robot_measurements(path, load_urdf(GEN3_URDF))
+    assert abs(wrap_angles(measured.poses[0].q[0] - np.pi)) < 1e-12 and measured.poses[0].q_spread < 1e-3
+    with pytest.raises(InputError, match="differ by 6.28 rad"):  # read as a plain angle: two configurations
+        read_measurements(path)

@@ -2,8 +2,8 @@
 
 For each measured pose:
 
-- its configuration: the mean of its rows' ``q_<joint>`` (the file must name every joint of the tool's chain),
-  else solved by IK from its mean commanded position (``cx, cy, cz``, base frame), the tool held at
+- its configuration: the mean of its rows' ``q_<joint>`` (the file must name every joint of the tool's chain; a
+  continuous joint's mean is circular, :func:`read_robot_measurements`), else solved by IK from its mean commanded position (``cx, cy, cz``, base frame), the tool held at
   ``calibration.tool_rpy_deg`` when given, else for position only from the robot's reference posture;
 - the position Jacobian of the tool point there, and the mean and standard deviation of every joint's friction
   torque (force) under the bearing loads at that configuration
@@ -31,7 +31,7 @@ from tribokin.errors import InputError, located
 from tribokin.iso9283.cube import label_approach_signs
 from tribokin.kinematics.ik import solve_ik_with_restarts
 from tribokin.kinematics.robot import Robot
-from tribokin.measurement.contract import Measurements, Pose
+from tribokin.measurement.contract import Measurements, Pose, read_measurements
 from tribokin.measurement.figures import pose_clouds
 from tribokin.measurement.registration import Registration, register_measurements
 from tribokin.simulation.joint_errors import JointErrorModel, friction_torque_moments
@@ -73,6 +73,14 @@ class CalibrationInput:
     configuration_source: str
     registration: Registration | None
     left_out: tuple[LeftOut, ...]
+
+
+def read_robot_measurements(path, robot: Robot) -> Measurements:
+    """The measurement file at ``path`` (:func:`~tribokin.measurement.contract.read_measurements`), its ``q_`` columns
+    read as ``robot``'s joints: lengths [m] for prismatic ones, circular means of angles [rad] for continuous ones (rows
+    on either side of ±π are one configuration)."""
+    return read_measurements(path, prismatic=[n for n, p in zip(robot.joint_names, robot.joint_is_prismatic) if p],
+                             continuous=[n for n, c in zip(robot.joint_names, robot.continuous) if c])
 
 
 def calibration_model(study: Study, robot: Robot, models: list[JointErrorModel]) -> JointModel:
