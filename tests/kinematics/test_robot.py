@@ -44,6 +44,24 @@ def test_a_robot_example_robot_data_cannot_load_is_refused_on_one_line():
     assert error.value.argument == "name" and "\n" not in str(error.value)
 
 
+def test_a_reference_posture_outside_the_limits_is_brought_within_them():
+    """kinova's SRDF posture gives joint 3 -1.5707 rad, limited to [0.33, 5.95] rad: a whole turn on, the same
+    posture; panda_collision has none (0 rad), outside joint 4's [-3.07, -0.07] rad: clipped."""
+    kinova = load_example_robot("kinova")
+    assert kinova.reference_q[2] == pytest.approx(-1.5707 + 2 * np.pi, abs=1e-12)
+    assert kinova.reference_q[[0, 1, 3, 4, 5]].tolist() == [1.5707, 2.618, 3.1415, 2.618, 0.0]
+    assert load_example_robot("panda_collision").reference_q[3] == -0.0698
+
+
+def test_a_joint_without_travel_is_refused(tmp_path):
+    urdf = tmp_path / "stuck.urdf"
+    urdf.write_text(AXIS_URDF.read_text().replace('lower="0.0" upper="0.40"', 'lower="0.2" upper="0.2"'))
+    with pytest.raises(RobotDescriptionError, match=r"^joint 'x' moves the tool, but its limits \[0.2, 0.2\] leave "
+                       r"it no travel; give it a range \(the URDF's <limit lower=... upper=...>\), or make it "
+                       "continuous$"):
+        load_urdf(urdf, "tool")
+
+
 def test_unknown_robot_and_frame_list_the_valid_ones():
     with pytest.raises(RobotDescriptionError, match="did you mean 'ur5'.*valid names: .*panda.*ur10") as error:
         load_example_robot("ur55")

@@ -61,7 +61,8 @@ class Robot:
         model: the reduced model; its joints are the active joints, in chain order.
         tool_frame: name of the frame whose pose is measured (``<frame>_tool_point`` when a tool offset is given).
         label: robot name or URDF path, for reports.
-        reference_q: (nv,) a typical working posture [m or rad] (example-robot-data's, else mid-range).
+        reference_q: (nv,) a typical working posture [m or rad] (example-robot-data's, else mid-range), within the
+            limits (:func:`_within_limits`).
         visual_model, collision_model: geometry models (may be ``None``).
         joint_is_prismatic: (nv,) True for prismatic joints (deviations in [m]), False for revolute ([rad]).
         continuous: (nv,) True for continuous joints (revolute, no limits; two values in Pinocchio's configuration).
@@ -244,7 +245,26 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, o
     kept_q = np.array([_joint_value(full.joints[full.getJointId(name)], reference_q) for name in list(model.names)[1:]])
     if offset is not None:
         tool_frame = _add_tool_point(model, tool_frame, offset)
-    return Robot(model, tool_frame, label, kept_q, visual, collision)
+    robot = Robot(model, tool_frame, label, kept_q, visual, collision)
+    for name, low, high in zip(robot.joint_names, robot.lower_limits, robot.upper_limits):
+        if not high > low:
+            raise RobotDescriptionError(f"joint '{name}' moves the tool, but its limits [{low:g}, {high:g}] leave it no "
+                                        "travel; give it a range (the URDF's <limit lower=... upper=...>), or make it "
+                                        "continuous")
+    robot.reference_q = _within_limits(kept_q, robot)
+    return robot
+
+
+def _within_limits(q: np.ndarray, robot: Robot) -> np.ndarray:
+    """``q`` (nv,) [m or rad] within ``robot``'s limits: a revolute joint's angle outside them moved by whole turns
+    where that lands inside (kinova's reference posture gives -π/2 rad to a joint limited to [0.33, 5.95] rad), else
+    clipped."""
+    lower, upper = robot.lower_limits, robot.upper_limits
+    outside = (q < lower) | (q > upper)
+    if not outside.any():
+        return q
+    turned = q + 2 * math.pi * np.ceil((np.where(outside, lower, q) - q) / (2 * math.pi))  # the first turn above lower
+    return np.clip(np.where(outside & ~robot.joint_is_prismatic & (turned <= upper), turned, q), lower, upper)
 
 
 def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset: pin.SE3 | None = None,
