@@ -1,5 +1,5 @@
-"""Studies of robots with continuous joints (Kinova's Gen3): poses and maps as with the joints made revolute within
-±1000 rad, a map row whose IK crosses ±π, and outputs that give one angle per joint."""
+"""Studies of robots with continuous joints (Kinova's Gen3, example-robot-data's kinova): poses and maps as with the
+joints made revolute within ±1000 rad, a map row whose IK crosses ±π, and outputs that give one angle per joint."""
 
 import csv
 import json
@@ -84,6 +84,8 @@ start_q = {BEHIND}
                           capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     names = [f"q_joint_{i}" for i in range(1, 8)]
+    assert ("tool frame: tool_frame (the default: the end of the longest chain), moved by "
+            f"{', '.join(name[2:] for name in names)}\n") in done.stdout
     with open(out / "poses.csv", newline="") as file:
         rows = list(csv.DictReader(file))
     assert [key for key in rows[0] if key.startswith("q_")] == names
@@ -91,11 +93,25 @@ start_q = {BEHIND}
     summary = json.loads((out / "summary.json").read_text())
     assert summary["poses"][0]["q"] == [4.0, 0.5, -3.5, 1.2, 7.0, -0.6, -3.2] and summary["study"]["joints"] == [
         name[2:] for name in names]
+    assert summary["study"]["tool_frame"] == "tool_frame" and summary["study"]["robot_spec"]["tool_frame"] is None
     with open(out / "map.csv", newline="") as file:
         targets = list(csv.DictReader(file))
     assert [key for key in targets[0] if key.startswith("q_")] == names
     assert [float(t["q_joint_1"]) for t in targets[:5]] == [-4.0, -2.0, 0.0, 2.0, 4.0]  # the grid, not wrapped
     assert all(t["reachable"] == "true" for t in targets) and len(targets) == 10
+
+
+def test_example_robot_datas_kinova_runs_a_pose_study_and_a_map():
+    study = {"study": {"cycles": 30, "seed": 1}, "robot": {"name": "kinova"},
+             "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 2.0e4}}
+    poses = run_study({**study, "iso_cube": {"side_m": 0.1}})
+    assert poses.settings["joints"] == [f"j2s6s200_joint_{i}" for i in range(1, 7)]
+    assert [p.name for p in poses.poses] == ["P1", "P2", "P3", "P4", "P5"]
+    assert all(row["RP_l_um"] > 0 for pose in poses.poses for row in pose.direction_rows())
+    plane = {"kind": "plane", "origin_m": poses.settings["iso_cube"]["center_m"], "axis_u": [1, 0, 0],
+             "axis_v": [0, 1, 0], "extent_u_m": [-0.05, 0.05], "extent_v_m": [-0.05, 0.05], "resolution": [3, 3]}
+    workspace = run_study({**study, "map": plane}).map
+    assert workspace.reachable.all() and workspace.q.shape == (9, 6)
 
 
 def test_a_calibrations_q_columns_take_a_continuous_joint_across_pi_as_one_angle(tmp_path):

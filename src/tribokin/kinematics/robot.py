@@ -3,7 +3,8 @@
 The joints that move the tool frame (its kinematic chain from the base) are
 the robot's *active joints*; every other joint (gripper fingers, a floating
 base) is locked at the robot's reference posture. Only one-degree-of-freedom
-joints (revolute, continuous, prismatic) may be active.
+joints (revolute, continuous, prismatic) may be active. The default tool frame
+is the end of the model's longest chain (:mod:`tribokin.kinematics.tool_frames`).
 
 tribokin gives a configuration as one value per active joint (``q``, length nv: [m] or [rad]). Pinocchio gives a
 continuous joint (a revolute joint without limits, ``JointModelRUBX/Y/Z``) two: the cosine and sine of its angle
@@ -34,6 +35,7 @@ import numpy as np
 import pinocchio as pin
 
 from tribokin.errors import ConfigurationError, RobotDescriptionError, closest_hint
+from tribokin.kinematics.tool_frames import ToolFrames, default_tool_frame, tool_frames
 from tribokin.kinematics.urdf_meshes import confine_meshes
 from tribokin.kinematics.urdf_xacro import urdf_text
 
@@ -224,7 +226,7 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, o
     _make_frame_names_unique(model)
     frames = [f.name for f in model.frames]
     if tool_frame is None:
-        tool_frame = frames[-1]
+        tool_frame = default_tool_frame(model, label)
     elif tool_frame not in frames:
         raise RobotDescriptionError(f"unknown frame '{tool_frame}'{closest_hint(tool_frame, frames)}; frames of "
                                     f"{label}: {', '.join(frames[1:])}", "tool_frame")
@@ -248,9 +250,9 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, o
     robot = Robot(model, tool_frame, label, kept_q, visual, collision)
     for name, low, high in zip(robot.joint_names, robot.lower_limits, robot.upper_limits):
         if not high > low:
-            raise RobotDescriptionError(f"joint '{name}' moves the tool, but its limits [{low:g}, {high:g}] leave it no "
-                                        "travel; give it a range (the URDF's <limit lower=... upper=...>), or make it "
-                                        "continuous")
+            raise RobotDescriptionError(f"joint '{name}' moves the tool, but its limits [{low:g}, {high:g}] leave it "
+                                        "no travel; give it a range (the URDF's <limit lower=... upper=...>), or make "
+                                        "it continuous")
     robot.reference_q = _within_limits(kept_q, robot)
     return robot
 
@@ -274,7 +276,8 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
 
     Args:
         path: the URDF file.
-        tool_frame: frame whose pose is measured (default: the model's last frame).
+        tool_frame: frame whose pose is measured (default: the end of the model's longest chain,
+            :mod:`tribokin.kinematics.tool_frames`).
         package_dirs: folders that ``package://`` mesh URIs resolve against, and the only folders
             meshes may be read from (default: the URDF's folder and its parent).
         tool_offset: placement of the tool point in ``tool_frame`` (translation [m], rotation;
@@ -287,8 +290,15 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
         RobotDescriptionError: a missing or malformed URDF (or xacro), a mesh outside ``package_dirs``
             (:func:`tribokin.kinematics.urdf_meshes.confine_meshes`, before Pinocchio reads any file), with
             ``meshes`` a mesh not found or not readable, an unknown tool frame, a joint moving the tool that is
-            not 1-DoF.
+            not 1-DoF, no default tool frame (a floating base whose longest chains are separate limbs).
     """
+    return _reduce_to_chain(*_read_urdf(path, package_dirs, meshes, xacro_args), tool_frame, str(path), tool_offset)
+
+
+def _read_urdf(path, package_dirs=(), meshes: bool = True, xacro_args: dict[str, str] | None = None
+               ) -> tuple[pin.Model, pin.GeometryModel | None, pin.GeometryModel | None, np.ndarray]:
+    """The whole model of the URDF (or xacro) at ``path`` (:func:`load_urdf`), its geometry models (``None`` without
+    ``meshes``) and its reference posture: each 1-DoF joint at mid-range, the rest neutral."""
     path = Path(path)
     if not path.is_file():
         raise RobotDescriptionError(f"URDF file '{path}' not found", "path")
@@ -317,18 +327,35 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
         low, high = model.lowerPositionLimit[joint.idx_q], model.upperPositionLimit[joint.idx_q]
         if joint.nq == 1 and np.isfinite(low) and np.isfinite(high) and high - low < 1e3:
             mid_range[joint.idx_q] = (low + high) / 2
-    return _reduce_to_chain(model, visual, collision, mid_range, tool_frame, str(path), tool_offset)
+    return model, visual, collision, mid_range
 
 
 def load_example_robot(name: str, tool_frame: str | None = None, tool_offset: pin.SE3 | None = None) -> Robot:
     """Load a robot that example-robot-data ships, by name (e.g. ``"ur5"``); ``tool_frame`` and ``tool_offset``
     as for :func:`load_urdf`."""
+    _check_robot_name(name)
+    model, visual, collision, reference_q = _example_robot(name)
+    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name, tool_offset)
+
+
+def _check_robot_name(name: str) -> None:
+    """Refuse a name example-robot-data does not know, listing those it does."""
     names = example_robot_names()
     if name not in names:
         raise RobotDescriptionError(f"unknown robot '{name}'{closest_hint(name, names)}; valid names: "
                                     f"{', '.join(names)}", "name")
-    model, visual, collision, reference_q = _example_robot(name)
-    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name, tool_offset)
+
+
+def candidate_tool_frames(robot: str) -> ToolFrames:
+    """The frames that could be the tool frame of ``robot`` (an example-robot-data name, or a URDF file's path), and
+    its default (:func:`~tribokin.kinematics.tool_frames.tool_frames`)."""
+    if robot.lower().endswith(".urdf") or Path(robot).is_file():
+        model = _read_urdf(Path(robot), meshes=False)[0]
+    else:
+        _check_robot_name(robot)
+        model = pin.Model(_example_robot(robot)[0])
+    _make_frame_names_unique(model)
+    return tool_frames(model, robot)
 
 
 @functools.lru_cache(maxsize=None)
