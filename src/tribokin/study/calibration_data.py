@@ -3,8 +3,9 @@
 For each measured pose:
 
 - its configuration: the mean of its rows' ``q_<joint>`` (the file must name every joint of the tool's chain; a
-  continuous joint's mean is circular, :func:`read_robot_measurements`), else solved by IK from its mean commanded position (``cx, cy, cz``, base frame), the tool held at
-  ``calibration.tool_rpy_deg`` when given, else for position only from the robot's reference posture;
+  continuous joint's mean is circular, :func:`read_robot_measurements`), else solved by IK from its mean commanded
+  position (``cx, cy, cz``, base frame), the tool held at ``calibration.tool_rpy_deg`` when given, else for position
+  only from the robot's reference posture;
 - the position Jacobian of the tool point there, and the mean and standard deviation of every joint's friction
   torque (force) under the bearing loads at that configuration
   (:func:`~tribokin.simulation.joint_errors.friction_torque_moments`);
