@@ -221,8 +221,9 @@ def _joint_value(joint, q) -> float:
 
 
 def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, offset=None) -> Robot:
-    """Lock every joint that does not move ``tool_frame``; check the rest are 1-DoF; add the tool point at
-    ``offset`` (:func:`tool_point_placement`) in ``tool_frame``, if given."""
+    """Lock every joint that does not move ``tool_frame`` (default: :func:`~.tool_frames.default_tool_frame`); check the
+    rest are 1-DoF with some travel; bring the reference posture within their limits (:func:`_within_limits`); add the
+    tool point at ``offset`` (:func:`tool_point_placement`) in ``tool_frame``, if given."""
     _make_frame_names_unique(model)
     frames = [f.name for f in model.frames]
     if tool_frame is None:
