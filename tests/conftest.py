@@ -15,6 +15,8 @@ from hypothesis import settings
 
 ROOT = Path(__file__).resolve().parents[1]
 AXIS_URDF = ROOT / "urdf" / "prismatic_axis.urdf"
+#: Kinova's Gen3 (7 joints, 4 of them continuous), trimmed of its meshes (its provenance and licence beside it).
+GEN3_URDF = ROOT / "tests" / "data" / "kinova-gen3" / "gen3.urdf"
 STUDIES = ROOT / "studies"
 TOOLS = ROOT / "tools"
 

@@ -23,14 +23,13 @@ from tribokin.calibration.cross_validation import (DRAWS, PosePrediction, Predic
                                                    predict_pose, predicted_clouds)
 from tribokin.calibration.fit import Calibration, ParameterEstimate, fit, profile_interval
 from tribokin.errors import InputError
-from tribokin.measurement.contract import read_measurements
 from tribokin.output.calibrated_study import WrittenValue, calibrated_study_text
 from tribokin.output.folder import atomic_folder, check_output_folder
 from tribokin.output.writers import write_rows
 from tribokin.provenance import software_versions
 from tribokin.run import run_study
 from tribokin.study.assembly import joint_models, load_robot
-from tribokin.study.calibration_data import CalibrationInput, calibration_input
+from tribokin.study.calibration_data import CalibrationInput, calibration_input, read_robot_measurements
 from tribokin.study.names import check_measured_pose_names, cloud_figure_file
 from tribokin.study.reading import parse_study_text, read_study_file
 from tribokin.units import UM_PER_M
@@ -207,8 +206,7 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
                          study.source, "calibration")
     robot = load_robot(study, meshes=False)  # no robot drawn
     models = joint_models(study, robot)
-    measurements = read_measurements(measurements_path, prismatic=[n for n, p in zip(robot.joint_names,
-                                                                                     robot.joint_is_prismatic) if p])
+    measurements = read_robot_measurements(measurements_path, robot)
     check_measured_pose_names([pose.name for pose in measurements.poses], measurements_path, cloud_figure_file)
     inputs = calibration_input(study, robot, models, measurements)
     if not inputs.model.names():

@@ -103,6 +103,9 @@ def _run(args) -> None:
     if result.map is not None:
         _print_map(result.map.summary())
         files += ["map*.csv", "map_*.png"]
+    settings = result.settings
+    how = "robot.tool_frame" if settings["robot_spec"]["tool_frame"] else "the default: the end of the longest chain"
+    print(f"tool frame: {settings['tool_frame']} ({how}), moved by {', '.join(settings['joints'])}")
     print(f"results in {out}/ (summary.json, {', '.join(files)})")
     if args.report != "none":
         import numpy as np
@@ -183,10 +186,23 @@ def _view(args) -> None:
 
 
 def _robots(args) -> None:
-    from tribokin.kinematics.robot import TESTED_ROBOTS, example_robot_names
+    from tribokin.errors import located
+    from tribokin.kinematics.robot import TESTED_ROBOTS, candidate_tool_frames, example_robot_names
 
-    for name in example_robot_names():
-        print(f"{name}{'  (tested)' if name in TESTED_ROBOTS else ''}")
+    if args.frames is None:
+        for name in example_robot_names():
+            print(f"{name}{'  (tested)' if name in TESTED_ROBOTS else ''}")
+        return
+    with located("command line", "--frames"):
+        frames = candidate_tool_frames(args.frames)
+    if frames.default is None:
+        print(f"no default tool frame: {frames.why_none}")
+    marked = "" if frames.default is None else (" (* the default: the end of the longest chain; robot.tool_frame = "
+                                                "... picks another)")
+    print(f"tool frames of {args.frames}, with the joints that move each{marked}:")
+    width = max(len(name) for name, _ in frames.frames)
+    for name, joints in frames.frames:
+        print(f"{'*' if name == frames.default else ' '} {name:<{width}}  {joints} joints")
 
 
 def _fit_friction(args) -> None:
@@ -383,6 +399,8 @@ def build_parser() -> argparse.ArgumentParser:
     surface.set_defaults(handler=_surface)
 
     robots = commands.add_parser("robots", help="list the robot names [robot] name = ... accepts")
+    robots.add_argument("--frames", metavar="ROBOT", help="list the candidate tool frames of a robot name or a URDF "
+                        "file instead, the default first")
     robots.set_defaults(handler=_robots)
     return parser
 

@@ -55,6 +55,7 @@ def test_run_writes_every_output(study_file, tmp_path):
     samples = np.load(out / "samples.npz")
     assert samples["P1/positions_m"].shape == (20, 3)
     assert (out / "poses.csv").read_text().splitlines()[0].startswith("name,direction,")
+    assert "tool frame: tool (robot.tool_frame), moved by x\n" in done.stdout
     assert (out / "field_P1.png").stat().st_size > 10_000
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary folder left
 
@@ -91,3 +92,19 @@ def test_bare_command_prints_usage_and_the_commands():
     assert done.stderr.startswith("usage: tribokin ")
     for command in ("run", "view", "fit-friction", "surface", "robots"):
         assert re.search(rf"^    {command}\s", done.stderr, re.MULTILINE)
+
+
+def test_robots_lists_a_robots_candidate_tool_frames_default_first():
+    kinova = tribokin("robots", "--frames", "kinova")
+    assert kinova.returncode == 0, kinova.stderr
+    lines = kinova.stdout.splitlines()
+    assert lines[0].startswith("tool frames of kinova, with the joints that move each (* the default")
+    assert lines[1].split() == ["*", "j2s6s200_end_effector", "6", "joints"]
+    assert all(line.startswith("  ") for line in lines[2:]) and len(lines) > 3
+    anymal = tribokin("robots", "--frames", "anymal")
+    assert anymal.returncode == 0 and anymal.stdout.startswith("no default tool frame: anymal has a floating base")
+    assert "\n  LF_FOOT     3 joints\n" in anymal.stdout and "*" not in anymal.stdout
+    unknown = tribokin("robots", "--frames", "ur55")
+    assert unknown.returncode == 2 and unknown.stdout == ""
+    assert unknown.stderr.startswith("tribokin: error: command line: --frames: unknown robot 'ur55' (did you mean "
+                                     "'ur5'?)") and unknown.stderr.count("\n") == 1

@@ -33,9 +33,9 @@ ROBOTS = {
 
 
 def random_q(robot: Robot, count: int, seed: int = 4) -> np.ndarray:
-    """(count, nq) configurations within the joint limits (revolute ranges capped at ±4 rad)."""
+    """(count, nv) configurations within the joint limits (revolute ranges capped at ±4 rad)."""
     rng = np.random.default_rng(seed)
-    return rng.uniform(np.maximum(robot.lower_limits, -4), np.minimum(robot.upper_limits, 4), (count, robot.model.nq))
+    return rng.uniform(np.maximum(robot.lower_limits, -4), np.minimum(robot.upper_limits, 4), (count, robot.model.nv))
 
 
 @pytest.mark.parametrize("name", ROBOTS)
@@ -45,23 +45,23 @@ def test_placements_and_jacobians_match_pinocchio(name, tmp_path):
     q = random_q(robot, 50)
     placements = chain.tool_in_joint(q)
     jacobians = chain.tool_jacobians(placements)
-    assert placements.shape == (50, robot.model.nq + 1, 4, 4) and jacobians.shape == (50, 6, robot.model.nv)
+    assert placements.shape == (50, robot.model.nv + 1, 4, 4) and jacobians.shape == (50, 6, robot.model.nv)
     for qi, placement, jacobian in zip(q, placements, jacobians):
         tool = robot.tool_placement(qi)
         np.testing.assert_allclose(placement[0], tool.homogeneous, rtol=0, atol=1e-12)
         rotation = np.kron(np.eye(2), tool.rotation)  # the tool frame's axes to the base's, for both halves
         np.testing.assert_allclose(rotation @ jacobian, robot.tool_jacobian(qi), rtol=0, atol=1e-12)
-        pin.computeJointJacobians(robot.model, robot.data, qi)  # as solve_ik asks for it
+        pin.computeJointJacobians(robot.model, robot.data, robot.configuration(qi))  # as solve_ik asks for it
         local = pin.getFrameJacobian(robot.model, robot.data, robot.tool_frame_id, pin.LOCAL)
         np.testing.assert_allclose(jacobian, np.reshape(local, (6, -1)), rtol=0, atol=1e-12)
         for joint, in_joint in zip(range(1, robot.model.njoints), placement[1:]):
             np.testing.assert_allclose(in_joint, (robot.data.oMi[joint].inverse() * tool).homogeneous, atol=1e-12)
-    assert chain.tool_in_joint(q[:0]).shape == (0, robot.model.nq + 1, 4, 4)
+    assert chain.tool_in_joint(q[:0]).shape == (0, robot.model.nv + 1, 4, 4)
     world = chain.world_jacobians(placements)
     joints = chain.joints_in_world(placements)
     for qi, jacobian, frames in zip(q, world, joints):
         np.testing.assert_allclose(jacobian, robot.tool_jacobian(qi), rtol=0, atol=1e-12)
-        pin.forwardKinematics(robot.model, robot.data, qi)
+        pin.forwardKinematics(robot.model, robot.data, robot.configuration(qi))
         for joint, frame in zip(range(1, robot.model.njoints), frames):
             np.testing.assert_allclose(frame, robot.data.oMi[joint].homogeneous, rtol=0, atol=1e-12)
 

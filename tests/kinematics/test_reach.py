@@ -4,7 +4,7 @@ joint's origin never leaves (placed by the tool pose), checked against forward k
 import numpy as np
 import pytest
 
-from conftest import AXIS_URDF, ROOT
+from conftest import AXIS_URDF, GEN3_URDF, ROOT
 from tribokin.kinematics.reach import REACH_MARGIN_M, last_joint_sphere, reach_sphere
 from tribokin.kinematics.robot import load_example_robot, load_urdf, tool_point_placement
 
@@ -13,17 +13,20 @@ ROBOTS = {
     "panda": lambda: load_example_robot("panda"),
     "gantry": lambda: load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf", "tool"),
     "axis": lambda: load_urdf(AXIS_URDF, "tool"),
+    "gen3": lambda: load_urdf(GEN3_URDF),  # continuous joints: no limits
     "ur5 with a tool offset": lambda: load_example_robot(
         "ur5", tool_offset=tool_point_placement([0.05, -0.1, 0.2], [10, 20, 30])),
 }
 
 
 def sampled_q(robot, count: int = 10_000) -> np.ndarray:
-    """(count, nv) random configurations [m or rad] within the limits, the limits' corners included."""
+    """(count, nv) random configurations [m or rad] within the limits (a continuous joint's within ±4 rad), the limits'
+    corners included."""
     rng = np.random.default_rng(5)
-    q = rng.uniform(robot.lower_limits, robot.upper_limits, (count, robot.model.nv))
+    lower, upper = np.maximum(robot.lower_limits, -4.0), np.minimum(robot.upper_limits, 4.0)
+    q = rng.uniform(lower, upper, (count, robot.model.nv))
     corners = rng.integers(0, 2, q.shape).astype(bool)
-    q[: count // 10] = np.where(corners, robot.lower_limits, robot.upper_limits)[: count // 10]
+    q[: count // 10] = np.where(corners, lower, upper)[: count // 10]
     return q
 
 
@@ -57,7 +60,8 @@ def test_the_tool_pose_places_the_last_joint_within_its_sphere(name):
         sphere.bounded_points_m(tool.translation, None)
 
 
-@pytest.mark.parametrize("name, slack", [("ur5", 0.05), ("panda", 0.1), ("gantry", 0.05), ("axis", 0.0)])
+@pytest.mark.parametrize("name, slack", [("ur5", 0.05), ("panda", 0.1), ("gantry", 0.05), ("axis", 0.0),
+                                         ("gen3", 0.05)])
 def test_the_sphere_is_not_much_larger_than_the_reach(name, slack):
     robot = ROBOTS[name]()
     sphere = reach_sphere(robot)

@@ -1,7 +1,10 @@
 """Robots: example-robot-data arms and URDFs, reduced to the tool's chain, with a tool point at an offset; errors
 list valid names."""
 
+from pathlib import Path
+
 import numpy as np
+import pinocchio as pin
 import pytest
 
 from conftest import AXIS_URDF, ROOT
@@ -12,7 +15,7 @@ from tribokin.kinematics.robot import TESTED_ROBOTS, load_example_robot, load_ur
 @pytest.mark.parametrize("name", TESTED_ROBOTS)
 def test_example_robots_load_with_one_dof_chains(name):
     robot = load_example_robot(name)
-    assert robot.model.nq == robot.model.nv == len(robot.joint_names) >= 5
+    assert robot.model.nq == robot.model.nv + robot.continuous.sum() and robot.model.nv == len(robot.joint_names) >= 5
     q = np.clip(robot.reference_q, robot.lower_limits, robot.upper_limits)
     assert np.all(np.isfinite(robot.tool_placement(q).translation))
     assert robot.tool_frame == [f.name for f in robot.model.frames][-1] or robot.tool_frame
@@ -21,6 +24,42 @@ def test_example_robots_load_with_one_dof_chains(name):
 def test_panda_fingers_are_locked():
     panda = load_example_robot("panda")
     assert panda.joint_names == [f"panda_joint{i}" for i in range(1, 8)]
+
+
+def test_a_urdf_in_a_robots_folder_of_its_own_reads_example_robot_datas_meshes():
+    """tiago (like kinova, anymal, solo) keeps its URDF in tiago_description/robots/, inside example-robot-data's
+    robots folder: its meshes resolve against the outer one (they were refused as outside the inner one)."""
+    tiago = load_example_robot("tiago", "arm_7_link")
+    meshes = [Path(geometry.meshPath).resolve() for geometry in tiago.visual_model.geometryObjects
+              if "/" in geometry.meshPath]  # not a primitive ("BOX")
+    assert len(meshes) > 20 and all(path.is_file() for path in meshes)
+    assert all("example-robot-data/robots/tiago_description/meshes/" in path.as_posix() for path in meshes)
+
+
+@pytest.mark.skipif(pin.WITH_SDFORMAT, reason="this Pinocchio reads SDF files")
+def test_a_robot_example_robot_data_cannot_load_is_refused_on_one_line():
+    with pytest.raises(RobotDescriptionError, match="example-robot-data cannot load 'cassie': its description is an "
+                       "SDF file, and this Pinocchio .* was built without SDF") as error:
+        load_example_robot("cassie")
+    assert error.value.argument == "name" and "\n" not in str(error.value)
+
+
+def test_a_reference_posture_outside_the_limits_is_brought_within_them():
+    """kinova's SRDF posture gives joint 3 -1.5707 rad, limited to [0.33, 5.95] rad: a whole turn on, the same
+    posture; panda_collision has none (0 rad), outside joint 4's [-3.07, -0.07] rad: clipped."""
+    kinova = load_example_robot("kinova")
+    assert kinova.reference_q[2] == pytest.approx(-1.5707 + 2 * np.pi, abs=1e-12)
+    assert kinova.reference_q[[0, 1, 3, 4, 5]].tolist() == [1.5707, 2.618, 3.1415, 2.618, 0.0]
+    assert load_example_robot("panda_collision").reference_q[3] == -0.0698
+
+
+def test_a_joint_without_travel_is_refused(tmp_path):
+    urdf = tmp_path / "stuck.urdf"
+    urdf.write_text(AXIS_URDF.read_text().replace('lower="0.0" upper="0.40"', 'lower="0.2" upper="0.2"'))
+    with pytest.raises(RobotDescriptionError, match=r"^joint 'x' moves the tool, but its limits \[0.2, 0.2\] leave "
+                       r"it no travel; give it a range \(the URDF's <limit lower=... upper=...>\), or make it "
+                       "continuous$"):
+        load_urdf(urdf, "tool")
 
 
 def test_unknown_robot_and_frame_list_the_valid_ones():
@@ -61,7 +100,7 @@ def configurations(robot, count=5, seed=3):
     """``count`` random configurations within the joint limits and a turn either way [rad]."""
     rng = np.random.default_rng(seed)
     return rng.uniform(np.maximum(robot.lower_limits, -np.pi), np.minimum(robot.upper_limits, np.pi),
-                       (count, robot.model.nq))
+                       (count, robot.model.nv))
 
 
 def test_a_tool_offset_is_a_point_fixed_to_the_tool_frame():

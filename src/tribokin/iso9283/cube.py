@@ -46,8 +46,7 @@ def candidate_postures(robot: Robot, samples: int = 256, keep: int = 4) -> list[
     """Well-conditioned working postures, best first: the reference posture and random
     postures within the limits (:func:`~tribokin.streams.posture_search`), ranked by the manipulability of the tool position."""
     rng = posture_search()
-    lower, upper = robot.lower_limits, robot.upper_limits
-    candidates = [robot.reference_q] + [rng.uniform(lower, upper) for _ in range(samples)]
+    candidates = [robot.reference_q] + [robot.random_configuration(rng) for _ in range(samples)]
     scores = np.round([position_manipulability(robot, q) for q in candidates], 9)
     return [candidates[i] for i in np.argsort(-scores, kind="stable")[:keep]]
 

@@ -1,18 +1,20 @@
 """The tool frame's placement and Jacobian at many configurations at once, in NumPy, for a robot's serial chain.
 
-The reduced models of :mod:`tribokin.kinematics.robot` are serial chains of 1-DoF joints. When every joint turns
-about or slides along a fixed axis of its own frame (Pinocchio's RX, RY, RZ, RevoluteUnaligned, PX, PY, PZ,
-PrismaticUnaligned), :func:`serial_chain` gives the chain's constants, :meth:`SerialChain.tool_in_joint` the tool
-frame's placement (Pinocchio's ``forwardKinematics`` and ``updateFramePlacement``) and
-:meth:`SerialChain.tool_jacobians` its Jacobian (``getFrameJacobian``) for a batch of configurations, as Pinocchio
-gives them one configuration at a time (to rounding, about 1e-15). For any other joint type (a helical joint, a
-mimic joint) :func:`serial_chain` gives ``None``, and callers keep Pinocchio's one-configuration path.
+The reduced models of :mod:`tribokin.kinematics.robot` are serial chains of 1-DoF joints. When every joint turns about
+or slides along a fixed axis of its own frame (Pinocchio's RX, RY, RZ, RevoluteUnaligned, their continuous RUBX, RUBY,
+RUBZ, RevoluteUnboundedUnaligned, and PX, PY, PZ, PrismaticUnaligned), :func:`serial_chain` gives the chain's constants,
+:meth:`SerialChain.tool_in_joint` the tool frame's placement (Pinocchio's ``forwardKinematics`` and
+``updateFramePlacement``) and :meth:`SerialChain.tool_jacobians` its Jacobian (``getFrameJacobian``) for a batch of
+configurations, as Pinocchio gives them one configuration at a time (to rounding, about 1e-15). For any other joint type
+(a helical joint, a mimic joint) :func:`serial_chain` gives ``None``, and callers keep Pinocchio's one-configuration
+path.
 
 Each link of the chain is a homogeneous transform (4 × 4): joint ``i``'s placement in its parent's frame times its
 motion, ``base + cos(q_i)·turn_cos + sin(q_i)·turn_sin + q_i·slide`` (Rodrigues' formula for a turning joint, a
-translation along the axis for a sliding one), and last the tool frame's placement in the last joint's frame. The
-products of the links from each joint to the tool (``tool_in_joint``) give both the tool's placement (from the
-first) and each joint's column of the tool Jacobian, in a few batched matrix products (a doubling scan).
+translation along the axis for a sliding one; a continuous joint's ``q_i`` is its angle, tribokin's value), and last the
+tool frame's placement in the last joint's frame. The products of the links from each joint to the tool
+(``tool_in_joint``) give both the tool's placement (from the first) and each joint's column of the tool Jacobian, in a
+few batched matrix products (a doubling scan).
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ from tribokin.kinematics.robot import Robot
 
 #: Pinocchio joint models whose motion is a rotation about, or a translation along, a fixed axis of their frame.
 AXIS_JOINTS = frozenset({"JointModelRX", "JointModelRY", "JointModelRZ", "JointModelRevoluteUnaligned",
+                         "JointModelRUBX", "JointModelRUBY", "JointModelRUBZ", "JointModelRevoluteUnboundedUnaligned",
                          "JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned"})
 
 
@@ -55,7 +58,7 @@ class SerialChain:
     def tool_in_joint(self, q) -> np.ndarray:
         """(k, n + 1, 4, 4) the tool frame's placement (homogeneous, [m]) in the base frame (index 0: as
         ``robot.tool_placement``) and in each joint's frame after its motion (index ``i + 1`` for joint ``i``), at
-        configurations ``q`` (k, nq) [m or rad]."""
+        configurations ``q`` (k, nv) [m or rad]."""
         q = np.asarray(q, dtype=float).reshape(-1, len(self.turn_axes))
         angles = np.zeros((len(q), len(self.base)))
         angles[:, :-1] = q
@@ -127,7 +130,7 @@ def _build_serial_chain(robot: Robot) -> SerialChain | None:
     model = robot.model
     joints = list(model.joints)[1:]
     order = list(range(len(joints)))
-    serial = list(model.parents)[1:] == order and [j.idx_q for j in joints] == order and \
+    serial = list(model.parents)[1:] == order and [j.idx_v for j in joints] == order and \
         model.frames[robot.tool_frame_id].parentJoint == len(joints)
     if not serial or any(joint.shortname() not in AXIS_JOINTS for joint in joints):
         return None

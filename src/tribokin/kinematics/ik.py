@@ -1,5 +1,9 @@
 """Inverse kinematics of the tool frame: damped least squares within joint limits, for one target
-(:func:`solve_ik`, Pinocchio) or many at once (:func:`solve_ik_batch`, NumPy, :mod:`tribokin.kinematics.chain`)."""
+(:func:`solve_ik`, Pinocchio) or many at once (:func:`solve_ik_batch`, NumPy, :mod:`tribokin.kinematics.chain`).
+
+A continuous joint has no limits: its angle is never clipped, and a solution gives it in [-π, π]
+(:meth:`~tribokin.kinematics.robot.Robot.wrapped`). Steps add to tribokin's joint values (one per joint), which is
+Pinocchio's ``integrate`` for every joint, the continuous ones included."""
 
 from __future__ import annotations
 
@@ -39,7 +43,8 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
     """Configuration that puts the tool frame at ``target``, from ``q_start``.
 
     Damped least squares on the frame error ``log6(M^-1 M_target)`` (tool frame),
-    each step clipped to the joint limits. ``position_only`` ignores orientation. Gives up
+    each step clipped to the joint limits; the solution's continuous angles wrapped into [-π, π]. ``position_only``
+    ignores orientation. Gives up
     after ``iterations``, or, given a ``patience``, once that many iterations in a row have not
     cut the error [m + rad] by 0.1 % (stuck at a joint limit or in a local minimum).
 
@@ -61,7 +66,7 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
         if cycle is not None:  # the iterate of the cycle's start this many iterations on
             q, position_error, angle_error = iterates[cycle[0] + (iteration - cycle[0]) % cycle[1]]
         else:
-            pin.computeJointJacobians(model, data, q)  # forward kinematics and joint Jacobians in one pass
+            pin.computeJointJacobians(model, data, robot.configuration(q))  # forward kinematics and Jacobians in one pass
             current = pin.updateFramePlacement(model, data, frame)
             gap = goal - current.translation
             position_error = math.sqrt(gap @ gap)
@@ -86,8 +91,8 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
         _, step, _ = dposv(jacobian @ jacobian.T + regularisation, error)  # SPD: Cholesky, without numpy's checks
         step = jacobian.T @ step
         q = np.minimum(np.maximum(q + step, lower), upper)
-    return IKResult(q, position_error, angle_error, _succeeded(converged, position_error, angle_error, position_tol_m,
-                                                               angle_tol_rad))
+    return IKResult(robot.wrapped(q), position_error, angle_error, _succeeded(converged, position_error, angle_error,
+                                                                              position_tol_m, angle_tol_rad))
 
 
 def _succeeded(converged, position_error_m, angle_error_rad, position_tol_m: float, angle_tol_rad: float):
@@ -98,18 +103,18 @@ def _succeeded(converged, position_error_m, angle_error_rad, position_tol_m: flo
 
 def solve_ik_with_restarts(robot: Robot, target: pin.SE3, q_start, rng, restarts: int = 8,
                            **options) -> IKResult:
-    """:func:`solve_ik` from ``q_start``, then from random configurations within limits until one succeeds
-    (each restart given up once it stalls for ``STALL_ITERATIONS``).
+    """:func:`solve_ik` from ``q_start``, then from random configurations within limits
+    (:meth:`~tribokin.kinematics.robot.Robot.random_configuration`) until one succeeds (each restart given up once it
+    stalls for ``STALL_ITERATIONS``).
 
     ``rng``: a :class:`numpy.random.Generator`, or a function making one (called only if a restart is needed).
     """
     best = solve_ik(robot, target, q_start, **options)
-    lower, upper = robot.lower_limits, robot.upper_limits
     for _ in range(restarts):
         if best.success:
             break
         rng = rng() if callable(rng) else rng
-        attempt = solve_ik(robot, target, rng.uniform(lower, upper), patience=STALL_ITERATIONS, **options)
+        attempt = solve_ik(robot, target, robot.random_configuration(rng), patience=STALL_ITERATIONS, **options)
         if attempt.success or attempt.position_error_m < best.position_error_m:
             best = attempt
     return best
@@ -122,8 +127,8 @@ def solve_ik_batch(chain: SerialChain, rotation: np.ndarray, positions_m: np.nda
     ``positions_m`` (k, 3) [m], turned by ``rotation`` (3, 3) in the base frame (ignored when ``position_only``), from
     ``q_start`` (k, nv) [m or rad].
 
-    The same iteration, error, damping, clipping, convergence tests and success rule as :func:`solve_ik`, each target
-    stopping when it converges, in NumPy (:class:`~tribokin.kinematics.chain.SerialChain`,
+    The same iteration, error, damping, clipping, wrapping, convergence tests and success rule as :func:`solve_ik`,
+    each target stopping when it converges, in NumPy (:class:`~tribokin.kinematics.chain.SerialChain`,
     :mod:`~tribokin.kinematics.se3_log`) for its first ``BATCH_ITERATIONS`` iterations, then alone through
     :func:`solve_ik` from where it is: its iterates differ from :func:`solve_ik`'s by rounding only, and do not depend
     on the other targets of the batch.
@@ -164,4 +169,4 @@ def solve_ik_batch(chain: SerialChain, rotation: np.ndarray, positions_m: np.nda
                          position_only, iterations - BATCH_ITERATIONS, damping)
         q[k], position_error[k], angle_error[k], success[k] = alone.q, alone.position_error_m, alone.angle_error_rad, \
             alone.success
-    return IKResult(q, position_error, angle_error, success)
+    return IKResult(chain.robot.wrapped(q), position_error, angle_error, success)

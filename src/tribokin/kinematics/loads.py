@@ -72,6 +72,7 @@ class BearingLoads:
     def __init__(self, robot: Robot, payload_kg: float, bearing_span_m):
         self.model = with_payload(robot, payload_kg)
         self.data = self.model.createData()
+        self.configuration = robot.configuration  # Pinocchio's configuration of tribokin's q (the same joints)
         self.span_m = np.asarray(bearing_span_m, dtype=float)
         self.prismatic = robot.joint_is_prismatic
         self.axes = robot.motion_axes
@@ -83,11 +84,11 @@ class BearingLoads:
     def wrenches(self, q) -> np.ndarray:
         """(nv, 6) static wrench (force [N], moment [N·m]) transmitted by each active joint, in its joint frame."""
         zero = np.zeros(self.model.nv)
-        pin.rnea(self.model, self.data, np.asarray(q, dtype=float), zero, zero)
+        pin.rnea(self.model, self.data, self.configuration(q), zero, zero)
         return np.array([self.data.f[i].vector for i in range(1, self.model.njoints)])
 
     def chain_wrenches(self, q: np.ndarray, placements: np.ndarray | None = None) -> np.ndarray:
-        """(k, nv, 6) :meth:`wrenches` at configurations (k, nq) of a serial chain, in one pass: joint i holds up the
+        """(k, nv, 6) :meth:`wrenches` at configurations (k, nv) of a serial chain, in one pass: joint i holds up the
         weights w_j of bodies j >= i, f_i = -Σ w_j and m_i = -Σ (c_j - o_i) × w_j in world axes (c_j the bodies'
         centres of mass, o_i the joint's origin), turned into joint i's frame; from the configurations' ``placements``
         (the chain's :meth:`~tribokin.kinematics.chain.SerialChain.tool_in_joint`) when given."""
@@ -103,8 +104,8 @@ class BearingLoads:
         return np.concatenate([(local @ forces[..., None])[..., 0], (local @ moments[..., None])[..., 0]], axis=-1)
 
     def __call__(self, q, placements: np.ndarray | None = None) -> np.ndarray:
-        """Bearing load N_i [N] of every active joint at configuration ``q`` (nq,), or (poses, nv) at
-        configurations (poses, nq): for a serial chain (:func:`~tribokin.kinematics.chain.serial_chain`) from one
+        """Bearing load N_i [N] of every active joint at configuration ``q`` (nv,), or (poses, nv) at
+        configurations (poses, nv): for a serial chain (:func:`~tribokin.kinematics.chain.serial_chain`) from one
         batched statics pass (:meth:`chain_wrenches`, RNEA's to rounding; ``placements``: its ``tool_in_joint`` at
         the configurations, if already computed), else by RNEA at each."""
         q = np.asarray(q, dtype=float)

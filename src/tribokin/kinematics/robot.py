@@ -3,7 +3,14 @@
 The joints that move the tool frame (its kinematic chain from the base) are
 the robot's *active joints*; every other joint (gripper fingers, a floating
 base) is locked at the robot's reference posture. Only one-degree-of-freedom
-joints (revolute, prismatic) may be active.
+joints (revolute, continuous, prismatic) may be active. The default tool frame
+is the end of the model's longest chain (:mod:`tribokin.kinematics.tool_frames`).
+
+tribokin gives a configuration as one value per active joint (``q``, length nv: [m] or [rad]). Pinocchio gives a
+continuous joint (a revolute joint without limits, ``JointModelRUBX/Y/Z``) two: the cosine and sine of its angle
+(nq = 2, nv = 1). :meth:`Robot.configuration` turns tribokin's ``q`` into Pinocchio's wherever Pinocchio is called, so
+``q + dq`` is Pinocchio's ``integrate`` for every joint, and a continuous joint's angle is never clipped, only wrapped
+into [-π, π] by the IK (:meth:`Robot.wrapped`).
 
 A *tool offset* (:func:`tool_point_placement`) places a tool point (a probe's tip, a tracker's reflector) on the tool
 frame: a translation [m] and a rotation from roll, pitch, yaw [deg], both expressed in the tool frame. The
@@ -17,6 +24,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import io
+import math
 import warnings
 import xml.etree.ElementTree as ET
 from collections import Counter
@@ -27,11 +35,12 @@ import numpy as np
 import pinocchio as pin
 
 from tribokin.errors import ConfigurationError, RobotDescriptionError, closest_hint
+from tribokin.kinematics.tool_frames import ToolFrames, default_tool_frame, tool_frames
 from tribokin.kinematics.urdf_meshes import confine_meshes
 from tribokin.kinematics.urdf_xacro import urdf_text
 
 #: example-robot-data names tested with tribokin (any fixed-base arm it ships should load).
-TESTED_ROBOTS = ("ur3", "ur5", "ur10", "panda", "xarm7", "z1", "so100")
+TESTED_ROBOTS = ("ur3", "ur5", "ur10", "panda", "xarm7", "z1", "so100", "kinova")
 
 
 def example_robot_names() -> list[str]:
@@ -39,6 +48,11 @@ def example_robot_names() -> list[str]:
     from example_robot_data.robots_loader import ROBOTS
 
     return sorted(ROBOTS)
+
+
+def wrap_angles(angles):
+    """``angles`` [rad] shifted by whole turns into [-π, π] (unchanged, to the bit, within it)."""
+    return angles - 2 * math.pi * np.round(np.asarray(angles) / (2 * math.pi))
 
 
 @dataclass
@@ -49,9 +63,11 @@ class Robot:
         model: the reduced model; its joints are the active joints, in chain order.
         tool_frame: name of the frame whose pose is measured (``<frame>_tool_point`` when a tool offset is given).
         label: robot name or URDF path, for reports.
-        reference_q: (nq,) a typical working posture [m or rad] (example-robot-data's, else mid-range).
+        reference_q: (nv,) a typical working posture [m or rad] (example-robot-data's, else mid-range), within the
+            limits (:func:`_within_limits`).
         visual_model, collision_model: geometry models (may be ``None``).
         joint_is_prismatic: (nv,) True for prismatic joints (deviations in [m]), False for revolute ([rad]).
+        continuous: (nv,) True for continuous joints (revolute, no limits; two values in Pinocchio's configuration).
         motion_axes: (nv, 3) unit motion axis of each joint in its own frame (linear or angular).
     """
 
@@ -70,6 +86,16 @@ class Robot:
         self.joint_is_prismatic = np.linalg.norm(subspaces[:, :3], axis=1) > 0
         axes = np.where(self.joint_is_prismatic[:, None], subspaces[:, :3], subspaces[:, 3:])
         self.motion_axes = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+        joints = list(self.model.joints)[1:]
+        self.continuous = np.array([joint.nq == 2 for joint in joints], dtype=bool)
+        self._has_continuous = bool(self.continuous.any())
+        q_index = np.array([joint.idx_q for joint in joints], dtype=int)  # a joint's value (or cosine) in nq
+        self._plain, self._turning = np.flatnonzero(~self.continuous), np.flatnonzero(self.continuous)
+        self._plain_q, self._cosine_q = q_index[self._plain], q_index[self._turning]
+        self._lower = np.where(self.continuous, -np.inf, np.asarray(self.model.lowerPositionLimit)[q_index])
+        self._upper = np.where(self.continuous, np.inf, np.asarray(self.model.upperPositionLimit)[q_index])
+        self._drawn = (np.where(self.continuous, -math.pi, self._lower),
+                       np.where(self.continuous, math.pi, self._upper))
 
     @property
     def joint_names(self) -> list[str]:
@@ -78,27 +104,50 @@ class Robot:
 
     @property
     def lower_limits(self) -> np.ndarray:
-        """Lower position limits [m or rad]."""
-        return np.asarray(self.model.lowerPositionLimit, dtype=float)
+        """(nv,) lower position limits [m or rad] (``-inf`` for a continuous joint)."""
+        return self._lower
 
     @property
     def upper_limits(self) -> np.ndarray:
-        """Upper position limits [m or rad]."""
-        return np.asarray(self.model.upperPositionLimit, dtype=float)
+        """(nv,) upper position limits [m or rad] (``inf`` for a continuous joint)."""
+        return self._upper
+
+    def configuration(self, q) -> np.ndarray:
+        """Pinocchio's configuration (..., nq) of joint values ``q`` (..., nv) [m or rad]: a continuous joint's angle
+        becomes its cosine and sine; ``q`` itself (as a float array) when the robot has no continuous joint."""
+        q = np.asarray(q, dtype=float)
+        if not self._has_continuous:
+            return q
+        configuration = np.empty(q.shape[:-1] + (self.model.nq,))
+        configuration[..., self._plain_q] = q[..., self._plain]
+        angles = q[..., self._turning]
+        configuration[..., self._cosine_q] = np.cos(angles)
+        configuration[..., self._cosine_q + 1] = np.sin(angles)
+        return configuration
+
+    def wrapped(self, q) -> np.ndarray:
+        """``q`` (..., nv) [m or rad], each continuous joint's angle brought into [-π, π] (:func:`wrap_angles`)."""
+        return np.where(self.continuous, wrap_angles(q), q) if self._has_continuous else q
+
+    def random_configuration(self, rng: np.random.Generator) -> np.ndarray:
+        """(nv,) a configuration drawn uniformly within the joint limits [m or rad], a continuous joint's angle in
+        [-π, π] (one ``rng.uniform`` call over the joints)."""
+        return rng.uniform(*self._drawn)
 
     def tool_placement(self, q) -> pin.SE3:
         """Pose of the tool frame in the world (base) frame at configuration ``q``."""
-        pin.forwardKinematics(self.model, self.data, np.asarray(q, dtype=float))
+        pin.forwardKinematics(self.model, self.data, self.configuration(q))
         return pin.updateFramePlacement(self.model, self.data, self.tool_frame_id).copy()
 
     def tool_jacobian(self, q) -> np.ndarray:
         """(6, nv) Jacobian of the tool frame, LOCAL_WORLD_ALIGNED: rows (linear [m/unit], angular [rad/unit])."""
-        jacobian = pin.computeFrameJacobian(self.model, self.data, np.asarray(q, dtype=float), self.tool_frame_id,
+        jacobian = pin.computeFrameJacobian(self.model, self.data, self.configuration(q), self.tool_frame_id,
                                             pin.LOCAL_WORLD_ALIGNED)
         return np.asarray(jacobian).reshape(6, self.model.nv)
 
     def check_configuration(self, q) -> np.ndarray:
-        """``q`` as an array, or a :class:`ConfigurationError` if its length or limits are wrong."""
+        """``q`` as an array, or a :class:`ConfigurationError` if its length or limits are wrong (a continuous
+        joint's angle has none)."""
         try:
             q = np.asarray(q, dtype=float)
         except (TypeError, ValueError):
@@ -165,13 +214,20 @@ def _add_tool_point(model: pin.Model, tool_frame: str, offset: pin.SE3) -> str:
     return name
 
 
+def _joint_value(joint, q) -> float:
+    """A 1-DoF joint's value [m or rad] in Pinocchio's configuration ``q``: a continuous joint's angle from its
+    cosine and sine."""
+    return math.atan2(q[joint.idx_q + 1], q[joint.idx_q]) if joint.nq == 2 else float(q[joint.idx_q])
+
+
 def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, offset=None) -> Robot:
-    """Lock every joint that does not move ``tool_frame``; check the rest are 1-DoF; add the tool point at
-    ``offset`` (:func:`tool_point_placement`) in ``tool_frame``, if given."""
+    """Lock every joint that does not move ``tool_frame`` (default: :func:`~.tool_frames.default_tool_frame`); check the
+    rest are 1-DoF with some travel; bring the reference posture within their limits (:func:`_within_limits`); add the
+    tool point at ``offset`` (:func:`tool_point_placement`) in ``tool_frame``, if given."""
     _make_frame_names_unique(model)
     frames = [f.name for f in model.frames]
     if tool_frame is None:
-        tool_frame = frames[-1]
+        tool_frame = default_tool_frame(model, label)
     elif tool_frame not in frames:
         raise RobotDescriptionError(f"unknown frame '{tool_frame}'{closest_hint(tool_frame, frames)}; frames of "
                                     f"{label}: {', '.join(frames[1:])}", "tool_frame")
@@ -184,15 +240,34 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, o
         else:
             model, (visual, collision) = pin.buildReducedModel(model, [visual, collision], locked, reference_q)
     for joint, name in zip(model.joints[1:], list(model.names)[1:]):
-        if joint.nq != 1 or joint.nv != 1:
+        if joint.nv != 1 or joint.nq > 2:
             raise RobotDescriptionError(f"joint '{name}' ({joint.shortname()}) moves the tool but is not a 1-DoF "
-                                        "revolute or prismatic joint; tribokin cannot model it")
+                                        "revolute, continuous or prismatic joint; tribokin cannot model it")
     if model.nq == 0:
         raise RobotDescriptionError(f"frame '{tool_frame}' is not moved by any joint", "tool_frame")
-    kept_q = np.array([reference_q[full.joints[full.getJointId(name)].idx_q] for name in list(model.names)[1:]])
+    kept_q = np.array([_joint_value(full.joints[full.getJointId(name)], reference_q) for name in list(model.names)[1:]])
     if offset is not None:
         tool_frame = _add_tool_point(model, tool_frame, offset)
-    return Robot(model, tool_frame, label, kept_q, visual, collision)
+    robot = Robot(model, tool_frame, label, kept_q, visual, collision)
+    for name, low, high in zip(robot.joint_names, robot.lower_limits, robot.upper_limits):
+        if not high > low:
+            raise RobotDescriptionError(f"joint '{name}' moves the tool, but its limits [{low:g}, {high:g}] leave it "
+                                        "no travel; give it a range (the URDF's <limit lower=... upper=...>), or make "
+                                        "it continuous")
+    robot.reference_q = _within_limits(kept_q, robot)
+    return robot
+
+
+def _within_limits(q: np.ndarray, robot: Robot) -> np.ndarray:
+    """``q`` (nv,) [m or rad] within ``robot``'s limits: a revolute joint's angle outside them moved by whole turns
+    where that lands inside (kinova's reference posture gives -π/2 rad to a joint limited to [0.33, 5.95] rad), else
+    clipped."""
+    lower, upper = robot.lower_limits, robot.upper_limits
+    outside = (q < lower) | (q > upper)
+    if not outside.any():
+        return q
+    turned = q + 2 * math.pi * np.ceil((np.where(outside, lower, q) - q) / (2 * math.pi))  # the first turn above lower
+    return np.clip(np.where(outside & ~robot.joint_is_prismatic & (turned <= upper), turned, q), lower, upper)
 
 
 def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset: pin.SE3 | None = None,
@@ -202,7 +277,8 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
 
     Args:
         path: the URDF file.
-        tool_frame: frame whose pose is measured (default: the model's last frame).
+        tool_frame: frame whose pose is measured (default: the end of the model's longest chain,
+            :mod:`tribokin.kinematics.tool_frames`).
         package_dirs: folders that ``package://`` mesh URIs resolve against, and the only folders
             meshes may be read from (default: the URDF's folder and its parent).
         tool_offset: placement of the tool point in ``tool_frame`` (translation [m], rotation;
@@ -215,8 +291,15 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
         RobotDescriptionError: a missing or malformed URDF (or xacro), a mesh outside ``package_dirs``
             (:func:`tribokin.kinematics.urdf_meshes.confine_meshes`, before Pinocchio reads any file), with
             ``meshes`` a mesh not found or not readable, an unknown tool frame, a joint moving the tool that is
-            not 1-DoF.
+            not 1-DoF, no default tool frame (a floating base whose longest chains are separate limbs).
     """
+    return _reduce_to_chain(*_read_urdf(path, package_dirs, meshes, xacro_args), tool_frame, str(path), tool_offset)
+
+
+def _read_urdf(path, package_dirs=(), meshes: bool = True, xacro_args: dict[str, str] | None = None
+               ) -> tuple[pin.Model, pin.GeometryModel | None, pin.GeometryModel | None, np.ndarray]:
+    """The whole model of the URDF (or xacro) at ``path`` (:func:`load_urdf`), its geometry models (``None`` without
+    ``meshes``) and its reference posture: each 1-DoF joint at mid-range, the rest neutral."""
     path = Path(path)
     if not path.is_file():
         raise RobotDescriptionError(f"URDF file '{path}' not found", "path")
@@ -240,21 +323,40 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
         except (RuntimeError, ValueError) as error:
             raise RobotDescriptionError(f"cannot read the meshes of URDF '{path}': {_loader_message(error)}",
                                         "path") from None
-    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
-    mid_range = np.where(np.isfinite(lower) & np.isfinite(upper) & (upper - lower < 1e3), (lower + upper) / 2,
-                         pin.neutral(model))
-    return _reduce_to_chain(model, visual, collision, mid_range, tool_frame, str(path), tool_offset)
+    mid_range = pin.neutral(model)
+    for joint in model.joints[1:]:  # a 1-DoF joint's mid-range; the rest (a continuous joint's cosine and sine) neutral
+        low, high = model.lowerPositionLimit[joint.idx_q], model.upperPositionLimit[joint.idx_q]
+        if joint.nq == 1 and np.isfinite(low) and np.isfinite(high) and high - low < 1e3:
+            mid_range[joint.idx_q] = (low + high) / 2
+    return model, visual, collision, mid_range
 
 
 def load_example_robot(name: str, tool_frame: str | None = None, tool_offset: pin.SE3 | None = None) -> Robot:
     """Load a robot that example-robot-data ships, by name (e.g. ``"ur5"``); ``tool_frame`` and ``tool_offset``
     as for :func:`load_urdf`."""
+    _check_robot_name(name)
+    model, visual, collision, reference_q = _example_robot(name)
+    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name, tool_offset)
+
+
+def _check_robot_name(name: str) -> None:
+    """Refuse a name example-robot-data does not know, listing those it does."""
     names = example_robot_names()
     if name not in names:
         raise RobotDescriptionError(f"unknown robot '{name}'{closest_hint(name, names)}; valid names: "
                                     f"{', '.join(names)}", "name")
-    model, visual, collision, reference_q = _example_robot(name)
-    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name, tool_offset)
+
+
+def candidate_tool_frames(robot: str) -> ToolFrames:
+    """The frames that could be the tool frame of ``robot`` (an example-robot-data name, or a URDF file's path), and
+    its default (:func:`~tribokin.kinematics.tool_frames.tool_frames`)."""
+    if robot.lower().endswith(".urdf") or Path(robot).is_file():
+        model = _read_urdf(Path(robot), meshes=False)[0]
+    else:
+        _check_robot_name(robot)
+        model = pin.Model(_example_robot(robot)[0])
+    _make_frame_names_unique(model)
+    return tool_frames(model, robot)
 
 
 @functools.lru_cache(maxsize=None)
@@ -265,11 +367,18 @@ def _example_robot(name: str):
     Its meshes must lie inside example-robot-data's ``robots`` folder; they are checked after
     example-robot-data has loaded them (its files, named by no user input).
     """
-    import example_robot_data
+    from example_robot_data.robots_loader import loader
 
-    wrapper = _quiet(example_robot_data.load, name)
-    urdf = Path(wrapper.urdf).resolve()
-    robots = next((p for p in urdf.parents if p.name == "robots"), urdf.parent)
+    try:
+        robot_loader = _quiet(loader, name)
+    except (ImportError, OSError, RuntimeError, ValueError) as error:
+        reason = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
+        if "SDF" in reason and not pin.WITH_SDFORMAT:
+            reason = f"its description is an SDF file, and this Pinocchio ({pin.__version__}) was built without SDF"
+        raise RobotDescriptionError(f"example-robot-data cannot load '{name}': {reason}", "name") from None
+    wrapper = robot_loader.robot
+    urdf = Path(robot_loader.df_path).resolve()
+    robots = Path(robot_loader.model_path).resolve()  # its robots folder (a URDF may lie in a robots folder inside it)
     confine_meshes(ET.parse(urdf).getroot(), urdf, [robots.parent.parent], allowed_dirs=[robots])
     reference_q = wrapper.q0 if wrapper.q0 is not None else pin.neutral(wrapper.model)
     return wrapper.model, wrapper.visual_model, wrapper.collision_model, np.asarray(reference_q)

@@ -23,7 +23,7 @@ import pinocchio as pin
 from tribokin.kinematics.chain import SerialChain, serial_chain
 from tribokin.kinematics.ik import IKResult, solve_ik, solve_ik_batch, solve_ik_with_restarts
 from tribokin.kinematics.reach import ReachSphere
-from tribokin.kinematics.robot import Robot
+from tribokin.kinematics.robot import Robot, wrap_angles
 from tribokin.maps.grid import TargetGrid, axis_steps, grid_neighbours
 from tribokin.streams import ik_restart_stream
 
@@ -97,11 +97,14 @@ def solve_row_heads(robot: Robot, grid: TargetGrid) -> np.ndarray:
     return heads
 
 
-def extrapolate_rows(q: np.ndarray, streaks: np.ndarray) -> np.ndarray:
+def extrapolate_rows(q: np.ndarray, streaks: np.ndarray, continuous: np.ndarray | None = None) -> np.ndarray:
     """Warm starts (rows, nv) [m or rad] for the next target of each row: the polynomial through the configurations
     ``q`` (rows, columns, nv) of the row's last reached targets, one step further. ``streaks`` (rows,): how many
     targets right before the next one were reached (up to ``EXTRAPOLATION_POINTS`` are used); NaN for the rows with
-    fewer than two."""
+    fewer than two. ``continuous`` (nv,): joints whose angles (IK gives them in [-π, π]) are first unwrapped about the
+    last target's, so a row crossing ±π extrapolates smoothly."""
+    if continuous is not None and continuous.any() and q.shape[1]:
+        q = np.where(continuous, q[:, -1:] + wrap_angles(q - q[:, -1:]), q)
     counts = np.minimum(streaks, EXTRAPOLATION_POINTS)
     predicted = np.full((len(q), q.shape[2]), np.nan)
     for count in range(2, EXTRAPOLATION_POINTS + 1):
@@ -154,7 +157,7 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True
     streaks = np.zeros(len(indices), dtype=int)  # targets reached right before the column, in each row
     for column in range(grid.row_length):
         within = np.isnan(closest[:, column, 0])
-        predicted = extrapolate_rows(q[:, :column], streaks)
+        predicted = extrapolate_rows(q[:, :column], streaks, robot.continuous)
         warm = np.flatnonzero(within & ~np.isnan(predicted[:, 0]))
         if len(warm):
             first = _solve_from_warm_starts(robot, chain, grid, indices[warm, column], positions[warm, column],

@@ -16,8 +16,9 @@ def tool_deviations_exact(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[
     """Tool poses by exact forward kinematics, one Pinocchio call per sample (the reference engine).
 
     Args:
-        robot: the robot; its active joints are all 1-DoF, so q + dq is the configuration reached.
-        q: (nq,) commanded configuration [m or rad].
+        robot: the robot; its active joints are all 1-DoF, so q + dq is the configuration reached (for a continuous
+            joint too: its angle, :meth:`~tribokin.kinematics.robot.Robot.configuration`).
+        q: (nv,) commanded configuration [m or rad].
         dq: (n, nv) joint deviations of each cycle [m or rad].
 
     Returns:
@@ -29,7 +30,7 @@ def tool_deviations_exact(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[
     commanded_rotation = robot.tool_placement(q).rotation
     positions = np.empty((len(dq), 3))
     angles = np.empty((len(dq), 3))
-    for j, q_reached in enumerate(np.asarray(q, dtype=float) + dq):
+    for j, q_reached in enumerate(robot.configuration(np.asarray(q, dtype=float) + dq)):
         pin.forwardKinematics(model, data, q_reached)
         placement = pin.updateFramePlacement(model, data, frame)
         positions[j] = placement.translation
@@ -54,14 +55,14 @@ def tool_deviations(robot: Robot, q: np.ndarray, dq: np.ndarray, engine: str = "
 
 
 def tool_frames(robot: Robot, qs: np.ndarray, placements: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Joint twists about the tool origin (poses, 6, nv) and tool positions (poses, 3) [m] at configurations (poses, nq);
+    """Joint twists about the tool origin (poses, 6, nv) and tool positions (poses, 3) [m] at configurations (poses, nv);
     for a serial chain (:func:`~tribokin.kinematics.chain.serial_chain`) in one batched pass, Pinocchio's to rounding,
     from the configurations' ``placements`` (its :meth:`~tribokin.kinematics.chain.SerialChain.tool_in_joint`) when
     given."""
     chain = serial_chain(robot)
     if chain is not None:
         if placements is None:
-            placements = chain.tool_in_joint(np.asarray(qs, dtype=float).reshape(-1, robot.model.nq))
+            placements = chain.tool_in_joint(np.asarray(qs, dtype=float).reshape(-1, robot.model.nv))
         return chain.world_jacobians(placements), placements[:, 0, :3, 3].copy()
     return (np.array([tool_twists(robot, q) for q in qs]).reshape(len(qs), 6, robot.model.nv),
             np.array([robot.tool_placement(q).translation for q in qs]).reshape(len(qs), 3))
@@ -72,7 +73,7 @@ def tool_deviations_at_poses(robot: Robot, qs: np.ndarray, dq: np.ndarray, engin
     """:func:`tool_deviations` at several poses at once; each pose's values depend on its own inputs only.
 
     Args:
-        qs: (poses, nq) commanded configurations; dq: (poses, n, nv) deviations [m or rad].
+        qs: (poses, nv) commanded configurations; dq: (poses, n, nv) deviations [m or rad].
         twists, translations: the poses' :func:`tool_frames`.
 
     Returns:

@@ -366,7 +366,7 @@ def tool_deviations_fast(robot: Robot, q: np.ndarray, dq: np.ndarray, order: int
 
     Args:
         robot: the robot; its active joints are all 1-DoF.
-        q: (nq,) commanded configuration [m or rad].
+        q: (nv,) commanded configuration [m or rad].
         dq: (n, nv) joint deviations of each cycle [m or rad].
         order: force this truncation order (1 to ``MAX_ORDER``); by default the lowest one whose
             bounds meet the tolerances (``MAX_ORDER`` if none does: check ``bound``).

@@ -96,7 +96,7 @@ class PoseRunner:
         return forces
 
     def normal_forces_at(self, q: np.ndarray, placements: np.ndarray | None = None) -> np.ndarray:
-        """Bearing loads [N] at configuration ``q`` (nq,) or configurations (poses, nq): each joint's
+        """Bearing loads [N] at configuration ``q`` (nv,) or configurations (poses, nv): each joint's
         fixed value, else statics (from ``placements``, the robot's serial chain's
         :meth:`~tribokin.kinematics.chain.SerialChain.tool_in_joint` at ``q``, when given); refused
         (:meth:`check_travel`) if they would move a joint beyond its range."""

@@ -2,9 +2,10 @@
 
 For each measured pose:
 
-- its configuration: the mean of its rows' ``q_<joint>`` (the file must name every joint of the tool's chain),
-  else solved by IK from its mean commanded position (``cx, cy, cz``, base frame), the tool held at
-  ``calibration.tool_rpy_deg`` when given, else for position only from the robot's reference posture;
+- its configuration: the mean of its rows' ``q_<joint>`` (the file must name every joint of the tool's chain; a
+  continuous joint's mean is circular, :func:`read_robot_measurements`), else solved by IK from its mean commanded
+  position (``cx, cy, cz``, base frame), the tool held at ``calibration.tool_rpy_deg`` when given, else for position
+  only from the robot's reference posture;
 - the position Jacobian of the tool point there, and the mean and standard deviation of every joint's friction
   torque (force) under the bearing loads at that configuration
   (:func:`~tribokin.simulation.joint_errors.friction_torque_moments`);
@@ -31,7 +32,7 @@ from tribokin.errors import InputError, located
 from tribokin.iso9283.cube import label_approach_signs
 from tribokin.kinematics.ik import solve_ik_with_restarts
 from tribokin.kinematics.robot import Robot
-from tribokin.measurement.contract import Measurements, Pose
+from tribokin.measurement.contract import Measurements, Pose, read_measurements
 from tribokin.measurement.figures import pose_clouds
 from tribokin.measurement.registration import Registration, register_measurements
 from tribokin.simulation.joint_errors import JointErrorModel, friction_torque_moments
@@ -61,7 +62,7 @@ class CalibrationInput:
         model: the study's joint model with the parameters ``[calibration]`` frees.
         poses: per measured pose with a series of known approach (in file order) its kinematics, friction and
             series.
-        configurations: (n_poses, nq) the configuration of each of ``poses`` [rad or m].
+        configurations: (n_poses, nv) the configuration of each of ``poses`` [rad or m].
         configuration_source: how they were found (the file's ``q_`` columns, or IK of commanded positions).
         registration: of the measuring frame to the base, or None (the points are in the measuring frame).
         left_out: series without a known approach, not used.
@@ -73,6 +74,14 @@ class CalibrationInput:
     configuration_source: str
     registration: Registration | None
     left_out: tuple[LeftOut, ...]
+
+
+def read_robot_measurements(path, robot: Robot) -> Measurements:
+    """The measurement file at ``path`` (:func:`~tribokin.measurement.contract.read_measurements`), its ``q_`` columns
+    read as ``robot``'s joints: lengths [m] for prismatic ones, circular means of angles [rad] for continuous ones (rows
+    on either side of ±π are one configuration)."""
+    return read_measurements(path, prismatic=[n for n, p in zip(robot.joint_names, robot.joint_is_prismatic) if p],
+                             continuous=[n for n, c in zip(robot.joint_names, robot.continuous) if c])
 
 
 def calibration_model(study: Study, robot: Robot, models: list[JointErrorModel]) -> JointModel:
@@ -118,7 +127,7 @@ def _configuration_by_ik(study: Study, robot: Robot, measurements: Measurements,
 
 
 def configurations(study: Study, robot: Robot, measurements: Measurements) -> tuple[np.ndarray, str]:
-    """(n_poses, nq) the measured poses' configurations and how they were found (module docstring)."""
+    """(n_poses, nv) the measured poses' configurations and how they were found (module docstring)."""
     names = robot.joint_names
     if measurements.joints:
         for name in measurements.joints:

@@ -277,12 +277,12 @@ def _spec(cls, checked: dict):
 
 @dataclass(frozen=True)
 class RobotSpec:
-    """The ``[robot]`` table: a ``urdf`` file (its meshes under ``package_dirs``) or an example-robot-data
-    ``name``, the ``tool_frame`` (``None``: the last frame), the ``payload_kg`` [kg] and the tool point's offset in
-    the tool frame, ``tool_offset_m`` [m] and ``tool_offset_rpy_deg`` (roll, pitch, yaw) [deg] (``None``: zero;
-    both ``None``: no tool point; :func:`~tribokin.kinematics.robot.tool_point_placement`), and the arguments of a
-    ``.xacro`` ``urdf`` by name, ``xacro_args`` (strings; ``None``: none given). The offsets and arguments default to
-    ``None`` so that a ``summary.json`` written without them still gives its spec."""
+    """The ``[robot]`` table: a ``urdf`` file (its meshes under ``package_dirs``) or an example-robot-data ``name``, the
+    ``tool_frame`` (``None``: the end of the longest chain, :mod:`tribokin.kinematics.tool_frames`), the ``payload_kg``
+    [kg] and the tool point's offset in the tool frame, ``tool_offset_m`` [m] and ``tool_offset_rpy_deg`` (roll, pitch,
+    yaw) [deg] (``None``: zero; both ``None``: no tool point; :func:`~tribokin.kinematics.robot.tool_point_placement`),
+    and the arguments of a ``.xacro`` ``urdf`` by name, ``xacro_args`` (strings; ``None``: none given). The offsets and
+    arguments default to ``None`` so that a ``summary.json`` written without them still gives its spec."""
 
     urdf: str | None
     name: str | None

@@ -191,14 +191,15 @@ def map_targets(grid: TargetGrid) -> str:
     return where + ranges + held
 
 
-def tool_offset(spec: dict) -> str | None:
-    """The tool point's offset of a ``robot_spec`` (``summary.json``) in the frame it is fixed to: translation [m],
-    roll, pitch, yaw [deg], zero where not set; ``None`` without a tool point."""
+def tool_offset(spec: dict, tool_point: str) -> str | None:
+    """The tool point's offset of a ``robot_spec`` (``summary.json``) in the frame it is fixed to (the tool point's
+    frame ``tool_point`` without its suffix ``_tool_point``): translation [m], roll, pitch, yaw [deg], zero where not
+    set; ``None`` without a tool point."""
     offset_m, rpy_deg = spec.get("tool_offset_m"), spec.get("tool_offset_rpy_deg")
     if offset_m is None and rpy_deg is None:
         return None
     return (f"{_vector(offset_m or (0, 0, 0))} m, roll, pitch, yaw {_vector(rpy_deg or (0, 0, 0))}° in "
-            f"{spec['tool_frame'] or 'the last frame of the model'}")
+            f"{tool_point.removesuffix('_tool_point')}")
 
 
 def input_values(result: StudyResult) -> dict[str, str]:
@@ -206,7 +207,7 @@ def input_values(result: StudyResult) -> dict[str, str]:
     seed, engine, the ISO cube and the map's targets (those it has)."""
     settings = result.settings
     spec, source = settings["robot_spec"], str(settings["source"])
-    offset = tool_offset(spec)
+    offset = tool_offset(spec, settings["tool_frame"])
     counted = [what for what, present in (("pose", result.poses), ("map target", result.map is not None)) if present]
     rows = {"study file": source if source.startswith("<") else shown_path(source),  # "<mapping>": no file
             "robot": f"{spec['name']} (example-robot-data)" if spec["name"] else shown_path(spec["urdf"]),

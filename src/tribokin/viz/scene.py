@@ -184,7 +184,7 @@ def draw_robot(vis, robot: Robot, q, variant: str) -> tuple[list[str], RobotDraw
         warnings.simplefilter("always")  # recorded, not shown: pinocchio warns that a custom window has no image
         viewer.initViewer(viewer=vis)     # capture, and of each object it cannot load
         viewer.loadViewerModel(rootNodeName="tribokin/robot")
-    viewer.display(np.asarray(q, dtype=float))
+    viewer.display(robot.configuration(q))
     messages = [str(warning.message) for warning in caught]
     drawn = RobotDrawn(kind)
     for item in geometry.geometryObjects:
