@@ -160,7 +160,7 @@ def _registration_entry(inputs: CalibrationInput, calibration: Calibration) -> d
 
 
 def _in_base_frame(pose: PoseData, calibration: Calibration) -> PoseData:
-    """``pose`` with its points turned into the base frame by the fit's rotation when the frame was unknown
+    """``pose`` with its points turned into the world frame by the fit's rotation when the frame was unknown
     (``x_base = Rᵀ x`` up to a shift, which the figures do not show)."""
     if calibration.rotation is None:
         return pose

@@ -8,7 +8,7 @@ import pytest
 from conftest import AXIS_URDF, ROOT
 from propagation.test_exact import GANTRY_URDF
 from tribokin.kinematics.chain import serial_chain
-from tribokin.kinematics.robot import TESTED_ROBOTS, Robot, load_example_robot, load_urdf, tool_point_placement
+from tribokin.kinematics.robot import TESTED_ROBOTS, Robot, load_example_robot, load_urdf, rigid_placement
 
 #: The gantry of the propagation tests (its ram slides along -z: Pinocchio's PrismaticUnaligned) with its spindle
 #: turning about a skewed axis (RevoluteUnaligned).
@@ -24,7 +24,7 @@ def urdf_robot(tmp_path, text: str) -> Robot:
 ROBOTS = {
     **{name: lambda tmp_path, name=name: load_example_robot(name) for name in TESTED_ROBOTS},
     "ur5 with a tool offset": lambda tmp_path: load_example_robot(
-        "ur5", tool_offset=tool_point_placement([0.05, -0.1, 0.2], [10, 20, 30])),
+        "ur5", tool_offset=rigid_placement([0.05, -0.1, 0.2], [10, 20, 30])),
     "gantry": lambda tmp_path: load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf", "tool"),
     "axis": lambda tmp_path: load_urdf(AXIS_URDF, "tool"),
     "gantry with a spindle": lambda tmp_path: urdf_robot(tmp_path, GANTRY_URDF),

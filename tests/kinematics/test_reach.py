@@ -6,7 +6,7 @@ import pytest
 
 from conftest import AXIS_URDF, GEN3_URDF, ROOT
 from tribokin.kinematics.reach import REACH_MARGIN_M, last_joint_sphere, reach_sphere
-from tribokin.kinematics.robot import load_example_robot, load_urdf, tool_point_placement
+from tribokin.kinematics.robot import load_example_robot, load_urdf, rigid_placement
 
 ROBOTS = {
     "ur5": lambda: load_example_robot("ur5"),
@@ -15,7 +15,7 @@ ROBOTS = {
     "axis": lambda: load_urdf(AXIS_URDF, "tool"),
     "gen3": lambda: load_urdf(GEN3_URDF),  # continuous joints: no limits
     "ur5 with a tool offset": lambda: load_example_robot(
-        "ur5", tool_offset=tool_point_placement([0.05, -0.1, 0.2], [10, 20, 30])),
+        "ur5", tool_offset=rigid_placement([0.05, -0.1, 0.2], [10, 20, 30])),
 }
 
 

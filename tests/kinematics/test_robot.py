@@ -9,7 +9,7 @@ import pytest
 
 from conftest import AXIS_URDF, ROOT
 from tribokin.errors import RobotDescriptionError
-from tribokin.kinematics.robot import TESTED_ROBOTS, load_example_robot, load_urdf, tool_point_placement
+from tribokin.kinematics.robot import TESTED_ROBOTS, load_example_robot, load_urdf, rigid_placement
 
 
 @pytest.mark.parametrize("name", TESTED_ROBOTS)
@@ -93,7 +93,7 @@ OFFSET_M = np.array([0.01, -0.02, 0.1])
 
 
 def ur5_tool_point(offset_m=OFFSET_M, rpy_deg=(0.0, 90.0, 0.0)):
-    return load_example_robot("ur5", tool_offset=tool_point_placement(offset_m, rpy_deg))
+    return load_example_robot("ur5", tool_offset=rigid_placement(offset_m, rpy_deg))
 
 
 def configurations(robot, count=5, seed=3):
@@ -134,7 +134,7 @@ def test_only_an_offset_off_the_last_joints_axis_lets_that_joint_move_the_tool_p
 
 
 def test_a_urdfs_tool_point_is_named_after_its_frame_and_may_not_take_an_existing_name(tmp_path):
-    gantry = load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf", tool_offset=tool_point_placement([0.0, 0.0, -0.1]))
+    gantry = load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf", tool_offset=rigid_placement([0.0, 0.0, -0.1]))
     assert gantry.tool_frame == "tool_tool_point"
     assert gantry.tool_placement([0.1, 0.2, 0.3]).translation == pytest.approx([0.3, 0.2, 0.4])
     urdf = tmp_path / "axis.urdf"
@@ -142,5 +142,5 @@ def test_a_urdfs_tool_point_is_named_after_its_frame_and_may_not_take_an_existin
                     'type="fixed"><parent link="tool"/><child link="tool_tool_point"/></joint>\n  '
                     '<link name="tool_tool_point"/>'))
     with pytest.raises(RobotDescriptionError, match="already has a frame 'tool_tool_point'") as error:
-        load_urdf(urdf, "tool", tool_offset=tool_point_placement([0.0, 0.0, 0.1]))
+        load_urdf(urdf, "tool", tool_offset=rigid_placement([0.0, 0.0, 0.1]))
     assert error.value.argument == "tool_frame"

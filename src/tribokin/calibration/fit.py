@@ -25,7 +25,7 @@
   A parameter that ends on a bound of the box is not at a maximum of the likelihood: it is named
   not identifiable whatever its standard error.
 - **Unknown frame** (``frame="unknown"``: the points are in a measuring frame whose rotation R
-  relative to the Jacobians' base frame is unknown). R is a nuisance parameter maximised jointly
+  relative to the Jacobians' world frame is unknown). R is a nuisance parameter maximised jointly
   with θ (:mod:`.frame`): the candidate rotations (:func:`~.frame.candidate_rotations`) are ranked
   by log L at their moment start of θ (:func:`starting_theta` of the data turned to the base by
   them), the ``REFINED_STARTS`` likeliest are optimised in (θ, δ) by SLSQP with δ in
@@ -138,7 +138,7 @@ class Calibration:
         condition_number: of the information (inf when singular).
         converged: the optimiser reported success.
         bounds: (p, 2) the box in θ the optimiser searched.
-        rotation: (3, 3) fitted rotation R of the measuring frame relative to the robot's base
+        rotation: (3, 3) fitted rotation R of the measuring frame relative to the world frame
             (measured points ``x = R·x_base + t``) when the frame was unknown; then
             ``information`` is θ's profile information (the rotation profiled out). None when
             the frame was registered.
@@ -272,7 +272,7 @@ def _negative(log_likelihood_and_gradient_at: Callable[[np.ndarray], tuple[np.nd
 
 
 def _registered_objective(model: JointModel, data: SeriesStack) -> Objective:
-    """θ (p, ...) -> (-log L (...), its gradient (p, ...)) with the data in the base frame."""
+    """θ (p, ...) -> (-log L (...), its gradient (p, ...)) with the data in the world frame."""
     return _negative(partial(log_likelihood_and_gradient, model, data=data))
 
 
@@ -344,7 +344,7 @@ def _fit_registered(model: JointModel, data: SeriesStack) -> _Optimum:
 
 def _frame_starts(model: JointModel, data: SeriesStack) -> list[tuple[Rotation, np.ndarray]]:
     """The ``REFINED_STARTS`` most likely of the frame's candidate rotations, each with its moment θ
-    (:func:`starting_theta` of the data turned to the base frame by it)."""
+    (:func:`starting_theta` of the data turned to the world frame by it)."""
     rotations = candidate_rotations(model, data, FRAME_STARTS, FRAME_SEED)
     starts = []
     for i in range(len(rotations)):

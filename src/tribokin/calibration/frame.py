@@ -1,8 +1,8 @@
 """An unregistered measuring frame: its rotation as a nuisance parameter of the likelihood.
 
 **Convention.** Points measured in another frame (a laser tracker's) are ``x = R·x_base + t``: R
-(3 × 3) is the rotation of the measuring frame relative to the robot's base, the same for every
-series (the instrument did not move), t any translation. In the base frame a series' scatter is
+(3 × 3) is the rotation of the measuring frame relative to the world frame, the same for every
+series (the instrument did not move), t any translation. In the world frame a series' scatter is
 ``RᵀSR`` and its barycentre ``Rᵀ(x̄ - c)``, c the mean barycentre of its pose: t never matters,
 since only covariances and within-pose differences of barycentres enter the likelihood, and
 centring each pose keeps the barycentres' rounding at the scale of their differences (the
@@ -53,7 +53,7 @@ GENERATORS = np.cross(np.eye(3)[:, None, :], np.eye(3)[None, :, :]).transpose(0,
 
 
 def to_base(data: SeriesStack, rotation: np.ndarray) -> SeriesStack:
-    """The series in the base frame, given the measuring frame's rotation (..., 3, 3) (module docstring).
+    """The series in the world frame, given the measuring frame's rotation (..., 3, 3) (module docstring).
 
     Scatter matrices and barycentres take the rotation's batch dimensions before their own.
     """
@@ -107,7 +107,7 @@ def principal_axes(data: SeriesStack) -> Rotation:
 
 
 def aligned_rotation(model: JointModel, data: SeriesStack) -> Rotation | None:
-    """The rotation that best turns the model's predicted barycentre differences (base frame) into
+    """The rotation that best turns the model's predicted barycentre differences (world frame) into
     the measured ones (``Rotation.align_vectors``); None without any difference."""
     rows = np.flatnonzero(data.first_of_pose != np.arange(len(data.pose_index)))
     if not len(rows):

@@ -70,7 +70,7 @@ STILL_RTOL = 1e-9
 
 def held_approach_signs(robot: Robot, q, directions) -> np.ndarray:
     """(m, nv) direction of travel of each joint (+1, -1, or 0 for a joint that does not move) when the tool
-    point approaches ``q``'s position along each unit direction (m, 3) of the base frame.
+    point approaches ``q``'s position along each unit direction (m, 3) of the world frame.
 
     The joint velocities are the least-norm ones that move the tool point along ``d`` while holding the tool's
     orientation (``pinv(J) [d, 0]``, J the 6-row tool Jacobian) where the robot can (:func:`holds_orientation`),
@@ -100,7 +100,7 @@ JOINT_SPACE_SIGNS = {"+": 1.0, "-": -1.0}
 
 
 def approach_vector(label: str) -> np.ndarray | None:
-    """The unit direction of the base frame a Cartesian approach label names (``+x``, ``-z``, or three signed
+    """The unit direction of the world frame a Cartesian approach label names (``+x``, ``-z``, or three signed
     numbers such as ``+0.58+0.58+0.58``, normalised), else None."""
     if label in APPROACH_DIRECTIONS:
         return APPROACH_DIRECTIONS[label]

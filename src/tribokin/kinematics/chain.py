@@ -56,7 +56,7 @@ class SerialChain:
     turn_axes: np.ndarray
 
     def tool_in_joint(self, q) -> np.ndarray:
-        """(k, n + 1, 4, 4) the tool frame's placement (homogeneous, [m]) in the base frame (index 0: as
+        """(k, n + 1, 4, 4) the tool frame's placement (homogeneous, [m]) in the world frame (index 0: as
         ``robot.tool_placement``) and in each joint's frame after its motion (index ``i + 1`` for joint ``i``), at
         configurations ``q`` (k, nv) [m or rad]."""
         q = np.asarray(q, dtype=float).reshape(-1, len(self.turn_axes))

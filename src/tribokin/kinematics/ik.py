@@ -124,7 +124,7 @@ def solve_ik_batch(chain: SerialChain, rotation: np.ndarray, positions_m: np.nda
                    position_tol_m: float = 1e-10, angle_tol_rad: float = 1e-9, position_only: bool = False,
                    iterations: int = 200, damping: float = 1e-6) -> IKResult:
     """:func:`solve_ik` of ``chain``'s robot for k targets at once (without ``patience``): the tool frame at
-    ``positions_m`` (k, 3) [m], turned by ``rotation`` (3, 3) in the base frame (ignored when ``position_only``), from
+    ``positions_m`` (k, 3) [m], turned by ``rotation`` (3, 3) in the world frame (ignored when ``position_only``), from
     ``q_start`` (k, nv) [m or rad].
 
     The same iteration, error, damping, clipping, wrapping, convergence tests and success rule as :func:`solve_ik`,

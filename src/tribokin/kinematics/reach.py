@@ -43,7 +43,7 @@ REACH_MARGIN_M = 1e-6
 
 @dataclass(frozen=True)
 class ReachSphere:
-    """A sphere in the base frame that contains a point of the chain (the tool point, or the origin of the last
+    """A sphere in the world frame that contains a point of the chain (the tool point, or the origin of the last
     joint's frame) at every configuration within the joint limits.
 
     Attributes:
@@ -61,7 +61,7 @@ class ReachSphere:
 
     def bounded_points_m(self, tool_positions_m, rotation: np.ndarray | None) -> np.ndarray:
         """(k, 3) positions [m] of the bounded point when the tool point is at ``tool_positions_m`` (k, 3) [m] with
-        the tool frame turned by ``rotation`` (3, 3) in the base frame (``None``: not held, for the tool point)."""
+        the tool frame turned by ``rotation`` (3, 3) in the world frame (``None``: not held, for the tool point)."""
         positions = np.asarray(tool_positions_m, dtype=float).reshape(-1, 3)
         if self.offset_m is None:
             return positions
@@ -114,7 +114,7 @@ def _turned(centres: np.ndarray, normals: np.ndarray, radii: np.ndarray, axis: n
 
 
 def _chain_sphere(robot: Robot, joint: int, point: np.ndarray) -> tuple[np.ndarray, float]:
-    """Centre (3,) [m] in the base frame and radius [m] of a sphere that ``point`` (3,) [m], fixed in the frame of
+    """Centre (3,) [m] in the world frame and radius [m] of a sphere that ``point`` (3,) [m], fixed in the frame of
     ``joint`` (after its own motion), never leaves within the joint limits (the construction above)."""
     model = robot.model
     centres, normals, radii = point[None], np.array([[0.0, 0.0, 1.0]]), np.zeros(1)

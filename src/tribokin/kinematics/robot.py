@@ -12,11 +12,12 @@ continuous joint (a revolute joint without limits, ``JointModelRUBX/Y/Z``) two: 
 ``q + dq`` is Pinocchio's ``integrate`` for every joint, and a continuous joint's angle is never clipped, only wrapped
 into [-π, π] by the IK (:meth:`Robot.wrapped`).
 
-A *tool offset* (:func:`tool_point_placement`) places a tool point (a probe's tip, a tracker's reflector) on the tool
+A *tool offset* (:func:`rigid_placement`) places a tool point (a probe's tip, a tracker's reflector) on the tool
 frame: a translation [m] and a rotation from roll, pitch, yaw [deg], both expressed in the tool frame. The
 loaders add it to the reduced model as an operational frame ``<tool_frame>_tool_point`` fixed to the tool
 frame, and it becomes the robot's ``tool_frame``: poses, Jacobians, IK and the payload's point are then the
-tool point's.
+tool point's. A *base* placement (the same form) puts the robot in a world frame: every placement, Jacobian and
+target is then the world's (the base's own frame when none is given), and gravity acts along the world's -z.
 """
 
 from __future__ import annotations
@@ -192,10 +193,10 @@ def _make_frame_names_unique(model: pin.Model) -> None:
             model.frames[index] = frame
 
 
-def tool_point_placement(offset_m=None, rpy_deg=None) -> pin.SE3 | None:
-    """A tool point's placement in its tool frame: translation ``offset_m`` [m] and rotation from roll, pitch, yaw
-    ``rpy_deg`` [deg] (``pin.rpy.rpyToMatrix``, as ``iso_cube.rpy_deg``), either zero when not given; ``None``
-    (no tool point) when neither is."""
+def rigid_placement(offset_m=None, rpy_deg=None) -> pin.SE3 | None:
+    """A placement (a tool point's in its tool frame, a base's in the world): translation ``offset_m`` [m] and
+    rotation from roll, pitch, yaw ``rpy_deg`` [deg] (``pin.rpy.rpyToMatrix``, as ``iso_cube.rpy_deg``), either zero
+    when not given; ``None`` (none: no tool point, the base at the world's origin) when neither is."""
     if offset_m is None and rpy_deg is None:
         return None
     rotation = np.eye(3) if rpy_deg is None else pin.rpy.rpyToMatrix(*np.radians(rpy_deg))
@@ -214,16 +215,35 @@ def _add_tool_point(model: pin.Model, tool_frame: str, offset: pin.SE3) -> str:
     return name
 
 
+def _place_base(model: pin.Model, geometries, base: pin.SE3) -> None:
+    """Put the robot's base at ``base`` in the world: what hangs from the world (the first joints' placements, the
+    base's frames but the world's own, its geometry objects in ``geometries``) moved by ``base``; gravity stays the
+    world's -z."""
+    for joint in range(1, model.njoints):
+        if model.parents[joint] == 0:
+            model.jointPlacements[joint] = base * model.jointPlacements[joint]
+    for index in range(1, len(model.frames)):
+        frame = model.frames[index]
+        if frame.parentJoint == 0:
+            frame.placement = base * frame.placement
+            model.frames[index] = frame
+    for geometry in geometries:
+        for item in geometry.geometryObjects:
+            if item.parentJoint == 0:
+                item.placement = base * item.placement
+
+
 def _joint_value(joint, q) -> float:
     """A 1-DoF joint's value [m or rad] in Pinocchio's configuration ``q``: a continuous joint's angle from its
     cosine and sine."""
     return math.atan2(q[joint.idx_q + 1], q[joint.idx_q]) if joint.nq == 2 else float(q[joint.idx_q])
 
 
-def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, offset=None) -> Robot:
+def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, offset=None, base=None) -> Robot:
     """Lock every joint that does not move ``tool_frame`` (default: :func:`~.tool_frames.default_tool_frame`); check the
     rest are 1-DoF with some travel; bring the reference posture within their limits (:func:`_within_limits`); add the
-    tool point at ``offset`` (:func:`tool_point_placement`) in ``tool_frame``, if given."""
+    tool point at ``offset`` (:func:`rigid_placement`) in ``tool_frame``, if given; put the base at ``base`` in the
+    world (:func:`_place_base`; geometry models copied), if given."""
     _make_frame_names_unique(model)
     frames = [f.name for f in model.frames]
     if tool_frame is None:
@@ -248,6 +268,9 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, o
     kept_q = np.array([_joint_value(full.joints[full.getJointId(name)], reference_q) for name in list(model.names)[1:]])
     if offset is not None:
         tool_frame = _add_tool_point(model, tool_frame, offset)
+    if base is not None:
+        visual, collision = (None if g is None else g.copy() for g in (visual, collision))
+        _place_base(model, [g for g in (visual, collision) if g is not None], base)
     robot = Robot(model, tool_frame, label, kept_q, visual, collision)
     for name, low, high in zip(robot.joint_names, robot.lower_limits, robot.upper_limits):
         if not high > low:
@@ -271,7 +294,7 @@ def _within_limits(q: np.ndarray, robot: Robot) -> np.ndarray:
 
 
 def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset: pin.SE3 | None = None,
-              meshes: bool = True, xacro_args: dict[str, str] | None = None) -> Robot:
+              meshes: bool = True, xacro_args: dict[str, str] | None = None, base: pin.SE3 | None = None) -> Robot:
     """Load a robot from a URDF file (or a xacro file, expanded), after checking its meshes lie inside
     ``package_dirs``.
 
@@ -282,10 +305,11 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
         package_dirs: folders that ``package://`` mesh URIs resolve against, and the only folders
             meshes may be read from (default: the URDF's folder and its parent).
         tool_offset: placement of the tool point in ``tool_frame`` (translation [m], rotation;
-            :func:`tool_point_placement`), which becomes the robot's tool frame; ``None``: the tool frame itself.
+            :func:`rigid_placement`), which becomes the robot's tool frame; ``None``: the tool frame itself.
         meshes: load the visual and collision meshes (to draw the robot); every mesh must then be found.
             ``False``: kinematics only (no geometry models), a missing mesh is no error.
         xacro_args: arguments of a ``.xacro`` file by name (:func:`tribokin.kinematics.urdf_xacro.expand_xacro`).
+        base: the base's placement in the world (:func:`rigid_placement`); ``None``: the world is the base frame.
 
     Raises:
         RobotDescriptionError: a missing or malformed URDF (or xacro), a mesh outside ``package_dirs``
@@ -293,7 +317,8 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
             ``meshes`` a mesh not found or not readable, an unknown tool frame, a joint moving the tool that is
             not 1-DoF, no default tool frame (a floating base whose longest chains are separate limbs).
     """
-    return _reduce_to_chain(*_read_urdf(path, package_dirs, meshes, xacro_args), tool_frame, str(path), tool_offset)
+    return _reduce_to_chain(*_read_urdf(path, package_dirs, meshes, xacro_args), tool_frame, str(path), tool_offset,
+                            base)
 
 
 def _read_urdf(path, package_dirs=(), meshes: bool = True, xacro_args: dict[str, str] | None = None
@@ -331,12 +356,14 @@ def _read_urdf(path, package_dirs=(), meshes: bool = True, xacro_args: dict[str,
     return model, visual, collision, mid_range
 
 
-def load_example_robot(name: str, tool_frame: str | None = None, tool_offset: pin.SE3 | None = None) -> Robot:
-    """Load a robot that example-robot-data ships, by name (e.g. ``"ur5"``); ``tool_frame`` and ``tool_offset``
-    as for :func:`load_urdf`."""
+def load_example_robot(name: str, tool_frame: str | None = None, tool_offset: pin.SE3 | None = None,
+                       base: pin.SE3 | None = None) -> Robot:
+    """Load a robot that example-robot-data ships, by name (e.g. ``"ur5"``); ``tool_frame``, ``tool_offset`` and
+    ``base`` as for :func:`load_urdf`."""
     _check_robot_name(name)
     model, visual, collision, reference_q = _example_robot(name)
-    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name, tool_offset)
+    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name, tool_offset,
+                            base)
 
 
 def _check_robot_name(name: str) -> None:

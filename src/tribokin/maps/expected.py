@@ -12,7 +12,7 @@ target as ``engine_bound``. The mean deviation itself goes through exact forward
 - **sampled** (other laws, approach modes, or a target whose bound exceeds ``DEFAULT_TOLERANCE``): common random
   numbers: the same ``sampled_tests`` tests of drawn μ at every target (and scenario), through the linear model,
   or through the fast engine where the bound is not met (a *fallback*). The RP_l band's Monte Carlo error is kept.
-- ``vAP_p_um``: the largest distance between the barycentres reached along +x, +y, +z of the base frame (joint
+- ``vAP_p_um``: the largest distance between the barycentres reached along +x, +y, +z of the world frame (joint
   signs as the measured cube's, :func:`~tribokin.iso9283.cube.held_approach_signs`); each barycentre by exact
   forward kinematics of its mean deviation plus a Gaussian of covariance Σ_d / n (the mean of n cycles); its
   expectation in closed form when one pair of directions is clearly farthest apart, else over ``VAP_DRAWS`` draws.
@@ -60,7 +60,7 @@ NEGLIGIBLE_TRUNCATION_SIGMAS = 6.0
 #: about 8 bounds, 1.5 % of it; measured against the fast engine on the same draws (ur5-calibrate, bound 1.1e-3 of
 #: the size), the figures moved by 1.2e-5 relative at most.
 LINEAR_TOLERANCE = 5e-3
-#: The approach directions of vAP_p: +x, +y, +z of the base frame.
+#: The approach directions of vAP_p: +x, +y, +z of the world frame.
 VAP_DIRECTIONS = ("+x", "+y", "+z")
 
 #: How a target's figures were computed (its ``method`` column).

@@ -107,7 +107,7 @@ class TargetGrid:
                                 for axis, k in zip(self.axes, (column, row, layer))])
 
     def positions_m(self, indices) -> np.ndarray:
-        """(k, 3) commanded tool positions of Cartesian targets ``indices`` in the base frame [m], rounded to
+        """(k, 3) commanded tool positions of Cartesian targets ``indices`` in the world frame [m], rounded to
         1e-12 m (:func:`grid_rounded`)."""
         return grid_rounded(self.origin_m + self.axis_values(indices) @ self.directions)
 

@@ -6,8 +6,8 @@ and RP_a/b/c (with orientation). Per pose: vAP_p between the barycentres of
 those series and RP_l of the pooled cloud of all its rows (one-cycle series included).
 
 Frames: with a :class:`~tribokin.measurement.registration.Registration` the
-positions are first moved into the base frame; without one they are used as
-measured, so AP_p is right only when the instrument measures in the base frame.
+positions are first moved into the world frame; without one they are used as
+measured, so AP_p is right only when the instrument measures in the world frame.
 
 Re-taught commanded positions: with a registration, each row is referred to its
 own commanded position, x'_j = x_j - (c_j - c_bar) with c_bar the pose's mean
@@ -46,7 +46,7 @@ class DirectionFigures:
     Attributes:
         direction: approach label.
         cycles: number of cycles.
-        barycenter_m: (3,) barycentre [m] (base frame when registered).
+        barycenter_m: (3,) barycentre [m] (world frame when registered).
         RP_l_m: l_bar + 3 S_l [m]; None for a series too short for RP (one cycle).
         RP_l_ci95_m: (low, high) percentile-bootstrap 95 % interval of RP_l [m], or None.
         semi_axes_m: (3,) 1-sigma semi-axes of the covariance ellipsoid, largest first [m], or None.
@@ -82,7 +82,7 @@ class PoseFigures:
         commanded_spread_m: largest distance between two of its rows' commanded positions [m], or None.
         commanded_corrected: rows were referred to their own commanded positions (needs a registration
             and commanded positions that differ).
-        registered: positions were moved into the base frame by a registration.
+        registered: positions were moved into the world frame by a registration.
     """
 
     pose: str

@@ -1,4 +1,4 @@
-"""Rigid registration of the measuring frame (a tracker's) to the robot's base frame.
+"""Rigid registration of the measuring frame (a tracker's) to the world frame.
 
 A least-squares rigid fit (rotation and translation, no scale) of the poses'
 measured barycentres to their commanded positions, by
@@ -30,7 +30,7 @@ class Registration:
     """``p_base = rotation @ p_measuring + translation_m``.
 
     Attributes:
-        rotation: (3, 3) rotation of the measuring frame into the base frame.
+        rotation: (3, 3) rotation of the measuring frame into the world frame.
         translation_m: (3,) [m].
         rms_residual_m: root mean square of |registered barycentre - commanded| over the poses [m].
         poses: names of the poses fitted.
@@ -42,7 +42,7 @@ class Registration:
     poses: tuple[str, ...]
 
     def to_base(self, points_m: np.ndarray) -> np.ndarray:
-        """(..., 3) points of the measuring frame in the base frame [m]."""
+        """(..., 3) points of the measuring frame in the world frame [m]."""
         return points_m @ self.rotation.T + self.translation_m
 
 

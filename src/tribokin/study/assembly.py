@@ -8,7 +8,7 @@ import numpy as np
 
 from tribokin.errors import InputError, closest_hint, located
 from tribokin.iso9283.cube import APPROACH_DIRECTIONS, UnreachableCube, label_approach_signs, place_cube
-from tribokin.kinematics.robot import Robot, load_example_robot, load_urdf, tool_point_placement
+from tribokin.kinematics.robot import Robot, load_example_robot, load_urdf, rigid_placement
 from tribokin.simulation.joint_errors import JointErrorModel
 from tribokin.simulation.pose_run import PoseTask, joint_space_task
 from tribokin.study.names import check_file_name_part, check_files_apart, check_name, pose_figure_file, scenario_files
@@ -31,11 +31,12 @@ def load_robot_spec(spec: RobotSpec, source=None, meshes: bool = True) -> Robot:
     """The robot a ``[robot]`` spec with absolute paths names (see :func:`robot_spec`); an error names
     ``source`` and the key at fault. ``meshes``: load a URDF's meshes (to draw it; each must then be found), else
     its kinematics only."""
-    offset = tool_point_placement(spec.tool_offset_m, spec.tool_offset_rpy_deg)
+    offset = rigid_placement(spec.tool_offset_m, spec.tool_offset_rpy_deg)
+    base = rigid_placement(spec.base_xyz_m, spec.base_rpy_deg)
     with located(source, lambda error: ROBOT_KEYS.get(error.argument, f"robot.{error.argument}")):
         if spec.name is not None:
-            return load_example_robot(spec.name, spec.tool_frame, offset)
-        return load_urdf(spec.urdf, spec.tool_frame, list(spec.package_dirs), offset, meshes, spec.xacro_args)
+            return load_example_robot(spec.name, spec.tool_frame, offset, base)
+        return load_urdf(spec.urdf, spec.tool_frame, list(spec.package_dirs), offset, meshes, spec.xacro_args, base)
 
 
 def load_robot(study: Study, meshes: bool = True) -> Robot:

@@ -4,17 +4,17 @@ For each measured pose:
 
 - its configuration: the mean of its rows' ``q_<joint>`` (the file must name every joint of the tool's chain; a
   continuous joint's mean is circular, :func:`read_robot_measurements`), else solved by IK from its mean commanded
-  position (``cx, cy, cz``, base frame), the tool held at ``calibration.tool_rpy_deg`` when given, else for position
+  position (``cx, cy, cz``, world frame), the tool held at ``calibration.tool_rpy_deg`` when given, else for position
   only from the robot's reference posture;
 - the position Jacobian of the tool point there, and the mean and standard deviation of every joint's friction
   torque (force) under the bearing loads at that configuration
   (:func:`~tribokin.simulation.joint_errors.friction_torque_moments`);
-- its series: measured points in the robot's base frame when the measuring frame is registered
+- its series: measured points in the world frame when the measuring frame is registered
   (:func:`~tribokin.measurement.registration.register_measurements`, re-taught commanded positions corrected as
   ``measure`` does), else as measured; each with its joints' approach signs, from its direction label:
 
   :func:`~tribokin.iso9283.cube.label_approach_signs` (``+x``, ``-y``, ... or ``+0.58+0.58+0.58``: the tool point
-  approached along that direction of the base frame with the tool's orientation held, a joint that does not move
+  approached along that direction of the world frame with the tool's orientation held, a joint that does not move
   having sign 0; ``+`` or ``-``: every joint forwards or backwards); any other label (``start``) is an unknown
   approach, and its series is left out of the fit and listed.
 """

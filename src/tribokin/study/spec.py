@@ -154,6 +154,8 @@ ROBOT_KEYS = {
     "tool_offset_m": (partial(vector3, element=tool_reach), None),
     "tool_offset_rpy_deg": (angles3, None),
     "xacro_args": (xacro_arguments, None),
+    "base_xyz_m": (position3, None),
+    "base_rpy_deg": (angles3, None),
 }
 
 ISO_CUBE_KEYS = {
@@ -280,9 +282,11 @@ class RobotSpec:
     """The ``[robot]`` table: a ``urdf`` file (its meshes under ``package_dirs``) or an example-robot-data ``name``, the
     ``tool_frame`` (``None``: the end of the longest chain, :mod:`tribokin.kinematics.tool_frames`), the ``payload_kg``
     [kg] and the tool point's offset in the tool frame, ``tool_offset_m`` [m] and ``tool_offset_rpy_deg`` (roll, pitch,
-    yaw) [deg] (``None``: zero; both ``None``: no tool point; :func:`~tribokin.kinematics.robot.tool_point_placement`),
-    and the arguments of a ``.xacro`` ``urdf`` by name, ``xacro_args`` (strings; ``None``: none given). The offsets and
-    arguments default to ``None`` so that a ``summary.json`` written without them still gives its spec."""
+    yaw) [deg] (``None``: zero; both ``None``: no tool point; :func:`~tribokin.kinematics.robot.rigid_placement`),
+    and the arguments of a ``.xacro`` ``urdf`` by name, ``xacro_args`` (strings; ``None``: none given), and the base's
+    placement in the world, ``base_xyz_m`` [m] and ``base_rpy_deg`` [deg] (``None``: zero; both ``None``: the world is
+    the base frame). The offsets, arguments and base default to ``None`` so that a ``summary.json`` written without
+    them still gives its spec."""
 
     urdf: str | None
     name: str | None
@@ -292,6 +296,8 @@ class RobotSpec:
     tool_offset_m: tuple[float, float, float] | None = None
     tool_offset_rpy_deg: tuple[float, float, float] | None = None
     xacro_args: dict[str, str] | None = None
+    base_xyz_m: tuple[float, float, float] | None = None
+    base_rpy_deg: tuple[float, float, float] | None = None
 
     def absolute(self, base_dir: Path) -> RobotSpec:
         """The spec with its paths made absolute against ``base_dir``: it loads the same robot from any folder."""
@@ -299,10 +305,10 @@ class RobotSpec:
         return replace(self, urdf=urdf, package_dirs=tuple(str((base_dir / p).absolute()) for p in self.package_dirs))
 
     def as_settings(self) -> dict:
-        """The spec as ``summary.json`` records it (``robot_spec``): tuples as lists, the offsets and the xacro's
-        arguments only when set."""
+        """The spec as ``summary.json`` records it (``robot_spec``): tuples as lists, the offsets, the xacro's
+        arguments and the base only when set."""
         return {key: list(value) if isinstance(value, tuple) else value for key, value in asdict(self).items()
-                if value is not None or not key.startswith(("tool_offset", "xacro_args"))}
+                if value is not None or not key.startswith(("tool_offset", "xacro_args", "base_"))}
 
 
 @dataclass(frozen=True)

@@ -43,7 +43,7 @@ class _PlainLogFormatter(LogFormatter):
 
 @dataclass(frozen=True, eq=False)
 class PredictedCloud:
-    """One approach direction's measured cycles beside the model's prediction, in the robot base frame.
+    """One approach direction's measured cycles beside the model's prediction, in the world frame.
 
     Attributes:
         direction: approach label.

@@ -71,7 +71,7 @@ def panel_frame(grid: TargetGrid, columns: GridAxis, rows: GridAxis | None) -> P
     """The labels, extent and base marker of panels showing ``columns`` and ``rows`` of ``grid``.
 
     A Cartesian grid's axes are shown in the coordinates of the frame its targets are given in (the
-    base frame): an axis along a base axis is labelled by it (``x [m]``) and shows that coordinate,
+    world frame): an axis along a world axis is labelled by it (``x [m]``) and shows that coordinate,
     ``origin_m`` included; an oblique one shows the offset from ``origin_m`` along its direction."""
     if grid.kind == "joint":
         return PanelFrame(columns.label, None if rows is None else rows.label,

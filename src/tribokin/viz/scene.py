@@ -39,7 +39,7 @@ class MapLayer:
     """One map figure (a scenario's RP_l, or a directional figure) drawn as a coloured point cloud.
 
     Attributes:
-        points_m: (N, 3) target positions in the base frame [m].
+        points_m: (N, 3) target positions in the world frame [m].
         values_um: (N,) the figure at each target [µm]; NaN where the target is unreachable (drawn grey).
         label: the layer's name (the scenario's, for RP_l), shown in the GUI and the report.
         stride: 1 when the layer holds every target of its map, k when every k-th along each grid axis.
