@@ -175,7 +175,8 @@ def _print_map(summary: dict) -> None:
 def _print_placement(summary: dict, out: Path) -> None:
     best, targets = summary["best"], summary["targets"]
     print(f"placement: {summary['candidates']} candidates, {summary['meeting_min_reachable']} reach at least "
-          f"{100 * summary['min_reachable']:g} % of the task's {targets} targets; ranked by expected RP_l {summary['objective']}")
+          f"{100 * summary['min_reachable']:g} % of the task's {targets} targets; ranked by expected RP_l "
+          f"{summary['objective']}")
     figures = " / ".join("-" if best["RP_l_um"][name] is None else f"{best['RP_l_um'][name]:.3f}"
                          for name in ("mean", "p95", "max"))
     print(f"best: candidate {best['candidate']}, base at ({', '.join(f'{v:g}' for v in best['base_xyz_m'])}) m, "
@@ -351,8 +352,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--report", choices=("full", "light", "none"), default="full",
                      help="report.html with the robot's visual meshes (full, default), its collision meshes "
                           "(light, far smaller) or no report")
-    run.add_argument("--workers", type=int, default=1, help="local processes computing the map's chunks or the placement's candidates "
-                          "(default 1)")
+    run.add_argument("--workers", type=int, default=1,
+                     help="local processes computing the map's chunks or the placement's candidates (default 1)")
     run.add_argument("--scheduler", help="address of a dask.distributed scheduler computing the map's chunks or the "
                      "placement's candidates")
     run.add_argument("--resume", action="store_true",

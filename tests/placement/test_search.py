@@ -9,6 +9,7 @@ import tomllib
 from conftest import ROOT, killed_after
 from tribokin import InputError, run_study
 from tribokin.cli import main
+from tribokin.execution import executor_for
 from tribokin.kinematics.loads import BearingLoads
 from tribokin.output.writers import write_results
 from tribokin.study.assembly import load_robot
@@ -142,8 +143,8 @@ def test_objectives_are_statistics_of_the_task_map_at_each_base(result, study_fi
         alone = run_study(mapping, meshes=False).map.reference.figure("RP_l_um")
         reached = alone[np.isfinite(alone)]
         assert len(reached) == placement.reachable[index]
-        np.testing.assert_allclose(placement.RP_l_um[index], [reached.mean(), np.percentile(reached, 95), reached.max()],
-                                   rtol=1e-12)
+        expected = [reached.mean(), np.percentile(reached, 95), reached.max()]
+        np.testing.assert_allclose(placement.RP_l_um[index], expected, rtol=1e-12)
 
 
 def without_command(summary: bytes) -> dict:
@@ -171,6 +172,18 @@ def test_one_or_two_workers_and_a_resume_write_the_same_bytes(study_file, tmp_pa
             assert (folder / name).read_bytes() == (outputs["one"] / name).read_bytes(), (folder, name)
         assert without_command((folder / "summary.json").read_bytes()) == \
             without_command((outputs["one"] / "summary.json").read_bytes())
+
+
+def test_a_dask_cluster_writes_the_same_bytes(result, study_file, tmp_path):
+    from dask.distributed import LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=2, processes=True, dashboard_address=None) as cluster:
+        with executor_for(scheduler=cluster.scheduler_address) as executor:
+            clustered = run_study(study_file, executor=executor, meshes=False)
+    for name, run in (("here", result), ("dask", clustered)):
+        write_results(run, tmp_path / name, report="none")
+    for name in PLACEMENT_FILES + ("summary.json",):
+        assert (tmp_path / "dask" / name).read_bytes() == (tmp_path / "here" / name).read_bytes(), name
 
 
 def test_the_run_writes_the_table_the_summary_and_the_best_study(result, study_file, tmp_path, capsys):
@@ -233,3 +246,17 @@ def test_a_placement_needs_a_world_task_map_and_no_scenarios(tmp_path, text, key
     with pytest.raises(InputError) as error:
         read_study_file(study)
     assert error.value.key == key and message in error.value.message, error.value.one_line()
+
+
+def test_poses_run_at_the_study_base_beside_the_search_and_progress_counts_targets(tmp_path):
+    study = tmp_path / "study.toml"
+    study.write_text(gantry_study(candidates=[[0.0, 0.0, 0.0], [0.0, -0.4, 0.0]], yaw_deg=[0.0]) +
+                     '\n[[poses]]\nname = "home"\nq = [0.1, 0.1, 0.1]\n')
+    calls = []
+    result = run_study(study, meshes=False, progress=lambda done, total: calls.append((done, total)))
+    assert [pose.name for pose in result.poses] == ["home"] and result.map is None
+    assert result.poses[0].report_row()["commanded_position_m"] == pytest.approx([0.3, 0.1, 0.3])  # base at origin
+    assert calls == [(0, 18), (9, 18), (18, 18)]
+    write_results(result, tmp_path / "out", report="none")
+    assert {"poses.csv", "placement.csv", "best.toml"} <= {p.name for p in (tmp_path / "out").iterdir()}
+    assert "map" not in json.loads((tmp_path / "out" / "summary.json").read_text())

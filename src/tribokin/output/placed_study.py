@@ -58,8 +58,8 @@ def best_study_text(placement: PlacementResult, out: Path) -> str:
         text = content.decode("utf-8")
     row = placement.describe(best)
     figures = ", ".join(f"{name} {value:.4g}" for name, value in row["RP_l_um"].items() if value is not None)
-    header = [f"{BEST_STUDY}: {study.source} with the robot's base at the best of {len(placement.candidates)} placements "
-              f"searched (tribokin {__version__})",
+    header = [f"{BEST_STUDY}: {study.source} with the robot's base at the best of {len(placement.candidates)} "
+              f"placements searched (tribokin {__version__})",
               f"candidate {best.index}: base at ({', '.join(f'{v:g}' for v in best.base_xyz_m)}) m, yaw "
               f"{best.yaw_deg:g}° added; reaches {row['reachable_targets']} of {placement.target_count} targets; "
               f"expected RP_l over them [µm]: {figures or 'none'} (ranked by {placement.spec.objective})",

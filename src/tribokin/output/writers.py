@@ -179,8 +179,9 @@ def write_placement(placement: PlacementResult, folder: Path, out: Path) -> None
 def write_results(result: StudyResult, out, force: bool = False, report: str = "full", map_layers=None,
                   cube=None) -> Path:
     """Write summary.json, the pose files (poses.csv, samples.npz), the map tables (map*.csv) or the placement's
-    files (placement.csv, best.toml) to ``out``, atomically, with the figures and, unless ``report`` is ``"none"``, ``report.html`` and ``scene.npz``, as
-    :func:`~tribokin.viz.contents.write_views` decides (``report``, ``map_layers``, ``cube``: see there).
+    files (placement.csv, best.toml) to ``out``, atomically, with the figures and, unless ``report`` is ``"none"``,
+    ``report.html`` and ``scene.npz``, as :func:`~tribokin.viz.contents.write_views` decides (``report``,
+    ``map_layers``, ``cube``: see there).
     """
     from tribokin.viz.contents import write_views
 

@@ -100,8 +100,8 @@ class PlacementResult:
 
     def columns(self) -> dict[str, np.ndarray]:
         """``placement.csv``'s columns, one row per candidate, best first: the candidate's index, base position [m],
-        added yaw [deg], the targets it reaches (count and share), RP_l's statistics [µm] (the objective's first), whether
-        it meets ``min_reachable``, and its rank."""
+        added yaw [deg], the targets it reaches (count and share), RP_l's statistics [µm] (the objective's first),
+        whether it meets ``min_reachable``, and its rank."""
         order = self.order
         positions = np.array([c.base_xyz_m for c in self.candidates])[order]
         statistics = sorted(STATISTICS, key=lambda name: name != self.spec.objective)

@@ -14,7 +14,8 @@ import numpy as np
 #: ``placement.objective``: the statistic of the expected RP_l over a candidate's reachable targets that ranks it.
 OBJECTIVES = ("p95", "max", "mean")
 
-#: A box's base positions are rounded to 1e-DECIMALS m (as a map's grid values, :data:`tribokin.maps.grid.GRID_DECIMALS`).
+#: A box's base positions are rounded to 1e-DECIMALS m (as a map's grid values,
+#: :data:`tribokin.maps.grid.GRID_DECIMALS`).
 DECIMALS = 12
 
 Vector3 = tuple[float, float, float]

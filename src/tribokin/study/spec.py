@@ -244,8 +244,9 @@ CALIBRATION_KEYS = {
 #: Study sections a scenario may override; of [robot], only the payload (the targets stay the same).
 SCENARIO_SECTIONS = ("study", "robot", "joints")
 SCENARIO_ROBOT_KEYS = ("payload_kg",)
-candidate_count = within(positive_int, 1, 10 ** 4, "candidates (positions × yaw_deg values)", "each candidate runs the "
-                          "whole [map]; ten thousand take hours: search coarsely, then finer around the best")
+candidate_count = within(positive_int, 1, 10 ** 4, "candidates (positions × yaw_deg values)",
+                          "each candidate runs the whole [map]; ten thousand take hours: search coarsely, then finer "
+                          "around the best")
 fraction = within(finite, 0.0, 1.0, "", "a fraction of the task's targets")
 
 

@@ -79,8 +79,8 @@ def save_placement_figure(placement: PlacementResult, path: Path, title: str) ->
     best = placement.best.index
     collection = None
     for ax, (panel_title, indices) in zip(axes.flat, drawn):
-        cells = lambda shown: [Rectangle((x - 0.45 * cell_x, y - 0.45 * cell_y), 0.9 * cell_x, 0.9 * cell_y)  # noqa: E731
-                               for x, y in positions[shown]]
+        cells = lambda shown: [  # noqa: E731
+            Rectangle((x - 0.45 * cell_x, y - 0.45 * cell_y), 0.9 * cell_x, 0.9 * cell_y) for x, y in positions[shown]]
         collection = PatchCollection(cells(indices), cmap=cmap, norm=norm, edgecolor="white", linewidth=0.5)
         collection.set_array(np.ma.masked_invalid(objective[indices]))
         ax.add_collection(collection)
@@ -90,8 +90,8 @@ def save_placement_figure(placement: PlacementResult, path: Path, title: str) ->
         ax.add_patch(Polygon(outline, closed=True, fill=False, linestyle="--", edgecolor="crimson", linewidth=1.5))
         if best in indices:
             ax.plot(*positions[best], marker="*", ms=16, color="white", mec="black", mew=1.2, ls="none")
-        corners = np.vstack([positions[indices] - [cell_x / 2, cell_y / 2], positions[indices] + [cell_x / 2, cell_y / 2],
-                             outline])
+        half = [cell_x / 2, cell_y / 2]
+        corners = np.vstack([positions[indices] - half, positions[indices] + half, outline])
         low, high = corners.min(axis=0), corners.max(axis=0)
         margin = 0.05 * float((high - low).max())
         ax.set_xlim(low[0] - margin, high[0] + margin)

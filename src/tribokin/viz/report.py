@@ -209,7 +209,8 @@ def input_values(result: StudyResult) -> dict[str, str]:
     settings = result.settings
     spec, source = settings["robot_spec"], str(settings["source"])
     offset = tool_offset(spec, settings["tool_frame"])
-    counted = [what for what, present in (("pose", result.poses), ("map target", result.map is not None)) if present]
+    counted = [what for what, present in (("pose", result.poses), ("map target", result.map is not None),
+                                          ("task target and placement", result.placement is not None)) if present]
     rows = {"study file": source if source.startswith("<") else shown_path(source),  # "<mapping>": no file
             "robot": f"{spec['name']} (example-robot-data)" if spec["name"] else shown_path(spec["urdf"]),
             **({"xacro arguments": ", ".join(f"{name} = {value}" for name, value in spec["xacro_args"].items())}
@@ -248,14 +249,15 @@ def placement_section(result: StudyResult) -> str:
     spec = placement.spec
     figures = ", ".join(f"{name} {_cell(value)}" for name, value in best["RP_l_um"].items())
     rows = {"task region": task_region(placement.study.map),
-            "candidates": f"{summary['candidates']} ({len(spec.yaw_deg)} yaw value{'s' if len(spec.yaw_deg) > 1 else ''} "
-                          f"at each base position); {summary['meeting_min_reachable']} reach at least "
-                          f"{100 * spec.min_reachable:g} % of the {summary['targets']} targets",
-            "ranked by": f"expected RP_l {spec.objective} over the targets a candidate reaches; one reaching fewer than "
-                         f"{100 * spec.min_reachable:g} % of them ranks after every one that does",
+            "candidates": f"{summary['candidates']} (base positions × yaw_deg {_vector(spec.yaw_deg)}°); "
+                          f"{summary['meeting_min_reachable']} reach at least {100 * spec.min_reachable:g} % of the "
+                          f"{summary['targets']} targets",
+            "ranked by": f"expected RP_l {spec.objective} over the targets a candidate reaches; one reaching fewer "
+                         f"than {100 * spec.min_reachable:g} % of them ranks after every one that does",
             "best placement": f"candidate {best['candidate']}: base at {_vector(best['base_xyz_m'])} m, roll, pitch, "
                               f"yaw {_vector(best['base_rpy_deg'])}° (yaw +{best['yaw_deg']:g}°)",
-            "its targets": f"{best['reachable_targets']} of {summary['targets']} reached; expected RP_l [µm]: {figures}",
+            "its targets": f"{best['reachable_targets']} of {summary['targets']} reached; expected RP_l [µm]: "
+                           f"{figures}",
             "files": "placement.csv (every candidate, best first), best.toml (the study placed there)"}
     return f"<h2>Where to put the robot</h2>{key_value_table(rows)}"
 
