@@ -253,10 +253,13 @@ def test_poses_run_at_the_study_base_beside_the_search_and_progress_counts_targe
     study.write_text(gantry_study(candidates=[[0.0, 0.0, 0.0], [0.0, -0.4, 0.0]], yaw_deg=[0.0]) +
                      '\n[[poses]]\nname = "home"\nq = [0.1, 0.1, 0.1]\n')
     calls = []
-    result = run_study(study, meshes=False, progress=lambda done, total: calls.append((done, total)))
+    result = run_study(study, progress=lambda done, total: calls.append((done, total)))
     assert [pose.name for pose in result.poses] == ["home"] and result.map is None
     assert result.poses[0].report_row()["commanded_position_m"] == pytest.approx([0.3, 0.1, 0.3])  # base at origin
     assert calls == [(0, 18), (9, 18), (18, 18)]
-    write_results(result, tmp_path / "out", report="none")
+    write_results(result, tmp_path / "out", report="light")
     assert {"poses.csv", "placement.csv", "best.toml"} <= {p.name for p in (tmp_path / "out").iterdir()}
     assert "map" not in json.loads((tmp_path / "out" / "summary.json").read_text())
+    report = (tmp_path / "out" / "report.html").read_text()
+    assert "Where to put the robot" in report and '<img alt="placement"' in report
+    assert "candidate 0: base at (0, 0, 0) m" in report and "2 (base positions × yaw_deg (0)°)" in report
