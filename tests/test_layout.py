@@ -29,6 +29,7 @@ STAGES = (
     ("study",),
     ("execution",),
     ("maps",),
+    ("placement",),
     ("run",),
     ("viz",),
     ("output",),

@@ -175,7 +175,9 @@ def test_every_shipped_study_runs(path):
             run_study(path, cycles=5)
         return
     result = run_study(path, cycles=5)
-    assert result.poses or result.map is not None
+    assert result.poses or result.map is not None or result.placement is not None
+    if result.placement is not None:  # a best placement reaches the whole task
+        assert result.placement.meets_min_reachable[result.placement.best.index]
     assert not result.poses or np.all(np.isfinite(result.table()["RP_l_um"]))
     if result.map is not None:
         reachable = result.map.reachable

@@ -103,6 +103,9 @@ def _run(args) -> None:
     if result.map is not None:
         _print_map(result.map.summary())
         files += ["map*.csv", "map_*.png"]
+    if result.placement is not None:
+        _print_placement(result.placement.summary(), out)
+        files += ["placement.csv", "placement.png", "best.toml"]
     settings = result.settings
     how = "robot.tool_frame" if settings["robot_spec"]["tool_frame"] else "the default: the end of the longest chain"
     print(f"tool frame: {settings['tool_frame']} ({how}), moved by {', '.join(settings['joints'])}")
@@ -167,6 +170,23 @@ def _print_map(summary: dict) -> None:
     for scenario in scenarios:
         wins = f" {summary['wins'][scenario['name']]:>7}" if "wins" in summary else ""
         print(f"{scenario['name']:<{width}} {_spread_um(scenario['RP_l_um']):>30}{wins}")
+
+
+def _print_placement(summary: dict, out: Path) -> None:
+    best, targets = summary["best"], summary["targets"]
+    print(f"placement: {summary['candidates']} candidates, {summary['meeting_min_reachable']} reach at least "
+          f"{100 * summary['min_reachable']:g} % of the task's {targets} targets; ranked by expected RP_l "
+          f"{summary['objective']}")
+    figures = " / ".join("-" if best["RP_l_um"][name] is None else f"{best['RP_l_um'][name]:.3f}"
+                         for name in ("mean", "p95", "max"))
+    print(f"best: candidate {best['candidate']}, base at ({', '.join(f'{v:g}' for v in best['base_xyz_m'])}) m, "
+          f"yaw +{best['yaw_deg']:g}° (base roll, pitch, yaw {', '.join(f'{v:g}' for v in best['base_rpy_deg'])}°): "
+          f"reaches {best['reachable_targets']} of {targets}, RP_l mean / p95 / max {figures} µm")
+    if not best["meets_min_reachable"]:
+        print(f"warning: no candidate reaches {100 * summary['min_reachable']:g} % of the targets; the best reaches "
+              f"{best['reachable_targets']} of them")
+    print(f"the study placed there: {out / 'best.toml'} (tribokin run {out / 'best.toml'} --out DIR maps the task "
+          "region from it)")
 
 
 def _view(args) -> None:
@@ -332,10 +352,13 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--report", choices=("full", "light", "none"), default="full",
                      help="report.html with the robot's visual meshes (full, default), its collision meshes "
                           "(light, far smaller) or no report")
-    run.add_argument("--workers", type=int, default=1, help="local processes computing the map's chunks (default 1)")
-    run.add_argument("--scheduler", help="address of a dask.distributed scheduler computing the map's chunks")
+    run.add_argument("--workers", type=int, default=1,
+                     help="local processes computing the map's chunks or the placement's candidates (default 1)")
+    run.add_argument("--scheduler", help="address of a dask.distributed scheduler computing the map's chunks or the "
+                     "placement's candidates")
     run.add_argument("--resume", action="store_true",
-                     help="finish an interrupted map: reuse the chunks saved in <out>.chunks/")
+                     help="finish an interrupted map or placement search: reuse the chunks (candidates) "
+                          "saved in <out>.chunks/")
     run.set_defaults(handler=_run)
 
     measure = commands.add_parser("measure", help="ISO 9283 figures of measured data (a laser tracker's CSV)")

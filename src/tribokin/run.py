@@ -1,4 +1,4 @@
-"""A study's run: its poses, then its map, into a :class:`StudyResult`."""
+"""A study's run: its poses, then its map or its placement search, into a :class:`StudyResult`."""
 
 from __future__ import annotations
 
@@ -16,6 +16,8 @@ from tribokin.kinematics.robot import Robot
 from tribokin.maps.budget import check_disk, check_memory
 from tribokin.maps.result import MapResult
 from tribokin.maps.run import prepare_map, run_map
+from tribokin.placement.result import PlacementResult
+from tribokin.placement.search import run_placement
 from tribokin.provenance import software_versions
 from tribokin.simulation.pose_result import PoseResult
 from tribokin.simulation.pose_run import PoseRunner
@@ -25,8 +27,9 @@ from tribokin.study.reading import load_study
 
 @dataclass
 class StudyResult:
-    """Results of a whole study: ``poses`` in file order, the workspace ``map`` (if any), and what
-    produced them (``robot``, for views; ``reproduce``: seed, study file hash, versions, command line)."""
+    """Results of a whole study: ``poses`` in file order, the workspace ``map`` or, with ``[placement]``, the
+    ``placement`` search over its task region (if any), and what produced them (``robot``, for views; ``reproduce``:
+    seed, study file hash, versions, command line)."""
 
     name: str
     poses: list[PoseResult]
@@ -34,6 +37,7 @@ class StudyResult:
     robot: Robot | None = field(default=None, repr=False)
     map: MapResult | None = None
     reproduce: dict = field(default_factory=dict)
+    placement: PlacementResult | None = None
 
     def display_configuration(self) -> np.ndarray:
         """Where to draw the robot [m or rad]: the first pose, else the first reachable map target,
@@ -61,6 +65,8 @@ class StudyResult:
         summary = {"study": self.settings, "reproduce": self.reproduce, "poses": [p.report_row() for p in self.poses]}
         if self.map is not None:
             summary["map"] = self.map.summary()
+        if self.placement is not None:
+            summary["placement"] = self.placement.summary()
         return summary
 
 
@@ -72,15 +78,19 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     Args:
         study: the study; relative paths in a mapping resolve against the current folder.
         cycles, seed: override the file's values.
-        executor: where the map's chunks run (``None``: here; local processes or a dask cluster:
-            :func:`~tribokin.execution.executor_for`).
-        checkpoint, resume: folder where the map's finished chunks are saved, and whether to reuse them.
-        progress: called with the map's targets done and in all (:func:`~tribokin.maps.run.run_map`).
+        executor: where the map's chunks, or the placement's candidates, run (``None``: here; local processes or a dask
+            cluster: :func:`~tribokin.execution.executor_for`).
+        checkpoint, resume: folder where the map's finished chunks (the placement's candidates) are saved, and
+            whether to reuse them.
+        progress: called with the map's targets done and in all (:func:`~tribokin.maps.run.run_map`; a placement:
+            the targets of the candidates done, :func:`~tribokin.placement.search.run_placement`).
         meshes: load the robot's meshes, to draw it in a report (every mesh of a URDF must then be found);
             ``False``: its kinematics only.
 
     Returns:
-        the per-pose samples and ISO 9283 figures, and the map's per-target figures.
+        the per-pose samples and ISO 9283 figures, and the map's per-target figures or the placement's per-candidate
+        figures (the poses at the study's own base; with ``[placement]``, the map is the task region, not mapped at
+        that base).
     """
     study = load_study(study, cycles, seed)
     if not study.has_tests:
@@ -95,14 +105,16 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     check_names(study, tasks)
     check_memory(study, robot.model.nv, [len(t.tested(study.approach).labels) for t in tasks],
                  local_workers(executor), ("command line", "--cycles") if cycles is not None else None)
-    check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None else checkpoint)
-    prepared_map = None if study.map is None else prepare_map(study, robot)
+    check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None or study.placement else checkpoint)
+    prepared_map = None if study.map is None else prepare_map(study, robot)  # the map's keys checked at any base
     runner = PoseRunner(study, robot, models)
     for task in tasks:  # every pose's loads, checked before any is sampled
         runner.normal_forces(task)
     poses = [runner.run(task, index) for index, task in enumerate(tasks)]
-    workspace_map = None
-    if prepared_map is not None:
+    workspace_map = placement = None
+    if study.placement is not None:
+        placement = run_placement(study, executor, checkpoint, resume, progress)
+    elif prepared_map is not None:
         workspace_map = run_map(study, robot, *prepared_map, executor, checkpoint, resume, progress)
     settings = {
         "name": study.name,
@@ -123,4 +135,4 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
         "scenarios": [{"name": s.name, "overrides": s.overrides} for s in study.scenarios],
     }
     reproduce = {"seed": study.seed, "study_sha256": study.sha256, "versions": software_versions(), "command": None}
-    return StudyResult(study.name, poses, settings, robot, workspace_map, reproduce)
+    return StudyResult(study.name, poses, settings, robot, workspace_map, reproduce, placement)

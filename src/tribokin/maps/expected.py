@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property, partial
+from functools import cached_property, lru_cache, partial
 
 import numpy as np
 
@@ -156,6 +156,13 @@ def linear_model(robot, moments: JointMoments, qs: np.ndarray, lever: np.ndarray
     bound = truncation_bound(twists, departure[:, None, :], order=1)
     return LinearModel(mean_dq, positions, twists, lever, variance,
                        np.column_stack([bound.position_m, bound.angle_rad]).reshape(len(qs), 2))
+
+
+@lru_cache(maxsize=4)
+def shape_table(cycles: int, seed: int) -> ShapeTable:
+    """The shape table of tests of ``cycles`` cycles from study seed ``seed``'s common random numbers, simulated once
+    per process (a placement search maps its task region once per candidate)."""
+    return ShapeTable.simulate(cycles, expected_stream(seed, "table"))
 
 
 @dataclass(frozen=True)

@@ -24,8 +24,8 @@ from tribokin.execution import run_chunks
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
-from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES, ShapeTable
-from tribokin.maps.expected import ExpectedSetup, expected_targets
+from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES
+from tribokin.maps.expected import ExpectedSetup, expected_targets, shape_table
 from tribokin.maps.measure import measure_targets
 from tribokin.maps.result import MapResult, ScenarioMap
 from tribokin.maps.rows import fill_from_neighbours, first_tries, solve_row_heads, solve_rows, solve_tries
@@ -33,7 +33,6 @@ from tribokin.maps.schema import map_columns, scenario_column
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.propagation.exact import tool_frames
 from tribokin.simulation.pose_run import PoseRunner
-from tribokin.streams import expected_stream
 from tribokin.study.assembly import joint_models, load_robot
 from tribokin.study.spec import Study
 
@@ -173,8 +172,7 @@ def expected_setups(study: Study, runners: list[PoseRunner]) -> tuple[ExpectedSe
     for runner in runners:
         key = runner.study.cycles, runner.study.seed
         if key not in tables:
-            tables[key] = (None if key[0] >= ASYMPTOTIC_CYCLES
-                           else ShapeTable.simulate(key[0], expected_stream(key[1], "table")))
+            tables[key] = None if key[0] >= ASYMPTOTIC_CYCLES else shape_table(*key)
     return tuple(ExpectedSetup.build(r, tables[r.study.cycles, r.study.seed], study.map.figure_set) for r in runners)
 
 

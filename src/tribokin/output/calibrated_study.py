@@ -77,8 +77,7 @@ def calibrated_study_text(study_text: str, source_dir: Path, out: Path, header: 
         values: the joint keys to set.
         poses: (name, configuration, approach directions) of the poses to append as ``[[poses]]``.
     """
-    document = tomlkit.parse(study_text)
-    _move_paths(document, source_dir, out)
+    document = moved_study_document(study_text, source_dir, out)
     joints = document["joints"]
     for value in values:
         if value.joint not in joints:
@@ -97,5 +96,18 @@ def calibrated_study_text(study_text: str, source_dir: Path, out: Path, header: 
             entry["directions"].comment("its measured approaches")
             entries.append(entry)
         document["poses"] = entries
+    return with_header(document, header)
+
+
+def moved_study_document(study_text: str, source_dir: Path, out: Path) -> tomlkit.TOMLDocument:
+    """The study's text as a ``tomlkit`` document (comments and layout kept), its relative paths rewritten to name the
+    same files from ``out``."""
+    document = tomlkit.parse(study_text)
+    _move_paths(document, source_dir, out)
+    return document
+
+
+def with_header(document: tomlkit.TOMLDocument, header: list[str]) -> str:
+    """``document``'s text after the comment lines ``header`` (without ``#``) and a blank line."""
     lines = "".join(f"# {line}\n" if line else "#\n" for line in header)
     return lines + "\n" + tomlkit.dumps(document)

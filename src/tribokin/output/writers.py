@@ -1,5 +1,5 @@
 """Writing a study's results into an output folder: ``summary.json``, ``poses.csv``, ``samples.npz``,
-the map's tables, the figures, the report and the scene."""
+the map's tables, the placement's table and best study, the figures, the report and the scene."""
 
 from __future__ import annotations
 
@@ -16,6 +16,8 @@ from tribokin.maps.result import MapResult, ScenarioMap
 from tribokin.maps.schema import figure_index, table_figures
 from tribokin.maps.streaming import blocks
 from tribokin.output.folder import atomic_folder
+from tribokin.output.placed_study import BEST_STUDY, best_study_text
+from tribokin.placement.result import PlacementResult
 from tribokin.run import StudyResult
 from tribokin.study.names import map_table_file
 
@@ -164,11 +166,22 @@ def map_table_name(workspace_map: MapResult, scenario: ScenarioMap) -> str:
     return map_table_file(None if scenario is workspace_map.reference else scenario.name)
 
 
+def write_placement(placement: PlacementResult, folder: Path, out: Path) -> None:
+    """``placement.csv`` (one row per candidate, best first: :meth:`~tribokin.placement.result.PlacementResult.columns`)
+    and ``best.toml`` (:func:`~tribokin.output.placed_study.best_study_text`, its paths relative to ``out``)."""
+    columns = placement.columns()
+    with open(folder / "placement.csv", "w", newline="", encoding="utf-8") as handle:
+        csv.writer(handle).writerow(columns)
+        handle.writelines(table_lines(columns))
+    (folder / BEST_STUDY).write_text(best_study_text(placement, Path(out)), encoding="utf-8")
+
+
 def write_results(result: StudyResult, out, force: bool = False, report: str = "full", map_layers=None,
                   cube=None) -> Path:
-    """Write summary.json, the pose files (poses.csv, samples.npz) and the map tables (map*.csv) to ``out``,
-    atomically, with the figures and, unless ``report`` is ``"none"``, ``report.html`` and ``scene.npz``, as
-    :func:`~tribokin.viz.contents.write_views` decides (``report``, ``map_layers``, ``cube``: see there).
+    """Write summary.json, the pose files (poses.csv, samples.npz), the map tables (map*.csv) or the placement's
+    files (placement.csv, best.toml) to ``out``, atomically, with the figures and, unless ``report`` is ``"none"``,
+    ``report.html`` and ``scene.npz``, as :func:`~tribokin.viz.contents.write_views` decides (``report``,
+    ``map_layers``, ``cube``: see there).
     """
     from tribokin.viz.contents import write_views
 
@@ -180,5 +193,7 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
         if result.map is not None:
             for scenario in result.map.scenarios.values():
                 write_map_table(result.map, scenario, folder / map_table_name(result.map, scenario))
+        if result.placement is not None:
+            write_placement(result.placement, folder, Path(out))
         write_views(result, folder, report, map_layers, cube)
     return Path(out)

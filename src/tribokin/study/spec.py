@@ -20,6 +20,7 @@ from tribokin.iso9283.cube import known_approach
 from tribokin.kinematics.urdf_xacro import XACRO_SUFFIX, is_xacro
 from tribokin.simulation.joint_errors import APPROACH_MODES
 from tribokin.study.map_spec import MAP_SPECS, STATISTICS, MapSpec
+from tribokin.study.placement_spec import OBJECTIVES, PlacementSpec
 
 
 # -- ranges: physically meaningful bounds, each with the reason a value outside is refused ---------------------
@@ -243,7 +244,37 @@ CALIBRATION_KEYS = {
 #: Study sections a scenario may override; of [robot], only the payload (the targets stay the same).
 SCENARIO_SECTIONS = ("study", "robot", "joints")
 SCENARIO_ROBOT_KEYS = ("payload_kg",)
-TOP_KEYS = ("study", "robot", "joints", "poses", "iso_cube", "map", "scenarios", "calibration")
+candidate_count = within(positive_int, 1, 10 ** 4, "candidates (positions × yaw_deg values)",
+                          "each candidate runs the whole [map]; ten thousand take hours: search coarsely, then finer "
+                          "around the best")
+fraction = within(finite, 0.0, 1.0, "", "a fraction of the task's targets")
+
+
+def distinct(check):
+    """A non-empty list whose elements pass ``check`` and are all different (a candidate named twice)."""
+    def checked(value, source, key) -> list:
+        if not isinstance(value, list) or not value:
+            raise InputError(f"must be a non-empty list (got {value!r})", source, key)
+        values = [check(v, source, f"{key}[{i}]") for i, v in enumerate(value)]
+        twice = next((i for i, v in enumerate(values) if v in values[:i]), None)
+        if twice is not None:
+            raise InputError(f"{value[twice]!r} is given twice; give each once", source, f"{key}[{twice}]")
+        return values
+    return checked
+
+
+PLACEMENT_KEYS = {
+    "candidates": (distinct(position3), None),
+    "base_xyz_m_min": (position3, None),
+    "base_xyz_m_max": (position3, None),
+    "resolution": (count_list, None),
+    "yaw_deg": (distinct(angle_deg), [0.0]),
+    "objective": (one_of(*OBJECTIVES), "p95"),
+    "min_reachable": (fraction, 1.0),
+}
+#: The keys of a box of base positions, all given or none.
+PLACEMENT_BOX_KEYS = ("base_xyz_m_min", "base_xyz_m_max", "resolution")
+TOP_KEYS = ("study", "robot", "joints", "poses", "iso_cube", "map", "scenarios", "calibration", "placement")
 
 
 def check_table(mapping: dict, schema: dict, source, prefix: str, extra_ok=()) -> dict:
@@ -416,6 +447,7 @@ class Study:
     scenarios: tuple[ScenarioSpec, ...] = ()
     sha256: str | None = None
     calibration: CalibrationSpec | None = None
+    placement: PlacementSpec | None = None
 
     @property
     def has_tests(self) -> bool:
@@ -459,7 +491,7 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
     for required in ("robot", "joints"):
         if required not in mapping:
             raise InputError(f"missing [{required}] section", source, required)
-    if not {"poses", "iso_cube", "map", "calibration"} & set(mapping):
+    if not {"poses", "iso_cube", "map", "calibration", "placement"} & set(mapping):
         raise InputError("nothing to test: add [[poses]] entries, an [iso_cube] or a [map] section", source, "poses")
     study = check_table(table(mapping.get("study", {}), source, "study"), STUDY_KEYS, source, "study")
     robot = check_table(table(mapping["robot"], source, "robot"), ROBOT_KEYS, source, "robot")
@@ -483,6 +515,7 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         cube = check_table(table(mapping["iso_cube"], source, "iso_cube"), ISO_CUBE_KEYS, source, "iso_cube")
         iso_cube = _spec(IsoCubeSpec, cube)
     map_spec = check_map(table(mapping["map"], source, "map"), source) if "map" in mapping else None
+    placement = check_placement(mapping, map_spec, source) if "placement" in mapping else None
     calibration = None
     if "calibration" in mapping:
         checked = check_table(table(mapping["calibration"], source, "calibration"), CALIBRATION_KEYS, source,
@@ -523,6 +556,7 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         map=map_spec,
         scenarios=parse_scenarios(mapping, source, base_dir),
         calibration=calibration,
+        placement=placement,
     )
 
 
@@ -555,6 +589,42 @@ def check_map(mapping: dict, source) -> MapSpec:
         for i, (bounds, count) in enumerate(zip(ranges, counts)):
             _check_width(bounds, count, source, f"map.ranges[{i}]")
     return _spec(MAP_SPECS[kind], {key: value for key, value in spec.items() if key != "kind"})
+
+
+def check_placement(mapping: dict, map_spec: MapSpec | None, source) -> PlacementSpec:
+    """Validate ``[placement]``: its keys, one way of giving the base positions, and a ``[map]`` of world positions
+    (the task region) without ``[[scenarios]]``."""
+    if map_spec is None or map_spec.kind == "joint":
+        raise InputError("a placement search needs the task region as a [map] of kind \"plane\" or \"box\" (targets in "
+                         "the world frame)" + ("" if map_spec is None else ", not \"joint\""), source,
+                         "placement" if map_spec is None else "map.kind")
+    if "scenarios" in mapping:
+        raise InputError("[placement] ranks base positions with the study's own joints and cannot be combined with "
+                         "[[scenarios]]: search with one scenario's joints at a time, or remove [[scenarios]]", source,
+                         "scenarios")
+    spec = check_table(table(mapping["placement"], source, "placement"), PLACEMENT_KEYS, source, "placement")
+    box = [key for key in PLACEMENT_BOX_KEYS if spec[key] is not None]
+    if spec["candidates"] is not None and box:
+        raise InputError("give the base positions as candidates = [[x, y, z], ...] or as a box (base_xyz_m_min, "
+                         "base_xyz_m_max, resolution), not both", source, f"placement.{box[0]}")
+    if spec["candidates"] is None:
+        missing = next((key for key in PLACEMENT_BOX_KEYS if spec[key] is None), None)
+        if missing is not None:
+            raise InputError("missing: give the base positions as a box (base_xyz_m_min, base_xyz_m_max, resolution "
+                             "[nx, ny, nz]) or as candidates = [[x, y, z], ...]", source, f"placement.{missing}")
+        if len(spec["resolution"]) != 3:
+            raise InputError(f"needs 3 whole numbers [nx, ny, nz] (got {len(spec['resolution'])})", source,
+                             "placement.resolution")
+        for axis, (low, high, count) in enumerate(zip(spec["base_xyz_m_min"], spec["base_xyz_m_max"],
+                                                     spec["resolution"])):
+            if low > high:
+                raise InputError(f"is below base_xyz_m_min[{axis}] ({high:g} < {low:g}): swap them", source,
+                                 f"placement.base_xyz_m_max[{axis}]")
+            _check_width([low, high], count, source, f"placement.base_xyz_m_max[{axis}]")
+    placement = _spec(PlacementSpec, spec)
+    candidate_count(placement.candidate_count, source,
+                    "placement.resolution" if spec["candidates"] is None else "placement.candidates")
+    return placement
 
 
 def _check_counts(counts: list[int], length: int, shape: str, source) -> None:

@@ -10,6 +10,7 @@ from tribokin.run import StudyResult
 from tribokin.study.names import pose_figure_file
 from tribokin.viz.figures import save_repeatability_field
 from tribokin.viz.maps import map_figure_names, save_map_figures
+from tribokin.viz.placement import PLACEMENT_FIGURE, save_placement_figure
 from tribokin.viz.report import write_report
 from tribokin.viz.scene import Cube, MapLayer
 from tribokin.viz.scene_file import save_scene_inputs
@@ -45,21 +46,25 @@ def study_cube(result: StudyResult) -> Cube | None:
 
 
 def figure_names(result: StudyResult) -> list[str]:
-    """The figures of ``result``'s output folder in reading order: each pose's field (poses in study order),
-    then the map's (reference, scenarios, ratios, differences, winner)."""
-    names = [pose_figure_file(pose.name) for pose in result.poses]
+    """The figures of ``result``'s output folder in reading order: the placement's heat map, each pose's field
+    (poses in study order), then the map's (reference, scenarios, ratios, differences, winner)."""
+    names = [PLACEMENT_FIGURE] if result.placement is not None else []
+    names += [pose_figure_file(pose.name) for pose in result.poses]
     return names + (map_figure_names(result.map) if result.map is not None else [])
 
 
 def write_views(result: StudyResult, folder: Path, report: str = "full", map_layers: dict[str, MapLayer] | None = None,
                 cube: Cube | None = None) -> None:
-    """Draw into ``folder`` one figure per pose and the map's figures; with ``report`` ``"full"`` or ``"light"``
+    """Draw into ``folder`` the placement's heat map, one figure per pose and the map's figures; with ``report``
+    ``"full"`` or ``"light"``
     (robot visual or collision meshes) also ``report.html`` and ``scene.npz`` (for ``tribokin view``), drawing
     ``map_layers`` (default: the map's scenarios, :func:`map_scene_layers`) and ``cube`` (default: the study's)."""
     for pose in result.poses:
         save_repeatability_field(pose, folder / pose_figure_file(pose.name), title=f"{result.name} — {pose.name}")
     if result.map is not None:
         save_map_figures(result.map, folder, result.name)
+    if result.placement is not None:
+        save_placement_figure(result.placement, folder / PLACEMENT_FIGURE, result.name)
     if report == "none":
         return
     cube = study_cube(result) if cube is None else cube

@@ -20,6 +20,7 @@ from tribokin.kinematics.robot import Robot
 from tribokin.maps.grid import TargetGrid
 from tribokin.maps.result import MapResult
 from tribokin.run import StudyResult
+from tribokin.study.map_spec import BoxMap, MapSpec
 from tribokin.viz.colours import ColourScale
 from tribokin.viz.scene import Cube, MapLayer, RobotDrawn, SceneInfo, build_scene
 from tribokin.viz.static import static_visualizer
@@ -208,7 +209,8 @@ def input_values(result: StudyResult) -> dict[str, str]:
     settings = result.settings
     spec, source = settings["robot_spec"], str(settings["source"])
     offset = tool_offset(spec, settings["tool_frame"])
-    counted = [what for what, present in (("pose", result.poses), ("map target", result.map is not None)) if present]
+    counted = [what for what, present in (("pose", result.poses), ("map target", result.map is not None),
+                                          ("task target and placement", result.placement is not None)) if present]
     rows = {"study file": source if source.startswith("<") else shown_path(source),  # "<mapping>": no file
             "robot": f"{spec['name']} (example-robot-data)" if spec["name"] else shown_path(spec["urdf"]),
             **({"xacro arguments": ", ".join(f"{name} = {value}" for name, value in spec["xacro_args"].items())}
@@ -224,6 +226,40 @@ def input_values(result: StudyResult) -> dict[str, str]:
     if result.map is not None:
         rows["map targets"] = map_targets(result.map.grid)
     return rows
+
+
+def task_region(task: MapSpec) -> str:
+    """Where a placement's task targets are, in the world frame, as the ``[map]`` gives them (box or plane)."""
+    counts = " × ".join(str(n) for n in task.resolution)
+    if isinstance(task, BoxMap):
+        return f"box from {_vector(task.min_m)} to {_vector(task.max_m)} m, {counts} targets"
+    return (f"plane through {_vector(task.origin_m)} m along {_vector(task.axis_u)} from {task.extent_u_m[0]:g} to "
+            f"{task.extent_u_m[1]:g} m and along {_vector(task.axis_v)} from {task.extent_v_m[0]:g} to "
+            f"{task.extent_v_m[1]:g} m, {counts} targets")
+
+
+def placement_section(result: StudyResult) -> str:
+    """The placement search: what was searched, how it ranks, and the best placement (``summary.json``'s
+    ``placement``), its heat map among the figures."""
+    placement = result.placement
+    if placement is None:
+        return ""
+    summary = placement.summary()
+    best = summary["best"]
+    spec = placement.spec
+    figures = ", ".join(f"{name} {_cell(value)}" for name, value in best["RP_l_um"].items())
+    rows = {"task region": task_region(placement.study.map),
+            "candidates": f"{summary['candidates']} (base positions × yaw_deg {_vector(spec.yaw_deg)}°); "
+                          f"{summary['meeting_min_reachable']} reach at least {100 * spec.min_reachable:g} % of the "
+                          f"{summary['targets']} targets",
+            "ranked by": f"expected RP_l {spec.objective} over the targets a candidate reaches; one reaching fewer "
+                         f"than {100 * spec.min_reachable:g} % of them ranks after every one that does",
+            "best placement": f"candidate {best['candidate']}: base at {_vector(best['base_xyz_m'])} m, roll, pitch, "
+                              f"yaw {_vector(best['base_rpy_deg'])}° (yaw +{best['yaw_deg']:g}°)",
+            "its targets": f"{best['reachable_targets']} of {summary['targets']} reached; expected RP_l [µm]: "
+                           f"{figures}",
+            "files": "placement.csv (every candidate, best first), best.toml (the study placed there)"}
+    return f"<h2>Where to put the robot</h2>{key_value_table(rows)}"
 
 
 def inputs_section(result: StudyResult, prismatic) -> str:
@@ -294,6 +330,7 @@ def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: d
 {robot_geometry(info.robot, variant)}
 <iframe title="3-D scene" srcdoc="{srcdoc}"></iframe>
 {notes}
+{placement_section(result)}
 {inputs_section(result, prismatic)}
 {maps}
 {poses}
