@@ -20,7 +20,8 @@ $(VENV)/.test: $(VENV)/.base
 
 DEMO_STUDIES := paper-fig10-frictionless paper-fig11-constant paper-fig12-gaussian paper-fig13-uniform \
                 tribology-log tribology-surfaces \
-                gantry-iso ur5-iso panda-iso two-link-xacro gantry-map ur5-map-horizontal ur5-map-directional panda-map-vertical ur5-what-if-materials
+                gantry-iso ur5-iso panda-iso two-link-xacro gantry-map ur5-map-horizontal ur5-map-directional panda-map-vertical ur5-what-if-materials \
+                what-if-robots what-if-placement
 
 demo: $(VENV)/.base
 	@mkdir -p $(DEMO_OUT)

@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 
-from conftest import ROOT
+from conftest import ROOT, STUDIES
 from tribokin import run_study
 from tribokin.output.writers import map_table_name, write_map_table, write_summary
 
@@ -128,3 +128,16 @@ def test_a_longer_forearm_as_a_xacro_argument_reaches_as_far_as_its_links(tmp_pa
         reached = scenario.read_robot("reachable")
         np.testing.assert_array_equal(reached[clear], ((r >= shortest) & (r <= 0.5 + forearm))[clear])
     assert workspace.summary()["scenarios"][1]["reached_only_by_this"] > 0
+
+
+def test_the_shipped_what_if_studies_compare_what_they_say():
+    """studies/what-if-robots.toml: most targets reached by both, the far edge by the UR10 only;
+    studies/what-if-placement.toml: each placement reaches other targets and changes RP_l."""
+    robots = run_study(STUDIES / "what-if-robots.toml", cycles=5).map.summary()
+    ur5, ur10 = robots["scenarios"]
+    assert ur10["reached_only_by_reference"] == 0 and 0 < ur10["reached_only_by_this"] < ur5["reachable"]
+    assert robots["reached_by_any"] == robots["count"]
+    placement = run_study(STUDIES / "what-if-placement.toml", cycles=5).map.summary()
+    for moved in placement["scenarios"][1:]:
+        assert moved["reached_only_by_reference"] > 0 and moved["RP_l_ratio"]["min"] < 0.5 < 2 < moved["RP_l_ratio"]["max"]
+    assert all(count > 0 for count in placement["wins"].values())
