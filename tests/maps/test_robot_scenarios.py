@@ -10,7 +10,10 @@ import pytest
 
 from conftest import ROOT, STUDIES
 from tribokin import run_study
+from tribokin.execution import executor_for
+from tribokin.maps import run as map_run
 from tribokin.output.writers import map_table_name, write_map_table, write_summary
+from tribokin.study.reading import read_study_file
 
 #: A small UR5 plane (tool pointing down) whose far edge lies beyond the UR5's reach, not the UR10's.
 UR5_PLANE = {
@@ -47,11 +50,25 @@ def without_columns(table: str, *names: str) -> str:
 COMPARED = ("RP_l_ratio", "RP_l_diff_um", "reached_by")
 
 
-def test_a_base_moved_by_zero_solves_its_own_ik_and_gives_the_same_bytes(tmp_path):
-    plain = run_study(with_scenarios(UR5_PLANE, {"name": "same"}))
-    zero = run_study(with_scenarios(UR5_PLANE, {"name": "same", "robot": {"base_xyz_m": [0.0, 0.0, 0.0]}}))
+def horizontal(*scenarios: dict) -> dict:
+    """studies/ur5-map-horizontal.toml at 25 × 15 targets, where IK fills holes from neighbours, with ``scenarios``."""
+    study = read_study_file(STUDIES / "ur5-map-horizontal.toml").mapping
+    return {**study, "map": {**study["map"], "resolution": [25, 15]}, "scenarios": [{"name": "reference"}, *scenarios]}
+
+
+def test_a_base_moved_by_zero_solves_its_own_ik_and_gives_the_same_bytes(tmp_path, monkeypatch):
+    filled = []
+    real = map_run.fill_from_neighbours
+    monkeypatch.setattr(map_run, "fill_from_neighbours", lambda *args: filled.append(real(*args)) or filled[-1])
+    plain = run_study(horizontal({"name": "same"}), cycles=10)
+    zero_study = horizontal({"name": "same", "robot": {"base_xyz_m": [0.0, 0.0, 0.0]}})
+    zero = run_study(zero_study, cycles=10)
     assert (plain.map.robot_count, zero.map.robot_count) == (1, 2)  # the zero base is another robot, solved anew
+    assert len(filled[0]) > 0 and [list(f) for f in filled[1:]] == [list(filled[0])] * 2  # its holes filled alike
+    with executor_for(workers=2) as executor:  # its holes' first tries solved on the workers
+        on_workers = tables(run_study(zero_study, cycles=10, executor=executor), tmp_path / "workers")
     plain, zero = tables(plain, tmp_path / "plain"), tables(zero, tmp_path / "zero")
+    assert on_workers == zero
     assert zero["map.csv"] == plain["map.csv"]
     assert without_columns(zero["map_same.csv"], "reached_by") == plain["map_same.csv"]
     assert {row["reached_by"] for row in csv.DictReader(io.StringIO(zero["map_same.csv"]))} == {"both", "neither"}
