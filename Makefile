@@ -22,7 +22,7 @@ DEMO_STUDIES := paper-fig10-frictionless paper-fig11-constant paper-fig12-gaussi
                 tribology-log tribology-surfaces \
                 gantry-iso ur5-iso panda-iso ur5-published ur10-published panda-published two-link-xacro \
                 gantry-map ur5-map-horizontal ur5-map-directional panda-map-vertical ur5-what-if-materials \
-                gantry-placement ur5-placement
+                what-if-robots what-if-placement gantry-placement ur5-placement
 
 demo: $(VENV)/.base
 	@mkdir -p $(DEMO_OUT)

@@ -41,7 +41,7 @@ import numpy as np
 
 from tribokin.maps import rows as map_rows
 from tribokin.maps.run import chunk_rows, prepare_map
-from tribokin.study.assembly import load_robot
+from tribokin.study.assembly import load_robot, map_robots
 from tribokin.study.reading import load_study, read_study_file
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -137,7 +137,8 @@ def main() -> None:
     mapping["map"]["resolution"] = [args.side, args.side]
     study = load_study(mapping)
     robot = load_robot(study)
-    grid, _, heads = prepare_map(study, robot)
+    prepared = prepare_map(study, map_robots(study, robot))
+    grid, heads = prepared.grids[0], prepared.heads[0]
     rows = list(range(grid.row_count))
     before, (q_before, reachable_before, _) = timed(lambda: tuple(np.array(arrays) for arrays in zip(
         *(solve_row_before(robot, grid, row, heads[row]) for row in rows))), grid.size, args.repeats)

@@ -182,7 +182,10 @@ def test_every_shipped_study_runs(path):
     if result.map is not None:
         reachable = result.map.reachable
         assert reachable.any()
-        assert np.all(np.isfinite(result.map.reference.figure("RP_l_um")[reachable]))
+        for scenario in result.map.scenarios.values():  # each where the robot it is measured with reaches
+            reached = scenario.read_robot("reachable")
+            assert np.all(np.isfinite(scenario.figure("RP_l_um")[reached]))
+            assert np.all(np.isnan(scenario.figure("RP_l_um")[~reached]))
 
 
 def test_names_are_shown_as_written_in_figures(tmp_path, monkeypatch):

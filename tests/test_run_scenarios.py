@@ -58,7 +58,7 @@ def test_payload_and_joint_overrides_change_only_what_they_name():
 
 
 @pytest.mark.parametrize("scenario, key", [
-    ({"name": "a", "robot": {"name": "ur5"}}, "scenarios[1].robot.name"),
+    ({"name": "a", "robot": {"name": "ur55"}}, "scenarios[1].robot.name"),
     ({"name": "a", "map": {}}, "scenarios[1].map"),
     ({"name": "a", "joints": {"stiffness": -1.0}}, "scenarios[1].joints.stiffness"),
     ({"name": "a", "joints": {"w": {"stiffness": 1.0}}}, "scenarios[1].joints.w"),

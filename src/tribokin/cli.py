@@ -166,10 +166,13 @@ def _print_map(summary: dict) -> None:
           f"{summary['cycles']} cycles each")
     scenarios = summary.get("scenarios") or [{"name": "", "RP_l_um": summary["RP_l_um"]}]
     width = max(len(s["name"]) for s in scenarios)
-    print(f"{'':<{width}} {'RP_l min / median / max [µm]':>30}" + (f" {'wins':>7}" if "wins" in summary else ""))
+    reach = "reached_by_any" in summary  # the scenarios' robots differ: each reaches its own targets
+    print(f"{'':<{width}} {'RP_l min / median / max [µm]':>30}" + (f" {'wins':>7}" if "wins" in summary else "")
+          + (f" {'reachable':>9}" if reach else ""))
     for scenario in scenarios:
         wins = f" {summary['wins'][scenario['name']]:>7}" if "wins" in summary else ""
-        print(f"{scenario['name']:<{width}} {_spread_um(scenario['RP_l_um']):>30}{wins}")
+        reachable = f" {scenario['reachable']:>9}" if reach else ""
+        print(f"{scenario['name']:<{width}} {_spread_um(scenario['RP_l_um']):>30}{wins}{reachable}")
 
 
 def _print_placement(summary: dict, out: Path) -> None:

@@ -16,13 +16,16 @@ from tribokin.kinematics.robot import Robot
 from tribokin.maps.budget import check_disk, check_memory
 from tribokin.maps.result import MapResult
 from tribokin.maps.run import prepare_map, run_map
+from tribokin.maps.schema import MapLayout
 from tribokin.placement.result import PlacementResult
 from tribokin.placement.search import run_placement
 from tribokin.provenance import software_versions
 from tribokin.simulation.pose_result import PoseResult
 from tribokin.simulation.pose_run import PoseRunner
-from tribokin.study.assembly import check_names, joint_models, load_robot, pose_tasks, robot_spec
+from tribokin.study.assembly import MapRobots, check_names, joint_models, load_robot, map_robots, pose_tasks, \
+    robot_spec
 from tribokin.study.reading import load_study
+from tribokin.study.spec import ScenarioSpec
 
 
 @dataclass
@@ -70,6 +73,17 @@ class StudyResult:
         return summary
 
 
+def scenario_settings(scenario: ScenarioSpec, robots: MapRobots, place: int) -> dict:
+    """A scenario as ``summary.json`` records it: its name and overrides, and when it is measured with another robot
+    than the study's (kinematics, base or tool), that robot: its label, spec, tool frame and joints."""
+    settings = {"name": scenario.name, "overrides": scenario.overrides}
+    if place:
+        robot = robots.robots[place]
+        settings.update({"robot": robot.label, "robot_spec": robot_spec(scenario.study).as_settings(),
+                         "tool_frame": robot.tool_frame, "joints": robot.joint_names})
+    return settings
+
+
 def run_study(study, cycles: int | None = None, seed: int | None = None, *, executor: Executor | None = None,
               checkpoint=None, resume: bool = False, progress: Callable[[int, int], None] | None = None,
               meshes: bool = True) -> StudyResult:
@@ -103,10 +117,13 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     models = joint_models(study, robot)
     tasks, cube = pose_tasks(study, robot)
     check_names(study, tasks)
+    robots = None if study.map is None else map_robots(study, robot)
+    layout = None if robots is None else MapLayout.of(robots, study.map.figure_set)
     check_memory(study, robot.model.nv, [len(t.tested(study.approach).labels) for t in tasks],
-                 local_workers(executor), ("command line", "--cycles") if cycles is not None else None)
-    check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None or study.placement else checkpoint)
-    prepared_map = None if study.map is None else prepare_map(study, robot)  # the map's keys checked at any base
+                 local_workers(executor), ("command line", "--cycles") if cycles is not None else None, layout=layout)
+    check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None or study.placement else checkpoint,
+               layout)
+    prepared_map = None if robots is None else prepare_map(study, robots)  # the map's keys checked at any base
     runner = PoseRunner(study, robot, models)
     for task in tasks:  # every pose's loads, checked before any is sampled
         runner.normal_forces(task)
@@ -115,7 +132,7 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     if study.placement is not None:
         placement = run_placement(study, executor, checkpoint, resume, progress)
     elif prepared_map is not None:
-        workspace_map = run_map(study, robot, *prepared_map, executor, checkpoint, resume, progress)
+        workspace_map = run_map(study, prepared_map, executor, checkpoint, resume, progress)
     settings = {
         "name": study.name,
         "source": study.source,
@@ -132,7 +149,8 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
         "friction": {name: m.friction.describe() for name, m in zip(robot.joint_names, models)},
         "joint_models": {name: {f.name: getattr(m, f.name) for f in fields(m) if f.name != "friction"}
                          for name, m in zip(robot.joint_names, models)},
-        "scenarios": [{"name": s.name, "overrides": s.overrides} for s in study.scenarios],
+        "scenarios": [scenario_settings(s, robots, place) for s, place in zip(study.scenarios, robots.places)]
+        if study.scenarios else [],
     }
     reproduce = {"seed": study.seed, "study_sha256": study.sha256, "versions": software_versions(), "command": None}
     return StudyResult(study.name, poses, settings, robot, workspace_map, reproduce, placement)

@@ -29,30 +29,41 @@ UR5_MAP = {
     "scenarios": [{"name": "raw"}, {"name": "treated-shoulder",
                                     "joints": {"shoulder_lift_joint": {"friction": {"preset": "42CD4-treated"}}}}],
 }
-MAP_FILES = ("map.csv", "map_treated-shoulder.csv", "summary.json")
+#: Scenarios measured with robots of their own: another robot, and the study's moved and turned on its table.
+OTHER_ROBOTS = [{"name": "ur10", "robot": {"name": "ur10"}},
+                {"name": "moved", "robot": {"base_xyz_m": [0.05, -0.1, 0.0], "base_rpy_deg": [0.0, 0.0, 20.0]}}]
 
 
 def written(result, folder):
     """The map tables and summary.json as write_results writes them (figures left out, for speed)."""
     folder.mkdir()
     write_summary(result, folder)
+    names = ["summary.json"]
     for scenario in result.map.scenarios.values():
-        write_map_table(result.map, scenario, folder / map_table_name(result.map, scenario))
-    return {name: (folder / name).read_bytes() for name in MAP_FILES}
+        names.append(map_table_name(result.map, scenario))
+        write_map_table(result.map, scenario, folder / names[-1])
+    return {name: (folder / name).read_bytes() for name in names}
 
 
 #: The map's figure sets: one simulated test per target; expected figures sampled by common random numbers (the
-#: raw steel's uniform law) with the directional ones; in closed form (the treated steel's Gaussian law everywhere).
-VARIANTS = {"one-test": ({"statistic": "one-test"}, "42CD4-raw"), "directional": ({"directional": True}, "42CD4-raw"),
-            "expected-closed-form": ({}, "42CD4-treated")}
+#: raw steel's uniform law) with the directional ones; in closed form (the treated steel's Gaussian law everywhere);
+#: and those sampled with scenarios of other robots (:data:`OTHER_ROBOTS`), each solving its own IK.
+VARIANTS = {"one-test": ({"statistic": "one-test"}, "42CD4-raw", []),
+            "directional": ({"directional": True}, "42CD4-raw", []),
+            "expected-closed-form": ({}, "42CD4-treated", []), "other-robots": ({}, "42CD4-raw", OTHER_ROBOTS)}
+
+
+def variant_study(name: str) -> dict:
+    """UR5_MAP with one of the :data:`VARIANTS`."""
+    keys, preset, scenarios = VARIANTS[name]
+    return {**UR5_MAP, "joints": {**UR5_MAP["joints"], "friction": {"preset": preset}},
+            "map": {**UR5_MAP["map"], **keys}, "scenarios": UR5_MAP["scenarios"] + scenarios}
 
 
 @pytest.fixture(scope="module", params=list(VARIANTS))
 def variant(request):
     """UR5_MAP with one of the figure sets (:data:`VARIANTS`)."""
-    keys, preset = VARIANTS[request.param]
-    return {**UR5_MAP, "joints": {**UR5_MAP["joints"], "friction": {"preset": preset}},
-            "map": {**UR5_MAP["map"], **keys}}
+    return variant_study(request.param)
 
 
 @pytest.fixture(scope="module")
@@ -64,11 +75,14 @@ def with_chunk_rows(study, rows):
     return {**study, "map": {**study["map"], "chunk_rows": rows}}
 
 
-def test_reference_map_has_unreachable_targets_and_both_scenarios(reference):
+def test_reference_map_has_unreachable_targets_and_all_scenarios(variant, reference):
     summary = json.loads(reference["summary.json"])["map"]
     assert 0 < summary["unreachable"] < summary["count"] == 35
-    assert [s["name"] for s in summary["scenarios"]] == ["raw", "treated-shoulder"]
-    assert summary["wins"]["raw"] + summary["wins"]["treated-shoulder"] + summary["ties"] == summary["reachable"]
+    assert [s["name"] for s in summary["scenarios"]] == [s["name"] for s in variant["scenarios"]]
+    assert sum(summary["wins"].values()) + summary["ties"] == summary.get("reached_by_any", summary["reachable"])
+    if "reached_by_any" in summary:  # the UR10, and the UR5 moved nearer, reach the far edge, beyond the UR5
+        for scenario in summary["scenarios"][2:]:
+            assert scenario["reached_only_by_this"] > 0 and scenario["reached_only_by_reference"] == 0
 
 
 @pytest.mark.parametrize("rows", [2, 5])
@@ -158,6 +172,40 @@ def test_finished_chunks_are_reused_on_resume_others_recomputed_and_settings_che
         run_study(study, seed=9, checkpoint=folder, resume=True)
     with pytest.raises(InputError, match="--resume"):
         run_study(study, checkpoint=folder)
+
+
+@pytest.fixture(scope="module")
+def other_robots_reference(tmp_path_factory):
+    """The tables and summary of the "other-robots" variant, run without interruption."""
+    return written(run_study(variant_study("other-robots")), tmp_path_factory.mktemp("robots") / "out")
+
+
+def interrupted_at(monkeypatch, method: str, call: int):
+    """Make ``ChunkStore.<method>`` raise KeyboardInterrupt at its ``call``-th call (as a Ctrl-C would)."""
+    real, calls = getattr(ChunkStore, method), iter(range(1, 10 ** 6))
+
+    def interrupting(*args, **options):
+        if next(calls) == call:
+            raise KeyboardInterrupt
+        return real(*args, **options)
+
+    monkeypatch.setattr(ChunkStore, method, interrupting)
+
+
+def test_a_map_of_several_robots_interrupted_in_its_chunks_and_in_its_holes_resumes_to_the_same_bytes(
+        other_robots_reference, tmp_path, monkeypatch):
+    study, folder = variant_study("other-robots"), tmp_path / "chunks"
+    with monkeypatch.context() as patch:
+        interrupted_at(patch, "save", 3)
+        with pytest.raises(KeyboardInterrupt):
+            run_study(study, checkpoint=folder)
+    assert finished(folder) == 2
+    with monkeypatch.context() as patch:  # the study robot's holes filled and recorded, the next robot's not
+        interrupted_at(patch, "save_record", 2)
+        with pytest.raises(KeyboardInterrupt):
+            run_study(study, checkpoint=folder, resume=True)
+    assert finished(folder) == 5 and (folder / "filled.npz").is_file() and not (folder / "robot1_filled.npz").exists()
+    assert written(run_study(study, checkpoint=folder, resume=True), tmp_path / "out") == other_robots_reference
 
 
 def finished(chunks) -> int:

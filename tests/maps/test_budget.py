@@ -49,10 +49,11 @@ def test_estimate_counts_every_cycle_of_every_pose_and_every_map_target():
 def test_a_map_whose_results_would_not_fit_on_disk_is_refused(tmp_path, monkeypatch):
     from collections import namedtuple
 
-    from tribokin.maps.budget import check_disk, map_bytes_per_target
+    from tribokin.maps.budget import check_disk
+    from tribokin.maps.schema import MapLayout
 
     gantry = load_study(GANTRY_MAP)
-    needed = 24 * map_bytes_per_target(3, 1, gantry.map.statistic)
+    needed = 24 * MapLayout.shared(3, 1, gantry.map.statistic).bytes_per_target
     usage = namedtuple("usage", "total used free")
     monkeypatch.setattr("shutil.disk_usage", lambda path: usage(needed, 0, needed))
     check_disk(gantry, 3, tmp_path / "not" / "yet" / "made")

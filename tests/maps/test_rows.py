@@ -11,11 +11,11 @@ from tribokin import run_study
 from tribokin.kinematics import ik
 from tribokin.maps import rows as map_rows
 from tribokin.maps.grid import grid_neighbours, make_grid
-from tribokin.maps.schema import map_columns
+from tribokin.maps.schema import MapLayout
 from tribokin.maps.rows import beyond_reach_m, extrapolate_rows, fill_from_neighbours, first_bound_beyond, \
     holes_beside_reached, solve_row_heads, solve_rows
 from tribokin.maps.run import prepare_map
-from tribokin.study.assembly import load_robot
+from tribokin.study.assembly import load_robot, map_robots
 from tribokin.study.reading import load_study, read_study_file
 
 
@@ -126,7 +126,8 @@ def test_the_reach_bounds_change_only_the_reasons_of_targets_beyond_them(monkeyp
     # every unreachable target
     assert (bounds == 0).sum() > 10 and (bounds == 1).sum() > 10
     np.testing.assert_array_equal(beyond, ~unbounded.reachable)
-    for column in map_columns(len(bounded.joint_names), len(bounded.scenarios), bounded.reference.figure_set):
+    layout = MapLayout.shared(len(bounded.joint_names), len(bounded.scenarios), bounded.reference.figure_set)
+    for column in layout.columns():
         if column != "closest":
             np.testing.assert_array_equal(bounded.read(column), unbounded.read(column), err_msg=column)
     np.testing.assert_array_equal(bounded.read("closest")[~beyond], unbounded.read("closest")[~beyond])
@@ -159,8 +160,8 @@ def horizontal():
     and some within it unreachable): robot, grid and row heads."""
     study = load_study(STUDIES / "ur5-map-horizontal.toml")
     robot = load_robot(study)
-    grid, _, heads = prepare_map(study, robot)
-    return robot, grid, heads
+    prepared = prepare_map(study, map_robots(study, robot))
+    return robot, prepared.grids[0], prepared.heads[0]
 
 
 def test_the_rows_solved_together_are_each_solved_as_alone(horizontal):

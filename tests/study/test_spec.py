@@ -2,12 +2,13 @@
 
 import dataclasses
 import hashlib
+from pathlib import Path
 
 import pytest
 
 from conftest import GANTRY_MAP_TOML, axis_study
 from tribokin import InputError, IsoCubeSpec, JointSpec, PoseSpec, RobotSpec, ScenarioSpec, Study  # exported for users
-from tribokin.study.reading import load_study, read_study_file
+from tribokin.study.reading import load_study, parse_study_text, read_study_file
 
 SCENARIOS = [{"name": "stiff", "joints": {"stiffness": 2.0e6}}, {"name": "own-seed", "study": {"seed": 9}}]
 
@@ -93,9 +94,54 @@ def test_a_bad_tool_offset_is_a_one_line_error_naming_its_key(robot, key, messag
     assert error.value.key == key and message in error.value.message and "\n" not in str(error.value)
 
 
-def test_a_scenario_may_not_move_the_tool_point():
+def test_a_joint_maps_scenario_may_not_move_the_tool_point():
     study = map_study()
     study["scenarios"] = [*SCENARIOS, {"name": "probe", "robot": {"tool_offset_m": [0.0, 0.0, 0.1]}}]
-    with pytest.raises(InputError, match="payload only") as error:
+    with pytest.raises(InputError, match="joint map's targets .* robot.payload_kg only") as error:
         load_study(study)
     assert error.value.key == "scenarios[2].robot.tool_offset_m"
+
+
+def plane_study(*scenarios: dict) -> dict:
+    """The gantry's plane map (a URDF with a tool frame and a payload) with these scenarios."""
+    return {**parse_study_text(GANTRY_MAP_TOML, "gantry.toml", Path(".")).mapping, "scenarios": list(scenarios)}
+
+
+def test_the_reference_scenario_keeps_the_studys_robot():
+    study = plane_study({"name": "moved", "robot": {"base_xyz_m": [0.1, 0.0, 0.0]}}, {"name": "b"})
+    with pytest.raises(InputError, match="first scenario is the reference") as error:
+        load_study(study)
+    assert error.value.key == "scenarios[0].robot.base_xyz_m"
+    load_study(plane_study({"name": "heavy", "robot": {"payload_kg": 9.0}}, {"name": "b"}))  # its payload may change
+
+
+def test_a_scenario_naming_another_robot_takes_none_of_the_studys_robot_identity_and_keeps_the_rest():
+    study = plane_study({"name": "gantry"}, {"name": "moved", "robot": {"base_xyz_m": [0.1, 0.0, 0.0]}},
+                        {"name": "ur10", "robot": {"name": "ur10", "tool_offset_m": [0.0, 0.0, 0.1]}})
+    study["robot"]["base_rpy_deg"] = [0.0, 0.0, 90.0]
+    gantry, moved, ur10 = (s.study.robot for s in load_study(study).scenarios)
+    assert moved == dataclasses.replace(gantry, base_xyz_m=(0.1, 0.0, 0.0))
+    assert (ur10.name, ur10.urdf, ur10.tool_frame, ur10.package_dirs) == ("ur10", None, None, ())
+    assert (ur10.payload_kg, ur10.base_rpy_deg, ur10.tool_offset_m) == (5.0, (0.0, 0.0, 90.0), (0.0, 0.0, 0.1))
+
+
+def test_a_scenarios_xacro_arguments_merge_into_the_studys_key_by_key():
+    study = plane_study({"name": "a"}, {"name": "longer", "robot": {"xacro_args": {"forearm_m": "0.5"}}})
+    study["robot"] = {"urdf": "arm.urdf.xacro", "xacro_args": {"upper_arm_m": "0.4", "forearm_m": "0.3"}}
+    longer = load_study(study).scenarios[1].study.robot
+    assert longer.xacro_args == {"upper_arm_m": "0.4", "forearm_m": "0.5"}
+
+
+@pytest.mark.parametrize("robot, key, message", [
+    ({"tool_framme": "tool"}, "scenarios[1].robot.tool_framme", "did you mean 'tool_frame'"),
+    ({"base_xyz_m": [0.0, 0.0]}, "scenarios[1].robot.base_xyz_m", "needs 3 numbers"),
+    ({"name": "ur10", "urdf": "arm.urdf"}, "scenarios[1].robot", "exactly one of"),
+    ({"xacro_args": {"a": "1"}}, "scenarios[1].robot.xacro_args", "only a xacro file"),
+    ({"xacro_args": {"a": 1}}, "scenarios[1].robot.xacro_args.a", "must be a string"),
+])
+def test_a_scenarios_robot_keys_are_checked_as_robot_is(robot, key, message):
+    with pytest.raises(InputError) as error:
+        load_study(plane_study({"name": "a"}, {"name": "b", "robot": robot}))
+    assert error.value.key == key and message in error.value.message, error.value
+
+

@@ -165,3 +165,52 @@ def test_a_directional_maps_scene_has_its_figures_as_layers_each_quantity_on_its
     for quantity, scale in info.colour_scales.items():
         values = np.concatenate([layer.values_um for layer in layers.values() if layer.quantity == quantity])
         assert (scale.low_um, scale.high_um) == (np.nanmin(values), np.nanmax(values))
+
+
+@pytest.fixture(scope="module")
+def two_robots():
+    """A UR5 plane whose far edge only the UR10 of the second scenario reaches."""
+    from maps.test_robot_scenarios import UR5_PLANE
+
+    return run_study({**UR5_PLANE, "scenarios": [{"name": "ur5"}, {"name": "ur10", "robot": {"name": "ur10"}}]})
+
+
+def test_comparisons_with_another_robot_mark_the_targets_one_robot_reaches_and_the_winner_says_among_which(
+        two_robots, monkeypatch, tmp_path):
+    from matplotlib.image import imread
+
+    from tribokin.viz import maps
+
+    workspace_map = two_robots.map
+    saved = {}
+    real = maps.save_grid_image
+    monkeypatch.setattr(maps, "save_grid_image", lambda grid, values, path, label, title, **options:
+                        saved.update({path.name: (values, options)}) or real(grid, values, path, label, title,
+                                                                               **options))
+    maps.save_map_figures(workspace_map, tmp_path, "study")
+    everything = np.arange(workspace_map.grid.size)
+    reached_by = workspace_map.reached_by(workspace_map.scenarios["ur10"], everything)
+    for name in ("map_RP_l_ratio_ur10.png", "map_RP_l_diff_ur10.png"):
+        marks = saved[name][1]["marks"]
+        assert marks.labels == ("reached by ur10 only", "reached by ur5 only")
+        np.testing.assert_array_equal(marks.values(everything), np.select([reached_by == 1, reached_by == 2], [0, 1], -1))
+        assert saved[name][1]["grey"] == "reached by neither"
+    assert (reached_by == 1).any()  # the UR10 reaches the far edge, the UR5 does not: drawn in gold
+    pixels = imread(tmp_path / "map_RP_l_ratio_ur10.png")[..., :3]
+    assert np.all(np.abs(pixels - np.array([1.0, 0xd7 / 255, 0.0])) < 0.01, axis=-1).sum() > 1000
+    winner_values, winner = saved["map_winner.png"]
+    assert winner["grey"] == "reached by no scenario"
+    np.testing.assert_array_equal(winner_values(everything)[reached_by == 1], 1)  # won by the UR10, which alone reaches
+    assert "marks" not in saved["map_RP_l_ur10.png"][1]
+
+
+def test_the_report_says_which_robot_each_scenario_used_and_what_each_reaches(two_robots, tmp_path):
+    out = write_results(two_robots, tmp_path / "out", report="light")
+    report = (out / "report.html").read_text()
+    summary = json.loads((out / "summary.json").read_text())
+    assert [s.get("robot") for s in summary["study"]["scenarios"]] == [None, "ur10"]
+    assert summary["study"]["scenarios"][1]["robot_spec"]["name"] == "ur10"
+    assert "<th>robot</th>" in report and "<td>ur5 (the study&#x27;s)</td>" in report and "<td>ur10</td>" in report
+    for scenario in summary["map"]["scenarios"]:
+        assert f"<td>{scenario['name']}</td><td>{scenario['reachable']} / {summary['map']['count']}</td>" in report
+    assert summary["map"]["scenarios"][1]["reachable"] > summary["map"]["scenarios"][0]["reachable"]

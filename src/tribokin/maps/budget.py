@@ -15,7 +15,7 @@ import shutil
 from pathlib import Path
 
 from tribokin.errors import InputError
-from tribokin.maps.schema import map_bytes_per_target
+from tribokin.maps.schema import MapLayout
 from tribokin.study.spec import Study
 from tribokin.units import gib
 
@@ -70,13 +70,19 @@ def _count(number: int, word: str) -> str:
     return f"{number:,} {word}{'' if number == 1 else 's'}"
 
 
-def check_disk(study: Study, nv: int, folder) -> None:
-    """An :class:`InputError` naming the map's size key if its store would not fit on the disk holding ``folder``."""
+def map_layout(study: Study, nv: int, layout: MapLayout | None) -> MapLayout:
+    """``layout``, or by default that of the study's scenarios all measured with its robot of ``nv`` active joints."""
+    return layout or MapLayout.shared(nv, max(1, len(study.scenarios)), study.map.figure_set)
+
+
+def check_disk(study: Study, nv: int, folder, layout: MapLayout | None = None) -> None:
+    """An :class:`InputError` naming the map's size key if its store would not fit on the disk holding ``folder``
+    (``layout``: the store's, :func:`map_layout`)."""
     if study.map is None:
         return
     targets = study.map.target_count
     scenarios = max(1, len(study.scenarios))
-    needed = targets * map_bytes_per_target(nv, scenarios, study.map.figure_set)
+    needed = targets * map_layout(study, nv, layout).bytes_per_target
     existing = Path(folder).absolute()
     while not existing.exists():
         existing = existing.parent
@@ -88,14 +94,16 @@ def check_disk(study: Study, nv: int, folder) -> None:
                          f"'{existing}': lower {key}, or split the map into several", study.source, key)
 
 
-def estimate(study: Study, nv: int, directions: list[int], workers: int = 1) -> list[tuple[float, str, str]]:
+def estimate(study: Study, nv: int, directions: list[int], workers: int = 1,
+             layout: MapLayout | None = None) -> list[tuple[float, str, str]]:
     """The bytes a run needs, in parts: ``(bytes, key, what)``, ``key`` the study key to lower.
 
     Args:
         study: the validated study (poses, ``[map]``, scenarios).
-        nv: active joints.
+        nv: active joints of the study's robot.
         directions: per pose to run, the approach directions tested (``cycles`` kept from each).
         workers: local processes computing map chunks at once.
+        layout: the map store's (:func:`map_layout`): each robot of the scenarios keeps its own configurations.
     """
     cycles = study.cycles
     parts = []
@@ -108,26 +116,29 @@ def estimate(study: Study, nv: int, directions: list[int], workers: int = 1) -> 
         scenarios = max(1, len(study.scenarios))
         cycles = max([s.study.cycles for s in study.scenarios] or [study.cycles])
         key, chunk, rows = study.map.size_key, study.map.chunk_targets, study.map.grid_rows
-        per_target = map_bytes_per_target(nv, scenarios, study.map.figure_set)
-        held = 2 * (max(1, workers) + 1) * chunk * per_target + 3 * FLOAT * nv * rows
+        layout = map_layout(study, nv, layout)
+        per_target = layout.bytes_per_target
+        held = 2 * (max(1, workers) + 1) * chunk * per_target + 3 * FLOAT * sum(layout.joints) * rows
         # chunks computed, in transit and written; a warm start per row (kept, sent, solved)
         parts.append((held, key, f"{_count(chunk, 'map target')} per chunk × {_count(scenarios, 'scenario')} × "
                                  f"{_count(nv, 'joint')}, and {_count(rows, 'grid row')}"))
         block = max(cycles, TARGET_BLOCK_SAMPLES)  # cycles of the targets measured together
-        parts.append((max(1, workers) * block * (kept_per_cycle(nv) + computed_per_cycle(nv)), "study.cycles",
+        most = max(layout.joints)
+        parts.append((max(1, workers) * block * (kept_per_cycle(most) + computed_per_cycle(most)), "study.cycles",
                       f"{_count(cycles, 'cycle')} per map target × {_count(max(1, workers), 'worker')}"))
     return parts
 
 
 def check_memory(study: Study, nv: int, directions: list[int], workers: int = 1,
-                 cycles_set_by: tuple[str, str] | None = None, available: int | None = None) -> None:
+                 cycles_set_by: tuple[str, str] | None = None, available: int | None = None,
+                 layout: MapLayout | None = None) -> None:
     """An :class:`InputError` naming the key to lower if the run needs more memory than is available.
 
     ``cycles_set_by``: ``(source, key)`` named when the cycles are to lower, if not the study file's
     ``study.cycles`` (``("command line", "--cycles")``); ``available`` [bytes] defaults to
-    :func:`available_bytes` (no check when unknown).
+    :func:`available_bytes` (no check when unknown); ``layout``: the map store's (:func:`map_layout`).
     """
-    parts = estimate(study, nv, directions, workers)
+    parts = estimate(study, nv, directions, workers, layout)
     needed = sum(size for size, _, _ in parts)
     available = available_bytes() if available is None else available
     if available is None or needed <= available:

@@ -160,9 +160,10 @@ def _grid_values(bounds, count: int) -> np.ndarray:
     return grid_rounded(low + np.arange(count) * step)
 
 
-def make_grid(robot: Robot, spec: MapSpec) -> TargetGrid:
+def make_grid(robot: Robot, spec: MapSpec, like: TargetGrid | None = None) -> TargetGrid:
     """The targets a validated ``[map]`` describes, for ``robot``; a :class:`GridError` if they do not fit it (its
-    joints, their limits, the start posture, a tool orientation it cannot hold)."""
+    joints, their limits, the start posture, a tool orientation it cannot hold). ``like``: the same Cartesian
+    targets' grid for another robot (the study's), whose held orientation (or none) this one holds."""
     if spec.start_q is not None:
         try:
             start = robot.check_configuration(spec.start_q)
@@ -175,7 +176,13 @@ def make_grid(robot: Robot, spec: MapSpec) -> TargetGrid:
     if isinstance(spec, JointMap):
         return _joint_grid(robot, spec, start)
     rotation = None
-    if holds_orientation(robot, start):
+    holds = holds_orientation(robot, start)
+    if like is not None:
+        if like.rotation is not None and not holds:
+            raise GridError(f"{robot.label} cannot hold the tool's orientation (fewer than 6 independent joints at "
+                            "the start posture), which the map holds for the study's robot", "rpy_deg")
+        rotation = like.rotation
+    elif holds:
         rpy = spec.rpy_deg
         rotation = robot.tool_placement(start).rotation.copy() if rpy is None else pin.rpy.rpyToMatrix(*np.radians(rpy))
     elif spec.rpy_deg is not None:

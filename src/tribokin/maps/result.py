@@ -10,9 +10,14 @@ import numpy as np
 from tribokin.maps.expected import ANALYTIC, SAMPLED
 from tribokin.maps.grid import TargetGrid
 from tribokin.maps.rows import unreachable_reasons
-from tribokin.maps.schema import figure_index, map_figures, scenario_column
+from tribokin.maps.schema import figure_index, map_figures, robot_column, scenario_column
 from tribokin.maps.store import ChunkStore
 from tribokin.maps.streaming import blocks, spread
+
+
+#: Who reaches a target, as :meth:`MapResult.reached_by` gives it: a scenario's robot and the reference's, the
+#: scenario's only, the reference's only, neither.
+REACHED_BY = ("both", "this only", "reference only", "neither")
 
 
 @dataclass
@@ -26,6 +31,8 @@ class ScenarioMap:
         store: where the columns are (:class:`~tribokin.maps.store.ChunkStore`).
         figure_set: which figures it has (:attr:`~tribokin.study.map_spec.MapSpec.figure_set`,
             :func:`~tribokin.maps.schema.map_figures`).
+        robot: the robot it is measured with, its number among the map's (0: the study's); its IK's columns
+            (:meth:`read_robot`).
     """
 
     name: str
@@ -34,6 +41,12 @@ class ScenarioMap:
     joint_names: list[str]
     store: ChunkStore = field(repr=False)
     figure_set: str
+    robot: int = 0
+
+    def read_robot(self, name: str, targets=slice(None)) -> np.ndarray:
+        """Its robot's column ``name`` at ``targets``: ``q`` (k, nv) [m or rad] (NaN where unreachable),
+        ``reachable`` (k,), ``closest`` (k, 2) (:class:`MapResult`)."""
+        return self.store.read(robot_column(self.robot, name), targets)
 
     def read(self, name: str, targets=slice(None)) -> np.ndarray:
         """Column ``name`` at ``targets``: ``figures`` (k, len(map_figures(figure_set))), ``normal_forces_N`` (k, nv)
@@ -78,25 +91,37 @@ class MapResult:
     disk in ``store`` and read back block by block (:meth:`blocks`), so its size is not bounded by memory.
 
     Attributes:
-        grid: the targets (axes, held orientation).
-        joint_names: active joints, in the order of ``q``.
-        store: the per-target columns: ``position_m`` (N, 3) target positions [m], ``q`` (N, nv)
+        grids: the targets (axes, held orientation) as each robot of the scenarios reaches them (its reach bounds),
+            the study's robot's first.
+        joint_names: the study robot's active joints, in the order of ``q``.
+        store: the per-target columns: ``position_m`` (N, 3) target positions [m]; the study robot's ``q`` (N, nv)
             configurations [m or rad] (NaN where unreachable), ``reachable`` (N,), ``closest`` (N, 2) how
             close the IK came to unreachable targets [m, rad] (beyond the robot's reach: how far beyond [m],
-            NaN), and each scenario's (:class:`ScenarioMap`).
+            NaN), and the same of each other robot (:func:`~tribokin.maps.schema.robot_column`); each scenario's
+            (:class:`ScenarioMap`).
         scenarios: one :class:`ScenarioMap` per scenario, by name, in the study's order; the first is the
-            reference of comparisons.
+            reference of comparisons (measured with the study's robot).
     """
 
-    grid: TargetGrid
+    grids: tuple[TargetGrid, ...]
     joint_names: list[str]
     store: ChunkStore = field(repr=False)
     scenarios: dict[str, ScenarioMap]
     _summary: dict | None = field(default=None, init=False, repr=False)
 
     @property
+    def grid(self) -> TargetGrid:
+        """The targets, as the study's robot reaches them."""
+        return self.grids[0]
+
+    @property
     def reference(self) -> ScenarioMap:
         return next(iter(self.scenarios.values()))
+
+    @property
+    def robot_count(self) -> int:
+        """How many robots (kinematics, bases, tools) the scenarios are measured with."""
+        return len(self.grids)
 
     def blocks(self) -> Iterator[slice]:
         """The targets in consecutive blocks of bounded size."""
@@ -120,9 +145,22 @@ class MapResult:
         """(N, 3) target positions [m]: commanded (plane, box), or reached at the configurations (joint maps)."""
         return self.read("position_m")
 
-    def reasons(self, targets=slice(None)) -> np.ndarray:
-        """Why each of ``targets`` is unreachable (``""`` when reachable), as Python strings."""
-        return unreachable_reasons(self.grid, self.read("position_m", targets), self.read("closest", targets))
+    def reasons(self, targets=slice(None), scenario: ScenarioMap | None = None) -> np.ndarray:
+        """Why each of ``targets`` is unreachable (``""`` when reachable) by ``scenario``'s robot (default the
+        study's), as Python strings."""
+        robot = 0 if scenario is None else scenario.robot
+        return unreachable_reasons(self.grids[robot], self.read("position_m", targets),
+                                   self.read(robot_column(robot, "closest"), targets))
+
+    def reached_by(self, scenario: ScenarioMap, targets=slice(None)) -> np.ndarray:
+        """Who reaches each of ``targets``, as an index into ``REACHED_BY``: both ``scenario``'s robot and the
+        reference's, ``scenario``'s only, the reference's only, or neither."""
+        own, reference = scenario.read_robot("reachable", targets), self.reference.read_robot("reachable", targets)
+        return np.where(own, np.where(reference, 0, 1), np.where(reference, 2, 3))
+
+    def reached_by_any(self, targets=slice(None)) -> np.ndarray:
+        """(k,) whether any scenario's robot reaches each of ``targets``."""
+        return np.any([self.read(robot_column(r, "reachable"), targets) for r in range(self.robot_count)], axis=0)
 
     def ratio_RP_l(self, scenario: ScenarioMap, targets=slice(None)) -> np.ndarray:
         """RP_l of ``scenario`` over the reference's [-] (NaN where the reference's is 0 or unreachable)."""
@@ -135,25 +173,36 @@ class MapResult:
         return scenario.figure("RP_l_um", targets) - self.reference.figure("RP_l_um", targets)
 
     def winners(self, targets=slice(None)) -> np.ndarray:
-        """Place in ``scenarios`` of the scenario with the smallest RP_l at each of ``targets``; -1 for a tie or
-        unreachable."""
+        """Place in ``scenarios`` of the scenario with the smallest RP_l at each of ``targets``, among those whose
+        robot reaches it; -1 for a tie or a target no scenario reaches."""
         rp = np.column_stack([s.figure("RP_l_um", targets) for s in self.scenarios.values()])
-        best = np.argmin(np.where(np.isnan(rp), np.inf, rp), axis=1)
+        rp = np.where(np.isnan(rp), np.inf, rp)
         ties = (rp == rp.min(axis=1, keepdims=True)).sum(axis=1) > 1
-        return np.where(self.read("reachable", targets) & ~ties, best, -1)
+        return np.where(self.reached_by_any(targets) & ~ties, np.argmin(rp, axis=1), -1)
 
-    def _counts(self) -> tuple[int, np.ndarray, np.ndarray]:
-        """Reachable targets; per joint, the reachable targets it dominates; per scenario, the targets it wins."""
+    def _counts(self) -> tuple[int, np.ndarray, np.ndarray, int]:
+        """Reachable targets (by the study's robot); per joint, those it dominates; per scenario, the targets it
+        wins; the targets any scenario's robot reaches."""
         reachable, dominant, wins = 0, np.zeros(len(self.joint_names), dtype=int), np.zeros(len(self.scenarios) + 1,
                                                                                            dtype=int)
+        reached = 0
         for part in self.blocks():
-            flags = self.read("reachable", part)
+            flags, any_flags = self.read("reachable", part), self.reached_by_any(part)
             reachable += int(flags.sum())
+            reached += int(any_flags.sum())
             dominant += np.bincount(self.reference.read("dominant_joint", part)[flags] + 1,
                                     minlength=len(self.joint_names) + 1)[1:]
             if len(self.scenarios) > 1:
-                wins += np.bincount(self.winners(part)[flags] + 1, minlength=len(self.scenarios) + 1)
-        return reachable, dominant, wins
+                wins += np.bincount(self.winners(part)[any_flags] + 1, minlength=len(self.scenarios) + 1)
+        return reachable, dominant, wins, reached
+
+    def _reach_counts(self, scenario: ScenarioMap) -> dict[str, int]:
+        """The targets ``scenario``'s robot reaches, and those it reaches and the reference's does not, and back."""
+        counts = np.zeros(len(REACHED_BY), dtype=int)
+        for part in self.blocks():
+            counts += np.bincount(self.reached_by(scenario, part), minlength=len(REACHED_BY))
+        return {"reachable": int(counts[0] + counts[1]), "reached_only_by_this": int(counts[1]),
+                "reached_only_by_reference": int(counts[2])}
 
     def summary(self) -> dict:
         """The ``map`` block of ``summary.json`` (computed once)."""
@@ -163,7 +212,7 @@ class MapResult:
 
     def _summarise(self) -> dict:
         reference, size = self.reference, self.grid.size
-        reachable, dominant, wins = self._counts()
+        reachable, dominant, wins, reached = self._counts()
         block = {
             **self.grid.describe(),
             "count": size,
@@ -180,10 +229,13 @@ class MapResult:
             block["scenarios"] = [{
                 "name": s.name,
                 "cycles": s.cycles,
+                **(self._reach_counts(s) if self.robot_count > 1 else {}),
                 "RP_l_um": spread(lambda part, s=s: s.figure("RP_l_um", part), size),
                 "RP_l_ratio": spread(lambda part, s=s: self.ratio_RP_l(s, part), size),
                 "RP_l_diff_um": spread(lambda part, s=s: self.diff_RP_l_um(s, part), size),
             } for s in self.scenarios.values()]
+            if self.robot_count > 1:
+                block["reached_by_any"] = reached
             block["wins"] = {name: int(count) for name, count in zip(self.scenarios, wins[1:])}
             block["ties"] = int(wins[0])
         if reference.figure_set != "one-test":
@@ -196,7 +248,7 @@ class MapResult:
         analytic = sampled = fallback = 0
         bound, band_error = np.zeros(2), 0.0
         for part in self.blocks():
-            flags = self.read("reachable", part)
+            flags = scenario.read_robot("reachable", part)
             method = scenario.read("method", part)[flags]
             analytic += int(np.sum(method == ANALYTIC))
             sampled += int(np.sum(method == SAMPLED))

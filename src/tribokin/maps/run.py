@@ -4,8 +4,9 @@ Each target is measured like a single pose from its own random stream (:mod:`tri
 and only its scalar figures are kept, on disk (:class:`~tribokin.maps.store.ChunkStore`): memory
 holds a chunk's targets and a block's cycles, whatever the grid's size. A chunk solves and measures whole grid rows from
 their heads (:mod:`tribokin.maps.rows`), so the numbers depend on neither the chunk size,
-nor the number of workers, nor where the chunks run, nor on a resume. Every scenario is
-measured at the same configurations with the same streams.
+nor the number of workers, nor where the chunks run, nor on a resume. Each robot the scenarios measure with
+(another robot, base or tool: :class:`~tribokin.study.assembly.MapRobots`) solves its own IK of the same targets;
+the scenarios of one robot are measured at its configurations, every scenario with the same streams.
 """
 
 from __future__ import annotations
@@ -29,80 +30,94 @@ from tribokin.maps.expected import ExpectedSetup, expected_targets, shape_table
 from tribokin.maps.measure import measure_targets
 from tribokin.maps.result import MapResult, ScenarioMap
 from tribokin.maps.rows import fill_from_neighbours, first_tries, solve_row_heads, solve_rows, solve_tries
-from tribokin.maps.schema import map_columns, scenario_column
+from tribokin.maps.schema import MapLayout, robot_column, scenario_column
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.propagation.exact import tool_frames
 from tribokin.simulation.pose_run import PoseRunner
-from tribokin.study.assembly import joint_models, load_robot
-from tribokin.study.spec import Study
+from tribokin.study.assembly import MapRobots, joint_models, load_robot_spec
+from tribokin.study.spec import RobotSpec, Study
 
 
 @dataclass(frozen=True)
 class MapJob:
-    """What a chunk needs besides its rows: the study (robot, ``[map]``) and each scenario's study.
+    """What a chunk needs besides its rows: the study (``[map]``), each scenario's study, the map's robots and grids.
 
-    ``token`` names the job, so each process builds the robot, grid and runners once per job. ``setups``: each
-    scenario's :class:`~tribokin.maps.expected.ExpectedSetup` (``None`` for a one-test map).
+    ``token`` names the job, so each process builds the robots and runners once per job. ``setups``: each
+    scenario's :class:`~tribokin.maps.expected.ExpectedSetup` (``None`` for a one-test map). ``robots``: the kinematic
+    spec of each robot the scenarios measure with (:class:`~tribokin.study.assembly.MapRobots`), ``grids`` its grid of
+    the map's targets, ``layout`` the store's (each scenario's robot).
     """
 
     token: str
     study: Study
     scenarios: tuple[Study, ...]
     setups: tuple[ExpectedSetup | None, ...]
+    robots: tuple[RobotSpec, ...]
+    grids: tuple[TargetGrid, ...]
+    layout: MapLayout
 
 
 #: Per thread (Pinocchio data is mutable, and a dask worker may run chunks in several threads):
-#: the last job's token and its (robot, grid, runners).
+#: the last job's token and its (robots, runners).
 _local = threading.local()
 
 
-def _job_context(job: MapJob):
-    """(robot, grid, runners) of ``job``, built once per thread."""
+def _job_context(job: MapJob) -> tuple[list[Robot], list[PoseRunner]]:
+    """(robots, runners) of ``job``, built once per thread."""
     cache = getattr(_local, "cache", None)
     if cache is None or cache[0] != job.token:
-        robot = load_robot(job.study, meshes=False)  # nothing drawn here
-        runners = [PoseRunner(s, robot, joint_models(s, robot)) for s in job.scenarios]
-        _local.cache = (job.token, robot, make_grid(robot, job.study.map), runners)
+        robots = [load_robot_spec(spec, job.study.source, meshes=False) for spec in job.robots]  # nothing drawn here
+        runners = [PoseRunner(s, robots[r], joint_models(s, robots[r]))
+                   for s, r in zip(job.scenarios, job.layout.places)]
+        _local.cache = (job.token, robots, runners)
     return _local.cache[1:]
 
 
-def compute_chunk(job: MapJob, rows: list[int], heads: np.ndarray) -> dict[str, np.ndarray]:
-    """Solve grid rows ``rows`` from their ``heads`` (rows, nv), together (:func:`solve_rows`), then measure them row
-    by row (a row's reached targets measured together, in blocks: :func:`measure_targets`).
+def compute_chunk(job: MapJob, rows: list[int], heads: tuple[np.ndarray, ...]) -> dict[str, np.ndarray]:
+    """Solve grid rows ``rows`` for each robot from its ``heads`` (rows, nv), together (:func:`solve_rows`), then
+    measure them row by row (a row's reached targets measured together, in blocks: :func:`measure_into`).
 
     Returns:
-        the chunk's targets' values of every column of :func:`~tribokin.maps.schema.map_columns`, in index order.
+        the chunk's targets' values of every column of the map's layout (:class:`~tribokin.maps.schema.MapLayout`),
+        in index order.
     """
-    robot, grid, runners = _job_context(job)
-    arrays = empty_arrays(len(rows) * grid.row_length, robot.model.nv, len(runners), job.study.map.figure_set)
-    solved = solve_rows(robot, grid, rows, heads)
-    for k, (row, q, reachable, closest) in enumerate(zip(rows, *solved)):
-        span = slice(k * grid.row_length, (k + 1) * grid.row_length)
-        indices = grid.row_indices(row)
-        arrays["q"][span], arrays["reachable"][span], arrays["closest"][span] = q, reachable, closest
-        arrays["position_m"][span] = target_positions_m(robot, grid, indices, q)
-        measure_into(arrays, span.start + np.flatnonzero(reachable), robot, runners, job.setups, q[reachable],
-                     indices[reachable])
+    robots, runners = _job_context(job)
+    row_length = job.grids[0].row_length
+    arrays = empty_arrays(len(rows) * row_length, job.layout)
+    for r, (robot, grid, robot_heads) in enumerate(zip(robots, job.grids, heads)):
+        scenarios = [(s, runners[s], job.setups[s]) for s in job.layout.scenarios_of(r)]
+        solved = solve_rows(robot, grid, rows, robot_heads)
+        for k, (row, q, reachable, closest) in enumerate(zip(rows, *solved)):
+            span = slice(k * row_length, (k + 1) * row_length)
+            indices = grid.row_indices(row)
+            for name, value in (("q", q), ("reachable", reachable), ("closest", closest)):
+                arrays[robot_column(r, name)][span] = value
+            if r == 0:
+                arrays["position_m"][span] = target_positions_m(robot, grid, indices, q)
+            measure_into(arrays, span.start + np.flatnonzero(reachable), robot, scenarios, q[reachable],
+                         indices[reachable])
     return arrays
 
 
-def empty_arrays(n: int, nv: int, scenarios: int, figure_set: str) -> dict[str, np.ndarray]:
-    """The columns of ``n`` targets, all unreachable, before any is solved or measured."""
+def empty_arrays(n: int, layout: MapLayout, robot: int | None = None) -> dict[str, np.ndarray]:
+    """The columns (:meth:`~tribokin.maps.schema.MapLayout.columns`: all, or ``robot``'s) of ``n`` targets, all
+    unreachable, before any is solved or measured."""
     arrays = {name: np.full((n, *shape), np.nan if dtype == "f8" else 0, dtype=dtype)
-              for name, (shape, dtype) in map_columns(nv, scenarios, figure_set).items()}
-    for s in range(scenarios):
+              for name, (shape, dtype) in layout.columns(robot).items()}
+    for s in range(len(layout.places)) if robot is None else layout.scenarios_of(robot):
         arrays[scenario_column(s, "dominant_joint")][:] = -1
     return arrays
 
 
-def measure_into(arrays: dict, slots: np.ndarray, robot: Robot, runners: list[PoseRunner],
-                 setups: tuple[ExpectedSetup | None, ...], qs: np.ndarray, indices: np.ndarray) -> None:
-    """Measure targets ``indices`` at configurations ``qs`` for every scenario, into ``slots`` of ``arrays``: their
-    expected figures (a scenario with a ``setups`` entry), else one test each."""
+def measure_into(arrays: dict, slots: np.ndarray, robot: Robot,
+                 scenarios: list[tuple[int, PoseRunner, ExpectedSetup | None]], qs: np.ndarray,
+                 indices: np.ndarray) -> None:
+    """Measure targets ``indices`` at ``robot``'s configurations ``qs`` for each of ``scenarios`` (number, runner,
+    setup), into ``slots`` of ``arrays``: their expected figures (a scenario with a setup), else one test each."""
     chain = serial_chain(robot)
     placements = None if chain is None else chain.tool_in_joint(qs)  # for the tool frames and the loads
     twists, translations = tool_frames(robot, qs, placements)
-    for s, (runner, setup) in enumerate(zip(runners, setups)):
+    for s, runner, setup in scenarios:
         if setup is None:
             figures, forces, dominant = measure_targets(runner, qs, indices, twists, translations)
             values = {"figures": figures, "dominant_joint": dominant}
@@ -118,18 +133,20 @@ def measure_into(arrays: dict, slots: np.ndarray, robot: Robot, runners: list[Po
 TRIES_PER_PART = 16
 
 
-def solve_tries_of(job: MapJob, tries: list[tuple[int, np.ndarray]]) -> list:
-    """:func:`~tribokin.maps.rows.solve_tries` of ``job``'s map (run where the executor runs it)."""
-    robot, grid, _ = _job_context(job)
-    return solve_tries(robot, grid, tries)
+def solve_tries_of(job: MapJob, robot: int, tries: list[tuple[int, np.ndarray]]) -> list:
+    """:func:`~tribokin.maps.rows.solve_tries` of ``job``'s robot number ``robot`` (run where the executor runs it)."""
+    robots, _ = _job_context(job)
+    return solve_tries(robots[robot], job.grids[robot], tries)
 
 
-def first_tries_solved(job: MapJob, grid: TargetGrid, read, executor: Executor) -> dict:
+def first_tries_solved(job: MapJob, robot: int, read, executor: Executor) -> dict:
     """The first tries of :func:`~tribokin.maps.rows.fill_from_neighbours` (:func:`~tribokin.maps.rows.first_tries`)
-    solved on ``executor``'s workers, by ``(target, neighbour)``: the same solves it would make one after another."""
-    tries = first_tries(grid, read)
+    of robot number ``robot`` solved on ``executor``'s workers, by ``(target, neighbour)``: the same solves it would
+    make one after another."""
+    tries = first_tries(job.grids[robot], read)
     parts = math.ceil(len(tries) / TRIES_PER_PART)
-    todo = {k: (job, [(index, read("q", neighbour)) for index, neighbour in tries[k::parts]]) for k in range(parts)}
+    todo = {k: (job, robot, [(index, read("q", neighbour)) for index, neighbour in tries[k::parts]])
+            for k in range(parts)}
     solved = {}
     with run_chunks(solve_tries_of, todo, executor) as results:
         for k, part in results:
@@ -137,30 +154,36 @@ def first_tries_solved(job: MapJob, grid: TargetGrid, read, executor: Executor) 
     return solved
 
 
-def fill_holes(robot: Robot, grid, runners: list[PoseRunner], setups: tuple[ExpectedSetup | None, ...],
-               store: ChunkStore, figure_set: str, job: MapJob | None = None, executor: Executor | None = None) -> None:
-    """Reach and measure, in ``store``, the targets that IK reaches from a neighbour's configuration
-    (:func:`~tribokin.maps.rows.fill_from_neighbours`) though not along their own row; with an ``executor``, its
-    first tries solved beforehand on the executor's workers (:func:`first_tries_solved`, ``job`` the map's).
+def fill_holes(job: MapJob, robots: list[Robot], runners: list[PoseRunner], store: ChunkStore,
+               executor: Executor | None = None) -> None:
+    """Reach and measure, in ``store``, the targets that each of ``robots`` (``job``'s, loaded) reaches by IK from a
+    neighbour's configuration (:func:`~tribokin.maps.rows.fill_from_neighbours`) though not along their own row, for
+    the scenarios measured with it (``runners``); with an ``executor``, the first tries solved beforehand on its
+    workers (:func:`first_tries_solved`).
 
-    The outcome is kept as the record ``filled`` before the store is changed, so a run killed while
-    changing it writes the same values again on resume instead of searching anew from a changed store.
+    Each robot's outcome is kept as a record (``filled``, ``robot<k>_filled``) before the store is changed, so a run
+    killed while changing it writes the same values again on resume instead of searching anew from a changed store.
     """
-    filled = store.load_record("filled")
-    if filled is None:
-        solved = None if executor is None else first_tries_solved(job, grid, store.read, executor)
-        reached = fill_from_neighbours(robot, grid, store.read, solved)
-        indices = np.fromiter(reached, dtype=int, count=len(reached))
-        filled = {"index": indices, **empty_arrays(len(indices), robot.model.nv, len(runners), figure_set)}
+    for r, (robot, grid) in enumerate(zip(robots, job.grids)):
+        record = robot_column(r, "filled")
+        filled = store.load_record(record)
+        if filled is None:
+            def read(name, index, r=r):
+                return store.read(robot_column(r, name), index)
+
+            solved = None if executor is None else first_tries_solved(job, r, read, executor)
+            reached = fill_from_neighbours(robot, grid, read, solved)
+            indices = np.fromiter(reached, dtype=int, count=len(reached))
+            filled = {"index": indices, **empty_arrays(len(indices), job.layout, r)}
+            if len(indices):
+                q = np.array(list(reached.values()))
+                filled[robot_column(r, "q")], filled[robot_column(r, "reachable")][:] = q, True
+                scenarios = [(s, runners[s], job.setups[s]) for s in job.layout.scenarios_of(r)]
+                measure_into(filled, np.arange(len(indices)), robot, scenarios, q, indices)
+            store.save_record(record, filled)
+        indices = filled.pop("index")
         if len(indices):
-            q = np.array(list(reached.values()))
-            filled["q"], filled["reachable"][:] = q, True
-            filled["position_m"] = target_positions_m(robot, grid, indices, q)
-            measure_into(filled, np.arange(len(indices)), robot, runners, setups, q, indices)
-        store.save_record("filled", filled)
-    indices = filled.pop("index")
-    if len(indices):
-        store.write(indices, filled)
+            store.write(indices, filled)
 
 
 def expected_setups(study: Study, runners: list[PoseRunner]) -> tuple[ExpectedSetup | None, ...]:
@@ -182,13 +205,13 @@ def chunk_rows(study: Study, row_count: int) -> list[list[int]]:
     return [list(range(start, min(start + size, row_count))) for start in range(0, row_count, size)]
 
 
-def open_store(study: Study, studies: tuple[Study, ...], chunks: list[list[int]], size: int, nv: int, checkpoint,
-               resume: bool) -> ChunkStore:
+def open_store(study: Study, job: MapJob, chunks: list[list[int]], size: int, checkpoint, resume: bool) -> ChunkStore:
     """The map's store: in ``checkpoint`` (kept, for ``--resume``), else in a new temporary folder that
     is deleted with the store."""
     settings = {"study": study.mapping, "source": study.source, "chunks": chunks,
-                "scenarios": [[s.cycles, s.seed] for s in studies]}
-    columns = map_columns(nv, len(studies), study.map.figure_set)
+                "scenarios": [[s.cycles, s.seed] for s in job.scenarios],
+                "robots": [spec.as_settings() for spec in job.robots]}
+    columns = job.layout.columns()
     if checkpoint is not None:
         return ChunkStore(checkpoint, fingerprint(settings), columns, size, resume)
     return temporary_store(fingerprint(settings), columns, size)
@@ -203,36 +226,53 @@ def chunk_order(count: int) -> list[int]:
     return sorted(range(count), key=lambda k: f"{k:0{bits}b}"[::-1])
 
 
-def prepare_map(study: Study, robot: Robot) -> tuple[TargetGrid, list[PoseRunner], np.ndarray]:
-    """The grid of the study's ``[map]``, a runner per scenario (the study itself without scenarios) and each
-    grid row's starting posture (rows, nv), checked against ``robot`` before any work: the map's joints, ranges,
-    start posture and orientation, each scenario's joints and friction laws, and its loads at each row's start."""
-    try:
-        grid = make_grid(robot, study.map)
-    except GridError as error:
-        raise InputError(str(error), study.source, f"map.{error.key}") from None
-    heads = solve_row_heads(robot, grid)
+@dataclass(frozen=True)
+class PreparedMap:
+    """A map checked and ready to run (:func:`prepare_map`): ``robots`` (the study's first) and their kinematic
+    ``specs`` (:class:`~tribokin.study.assembly.MapRobots`), ``grids`` each robot's grid of the map's targets, ``heads`` each robot's grid rows' starting postures (rows, nv), ``runners`` one per
+    scenario (the study itself without scenarios), ``layout`` the store's (each scenario's robot)."""
+
+    robots: tuple[Robot, ...]
+    specs: tuple[RobotSpec, ...]
+    grids: tuple[TargetGrid, ...]
+    heads: tuple[np.ndarray, ...]
+    runners: list[PoseRunner]
+    layout: MapLayout
+
+
+def prepare_map(study: Study, robots: MapRobots) -> PreparedMap:
+    """The grids of the study's ``[map]``, one per robot its scenarios measure with (``robots``: the study's first,
+    whose held orientation the others hold), a runner per scenario and each robot's grid rows' starting postures,
+    checked before any work: the map's joints, ranges, start posture and orientation for each robot, each scenario's
+    joints and friction laws, and its loads at each row's start."""
+    scenarios = tuple(s.study for s in study.scenarios) or (study,)
+    grids = []
+    for r, robot in enumerate(robots.robots):
+        try:
+            grids.append(make_grid(robot, study.map, grids[0] if grids else None))
+        except GridError as error:
+            prefix = f"scenarios[{robots.places.index(r)}]." if r else ""  # the first scenario measured with it
+            raise InputError(str(error), study.source, f"{prefix}map.{error.key}") from None
+    heads = tuple(solve_row_heads(robot, grid) for robot, grid in zip(robots.robots, grids))
     runners = []
-    for i, scenario in enumerate(tuple(s.study for s in study.scenarios) or (study,)):
+    for i, (scenario, r) in enumerate(zip(scenarios, robots.places)):
+        robot = robots.robots[r]
         try:
             runners.append(PoseRunner(scenario, robot, joint_models(scenario, robot)))
-            runners[-1].normal_forces_at(heads)  # the loads at each row's start, checked before any chunk runs
+            runners[-1].normal_forces_at(heads[r])  # the loads at each row's start, checked before any chunk runs
         except InputError as error:
             key = error.key if not study.scenarios else f"scenarios[{i}].{error.key}"
             raise InputError(error.message, error.source, key) from None
-    return grid, runners, heads
+    return PreparedMap(robots.robots, robots.specs, tuple(grids), heads, runners, MapLayout.of(robots, study.map.figure_set))
 
 
-def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunner], heads: np.ndarray,
-            executor: Executor | None = None, checkpoint=None, resume: bool = False,
-            progress: Callable[[int, int], None] | None = None) -> MapResult:
+def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = None, checkpoint=None,
+            resume: bool = False, progress: Callable[[int, int], None] | None = None) -> MapResult:
     """Measure the study's ``[map]`` for each scenario.
 
     Args:
         study: a study with a ``map`` (its ``scenarios``, if any, are measured instead of it).
-        robot: the study's robot.
-        grid, runners, heads: the map's grid, its scenarios' runners and its rows' starting postures
-            (:func:`prepare_map`).
+        prepared: its robots, grids, rows' starting postures and runners (:func:`prepare_map`).
         executor: where chunks run (:func:`~tribokin.execution.executor_for`; ``None``: here).
         checkpoint: folder where the results are kept as chunks finish (``None``: a temporary folder,
             deleted with the result).
@@ -240,15 +280,18 @@ def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunn
         progress: called ``progress(done_targets, total_targets)`` before the chunks run (the targets of
             resumed chunks done) and as each finishes, if the map has more than one chunk.
     """
-    studies = tuple(runner.study for runner in runners)
+    studies = tuple(runner.study for runner in prepared.runners)
     names = [s.name for s in study.scenarios] or [study.name]
+    grid = prepared.grids[0]
     chunks = chunk_rows(study, grid.row_count)
-    store = open_store(study, studies, chunks, grid.size, robot.model.nv, checkpoint, resume)
+    job = MapJob(uuid.uuid4().hex, study, studies, expected_setups(study, prepared.runners), prepared.specs,
+                 prepared.grids, prepared.layout)
+    store = open_store(study, job, chunks, grid.size, checkpoint, resume)
     finished = set(store.finished())
-    setups = expected_setups(study, runners)
-    job = MapJob(uuid.uuid4().hex, study, studies, setups)
-    _local.cache = (job.token, robot, grid, runners)  # chunks run in this thread need not rebuild them
-    todo = {k: (job, chunks[k], heads[chunks[k]]) for k in chunk_order(len(chunks)) if k not in finished}
+    robots = list(prepared.robots)
+    _local.cache = (job.token, robots, prepared.runners)  # chunks run in this thread need not rebuild them
+    todo = {k: (job, chunks[k], tuple(heads[chunks[k]] for heads in prepared.heads))
+            for k in chunk_order(len(chunks)) if k not in finished}
     done_targets = sum(len(chunks[k]) for k in finished) * grid.row_length
     report = progress if progress is not None and len(chunks) > 1 else lambda done, total: None
     try:
@@ -260,7 +303,7 @@ def run_map(study: Study, robot: Robot, grid: TargetGrid, runners: list[PoseRunn
                 report(done_targets, grid.size)
     finally:
         _local.cache = None
-    fill_holes(robot, grid, runners, setups, store, study.map.figure_set, job, executor)
-    maps = {name: ScenarioMap(name, s.cycles, i, robot.joint_names, store, study.map.figure_set)
-            for i, (name, s) in enumerate(zip(names, studies))}
-    return MapResult(grid, robot.joint_names, store, maps)
+    fill_holes(job, robots, prepared.runners, store, executor)
+    maps = {name: ScenarioMap(name, s.cycles, i, robots[r].joint_names, store, study.map.figure_set, r)
+            for i, (name, s, r) in enumerate(zip(names, studies, prepared.layout.places))}
+    return MapResult(prepared.grids, robots[0].joint_names, store, maps)

@@ -1,8 +1,8 @@
 """What a map keeps of each target: its figures and the store's columns, declared once.
 
-The store's columns (:func:`map_columns`), the bytes a target takes in it (:func:`map_bytes_per_target`,
+The store's columns (:meth:`MapLayout.columns`), the bytes a target takes in it (:attr:`MapLayout.bytes_per_target`,
 the memory and disk checks), the columns of ``map.csv`` and the figures ``summary.json`` summarises
-are all derived from :data:`MAP_FIGURES` and the column tables below.
+are all derived from :data:`ALL_FIGURES` and the column tables below.
 """
 
 from __future__ import annotations
@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from tribokin.maps.store import row_bytes
+from tribokin.study.assembly import MapRobots
 from tribokin.study.map_spec import FIGURE_SETS
 
 
@@ -85,8 +86,9 @@ class MapColumn:
 
 
 #: Columns of every target (see :class:`~tribokin.maps.result.MapResult`).
-TARGET_COLUMNS = (MapColumn("position_m", 3, "f8"), MapColumn("q", "joints", "f8"), MapColumn("reachable", None, "?"),
-                  MapColumn("closest", 2, "f8"))
+TARGET_COLUMNS = (MapColumn("position_m", 3, "f8"),)
+#: Columns of every target per robot of the map's scenarios (:func:`robot_column`): its IK's outcome.
+ROBOT_COLUMNS = (MapColumn("q", "joints", "f8"), MapColumn("reachable", None, "?"), MapColumn("closest", 2, "f8"))
 #: Columns of every target per scenario (see :class:`~tribokin.maps.result.ScenarioMap`); an expected map's also
 #: say how its figures were computed (:func:`~tribokin.maps.expected.expected_targets`).
 SCENARIO_COLUMNS = (MapColumn("figures", "figures", "f8"), MapColumn("normal_forces_N", "joints", "f8"),
@@ -100,16 +102,52 @@ def scenario_column(scenario: int, name: str) -> str:
     return f"scenario{scenario}_{name}"
 
 
-def map_columns(nv: int, scenarios: int, figure_set: str) -> dict[str, tuple[tuple, str]]:
-    """The store's columns of a map of ``figure_set`` with ``nv`` active joints and ``scenarios`` scenarios:
-    ``name -> (shape of one target's value, dtype)``."""
-    columns = {column.name: (column.shape(nv, figure_set), column.dtype) for column in TARGET_COLUMNS}
-    for s in range(scenarios):
-        columns.update({scenario_column(s, column.name): (column.shape(nv, figure_set), column.dtype)
-                        for column in SCENARIO_COLUMNS if figure_set in column.sets})
-    return columns
+def robot_column(robot: int, name: str) -> str:
+    """Store column (or record) of the map's robot number ``robot``'s ``name`` (``q``, ``reachable``, ``closest``):
+    the first robot's (the study's) plain, the others' ``robot<k>_<name>``."""
+    return name if robot == 0 else f"robot{robot}_{name}"
 
 
-def map_bytes_per_target(nv: int, scenarios: int, figure_set: str) -> int:
-    """Bytes a target takes in the store (:func:`map_columns`)."""
-    return row_bytes(map_columns(nv, scenarios, figure_set))
+@dataclass(frozen=True)
+class MapLayout:
+    """What a map's store holds: ``joints``, the active joints of each robot its scenarios measure with (the study's
+    first), ``places``, each scenario's robot (an index in ``joints``), and the ``figure_set``."""
+
+    joints: tuple[int, ...]
+    places: tuple[int, ...]
+    figure_set: str
+
+    @classmethod
+    def of(cls, robots: MapRobots, figure_set: str) -> MapLayout:
+        """The layout of the map's ``robots`` (:func:`~tribokin.study.assembly.map_robots`)."""
+        return cls(tuple(robot.model.nv for robot in robots.robots), robots.places, figure_set)
+
+    @classmethod
+    def shared(cls, nv: int, scenarios: int, figure_set: str) -> MapLayout:
+        """The layout of ``scenarios`` scenarios measured with one robot of ``nv`` active joints."""
+        return cls((nv,), (0,) * scenarios, figure_set)
+
+    def scenarios_of(self, robot: int) -> list[int]:
+        """The scenarios measured with robot ``robot``, in the study's order."""
+        return [s for s, place in enumerate(self.places) if place == robot]
+
+    def columns(self, robot: int | None = None) -> dict[str, tuple[tuple, str]]:
+        """The store's columns, ``name -> (shape of one target's value, dtype)``: every one, or (``robot``) those
+        robot ``robot``'s IK and its scenarios fill."""
+        columns = {} if robot is not None else {column.name: (column.shape(0, self.figure_set), column.dtype)
+                                                for column in TARGET_COLUMNS}
+        for r, nv in enumerate(self.joints):
+            if robot in (None, r):
+                columns.update({robot_column(r, column.name): (column.shape(nv, self.figure_set), column.dtype)
+                                for column in ROBOT_COLUMNS})
+        for s, r in enumerate(self.places):
+            if robot in (None, r):
+                columns.update({scenario_column(s, column.name): (column.shape(self.joints[r], self.figure_set),
+                                                                  column.dtype)
+                                for column in SCENARIO_COLUMNS if self.figure_set in column.sets})
+        return columns
+
+    @property
+    def bytes_per_target(self) -> int:
+        """Bytes a target takes in the store (:meth:`columns`)."""
+        return row_bytes(self.columns())

@@ -127,32 +127,41 @@ def table_lines(columns: dict[str, np.ndarray], rows: int = 4096) -> Iterator[st
         yield "\r\n".join(map(",".join, zip(*pieces))) + "\r\n"
 
 
+def reached_by_cells(workspace_map: MapResult, scenario: ScenarioMap, targets: slice) -> np.ndarray:
+    """The ``reached_by`` cells of ``scenario``'s table at ``targets``: ``both``, ``<scenario> only``,
+    ``<reference> only`` or ``neither`` (:meth:`~tribokin.maps.result.MapResult.reached_by`)."""
+    cells = np.array(["both", f"{scenario.name} only", f"{workspace_map.reference.name} only", "neither"], dtype=object)
+    return cells[workspace_map.reached_by(scenario, targets)]
+
+
 def map_table_columns(workspace_map: MapResult, scenario: ScenarioMap, targets: slice) -> dict[str, np.ndarray]:
     """The columns of :func:`write_map_table` at ``targets``, by header."""
-    names = workspace_map.joint_names
     positions = workspace_map.read("position_m", targets)
     figures = scenario.read("figures", targets)
     columns = {"x_m": positions[:, 0], "y_m": positions[:, 1], "z_m": positions[:, 2],
-               "reachable": workspace_map.read("reachable", targets)}
+               "reachable": scenario.read_robot("reachable", targets)}
     columns.update({name: scenario.dominant_joint_names(targets) if name == "dominant_joint"
                     else figures[:, figure_index(name, scenario.figure_set)]
                     for name in table_figures(scenario.figure_set)})
     if scenario is not workspace_map.reference:
         columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
         columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario, targets)
+    if scenario.robot != workspace_map.reference.robot:
+        columns["reached_by"] = reached_by_cells(workspace_map, scenario, targets)
     columns.update(workspace_map.grid.coordinates(np.arange(targets.start, targets.stop)))
-    q, forces = workspace_map.read("q", targets), scenario.read("normal_forces_N", targets)
-    columns.update({f"q_{name}": q[:, i] for i, name in enumerate(names)})
-    columns.update({f"normal_force_{name}_N": forces[:, i] for i, name in enumerate(names)})
-    columns["reason"] = workspace_map.reasons(targets)
+    q, forces = scenario.read_robot("q", targets), scenario.read("normal_forces_N", targets)
+    columns.update({f"q_{name}": q[:, i] for i, name in enumerate(scenario.joint_names)})
+    columns.update({f"normal_force_{name}_N": forces[:, i] for i, name in enumerate(scenario.joint_names)})
+    columns["reason"] = workspace_map.reasons(targets, scenario)
     return columns
 
 
 def write_map_table(workspace_map: MapResult, scenario: ScenarioMap, path: Path) -> None:
-    """One scenario's map as CSV, one row per target in index order: position [m], reachable, the
-    figures (µm, mdeg), ratio and difference of RP_l to the reference scenario (other scenarios),
-    grid coordinates, q_<joint> [m or rad], normal_force_<joint>_N [N], and the reason a target is
-    unreachable; written block by block, a few thousand rows at a time (:func:`table_lines`)."""
+    """One scenario's map as CSV, one row per target in index order: position [m], reachable (by its robot), the
+    figures (µm, mdeg), ratio and difference of RP_l to the reference scenario (other scenarios), who reaches the
+    target (a scenario measured with another robot than the reference's), grid coordinates, q_<joint> [m or rad],
+    normal_force_<joint>_N [N] (its robot's joints), and the reason a target is unreachable; written block by block,
+    a few thousand rows at a time (:func:`table_lines`)."""
     with open(path, "w", newline="", encoding="utf-8") as handle:
         for part in workspace_map.blocks():
             columns = map_table_columns(workspace_map, scenario, part)

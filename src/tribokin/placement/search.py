@@ -22,7 +22,7 @@ from tribokin.maps.run import chunk_order, prepare_map, run_map
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.maps.streaming import blocks, order_statistic
 from tribokin.placement.result import STATISTICS, PlacementResult
-from tribokin.study.assembly import load_robot
+from tribokin.study.assembly import load_robot, map_robots
 from tribokin.study.placement_spec import Candidate, turned_rpy_deg
 from tribokin.study.spec import Study
 
@@ -64,7 +64,7 @@ def evaluate_candidate(study: Study, candidate: Candidate) -> dict[str, np.ndarr
     (:data:`COLUMNS`)."""
     placed = placed_study(study, candidate)
     robot = load_robot(placed, meshes=False)
-    workspace = run_map(placed, robot, *prepare_map(placed, robot))
+    workspace = run_map(placed, prepare_map(placed, map_robots(placed, robot)))
     reachable = sum(int(workspace.read("reachable", part).sum()) for part in workspace.blocks())
     return {"reachable": np.array([reachable]),
             "RP_l_um": rp_l_statistics(workspace.reference, workspace.grid.size)[None, :]}

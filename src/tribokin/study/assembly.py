@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import asdict, replace
+from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
@@ -42,6 +42,38 @@ def load_robot_spec(spec: RobotSpec, source=None, meshes: bool = True) -> Robot:
 def load_robot(study: Study, meshes: bool = True) -> Robot:
     """The robot a study names, reduced to its tool frame's chain; ``meshes`` as for :func:`load_robot_spec`."""
     return load_robot_spec(robot_spec(study), study.source, meshes)
+
+
+def kinematic_spec(study: Study) -> RobotSpec:
+    """The study's robot spec (:func:`robot_spec`) without its payload: what fixes its kinematics, hence its IK."""
+    return replace(robot_spec(study), payload_kg=0.0)
+
+
+@dataclass(frozen=True)
+class MapRobots:
+    """The robots a map's scenarios measure with, each once: ``specs`` (:func:`kinematic_spec`) and ``robots``,
+    the study's own first (the reference scenario's); ``places``: each scenario's robot, its index in them."""
+
+    specs: tuple[RobotSpec, ...]
+    robots: tuple[Robot, ...]
+    places: tuple[int, ...]
+
+
+def map_robots(study: Study, robot: Robot) -> MapRobots:
+    """The robots of the study's scenarios (the study alone without scenarios), ``robot`` (the study's, loaded) for
+    those with its kinematics, the others loaded without meshes (nothing draws them); one that does not load is an
+    :class:`InputError` naming ``scenarios[i].robot.<key>``."""
+    specs, robots, places = [kinematic_spec(study)], [robot], []
+    for i, scenario in enumerate(s.study for s in study.scenarios):
+        spec = kinematic_spec(scenario)
+        if spec not in specs:
+            try:
+                robots.append(load_robot_spec(spec, scenario.source, meshes=False))
+            except InputError as error:
+                raise InputError(error.message, error.source, f"scenarios[{i}].{error.key}") from None
+            specs.append(spec)
+        places.append(specs.index(spec))
+    return MapRobots(tuple(specs), tuple(robots), tuple(places) or (0,))
 
 
 def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:

@@ -241,9 +241,8 @@ CALIBRATION_KEYS = {
     "noise_floor_m": (instrument_noise, None),
     "tool_rpy_deg": (angles3, None),
 }
-#: Study sections a scenario may override; of [robot], only the payload (the targets stay the same).
+#: Study sections a scenario may override (the map, hence the targets, stays the same).
 SCENARIO_SECTIONS = ("study", "robot", "joints")
-SCENARIO_ROBOT_KEYS = ("payload_kg",)
 candidate_count = within(positive_int, 1, 10 ** 4, "candidates (positions × yaw_deg values)",
                           "each candidate runs the whole [map]; ten thousand take hours: search coarsely, then finer "
                           "around the best")
@@ -274,6 +273,9 @@ PLACEMENT_KEYS = {
 }
 #: The keys of a box of base positions, all given or none.
 PLACEMENT_BOX_KEYS = ("base_xyz_m_min", "base_xyz_m_max", "resolution")
+#: The ``[robot]`` keys that name the robot itself: a scenario giving ``urdf`` or ``name`` takes none of them from
+#: the study's ``[robot]`` (another robot's frames, folders and arguments are its own); it keeps the others.
+ROBOT_IDENTITY_KEYS = ("urdf", "name", "xacro_args", "package_dirs", "tool_frame")
 TOP_KEYS = ("study", "robot", "joints", "poses", "iso_cube", "map", "scenarios", "calibration", "placement")
 
 
@@ -638,9 +640,25 @@ def _check_width(bounds: list[float], count: int, source, key: str) -> None:
                          "widen it or ask for 1 point", source, key)
 
 
+def _check_robot_overrides(robot: dict, number: int, mapping: dict, source) -> None:
+    """Refuse what a scenario's ``robot`` table may not change besides the payload: the reference's (the first
+    scenario's) robot, which is the study's, and a joint map's, whose targets are the study robot's joint values."""
+    changed = [key for key in robot if key != "payload_kg"]
+    if not changed:
+        return
+    key = f"scenarios[{number}].robot.{changed[0]}"
+    if number == 0:
+        raise InputError("the first scenario is the reference, measured with the study's robot: it may change "
+                         "robot.payload_kg only; give [robot] this robot, or put this scenario after the first",
+                         source, key)
+    if isinstance(mapping.get("map"), dict) and mapping["map"].get("kind") == "joint":
+        raise InputError("a joint map's targets are the study robot's joint values: its scenarios may change "
+                         "robot.payload_kg only (a plane or box map compares robots at the same points)", source, key)
+
+
 def parse_scenarios(mapping: dict, source, base_dir) -> tuple[ScenarioSpec, ...]:
-    """Validate ``[[scenarios]]``: each a ``name`` and overrides of ``[study]``, ``[joints]`` and
-    ``robot.payload_kg``, merged into the study (a joint table merges key by key; any other value replaces)."""
+    """Validate ``[[scenarios]]``: each a ``name`` and overrides of ``[study]``, ``[joints]`` and ``[robot]``, merged
+    into the study (:func:`merge_overrides`); a scenario's study is checked as a study is."""
     entries = mapping.get("scenarios", [])
     if not isinstance(entries, list):
         raise InputError("must be a list of tables: write [[scenarios]]", source, "scenarios")
@@ -661,10 +679,7 @@ def parse_scenarios(mapping: dict, source, base_dir) -> tuple[ScenarioSpec, ...]
                 raise InputError(f"a scenario may override {', '.join(SCENARIO_SECTIONS)} only (the targets stay "
                                  f"the same){closest_hint(section, SCENARIO_SECTIONS)}", source, f"{key}.{section}")
             table(values, source, f"{key}.{section}")
-        for robot_key in overrides.get("robot", {}):
-            if robot_key not in SCENARIO_ROBOT_KEYS:
-                raise InputError("a scenario may change the payload only, not the robot's kinematics", source,
-                                 f"{key}.robot.{robot_key}")
+        _check_robot_overrides(overrides.get("robot", {}), i, mapping, source)
         try:
             study = parse_study(merge_overrides(base, overrides), source, base_dir)
         except InputError as error:
@@ -674,11 +689,16 @@ def parse_scenarios(mapping: dict, source, base_dir) -> tuple[ScenarioSpec, ...]
 
 
 def merge_overrides(mapping: dict, overrides: dict) -> dict:
-    """``mapping`` with each section's keys replaced by ``overrides``; ``joints.<joint>`` tables merge key by key."""
+    """``mapping`` with each section's keys replaced by ``overrides``; ``joints.<joint>`` tables and
+    ``robot.xacro_args`` merge key by key; a ``robot`` override naming a robot (``urdf`` or ``name``) drops the
+    study's ``ROBOT_IDENTITY_KEYS``."""
     merged = {**mapping}
     for section, values in overrides.items():
         merged[section] = {**mapping.get(section, {})}
+        if section == "robot" and {"urdf", "name"} & set(values):
+            merged[section] = {k: v for k, v in merged[section].items() if k not in ROBOT_IDENTITY_KEYS}
         for key, value in values.items():
-            joint_table = section == "joints" and key not in JOINT_KEYS and isinstance(value, dict)
-            merged[section][key] = {**merged[section].get(key, {}), **value} if joint_table else value
+            by_key = isinstance(value, dict) and ((section == "joints" and key not in JOINT_KEYS)
+                                                  or (section == "robot" and key == "xacro_args"))
+            merged[section][key] = {**merged[section].get(key, {}), **value} if by_key else value
     return merged

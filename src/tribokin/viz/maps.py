@@ -11,9 +11,10 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize, TwoSlopeNorm
+from matplotlib.patches import Patch
 
 from tribokin.maps.grid import GridAxis, TargetGrid
-from tribokin.maps.result import MapResult
+from tribokin.maps.result import REACHED_BY, MapResult, ScenarioMap
 from tribokin.study.names import map_figure_file
 from tribokin.viz.canvas import agg_figure
 
@@ -118,10 +119,24 @@ def shown_targets(grid: TargetGrid) -> tuple[np.ndarray, tuple[int, int, int]]:
     return grid.every(strides), strides
 
 
+#: Colours of the targets :class:`Marks` sets apart, gold and magenta: none of viridis', RdBu's or tab10's, nor grey.
+MARK_COLOURS = ("#ffd700", "#ff00ff")
+
+
+@dataclass(frozen=True)
+class Marks:
+    """Targets a heat map shows in colours of their own, with a legend: ``values(indices)`` gives each target's
+    index into ``labels`` (and ``MARK_COLOURS``), -1 for none; a marked target has no value of the map's own."""
+
+    values: object
+    labels: tuple[str, ...]
+
+
 @matplotlib.rc_context({"text.parse_math": False})  # names (study, joints, scenarios) as written: '$' is no math
 def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str, cmap="viridis",
                     norm: Normalize | None = None, centre: float | None = None,
-                    categories: list[str] | None = None) -> None:
+                    categories: list[str] | None = None, marks: Marks | None = None,
+                    grey: str = "unreachable") -> None:
     """``values`` as images over the grid's columns and rows, one panel per layer, for the targets
     :func:`shown_targets` picks.
 
@@ -130,6 +145,8 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
         label: colour-bar label with its unit, e.g. ``"RP_l [µm]"``.
         norm: colour scale (default: the shown finite values' range, centred on ``centre`` when they straddle it).
         categories: names of the integer values -1, 0, 1, ... (a categorical colour bar).
+        marks: targets drawn in colours of their own, named in a legend (:class:`Marks`).
+        grey: what the grey targets (no value, not marked) are, for the title.
     """
     shown, strides = shown_targets(grid)
     columns, rows, layers = (None if axis is None else GridAxis(axis.name, axis.unit, axis.values[::stride])
@@ -137,6 +154,7 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
     n_layers = shown.shape[0]
     data = np.asarray(values(shown.ravel()), dtype=float).reshape(shown.shape)
     images = np.ma.masked_invalid(data)
+    marked = None if marks is None else np.ma.masked_less(np.asarray(marks.values(shown.ravel())).reshape(shown.shape), 0)
     cmap = matplotlib.colormaps.get_cmap(cmap).with_extremes(bad=UNREACHABLE_GREY)
     norm = norm or value_norm(data, centre)
     panels_across = math.ceil(math.sqrt(n_layers))
@@ -150,8 +168,12 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
         if layer >= n_layers:
             ax.set_visible(False)
             continue
+        aspect = "equal" if grid.kind != "joint" and rows is not None else "auto"
         mesh = ax.imshow(images[layer], extent=frame.extent, origin="lower", cmap=cmap, norm=norm,
-                         interpolation="nearest", aspect="equal" if grid.kind != "joint" and rows is not None else "auto")
+                         interpolation="nearest", aspect=aspect)
+        if marked is not None:
+            ax.imshow(marked[layer], extent=frame.extent, origin="lower", cmap=ListedColormap(MARK_COLOURS),
+                      norm=BoundaryNorm([-0.5, 0.5, 1.5], 2), interpolation="nearest", aspect=aspect)
         ax.set_xlim(sorted(frame.extent[:2]))
         ax.set_ylim(sorted(frame.extent[2:]))
         ax.set_xlabel(frame.xlabel)
@@ -170,9 +192,16 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
     bar = fig.colorbar(mesh, ax=axes, label=label, shrink=0.9)
     if categories:
         bar.set_ticks(np.arange(-1, len(categories) - 1), labels=categories)
+    if marked is not None:
+        handles = [Patch(facecolor=colour, label=text) for colour, text in zip(MARK_COLOURS, marks.labels)]
+        fig.legend(handles=handles + [Patch(facecolor=UNREACHABLE_GREY, label=grey)], loc="outside lower center",
+                   ncols=len(handles) + 1, fontsize=8, frameon=False)
     thinned = shown.size < grid.size
-    unreachable = int(images.mask.sum()) if np.ndim(images.mask) else 0
-    note = f" (grey: {unreachable} unreachable{' of those shown' if thinned else ''})" if unreachable else ""
+    grey_cells = np.ma.getmaskarray(images)
+    if marked is not None:
+        grey_cells &= np.ma.getmaskarray(marked)
+    unreachable = int(grey_cells.sum())
+    note = f" (grey: {unreachable} {grey}{' of those shown' if thinned else ''})" if unreachable else ""
     if thinned:
         note += (f"; shown: {shown.size:,} of {grid.size:,} targets, 1 in {strides[2]} along rows and columns"
                  + (f", 1 in {strides[0]} layers" if strides[0] > 1 else "") + "; map.csv has them all")
@@ -231,19 +260,35 @@ def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | No
     for s in others:
         figures[map_figure_file("RP_l_ratio", s.name)] = (
             lambda shown, s=s: workspace_map.ratio_RP_l(s, shown), f"RP_l {s.name} / {reference.name} [-]",
-            f"RP_l ratio {s.name} / {reference.name}", {"cmap": "RdBu_r", "centre": 1.0})
+            f"RP_l ratio {s.name} / {reference.name}",
+            {"cmap": "RdBu_r", "centre": 1.0, **_reach_marks(workspace_map, s)})
     for s in others:
         figures[map_figure_file("RP_l_diff", s.name)] = (
             lambda shown, s=s: workspace_map.diff_RP_l_um(s, shown), f"RP_l {s.name} − {reference.name} [µm]",
-            f"RP_l difference {s.name} − {reference.name}", {"cmap": "RdBu_r", "centre": 0.0})
+            f"RP_l difference {s.name} − {reference.name}",
+            {"cmap": "RdBu_r", "centre": 0.0, **_reach_marks(workspace_map, s)})
     if others:
         names = list(workspace_map.scenarios)
+        several = workspace_map.robot_count > 1
         figures["map_winner.png"] = (
-            lambda shown: np.where(workspace_map.read("reachable", shown), workspace_map.winners(shown), np.nan),
-            "scenario with the smallest RP_l", "which scenario has the smallest RP_l",
+            lambda shown: np.where(workspace_map.reached_by_any(shown), workspace_map.winners(shown), np.nan),
+            "scenario with the smallest RP_l", "which scenario has the smallest RP_l" + (
+                ", among those whose robot reaches the target" if several else ""),
             {"cmap": _categorical(len(names)), "norm": BoundaryNorm(np.arange(-1.5, len(names)), len(names) + 1),
-             "categories": ["tie"] + names})
+             "categories": ["tie"] + names, **({"grey": "reached by no scenario"} if several else {})})
     return figures
+
+
+def _reach_marks(workspace_map: MapResult, scenario: ScenarioMap) -> dict:
+    """The options of :func:`save_grid_image` that set apart, on a comparison of ``scenario`` with the reference
+    measured with another robot, the targets only one of the two robots reaches (none when they share the robot)."""
+    reference = workspace_map.reference
+    if scenario.robot == reference.robot:
+        return {}
+    codes = np.array([{"this only": 0, "reference only": 1}.get(who, -1) for who in REACHED_BY])
+    return {"marks": Marks(lambda shown: codes[workspace_map.reached_by(scenario, shown)],
+                           (f"reached by {scenario.name} only", f"reached by {reference.name} only")),
+            "grey": "reached by neither"}
 
 
 def map_figure_names(workspace_map: MapResult) -> list[str]:

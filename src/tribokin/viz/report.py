@@ -90,14 +90,15 @@ def map_statistics(workspace_map: MapResult) -> str:
     ``summary.json`` gives them (:meth:`~tribokin.maps.result.MapResult.summary`); with several scenarios, the
     change of the median from the first (the reference)."""
     summary = workspace_map.summary()
-    spreads = [s["RP_l_um"] for s in summary["scenarios"]] if "scenarios" in summary else [summary["RP_l_um"]]
-    baseline = spreads[0]["median"]
+    scenarios = summary.get("scenarios") or [{"RP_l_um": summary["RP_l_um"]}]
+    baseline = scenarios[0]["RP_l_um"]["median"]
     rows = []
-    for name, spread in zip(workspace_map.scenarios, spreads):
+    for name, scenario in zip(workspace_map.scenarios, scenarios):
+        spread = scenario["RP_l_um"]
         change = (None if spread["median"] is None or not baseline
                   else f"{100 * (spread['median'] / baseline - 1):+.1f} %")
-        rows.append([name, f"{summary['reachable']} / {summary['count']}", spread["min"], spread["median"],
-                     spread["max"], change])
+        reachable = scenario.get("reachable", summary["reachable"])  # its robot's, when the robots differ
+        rows.append([name, f"{reachable} / {summary['count']}", spread["min"], spread["median"], spread["max"], change])
     headers = ["scenario", "reachable targets", "min RP_l [µm]", "median RP_l [µm]", "max RP_l [µm]",
                "median vs first"]
     if len(rows) < 2:
@@ -269,9 +270,12 @@ def inputs_section(result: StudyResult, prismatic) -> str:
              f"{joint_table(result.settings, prismatic)}"]
     scenarios = result.settings["scenarios"]
     if scenarios:
-        scenario_rows = [[s["name"], "\n".join(_overrides(s["overrides"])) or "none: the study as written"]
-                         for s in scenarios]
-        parts.append("<h3>Scenarios</h3>" + html_table(["scenario", "overrides of the study"], scenario_rows, (1,)))
+        scenario_rows = [[s["name"], "\n".join(_overrides(s["overrides"])) or "none: the study as written",
+                          s.get("robot", f"{result.settings['robot']} (the study's)")] for s in scenarios]
+        headers = ["scenario", "overrides of the study", "robot"]
+        if not any("robot" in s for s in scenarios):  # every scenario measured with the study's robot
+            headers, scenario_rows = headers[:-1], [row[:-1] for row in scenario_rows]
+        parts.append("<h3>Scenarios</h3>" + html_table(headers, scenario_rows, (1,)))
     return "".join(parts)
 
 
