@@ -150,7 +150,7 @@ def main() -> None:
             runs[f"{size}_rows"], solved = timed(lambda: batched(robot, grid, heads, batches), grid.size, args.repeats)
             solutions.append(solved)
     per_target = map_rows.solve_rows(robot, grid, rows, heads, batched=False)
-    q, reachable, _ = solutions[0]  # the map's chunks
+    q, reachable, _, _ = solutions[0]  # the map's chunks
     both = reachable & reachable_before
     difference = np.abs(q - q_before)[both].max(axis=-1)
     chunk = runs[f"{study.map.rows_per_chunk}_rows"]

@@ -77,6 +77,7 @@ def test_a_base_moved_by_zero_solves_its_own_ik_and_gives_the_same_bytes(tmp_pat
     for scenario in summaries[1]["scenarios"]:
         assert scenario.pop("reached_only_by_this") == scenario.pop("reached_only_by_reference") == 0
         assert scenario.pop("reachable") == summaries[1]["reachable"]
+        assert scenario.pop("ik") == summaries[1]["ik"]  # the same routes to the same configurations
     assert summaries[1] == summaries[0]
 
 

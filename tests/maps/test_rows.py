@@ -25,7 +25,7 @@ def solved():
     robot = load_robot(study)
     grid = make_grid(robot, study.map)
     heads = solve_row_heads(robot, grid)
-    q, reachable, _ = solve_rows(robot, grid, range(grid.row_count), heads)
+    q, reachable, _, _ = solve_rows(robot, grid, range(grid.row_count), heads)
     q, reachable = q.reshape(grid.size, -1), reachable.ravel()
     assert reachable.all()
     return robot, grid, q, reachable
@@ -107,7 +107,7 @@ def test_targets_out_of_reach_stay_unreachable_without_ik(solved, monkeypatch, s
     q, reachable = q_solved.copy(), np.ones(grid.size, dtype=bool)
     q[7], reachable[7] = np.nan, False
     assert fill_from_neighbours(robot, far, reader(q, reachable)) == {}
-    (row_q,), (row_reachable,), (closest,) = solve_rows(robot, far, [1], q_solved[[5]])
+    (row_q,), (row_reachable,), (closest,), _ = solve_rows(robot, far, [1], q_solved[[5]])
     assert np.isnan(row_q).all() and not row_reachable.any()
     np.testing.assert_array_equal(closest[:, 0], gaps[far.row_indices(1)])
     assert np.isnan(closest[:, 1]).all()
@@ -180,8 +180,8 @@ def test_solving_rows_together_changes_only_rounding(horizontal):
     than 1e-9 rad or in reachability (seen: 7e-15 rad at most)."""
     robot, grid, heads = horizontal
     rows = range(grid.row_count)
-    q, reachable, closest = solve_rows(robot, grid, rows, heads)
-    q_alone, reachable_alone, closest_alone = solve_rows(robot, grid, rows, heads, batched=False)
+    q, reachable, closest, _ = solve_rows(robot, grid, rows, heads)
+    q_alone, reachable_alone, closest_alone, _ = solve_rows(robot, grid, rows, heads, batched=False)
     both = reachable & reachable_alone
     assert both.sum() > 1000
     differing = (reachable != reachable_alone).sum() + (np.abs(q - q_alone)[both].max(axis=-1) > 1e-9).sum()
@@ -198,3 +198,25 @@ def test_a_robot_numpy_cannot_compute_is_solved_target_by_target(solved, monkeyp
     monkeypatch.setattr(map_rows, "solve_ik_batch", None)
     for array, expected in zip(solve_rows(robot, grid, range(grid.row_count), heads), alone):
         assert array.tobytes() == expected.tobytes()
+
+
+def test_each_target_says_how_the_ik_reached_it(horizontal):
+    """Checked by solving again: a target reached after restarts is not reached from its row's last reached
+    configuration, one reached from there is, and the map counts every reached target once in summary.json."""
+    robot, grid, heads = horizontal
+    rows = range(grid.row_count)
+    q, reachable, _, routes = solve_rows(robot, grid, rows, heads)
+    assert np.array_equal(routes != map_rows.UNREACHED, reachable)
+    counts = np.bincount(routes.ravel(), minlength=5)
+    assert counts[map_rows.ALONG_ROW] > 0.9 * reachable.sum() and counts[map_rows.FROM_LAST_REACHED] > 0
+    for row, column in zip(*np.nonzero(np.isin(routes, [map_rows.FROM_LAST_REACHED, map_rows.AFTER_RESTARTS]))):
+        before = np.flatnonzero(reachable[row, :column])
+        start = q[row, before[-1]] if len(before) else heads[row]
+        again = map_rows._solve_from(robot, grid, grid.row_indices(row)[column], start)
+        assert again.success == (routes[row, column] == map_rows.FROM_LAST_REACHED)
+    study = load_study(STUDIES / "ur5-map-horizontal.toml")
+    summary = run_study(study).map.summary()
+    ik_counts = summary["ik"]
+    assert sum(ik_counts.values()) == summary["reachable"]
+    assert ik_counts["after_restarts"] == counts[map_rows.AFTER_RESTARTS]
+    assert ik_counts["from_neighbours"] == summary["reachable"] - reachable.sum()

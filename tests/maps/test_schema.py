@@ -28,14 +28,14 @@ def map_table_header(tmp_path, statistic: str, scenarios: int = 1) -> list[str]:
 
 def test_the_store_the_estimate_and_map_csv_follow_the_figures_of_the_schema(tmp_path, monkeypatch):
     assert MapLayout.shared(2, 3, "one-test").columns()["scenario2_figures"] == ((7,), "f8")
-    assert MapLayout.shared(2, 3, "one-test").bytes_per_target == 8 * (3 + 2 + 2) + 1 + 3 * 8 * (7 + 2 + 1)
+    assert MapLayout.shared(2, 3, "one-test").bytes_per_target == 8 * (3 + 2 + 2) + 1 + 1 + 3 * 8 * (7 + 2 + 1)
     header = map_table_header(tmp_path / "before", "one-test")
     assert header[:12] == ["x_m", "y_m", "z_m", "reachable", "RP_l_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg",
                            "RP_c_mdeg", "largest_semi_axis_um", "dominant_joint", "dominant_share"]
 
     monkeypatch.setattr(schema, "ALL_FIGURES", (*schema.ALL_FIGURES, MapFigure("flatness_um")))
     assert MapLayout.shared(2, 3, "one-test").columns()["scenario2_figures"] == ((8,), "f8")
-    assert MapLayout.shared(2, 3, "one-test").bytes_per_target == 8 * (3 + 2 + 2) + 1 + 3 * 8 * (8 + 2 + 1)
+    assert MapLayout.shared(2, 3, "one-test").bytes_per_target == 8 * (3 + 2 + 2) + 1 + 1 + 3 * 8 * (8 + 2 + 1)
     assert map_table_header(tmp_path / "after", "one-test") == header[:10] + ["flatness_um"] + header[10:]
 
 
@@ -45,7 +45,7 @@ def test_an_expected_map_has_its_band_its_directional_figures_and_how_they_were_
     assert MapLayout.shared(2, 1, "expected").columns()["scenario0_figures"] == ((9,), "f8")
     assert MapLayout.shared(2, 1, "directional").columns()["scenario0_figures"] == ((11,), "f8")
     assert MapLayout.shared(2, 1, "directional").bytes_per_target == \
-        8 * (3 + 2 + 2) + 1 + 8 * (11 + 2 + 1) + 8 * (1 + 1 + 2 + 1)
+        8 * (3 + 2 + 2) + 1 + 1 + 8 * (11 + 2 + 1) + 8 * (1 + 1 + 2 + 1)
     assert map_table_header(tmp_path / "expected", "directional")[4:16] == [
         "RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "AP_p_um", "vAP_p_um", "RP_l_multi_um", "RP_a_mdeg", "RP_b_mdeg",
         "RP_c_mdeg", "largest_semi_axis_um", "dominant_joint", "dominant_share"]
@@ -60,9 +60,9 @@ def test_each_robot_of_the_scenarios_keeps_its_own_configurations_and_the_budget
     columns = layout.columns()
     assert columns["q"] == ((6,), "f8") and columns["robot1_q"] == ((7,), "f8")
     assert columns["scenario0_normal_forces_N"] == ((6,), "f8") and columns["scenario2_normal_forces_N"] == ((7,), "f8")
-    assert layout.bytes_per_target == 8 * 3 + (8 * (6 + 2) + 1) + (8 * (7 + 2) + 1) + 8 * (7 + 6 + 1) + 2 * 8 * (7 + 7 + 1)
+    assert layout.bytes_per_target == 8 * 3 + (8 * (6 + 2) + 2) + (8 * (7 + 2) + 2) + 8 * (7 + 6 + 1) + 2 * 8 * (7 + 7 + 1)
     assert sorted(layout.columns(1)) == sorted(f"{prefix}_{name}" for prefix, names in (
-        ("robot1", ("q", "reachable", "closest")), ("scenario1", ("figures", "normal_forces_N", "dominant_joint")),
+        ("robot1", ("q", "reachable", "closest", "ik_route")), ("scenario1", ("figures", "normal_forces_N", "dominant_joint")),
         ("scenario2", ("figures", "normal_forces_N", "dominant_joint"))) for name in names)
     study = load_study(STUDIES / "what-if-robots.toml")
     shared = dict((key, size) for size, key, _ in estimate(study, 6, []))

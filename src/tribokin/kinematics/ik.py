@@ -8,7 +8,7 @@ Pinocchio's ``integrate`` for every joint, the continuous ones included."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pinocchio as pin
@@ -29,12 +29,14 @@ BATCH_ITERATIONS = 4
 @dataclass(frozen=True)
 class IKResult:
     """Outcome of one IK solve: ``q`` [m or rad], residual position [m] and angle [rad] errors (of a batch's,
-    :func:`solve_ik_batch`: (k, nv) and (k,) arrays)."""
+    :func:`solve_ik_batch`: (k, nv) and (k,) arrays), and the random restarts it took (:func:`solve_ik_with_restarts`;
+    0 when solved from the start given, or not solved)."""
 
     q: np.ndarray
     position_error_m: float | np.ndarray
     angle_error_rad: float | np.ndarray
     success: bool | np.ndarray
+    restarts: int = 0
 
 
 def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-10, angle_tol_rad: float = 1e-9,
@@ -110,12 +112,14 @@ def solve_ik_with_restarts(robot: Robot, target: pin.SE3, q_start, rng, restarts
     ``rng``: a :class:`numpy.random.Generator`, or a function making one (called only if a restart is needed).
     """
     best = solve_ik(robot, target, q_start, **options)
-    for _ in range(restarts):
+    for restart in range(1, restarts + 1):
         if best.success:
             break
         rng = rng() if callable(rng) else rng
         attempt = solve_ik(robot, target, robot.random_configuration(rng), patience=STALL_ITERATIONS, **options)
-        if attempt.success or attempt.position_error_m < best.position_error_m:
+        if attempt.success:
+            return replace(attempt, restarts=restart)
+        if attempt.position_error_m < best.position_error_m:
             best = attempt
     return best
 

@@ -9,7 +9,7 @@ import numpy as np
 
 from tribokin.maps.expected import ANALYTIC, SAMPLED
 from tribokin.maps.grid import TargetGrid
-from tribokin.maps.rows import unreachable_reasons
+from tribokin.maps.rows import IK_ROUTES, unreachable_reasons
 from tribokin.maps.schema import figure_index, map_figures, robot_column, scenario_column
 from tribokin.maps.store import ChunkStore
 from tribokin.maps.streaming import blocks, spread
@@ -196,13 +196,21 @@ class MapResult:
                 wins += np.bincount(self.winners(part)[any_flags] + 1, minlength=len(self.scenarios) + 1)
         return reachable, dominant, wins, reached
 
+    def ik_routes(self, robot: int = 0) -> dict[str, int]:
+        """How many targets robot ``robot``'s IK reached by each route (:data:`~tribokin.maps.rows.IK_ROUTES`)."""
+        counts = np.zeros(max(IK_ROUTES.values()) + 1, dtype=int)
+        for part in self.blocks():
+            counts += np.bincount(self.read(robot_column(robot, "ik_route"), part), minlength=len(counts))
+        return {name: int(counts[route]) for name, route in IK_ROUTES.items()}
+
     def _reach_counts(self, scenario: ScenarioMap) -> dict[str, int]:
         """The targets ``scenario``'s robot reaches, and those it reaches and the reference's does not, and back."""
         counts = np.zeros(len(REACHED_BY), dtype=int)
         for part in self.blocks():
             counts += np.bincount(self.reached_by(scenario, part), minlength=len(REACHED_BY))
         return {"reachable": int(counts[0] + counts[1]), "reached_only_by_this": int(counts[1]),
-                "reached_only_by_reference": int(counts[2])}
+                "reached_only_by_reference": int(counts[2]),
+                **({"ik": self.ik_routes(scenario.robot)} if self.grid.kind != "joint" else {})}
 
     def summary(self) -> dict:
         """The ``map`` block of ``summary.json`` (computed once)."""
@@ -225,6 +233,8 @@ class MapResult:
                for f in map_figures(reference.figure_set) if f.summarised},
             "dominant_joint_counts": {name: int(count) for name, count in zip(self.joint_names, dominant)},
         }
+        if self.grid.kind != "joint":
+            block["ik"] = self.ik_routes()
         if len(self.scenarios) > 1:
             block["scenarios"] = [{
                 "name": s.name,

@@ -125,8 +125,17 @@ def _solve_from_warm_starts(robot: Robot, chain: SerialChain | None, grid: Targe
     return solve_ik_batch(chain, _rotation(grid), positions_m, q_starts, position_only=grid.rotation is None)
 
 
+#: How the IK reached a target (a map's ``ik_route`` column; a joint map's targets need no IK: ``UNREACHED``): not
+#: at all; warm-started along its row (:func:`extrapolate_rows`); from its row's last reached configuration (the head
+#: first); after random restarts; from a reached neighbour's configuration (:func:`fill_from_neighbours`).
+UNREACHED, ALONG_ROW, FROM_LAST_REACHED, AFTER_RESTARTS, FROM_NEIGHBOUR = range(5)
+#: The routes by the names ``summary.json`` counts them under.
+IK_ROUTES = {"warm_started_along_row": ALONG_ROW, "from_last_reached": FROM_LAST_REACHED,
+             "after_restarts": AFTER_RESTARTS, "from_neighbours": FROM_NEIGHBOUR}
+
+
 def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True) -> tuple[np.ndarray, np.ndarray,
-                                                                                            np.ndarray]:
+                                                                                            np.ndarray, np.ndarray]:
     """Configurations of grid rows ``rows``, each from its head (``heads`` (rows, nv) [m or rad]), column by column.
 
     Each target is warm-started from the polynomial through its row's last reached targets when two or more right
@@ -141,12 +150,15 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True
         q (rows, columns, nv) [m or rad] (NaN where unreachable), reachable (rows, columns), and for unreachable
         targets how close the IK came (rows, columns, 2): position error [m], orientation error [rad] (NaN
         for reachable targets, and the orientation when it is not held; beyond the reach, how far beyond [m]
-        the first bound that refuses it (:func:`first_bound_beyond`), and NaN).
+        the first bound that refuses it (:func:`first_bound_beyond`), and NaN), and how each was reached (rows,
+        columns) (:data:`IK_ROUTES`).
     """
     indices = np.array([grid.row_indices(row) for row in rows], dtype=int).reshape(-1, grid.row_length)
     closest = np.full((*indices.shape, 2), np.nan)
+    routes = np.full(indices.shape, UNREACHED, dtype=np.int8)
     if grid.kind == "joint":
-        return grid.joint_q(indices.ravel()).reshape(*indices.shape, -1), np.ones(indices.shape, dtype=bool), closest
+        return (grid.joint_q(indices.ravel()).reshape(*indices.shape, -1), np.ones(indices.shape, dtype=bool), closest,
+                routes)
     nv = robot.model.nv
     chain = serial_chain(robot) if batched else None
     positions = np.array([grid.positions_m(row) for row in indices]).reshape(*indices.shape, 3)  # row by row, as alone
@@ -163,18 +175,19 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True
             first = _solve_from_warm_starts(robot, chain, grid, indices[warm, column], positions[warm, column],
                                             predicted[warm])
             reached = warm[first.success]
-            reachable[reached, column] = True
+            reachable[reached, column], routes[reached, column] = True, ALONG_ROW
             q[reached, column] = q_start[reached] = first.q[first.success]
         for row in np.flatnonzero(within & ~reachable[:, column]):  # from its last reached target, then restarts
             result = _solve(robot, grid, indices[row, column], q_start[row])
             reachable[row, column] = result.success
             if result.success:
                 q[row, column] = q_start[row] = result.q
+                routes[row, column] = AFTER_RESTARTS if result.restarts else FROM_LAST_REACHED
             else:
                 closest[row, column] = result.position_error_m, np.nan if grid.rotation is None else \
                     result.angle_error_rad
         streaks = np.where(reachable[:, column], streaks + 1, 0)
-    return q, reachable, closest
+    return q, reachable, closest, routes
 
 
 #: Targets whose reachable flags are scanned at once when looking for holes beside reached targets.

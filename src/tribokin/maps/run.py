@@ -29,7 +29,8 @@ from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES
 from tribokin.maps.expected import ExpectedSetup, expected_targets, shape_table
 from tribokin.maps.measure import measure_targets
 from tribokin.maps.result import MapResult, ScenarioMap
-from tribokin.maps.rows import fill_from_neighbours, first_tries, solve_row_heads, solve_rows, solve_tries
+from tribokin.maps.rows import FROM_NEIGHBOUR, fill_from_neighbours, first_tries, solve_row_heads, solve_rows, \
+    solve_tries
 from tribokin.maps.schema import MapLayout, robot_column, scenario_column
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.propagation.exact import tool_frames
@@ -87,10 +88,10 @@ def compute_chunk(job: MapJob, rows: list[int], heads: tuple[np.ndarray, ...]) -
     for r, (robot, grid, robot_heads) in enumerate(zip(robots, job.grids, heads)):
         scenarios = [(s, runners[s], job.setups[s]) for s in job.layout.scenarios_of(r)]
         solved = solve_rows(robot, grid, rows, robot_heads)
-        for k, (row, q, reachable, closest) in enumerate(zip(rows, *solved)):
+        for k, (row, q, reachable, closest, routes) in enumerate(zip(rows, *solved)):
             span = slice(k * row_length, (k + 1) * row_length)
             indices = grid.row_indices(row)
-            for name, value in (("q", q), ("reachable", reachable), ("closest", closest)):
+            for name, value in (("q", q), ("reachable", reachable), ("closest", closest), ("ik_route", routes)):
                 arrays[robot_column(r, name)][span] = value
             if r == 0:
                 arrays["position_m"][span] = target_positions_m(robot, grid, indices, q)
@@ -178,6 +179,7 @@ def fill_holes(job: MapJob, robots: list[Robot], runners: list[PoseRunner], stor
             if len(indices):
                 q = np.array(list(reached.values()))
                 filled[robot_column(r, "q")], filled[robot_column(r, "reachable")][:] = q, True
+                filled[robot_column(r, "ik_route")][:] = FROM_NEIGHBOUR
                 scenarios = [(s, runners[s], job.setups[s]) for s in job.layout.scenarios_of(r)]
                 measure_into(filled, np.arange(len(indices)), robot, scenarios, q, indices)
             store.save_record(record, filled)

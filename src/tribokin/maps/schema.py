@@ -88,7 +88,8 @@ class MapColumn:
 #: Columns of every target (see :class:`~tribokin.maps.result.MapResult`).
 TARGET_COLUMNS = (MapColumn("position_m", 3, "f8"),)
 #: Columns of every target per robot of the map's scenarios (:func:`robot_column`): its IK's outcome.
-ROBOT_COLUMNS = (MapColumn("q", "joints", "f8"), MapColumn("reachable", None, "?"), MapColumn("closest", 2, "f8"))
+ROBOT_COLUMNS = (MapColumn("q", "joints", "f8"), MapColumn("reachable", None, "?"), MapColumn("closest", 2, "f8"),
+                 MapColumn("ik_route", None, "i1"))
 #: Columns of every target per scenario (see :class:`~tribokin.maps.result.ScenarioMap`); an expected map's also
 #: say how its figures were computed (:func:`~tribokin.maps.expected.expected_targets`).
 SCENARIO_COLUMNS = (MapColumn("figures", "figures", "f8"), MapColumn("normal_forces_N", "joints", "f8"),
@@ -103,7 +104,8 @@ def scenario_column(scenario: int, name: str) -> str:
 
 
 def robot_column(robot: int, name: str) -> str:
-    """Store column (or record) of the map's robot number ``robot``'s ``name`` (``q``, ``reachable``, ``closest``):
+    """Store column (or record) of the map's robot number ``robot``'s ``name`` (``q``, ``reachable``, ``closest``,
+    ``ik_route``):
     the first robot's (the study's) plain, the others' ``robot<k>_<name>``."""
     return name if robot == 0 else f"robot{robot}_{name}"
 
