@@ -127,21 +127,29 @@ def expected_norm(centre: np.ndarray, covariance: np.ndarray) -> np.ndarray:
 
     Where tr S < ``EXPANSION_RATIO`` |c|²: |c| + (tr S - ĉᵀ S ĉ) / (2 |c|). Elsewhere exactly, by the trapezoid rule
     on a log scale of E|x| = (2√π)⁻¹ ∫₀^∞ (1 - E e^{-t|x|²}) t^{-3/2} dt, whose Laplace transform is closed-form.
+    Computed on c and S scaled by a power of two to order one (exactly), so that sizes from 1e-300 to 1e300 m
+    neither underflow nor overflow; 0 where c and S are.
     """
     centre, covariance = np.asarray(centre, dtype=float), np.asarray(covariance, dtype=float)
+    magnitude = np.maximum(np.abs(centre).max(axis=-1),
+                           np.sqrt(np.abs(np.diagonal(covariance, axis1=-2, axis2=-1)).max(axis=-1)))
+    zero = ~(magnitude > 0)
+    scale = np.exp2(np.round(np.log2(np.where(zero, 1.0, magnitude))))
+    centre = centre / scale[..., None]
+    covariance = covariance / scale[..., None, None] / scale[..., None, None]
     size2 = np.einsum("...i,...i->...", centre, centre)
     trace = np.trace(covariance, axis1=-2, axis2=-1)
-    result = np.empty(size2.shape)
-    near = trace < EXPANSION_RATIO * size2
+    result = np.zeros(size2.shape)
+    near = ~zero & (trace < EXPANSION_RATIO * size2)
     if near.any():
         c, s = centre[near], covariance[near]
         size = np.sqrt(size2[near])
         along = np.einsum("ki,kij,kj->k", c, s, c) / size2[near]
         result[near] = size + (trace[near] - along) / (2 * size)
-    far = ~near
+    far = ~zero & ~near
     if far.any():
         result[far] = _norm_by_quadrature(centre[far], covariance[far])
-    return result
+    return result * scale
 
 
 _LOG_NODES = np.arange(-36.0, 36.0 + 1e-9, 0.25)  # u = ln t + ln scale²: the integrand decays as e^{-|u|/2}
