@@ -125,3 +125,10 @@ settings.register_profile("tribokin", derandomize=True, deadline=None, max_examp
                           print_blob=True)
 settings.register_profile("thorough", deadline=None, max_examples=1000)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "tribokin"))
+
+
+@pytest.fixture(params=["numpy", "compiled"])
+def kernel_path(request, monkeypatch):
+    """Each kernel path in turn (``TRIBOKIN_KERNELS``, :mod:`tribokin.compiled`): a test of both."""
+    monkeypatch.setenv("TRIBOKIN_KERNELS", request.param)
+    return request.param

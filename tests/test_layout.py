@@ -18,7 +18,7 @@ PACKAGE = ROOT / "src" / "tribokin"
 #: package's ``__init__``) is the top. Ground floor: errors, value checks, units, folder
 #: primitives, provenance, random streams. Figures (``viz``) sit below ``output``, which draws them into the folder.
 STAGES = (
-    ("errors", "checks", "units", "folders", "provenance", "streams"),
+    ("errors", "checks", "units", "folders", "provenance", "streams", "compiled"),
     ("tribology",),
     ("kinematics",),
     ("propagation",),

@@ -1,0 +1,48 @@
+"""Which path the per-target kernels take: compiled (numba, where it pays) or NumPy.
+
+A module of compiled kernels imports numba at its top and is imported only once :func:`use_compiled` says so, so a
+run on the NumPy path never loads numba. The environment variable ``TRIBOKIN_KERNELS`` chooses: ``compiled`` (the
+default; the NumPy path when numba is not installed) or ``numpy``. It is read at each call, so child processes and
+tests follow it. The two paths agree to rounding (about 1e-12 relative), not to the bit: ``summary.json`` records
+which one a run took (:func:`kernels_used`).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+from functools import lru_cache
+
+from tribokin.errors import InputError
+
+#: The environment variable that chooses the path, and its values.
+VARIABLE = "TRIBOKIN_KERNELS"
+COMPILED, NUMPY = "compiled", "numpy"
+
+
+@lru_cache(maxsize=1)
+def _numba_installed() -> bool:
+    return importlib.util.find_spec("numba") is not None
+
+
+def requested() -> str:
+    """The path ``TRIBOKIN_KERNELS`` asks for (``compiled`` when unset); any other value is refused in one line."""
+    value = os.environ.get(VARIABLE, COMPILED).strip().lower() or COMPILED
+    if value not in (COMPILED, NUMPY):
+        raise InputError(f"{value!r} is not a kernel path: set it to {COMPILED!r} (the default) or {NUMPY!r}",
+                         "environment", VARIABLE)
+    return value
+
+
+def use_compiled() -> bool:
+    """Whether the per-target kernels run compiled now: asked for (:func:`requested`) and numba installed."""
+    return requested() == COMPILED and _numba_installed()
+
+
+def kernels_used() -> str:
+    """``"compiled (numba <version>)"`` or ``"numpy"``: the path :func:`use_compiled` takes, for ``summary.json``."""
+    if not use_compiled():
+        return NUMPY
+    from importlib import metadata
+
+    return f"{COMPILED} (numba {metadata.version('numba')})"
