@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 
 from tribokin import run_study
-from tribokin.maps import streaming
 from tribokin.output import writers
 from tribokin.output.writers import column_cells, float_lines, map_table_name, table_lines, write_map_table
 
@@ -83,7 +82,7 @@ def test_map_tables_of_a_real_map_are_the_repr_writers_bytes_written_block_by_bl
         assert path.read_bytes() == (",".join(whole) + "\r\n" + repr_lines(whole)).encode()
         tables[scenario.name] = path.read_bytes()
     read = []
-    monkeypatch.setattr(streaming, "BLOCK_TARGETS", 4)
+    monkeypatch.setattr(writers, "TABLE_TARGETS", 4)
     monkeypatch.setattr(writers, "map_table_columns", lambda m, s, part: read.append(part) or columns(m, s, part))
     for scenario in workspace_map.scenarios.values():
         write_map_table(workspace_map, scenario, tmp_path / "blocks.csv")

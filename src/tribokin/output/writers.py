@@ -156,14 +156,18 @@ def map_table_columns(workspace_map: MapResult, scenario: ScenarioMap, targets: 
     return columns
 
 
+#: Targets of a map table read from the store at once (their columns and reasons in memory together).
+TABLE_TARGETS = 1 << 14
+
+
 def write_map_table(workspace_map: MapResult, scenario: ScenarioMap, path: Path) -> None:
     """One scenario's map as CSV, one row per target in index order: position [m], reachable (by its robot), the
     figures (µm, mdeg), ratio and difference of RP_l to the reference scenario (other scenarios), who reaches the
     target (a scenario measured with another robot than the reference's), grid coordinates, q_<joint> [m or rad],
     normal_force_<joint>_N [N] (its robot's joints), and the reason a target is unreachable; written block by block,
-    a few thousand rows at a time (:func:`table_lines`)."""
+    ``TABLE_TARGETS`` targets read at a time, formatted a few thousand rows at a time (:func:`table_lines`)."""
     with open(path, "w", newline="", encoding="utf-8") as handle:
-        for part in workspace_map.blocks():
+        for part in workspace_map.blocks(TABLE_TARGETS):
             columns = map_table_columns(workspace_map, scenario, part)
             if part.start == 0:
                 csv.writer(handle).writerow(columns)
