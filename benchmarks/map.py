@@ -195,7 +195,7 @@ STAGE_HOOKS = (
     ("tribokin.maps.run", "measure_targets", "one-test figures"),
     ("tribokin.maps.store", "ChunkStore.save", "store"),
     ("tribokin.maps.store", "ChunkStore.write", "store"),
-    ("tribokin.output.writers", "write_map_table", "map.csv"),
+    ("tribokin.output.writers", "write_map_tables", "map.csv"),
     ("tribokin.viz.contents", "write_views", "figures and report"),
 )
 
