@@ -84,9 +84,18 @@ def write_study(folder: Path, side_u: int, side_v: int, cycles: int, statistic: 
     return path
 
 
-def child_env() -> dict:
+#: numba's cache of compiled kernels for every child process of one run (empty at first: the cold compile), made by
+#: the run's first process and passed on to its children in this variable.
+NUMBA_CACHE_VARIABLE = "TRIBOKIN_BENCHMARK_NUMBA_CACHE"
+NUMBA_CACHE = Path(os.environ.get(NUMBA_CACHE_VARIABLE) or tempfile.mkdtemp(prefix="tribokin-bench-numba-"))
+
+
+def child_env(kernels: str = "compiled") -> dict:
+    """The environment of a child process: this checkout's sources, the run's numba cache, ``TRIBOKIN_KERNELS``."""
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), *filter(None, [env.get("PYTHONPATH")])])
+    env["NUMBA_CACHE_DIR"] = env[NUMBA_CACHE_VARIABLE] = str(NUMBA_CACHE)
+    env["TRIBOKIN_KERNELS"] = kernels
     return env
 
 
@@ -97,17 +106,34 @@ def child(*arguments) -> dict:
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def command(study: Path, out: Path, workers: int = 1) -> dict:
-    """Wall time of ``tribokin run study --out out --report light --workers N`` in a child process, and the map's
-    targets and reachable targets (its summary.json)."""
+def command(study: Path, out: Path, workers: int = 1, kernels: str = "compiled") -> dict:
+    """Wall time of ``tribokin run study --out out --report light --workers N`` in a child process (``kernels``: the
+    kernels' path, ``TRIBOKIN_KERNELS``), and the map's targets and reachable targets (its summary.json)."""
     shutil.rmtree(out, ignore_errors=True)
     start = time.perf_counter()
     subprocess.run([sys.executable, "-m", "tribokin", "run", str(study), "--out", str(out), "--report", "light",
-                    "--workers", str(workers)], check=True, env=child_env(), stdout=subprocess.DEVNULL,
+                    "--workers", str(workers)], check=True, env=child_env(kernels), stdout=subprocess.DEVNULL,
                    stderr=subprocess.DEVNULL)
     seconds = time.perf_counter() - start
-    summary = json.loads((out / "summary.json").read_text())["map"]
-    return {"workers": workers, "seconds": seconds, "targets": summary["count"], "reachable": summary["reachable"]}
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["reproduce"]["kernels"].startswith(kernels), summary["reproduce"]["kernels"]
+    return {"workers": workers, "kernels": kernels, "seconds": seconds, "targets": summary["map"]["count"],
+            "reachable": summary["map"]["reachable"]}
+
+
+def compile_times(study: Path, folder: Path) -> dict:
+    """The compiled kernels' cost on a tiny map (``study``): the command with numba's cache empty (compiling every
+    kernel the map uses), then filled (loading them), and on the NumPy path; cold and warm compile times as the
+    differences."""
+    for stale in NUMBA_CACHE.iterdir():
+        shutil.rmtree(stale) if stale.is_dir() else stale.unlink()
+    cold = command(study, folder / "cold")["seconds"]
+    warm = min(command(study, folder / "warm")["seconds"] for _ in range(3))
+    plain = min(command(study, folder / "numpy", kernels="numpy")["seconds"] for _ in range(3))
+    return {"how": "tribokin run on a 3 x 3 plane: numba's cache empty (cold), then filled (warm, best of 3), and "
+                   "the NumPy path (best of 3); differences to the NumPy path",
+            "cold_command_s": cold, "warm_command_s": warm, "numpy_command_s": plain,
+            "cold_compile_s": cold - plain, "warm_load_s": warm - plain}
 
 
 def rates(run: dict, cycles: int) -> dict:
@@ -195,7 +221,7 @@ STAGE_HOOKS = (
     ("tribokin.maps.run", "measure_targets", "one-test figures"),
     ("tribokin.maps.store", "ChunkStore.save", "store"),
     ("tribokin.maps.store", "ChunkStore.write", "store"),
-    ("tribokin.output.writers", "write_map_table", "map.csv"),
+    ("tribokin.output.writers", "write_map_tables", "map.csv"),
     ("tribokin.viz.contents", "write_views", "figures and report"),
 )
 
@@ -317,11 +343,16 @@ def benchmark(side: int, cycles: int, one_test_side: int, million_side: int, mem
 def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_side: int,
             memory_sides: list[tuple[int, int]], fk_samples: int, quick: bool) -> dict:
     load_before = os.getloadavg()
-    command(write_study(folder, 3, 3, cycles), folder / "warm-up")  # the files read once, into the page cache
+    tiny = write_study(folder, 3, 3, cycles)
+    command(tiny, folder / "warm-up", kernels="numpy")  # the files read once, into the page cache
+    kernels = compile_times(tiny, folder)
     big = write_study(folder, side, side, cycles)
     serial = rates(command(big, folder / "one-worker"), cycles)
     two = rates(command(big, folder / "two-workers", workers=2), cycles)
     identical = same_table(folder / "one-worker", folder / "two-workers")
+    two_numpy = rates(command(big, folder / "two-workers-numpy", workers=2, kernels="numpy"), cycles)
+    kernels.update({"numpy_two_workers": two_numpy,
+                    "compiled_over_numpy_two_workers": two_numpy["seconds"] / two["seconds"]})
     loop_s = fk_loop_seconds_per_sample(fk_samples)
     loop_rate = 1 / loop_s
 
@@ -349,6 +380,7 @@ def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_si
                 "report": "light"},
         "command": {"one_worker": serial, "two_workers": two, "speed_up": serial["seconds"] / two["seconds"],
                     "identical_map_csv": identical},
+        "kernels": kernels,
         "fk_loop": {"seconds_per_sample": loop_s, "samples_per_s": loop_rate,
                     "equivalent_seconds": two["reachable"] * cycles * loop_s,
                     "one_worker_over_loop": serial["target_cycles_per_s"] / loop_rate,
@@ -376,6 +408,7 @@ def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_si
         "million_command_under_20_s": million_command["seconds"] < GOAL_MILLION_COMMAND_S if million_measured else None,
         "memory_independent_of_targets": growth < GOAL_GROWTH_B,
         "two_workers_same_map_csv": identical,
+        "compiled_kernels_double_the_command": kernels["compiled_over_numpy_two_workers"] >= 2,
     }
     return results
 
@@ -407,6 +440,8 @@ def main() -> None:
         results = benchmark(args.side, args.cycles, args.one_test_side, 1000, [(100, 100), (1000, 1000), (1000, 2000)],
                             200_000, quick=False)
     results["benchmark_seconds"] = time.perf_counter() - START
+    if NUMBA_CACHE_VARIABLE not in os.environ:  # made by this process
+        shutil.rmtree(NUMBA_CACHE, ignore_errors=True)
     path = args.results or (None if args.quick else RESULTS)
     if path is not None:
         path.parent.mkdir(exist_ok=True)

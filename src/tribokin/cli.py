@@ -136,7 +136,7 @@ def _compute_and_write(args, executor):
             result = run_study(args.study, cycles=args.cycles, seed=args.seed, executor=executor, checkpoint=chunks,
                                resume=args.resume, progress=progress, meshes=args.report != "none")
         result.reproduce["command"] = ["tribokin", *args.argv]
-        out = write_results(result, args.out, args.force, report=args.report)
+        out = write_results(result, args.out, args.force, report=args.report, executor=executor)
     except InputError:
         if not resumed:
             discard(chunks)

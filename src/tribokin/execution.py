@@ -105,8 +105,14 @@ def executor_for(workers: int = 1, scheduler: str | None = None) -> Iterator[Exe
 def local_workers(executor: Executor | None) -> int:
     """Chunks ``executor`` computes at once in this machine's memory: a pool's workers, else 1 (this
     process, or a cluster's own machines)."""
-    pool = isinstance(executor, (ProcessPoolExecutor, ThreadPoolExecutor))
-    return executor._max_workers if pool else 1  # the pools' size, as their constructor took it
+    pool = local_pool(executor)
+    return pool._max_workers if pool is not None else 1  # the pools' size, as their constructor took it
+
+
+def local_pool(executor: Executor | None) -> Executor | None:
+    """``executor`` if it is a pool of this machine's processes or threads (they read and write this machine's
+    files), else ``None`` (run here): a cluster's workers may be elsewhere."""
+    return executor if isinstance(executor, (ProcessPoolExecutor, ThreadPoolExecutor)) else None
 
 
 @contextmanager

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from tribokin.compiled import kernels_used
 from tribokin.errors import InputError
 from tribokin.execution import local_workers
 from tribokin.kinematics.robot import Robot
@@ -107,6 +108,7 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
         that base).
     """
     study = load_study(study, cycles, seed)
+    kernels = kernels_used()  # TRIBOKIN_KERNELS checked before any work
     if not study.has_tests:
         raise InputError("nothing to run: the study has a [calibration] section only; fit it with `tribokin calibrate "
                          "STUDY --measurements FILE`, or add [[poses]], an [iso_cube] or a [map]", study.source, "poses")
@@ -152,5 +154,6 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
         "scenarios": [scenario_settings(s, robots, place) for s, place in zip(study.scenarios, robots.places)]
         if study.scenarios else [],
     }
-    reproduce = {"seed": study.seed, "study_sha256": study.sha256, "versions": software_versions(), "command": None}
+    reproduce = {"seed": study.seed, "study_sha256": study.sha256, "versions": software_versions(),
+                 "kernels": kernels, "command": None}
     return StudyResult(study.name, poses, settings, robot, workspace_map, reproduce, placement)

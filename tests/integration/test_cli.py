@@ -15,6 +15,7 @@ import scipy
 
 from conftest import AXIS_STUDY_TOML, STUDIES
 from tribokin import __version__ as tribokin_version
+from tribokin.compiled import kernels_used
 
 
 def tribokin(*args, cwd=None):
@@ -47,6 +48,7 @@ def test_run_writes_every_output(study_file, tmp_path):
     assert reproduce["seed"] == 5 and reproduce["study_sha256"] == hashlib.sha256(study_file.read_bytes()).hexdigest()
     assert reproduce["command"] == ["tribokin", "run", str(study_file), "--out", str(out), "--cycles", "20",
                                     "--seed", "5"]
+    assert reproduce["kernels"] == kernels_used()  # this environment's TRIBOKIN_KERNELS, passed on
     versions = reproduce["versions"]
     assert versions["tribokin"] == tribokin_version and versions["python"] == platform.python_version()
     assert versions["numpy"] == np.__version__ and versions["scipy"] == scipy.__version__

@@ -49,8 +49,11 @@ def test_records_are_kept_whole(tmp_path):
     assert sorted(p.name for p in (tmp_path / "store").glob("*filled*")) == ["filled.npz"]
 
 
-def test_scattered_reads_in_file_pieces_return_values_in_the_order_asked(tmp_path, monkeypatch):
+@pytest.mark.parametrize("pread_targets", [0, 64])
+def test_scattered_reads_in_file_pieces_return_values_in_the_order_asked(tmp_path, monkeypatch, pread_targets):
+    """Memory-mapped in pieces of READ_ROWS rows, or one pread per target."""
     monkeypatch.setattr("tribokin.maps.store.READ_ROWS", 3)
+    monkeypatch.setattr("tribokin.maps.store.PREAD_TARGETS", pread_targets)
     store = ChunkStore(tmp_path / "store", "key", COLUMNS, size=10)
     q = np.arange(20.0).reshape(10, 2)
     store.save(0, 0, {"q": q, "reachable": np.arange(10) % 3 == 0})
@@ -58,6 +61,12 @@ def test_scattered_reads_in_file_pieces_return_values_in_the_order_asked(tmp_pat
         np.testing.assert_array_equal(store.read("q", index), q[index])
     np.testing.assert_array_equal(store.read("reachable", [3, 1, 0]), [True, False, True])
     assert store.read("q", []).shape == (0, 2)
+    np.testing.assert_array_equal(store.read("q", 7), q[7])
+    assert store.read("reachable", np.int64(3)).shape == () and store.read("reachable", 3)
+    np.testing.assert_array_equal(store.read("q", [-1, -10]), q[[-1, -10]])
+    for outside in ([10], [-11], 10):
+        with pytest.raises(IndexError):
+            store.read("q", outside)
 
 
 def _saved_store(folder):

@@ -1,13 +1,16 @@
 """map.csv written by orjson a few thousand lines at a time: the bytes of ``repr`` and ``csv.writer`` cell by cell."""
 
+import copy
 import csv
 import io
 
 import numpy as np
 import pytest
 
+from conftest import STUDIES
 from tribokin import run_study
-from tribokin.maps import streaming
+from tribokin.execution import executor_for
+from tribokin.study.reading import read_study_file
 from tribokin.output import writers
 from tribokin.output.writers import column_cells, float_lines, map_table_name, table_lines, write_map_table
 
@@ -83,9 +86,28 @@ def test_map_tables_of_a_real_map_are_the_repr_writers_bytes_written_block_by_bl
         assert path.read_bytes() == (",".join(whole) + "\r\n" + repr_lines(whole)).encode()
         tables[scenario.name] = path.read_bytes()
     read = []
-    monkeypatch.setattr(streaming, "BLOCK_TARGETS", 4)
+    monkeypatch.setattr(writers, "TABLE_TARGETS", 4)
     monkeypatch.setattr(writers, "map_table_columns", lambda m, s, part: read.append(part) or columns(m, s, part))
     for scenario in workspace_map.scenarios.values():
         write_map_table(workspace_map, scenario, tmp_path / "blocks.csv")
         assert (tmp_path / "blocks.csv").read_bytes() == tables[scenario.name]
-    assert [part.stop - part.start for part in read] == [4, 4, 4, 3] * 2
+    assert [part.stop - part.start for part in read] == [0, 4, 4, 4, 3] * 2  # the header's names, then blocks
+
+
+def test_map_tables_formatted_by_two_workers_while_the_figures_are_drawn_are_the_same_bytes(tmp_path, monkeypatch):
+    """Blocks of 7 targets formatted by a pool of 2 processes (reading the map's store), while ``meanwhile`` runs
+    here: the same bytes as written here, block after block."""
+    monkeypatch.setattr(writers, "TABLE_TARGETS", 7)
+    study = copy.deepcopy(read_study_file(STUDIES / "ur5-map-horizontal.toml").mapping)
+    study["map"]["resolution"] = [6, 5]
+    result = run_study(study)
+    workspace_map = result.map
+    scenario = workspace_map.reference
+    write_map_table(workspace_map, scenario, tmp_path / "here.csv")
+    events = []
+    with executor_for(2) as pool:
+        writers.write_map_tables(workspace_map, [(scenario, tmp_path / "pool.csv")], pool,
+                                 lambda: events.append((tmp_path / "pool.csv").exists()))
+    assert events == [False]  # meanwhile ran before the table was opened
+    assert (tmp_path / "pool.csv").read_bytes() == (tmp_path / "here.csv").read_bytes()
+    assert (tmp_path / "here.csv").read_bytes().count(b"\r\n") == workspace_map.grid.size + 1

@@ -123,9 +123,10 @@ class MapResult:
         """How many robots (kinematics, bases, tools) the scenarios are measured with."""
         return len(self.grids)
 
-    def blocks(self) -> Iterator[slice]:
-        """The targets in consecutive blocks of bounded size."""
-        return blocks(self.grid.size)
+    def blocks(self, block: int | None = None) -> Iterator[slice]:
+        """The targets in consecutive blocks of ``block`` targets (default :data:`~tribokin.maps.streaming.
+        BLOCK_TARGETS`)."""
+        return blocks(self.grid.size, block)
 
     def read(self, name: str, targets=slice(None)) -> np.ndarray:
         """Store column ``name`` at ``targets``."""

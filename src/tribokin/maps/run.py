@@ -110,11 +110,24 @@ def empty_arrays(n: int, layout: MapLayout, robot: int | None = None) -> dict[st
     return arrays
 
 
+#: Targets measured at once (a row longer than this in pieces): what measuring holds in memory stays bounded.
+MEASURE_TARGETS = 1024
+
+
 def measure_into(arrays: dict, slots: np.ndarray, robot: Robot,
                  scenarios: list[tuple[int, PoseRunner, ExpectedSetup | None]], qs: np.ndarray,
                  indices: np.ndarray) -> None:
     """Measure targets ``indices`` at ``robot``'s configurations ``qs`` for each of ``scenarios`` (number, runner,
-    setup), into ``slots`` of ``arrays``: their expected figures (a scenario with a setup), else one test each."""
+    setup), into ``slots`` of ``arrays``: their expected figures (a scenario with a setup), else one test each;
+    ``MEASURE_TARGETS`` at a time."""
+    for start in range(0, len(qs), MEASURE_TARGETS):
+        part = slice(start, start + MEASURE_TARGETS)
+        _measure_block(arrays, slots[part], robot, scenarios, qs[part], indices[part])
+
+
+def _measure_block(arrays: dict, slots: np.ndarray, robot: Robot,
+                   scenarios: list[tuple[int, PoseRunner, ExpectedSetup | None]], qs: np.ndarray,
+                   indices: np.ndarray) -> None:
     chain = serial_chain(robot)
     placements = None if chain is None else chain.tool_in_joint(qs)  # for the tool frames and the loads
     twists, translations = tool_frames(robot, qs, placements)

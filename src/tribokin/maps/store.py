@@ -7,7 +7,8 @@ chunk (written once the chunk's rows are flushed to disk), and records of later 
 killed at any point leaves only finished work marked, which ``--resume`` keeps.
 
 Columns are read through a memory map opened for each read and closed after it, so reading a
-large map never holds more of it in memory than the block asked for.
+large map never holds more of it in memory than the block asked for; a few scattered targets (hole filling's
+neighbours) are read with one ``pread`` each. Each column file's header is parsed once.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
-from numpy.lib.format import open_memmap
+from numpy.lib.format import open_memmap, read_array_header_1_0, read_array_header_2_0, read_magic
 
 from tribokin.errors import InputError
 from tribokin.folders import DISK_FULL, disk_full, remove, temporary_sibling, temporary_siblings
@@ -31,6 +32,8 @@ from tribokin.units import gib
 
 #: Rows of a column file a scattered read maps at once.
 READ_ROWS = 1 << 16
+#: Scattered reads of at most this many targets read each with ``pread`` instead of a memory map.
+PREAD_TARGETS = 64
 
 
 def chunk_folder(out) -> Path:
@@ -99,6 +102,7 @@ class ChunkStore:
     def __init__(self, folder, key: str, columns: dict[str, tuple[tuple, str]], size: int, resume: bool = False):
         self.folder = Path(folder)
         self.size = size
+        self._layouts = {}  # column name -> (dtype, shape, data offset) of its file
         check_chunk_folder(self.folder, resume)
         if self.folder.exists():
             self._check_resumable(key, columns)
@@ -174,21 +178,48 @@ class ChunkStore:
         with self._intact():
             (self.folder / "done" / str(chunk)).touch()
 
+    def _layout(self, name: str) -> tuple[np.dtype, tuple, int]:
+        """(dtype, shape, offset of the data) of column ``name``'s file, from its header, parsed once."""
+        if name not in self._layouts:
+            with self._intact(), open(self._path(name), "rb") as handle:
+                version = read_magic(handle)
+                header = read_array_header_1_0 if version == (1, 0) else read_array_header_2_0
+                shape, _, dtype = header(handle)
+                self._layouts[name] = dtype, shape, handle.tell()
+        return self._layouts[name]
+
     def _mapped(self, name: str, take) -> np.ndarray:
         """``take(column)`` of column ``name``, copied out of a memory map closed before returning, so
         the column's pages it touched do not stay in this process's memory."""
+        dtype, shape, offset = self._layout(name)
         with self._intact():
-            column = np.load(self._path(name), mmap_mode="r")
+            column = np.memmap(self._path(name), dtype=dtype, mode="r", offset=offset, shape=shape)
         values = np.array(take(column))
         del column
         return values
 
+    def _pread(self, name: str, index: np.ndarray) -> np.ndarray:
+        """Column ``name`` at the targets ``index`` (k,), each read with one ``pread``."""
+        dtype, shape, offset = self._layout(name)
+        index = np.where(index < 0, index + shape[0], index)  # from the end, as NumPy's indexing
+        if np.any((index < 0) | (index >= shape[0])):
+            raise IndexError(f"targets {index.tolist()} are not all within the {shape[0]} of column {name}")
+        size = math.prod(shape[1:]) * dtype.itemsize
+        with self._intact(), open(self._path(name), "rb", buffering=0) as handle:
+            data = b"".join(os.pread(handle.fileno(), size, offset + int(i) * size) for i in index)
+        return np.frombuffer(data, dtype=dtype).reshape(len(index), *shape[1:]).copy()
+
     def read(self, name: str, index=slice(None)) -> np.ndarray:
         """Column ``name`` at targets ``index`` (a slice, an index, or indices), in memory. Scattered
-        indices are read ``READ_ROWS`` rows of the file at a time, so the pages a read touches stay bounded."""
-        if isinstance(index, slice) or np.ndim(index) == 0:
+        indices are read ``READ_ROWS`` rows of the file at a time (up to ``PREAD_TARGETS`` of them, one ``pread``
+        each), so the pages a read touches stay bounded."""
+        if isinstance(index, slice):
             return self._mapped(name, lambda column: column[index])
+        if np.ndim(index) == 0:
+            return self._pread(name, np.array([index], dtype=np.intp))[0].reshape(self._layout(name)[1][1:])
         index = np.asarray(index, dtype=np.intp)
+        if len(index) <= PREAD_TARGETS:
+            return self._pread(name, index)
         order = np.argsort(index, kind="stable")
         ordered = index[order]
         bounds = np.searchsorted(ordered, np.arange(0, self.size + READ_ROWS, READ_ROWS))

@@ -5,13 +5,17 @@ from __future__ import annotations
 
 import csv
 import json
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from concurrent.futures import Executor
+from contextlib import ExitStack
+from functools import partial
 from itertools import groupby
 from pathlib import Path
 
 import numpy as np
 import orjson
 
+from tribokin.execution import local_pool, run_chunks
 from tribokin.maps.result import MapResult, ScenarioMap
 from tribokin.maps.schema import figure_index, table_figures
 from tribokin.maps.streaming import blocks
@@ -156,18 +160,50 @@ def map_table_columns(workspace_map: MapResult, scenario: ScenarioMap, targets: 
     return columns
 
 
+#: Targets of a map table read from the store at once (their columns and reasons in memory together), a block
+#: formatted by one worker.
+TABLE_TARGETS = 1 << 14
+
+
+def map_table_text(workspace_map: MapResult, scenario: ScenarioMap, targets: slice) -> bytes:
+    """The lines (UTF-8) of ``scenario``'s map table at ``targets``, without the header (:func:`table_lines`)."""
+    return "".join(table_lines(map_table_columns(workspace_map, scenario, targets))).encode()
+
+
+def write_map_tables(workspace_map: MapResult, tables: list[tuple[ScenarioMap, Path]],
+                     executor: Executor | None = None, meanwhile: Callable[[], None] | None = None) -> None:
+    """Each scenario's map as CSV (``tables``: scenario and path), one row per target in index order: position [m],
+    reachable (by its robot), the figures (µm, mdeg), ratio and difference of RP_l to the reference scenario (other
+    scenarios), who reaches the target (a scenario measured with another robot than the reference's), grid
+    coordinates, q_<joint> [m or rad], normal_force_<joint>_N [N] (its robot's joints), and the reason a target is
+    unreachable.
+
+    ``TABLE_TARGETS`` targets are read at a time, each block formatted (:func:`map_table_text`) by a worker of
+    ``executor`` when it is a pool of this machine's processes (:func:`~tribokin.execution.local_pool`: they read the
+    map's store), else here; ``meanwhile()`` runs here while they work. The blocks are written in order."""
+    parts = list(workspace_map.blocks(TABLE_TARGETS))
+    todo = {(t, k): (workspace_map, scenario, part) for t, (scenario, _) in enumerate(tables)
+            for k, part in enumerate(parts)}
+    with run_chunks(map_table_text, todo, local_pool(executor)) as texts, ExitStack() as files:
+        if meanwhile is not None:
+            meanwhile()
+        handles = []
+        for scenario, path in tables:
+            handles.append(files.enter_context(open(path, "w", newline="", encoding="utf-8")))
+            csv.writer(handles[-1]).writerow(map_table_columns(workspace_map, scenario, slice(0, 0)))
+            handles[-1].flush()
+        written, waiting = [0] * len(tables), {}
+        for key, text in texts:
+            waiting[key] = text
+            for t, handle in enumerate(handles):
+                while (t, written[t]) in waiting:
+                    handle.buffer.write(waiting.pop((t, written[t])))
+                    written[t] += 1
+
+
 def write_map_table(workspace_map: MapResult, scenario: ScenarioMap, path: Path) -> None:
-    """One scenario's map as CSV, one row per target in index order: position [m], reachable (by its robot), the
-    figures (µm, mdeg), ratio and difference of RP_l to the reference scenario (other scenarios), who reaches the
-    target (a scenario measured with another robot than the reference's), grid coordinates, q_<joint> [m or rad],
-    normal_force_<joint>_N [N] (its robot's joints), and the reason a target is unreachable; written block by block,
-    a few thousand rows at a time (:func:`table_lines`)."""
-    with open(path, "w", newline="", encoding="utf-8") as handle:
-        for part in workspace_map.blocks():
-            columns = map_table_columns(workspace_map, scenario, part)
-            if part.start == 0:
-                csv.writer(handle).writerow(columns)
-            handle.writelines(table_lines(columns))
+    """One scenario's map as CSV, written here (:func:`write_map_tables`)."""
+    write_map_tables(workspace_map, [(scenario, path)])
 
 
 def map_table_name(workspace_map: MapResult, scenario: ScenarioMap) -> str:
@@ -186,11 +222,12 @@ def write_placement(placement: PlacementResult, folder: Path, out: Path) -> None
 
 
 def write_results(result: StudyResult, out, force: bool = False, report: str = "full", map_layers=None,
-                  cube=None) -> Path:
+                  cube=None, executor: Executor | None = None) -> Path:
     """Write summary.json, the pose files (poses.csv, samples.npz), the map tables (map*.csv) or the placement's
     files (placement.csv, best.toml) to ``out``, atomically, with the figures and, unless ``report`` is ``"none"``,
     ``report.html`` and ``scene.npz``, as :func:`~tribokin.viz.contents.write_views` decides (``report``,
-    ``map_layers``, ``cube``: see there).
+    ``map_layers``, ``cube``: see there); the map tables' blocks formatted on ``executor``'s local workers while the
+    figures are drawn here (:func:`write_map_tables`).
     """
     from tribokin.viz.contents import write_views
 
@@ -199,10 +236,12 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
         if result.poses:
             write_pose_table(result, folder)
             write_samples(result, folder)
-        if result.map is not None:
-            for scenario in result.map.scenarios.values():
-                write_map_table(result.map, scenario, folder / map_table_name(result.map, scenario))
         if result.placement is not None:
             write_placement(result.placement, folder, Path(out))
-        write_views(result, folder, report, map_layers, cube)
+        views = partial(write_views, result, folder, report, map_layers, cube)
+        if result.map is None:
+            views()
+        else:
+            write_map_tables(result.map, [(scenario, folder / map_table_name(result.map, scenario))
+                                          for scenario in result.map.scenarios.values()], executor, views)
     return Path(out)
