@@ -169,17 +169,20 @@ def shape_table(cycles: int, seed: int) -> ShapeTable:
 class ExpectedSetup:
     """What every block of one scenario's expected map shares, built once per map: the tests' ``cycles``, the
     scenario's :class:`JointMoments`, the shape table of Gaussian tests (:class:`~tribokin.iso9283.expected.ShapeTable`;
-    ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on) and the map's ``figure_set`` (``"directional"``: vAP_p and
-    RP_l_multi too)."""
+    ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on), the map's ``figure_set`` (``"directional"``: vAP_p and
+    RP_l_multi too) and ``mean_signs`` (nv,), each joint's mean sign of travel over the sampled tests' cycles
+    (:func:`test_signs`), about which the test's first-order model is taken."""
 
     cycles: int
     moments: JointMoments
     table: ShapeTable | None
     figure_set: str
+    mean_signs: np.ndarray
 
     @classmethod
     def build(cls, runner: PoseRunner, table: ShapeTable | None, figure_set: str) -> ExpectedSetup:
-        return cls(runner.study.cycles, JointMoments.of(runner.models), table, figure_set)
+        signs = test_signs(runner, sampled_shape(SAMPLED_CYCLES, runner.study.cycles))
+        return cls(runner.study.cycles, JointMoments.of(runner.models), table, figure_set, signs.mean(axis=(0, 1)))
 
 
 def tests_for(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> int:
@@ -255,8 +258,7 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     columns = {figure.name: k for k, figure in enumerate(map_figures(setup.figure_set))}
     figures = np.full((len(qs), len(columns)), np.nan)
     unidirectional = runner.study.approach == "unidirectional"
-    signs = test_signs(runner, sampled_shape(SAMPLED_CYCLES, setup.cycles))
-    model = linear_model(robot, moments, qs, lever, np.broadcast_to(signs.mean(axis=(0, 1)), lever.shape),
+    model = linear_model(robot, moments, qs, lever, np.broadcast_to(setup.mean_signs, lever.shape),
                          mixed=not unidirectional)
     analytic = model.met & moments.gaussian & unidirectional
     out = {"figures": figures, "method": np.where(analytic, ANALYTIC, SAMPLED),
@@ -266,6 +268,7 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
         for name, values in _analytic(model, analytic, setup, translations[analytic]).items():
             figures[analytic, columns[name]] = values
     if not analytic.all():
+        signs = test_signs(runner, sampled_shape(SAMPLED_CYCLES, setup.cycles))
         sampled = _sampled(runner, setup, model, ~analytic, signs, qs, translations)
         out["band_error"][~analytic] = sampled.pop("band_error")
         for name, values in sampled.items():
