@@ -24,7 +24,7 @@ def order_bounds(twists, dq, orders, exp_coefficients, log_coefficients, exp_rad
     position, angle = np.empty((count, orders)), np.empty((count, orders))
     weights = np.empty((3, joints))  # c_i, |v_i|, |ω_i|
     sums = np.empty(3)  # a sample's Σ weight_i |dq_i|
-    powers = np.empty(exp_coefficients.shape[0])
+    terms = np.empty(exp_coefficients.shape[0])  # a series' terms
     full_tail, angular_tail = np.empty(orders + 1), np.empty(orders + 1)
     for k in range(count):
         for i in range(joints):
@@ -40,12 +40,12 @@ def order_bounds(twists, dq, orders, exp_coefficients, log_coefficients, exp_rad
                     sums[row] += weights[row, i] * size
             full, linear_sum, angular_sum = (np.maximum(full, sums[0]), np.maximum(linear_sum, sums[1]),
                                              np.maximum(angular_sum, sums[2]))
-        _tails(exp_coefficients, exp_radius, False, full, 2, powers, full_tail)
-        _tails(exp_coefficients, exp_radius, False, angular_sum, 1, powers, angular_tail)
+        _tails(exp_coefficients, exp_radius, False, full, 2, terms, full_tail)
+        _tails(exp_coefficients, exp_radius, False, angular_sum, 1, terms, angular_tail)
         for order in range(orders):
             position[k, order] = np.minimum(full_tail[order], linear_sum * angular_tail[order])
         if angular_sum < math.log(2.0):
-            _tails(log_coefficients, log_radius, True, angular_sum, 2, powers, angular_tail)
+            _tails(log_coefficients, log_radius, True, angular_sum, 2, terms, angular_tail)
             angle[k] = angular_tail[:orders]
         else:
             angle[k] = np.inf
@@ -53,19 +53,24 @@ def order_bounds(twists, dq, orders, exp_coefficients, log_coefficients, exp_rad
 
 
 @njit(cache=True, nogil=True)
-def _tails(coefficients, radius, logarithm, s, first, powers, out):
-    """``out[o]`` = Σ_{m >= first + o} c_m s^m, for each o < len(out), as ``poe._series_tail``: term by term from the
-    smallest up to s = ``radius``, else the closed form (e^s, or -log(2 - e^s) where ``logarithm``) less the first
-    terms (``inf`` where they overflow); ``powers``: room for s^m, m < len(coefficients)."""
-    terms = coefficients.shape[0]
-    power = 1.0
-    for m in range(terms):
-        powers[m] = power
-        power *= s
+def _tails(coefficients, radius, logarithm, s, first, terms, out):
+    """``out[o]`` = Σ_{m >= first + o} c_m s^m, for each o < len(out), as ``poe._series_tail``: up to s = ``radius``
+    term by term from the smallest, up to the first term below half the one before and 2^-60 of the tail's first
+    (within their radii the terms of e^s and -log(2 - e^w) shrink at least as fast from there on, so those left out
+    move no tail by a rounding); else the closed form (e^s, or -log(2 - e^s) where ``logarithm``) less the first
+    terms (``inf`` where they overflow). ``terms``: room for the c_m s^m, m < len(coefficients)."""
+    count, power = coefficients.shape[0], 1.0
     if s <= radius:
+        last = count
+        for m in range(count):
+            terms[m] = coefficients[m] * power
+            power *= s
+            if m > first + out.shape[0] and terms[m] <= terms[m - 1] / 2 and terms[m] <= terms[first] * 2.0 ** -60:
+                last = m + 1
+                break
         total = 0.0
-        for m in range(terms - 1, first - 1, -1):
-            total += coefficients[m] * powers[m]
+        for m in range(last - 1, first - 1, -1):
+            total += terms[m]
             if m - first < out.shape[0]:
                 out[m - first] = total
         return
@@ -74,5 +79,5 @@ def _tails(coefficients, radius, logarithm, s, first, powers, out):
     for m in range(first + out.shape[0]):
         if m >= first:
             out[m - first] = math.inf if math.isinf(head) else closed - head  # s^m overflows too
-        head += coefficients[m] * powers[m]
-
+        head += coefficients[m] * power
+        power *= s
