@@ -27,55 +27,57 @@ _SWEEPS = 50
 
 
 @njit(cache=True, nogil=True)
-def _carlson_rf(x, y, z):
-    """Carlson's R_F(x, y, z) of non-negative arguments, at most one zero (duplication, Carlson 1995)."""
-    mean = (x + y + z) / 3
-    spread = max(abs(mean - x), abs(mean - y), abs(mean - z)) * _RF_FACTOR
-    xm, ym, zm, am, power = x, y, z, mean, 1.0
+def _carlson(u, rd):
+    """Carlson's R_F(u_0, u_1, u_2), and into ``rd`` (3,) R_D with u_i last, of positive ``u`` (3,), by duplication
+    (Carlson 1995). The four share one sequence of duplicated arguments (R_F and R_D are means of the same
+    integrand's powers), run until each one's criterion is met; each then takes its own series."""
+    total = u[0] + u[1] + u[2]
+    means = np.empty(4)  # R_F's (u_0 + u_1 + u_2) / 3, then each R_D's (u_0 + u_1 + u_2 + 2 u_i) / 5
+    spreads = np.empty(4)
+    means[0] = total / 3
+    for i in range(3):
+        means[i + 1] = (total + 2 * u[i]) / 5
+    for f in range(4):
+        spreads[f] = max(abs(means[f] - u[0]), abs(means[f] - u[1]), abs(means[f] - u[2])) * (
+            _RF_FACTOR if f == 0 else _RD_FACTOR)
+    am = means.copy()
+    xm = u.copy()
+    sums = np.zeros(3)  # Σ 4^-m / (√z_m (z_m + λ_m)) of each R_D, z = u_i
+    power = 1.0
     for _ in range(_DUPLICATIONS):
-        if power * spread < abs(am):
+        if (power * spreads[0] < abs(am[0]) and power * spreads[1] < abs(am[1]) and power * spreads[2] < abs(am[2])
+                and power * spreads[3] < abs(am[3])):
             break
-        sx, sy, sz = math.sqrt(xm), math.sqrt(ym), math.sqrt(zm)
+        sx, sy, sz = math.sqrt(xm[0]), math.sqrt(xm[1]), math.sqrt(xm[2])
         lam = sx * sy + sx * sz + sy * sz
-        xm, ym, zm, am = (xm + lam) / 4, (ym + lam) / 4, (zm + lam) / 4, (am + lam) / 4
+        sums[0] += power / (sx * (xm[0] + lam))
+        sums[1] += power / (sy * (xm[1] + lam))
+        sums[2] += power / (sz * (xm[2] + lam))
+        for i in range(3):
+            xm[i] = (xm[i] + lam) / 4
+        for f in range(4):
+            am[f] = (am[f] + lam) / 4
         power /= 4
-    dx, dy = (mean - x) * power / am, (mean - y) * power / am
+    dx, dy = (means[0] - u[0]) * power / am[0], (means[0] - u[1]) * power / am[0]
     dz = -(dx + dy)
     e2, e3 = dx * dy - dz * dz, dx * dy * dz
-    return (1 - e2 / 10 + e3 / 14 + e2 * e2 / 24 - 3 * e2 * e3 / 44) / math.sqrt(am)
-
-
-@njit(cache=True, nogil=True)
-def _carlson_rd(x, y, z):
-    """Carlson's R_D(x, y, z) of non-negative x, y (at most one zero) and positive z (duplication, Carlson 1995)."""
-    mean = (x + y + 3 * z) / 5
-    spread = max(abs(mean - x), abs(mean - y), abs(mean - z)) * _RD_FACTOR
-    xm, ym, zm, am, power, total = x, y, z, mean, 1.0, 0.0
-    for _ in range(_DUPLICATIONS):
-        if power * spread < abs(am):
-            break
-        sx, sy, sz = math.sqrt(xm), math.sqrt(ym), math.sqrt(zm)
-        lam = sx * sy + sx * sz + sy * sz
-        total += power / (sz * (zm + lam))
-        xm, ym, zm, am = (xm + lam) / 4, (ym + lam) / 4, (zm + lam) / 4, (am + lam) / 4
-        power /= 4
-    dx, dy = (mean - x) * power / am, (mean - y) * power / am
-    dz = -(dx + dy) / 3
-    xy, z2 = dx * dy, dz * dz
-    e2, e3, e4, e5 = xy - 6 * z2, (3 * xy - 8 * z2) * dz, 3 * (xy - z2) * z2, xy * z2 * dz
-    series = 1 - 3 * e2 / 14 + e3 / 6 + 9 * e2 * e2 / 88 - 3 * e4 / 22 - 9 * e2 * e3 / 52 + 3 * e5 / 26
-    return power * series / (am * math.sqrt(am)) + 3 * total
+    for i in range(3):
+        a = am[i + 1]
+        dx, dy = (means[i + 1] - u[(i + 1) % 3]) * power / a, (means[i + 1] - u[(i + 2) % 3]) * power / a
+        dz = -(dx + dy) / 3
+        xy, z2 = dx * dy, dz * dz
+        f2, f3, f4, f5 = xy - 6 * z2, (3 * xy - 8 * z2) * dz, 3 * (xy - z2) * z2, xy * z2 * dz
+        series = 1 - 3 * f2 / 14 + f3 / 6 + 9 * f2 * f2 / 88 - 3 * f4 / 22 - 9 * f2 * f3 / 52 + 3 * f5 / 26
+        rd[i] = power * series / (a * math.sqrt(a)) + 3 * sums[i]
+    return (1 - e2 / 10 + e3 / 14 + e2 * e2 / 24 - 3 * e2 * e3 / 44) / math.sqrt(am[0])
 
 
 @njit(cache=True, nogil=True)
 def _unit_moments(u, mean_norm):
     """E|w|^k, k = 1..4, of w ~ N(0, diag(u)) for positive ``u`` (3,), as ``iso9283.expected._unit_moments``: R_G from
     R_F and the R_D whose last argument is the middle one (no cancellation), ∂R_G/∂u_i = R_F/4 - u_i R_D_i/12."""
-    rf = _carlson_rf(u[0], u[1], u[2])
     rd = np.empty(3)  # R_D with u_i last
-    rd[0] = _carlson_rd(u[1], u[2], u[0])
-    rd[1] = _carlson_rd(u[0], u[2], u[1])
-    rd[2] = _carlson_rd(u[0], u[1], u[2])
+    rf = _carlson(u, rd)
     middle = 0
     for i in range(3):
         if (u[i] - u[(i + 1) % 3]) * (u[i] - u[(i + 2) % 3]) <= 0:
@@ -96,7 +98,7 @@ def _unit_moments(u, mean_norm):
 @njit(cache=True, nogil=True)
 def _rp_l_from_moments(m1, m2, m3, m4, n):
     """(E[RP_l], its standard deviation) from one cycle's four moments, as ``iso9283.expected.rp_l_from_moments``."""
-    variance = max(m2 - m1 ** 2, 0.0)
+    variance = np.maximum(m2 - m1 ** 2, 0.0)
     central3 = m3 - 3 * m2 * m1 + 2 * m1 ** 3
     central4 = m4 - 4 * m3 * m1 + 6 * m2 * m1 ** 2 - 3 * m1 ** 4
     variance_of_s2 = central4 / n - variance ** 2 * (n - 3) / (n * (n - 1))
@@ -106,7 +108,7 @@ def _rp_l_from_moments(m1, m2, m3, m4, n):
         spread = (variance + 9 * (central4 - variance ** 2) / (4 * variance) + 3 * central3 / sigma) / n
     else:
         mean, spread = m1 + 3 * sigma, 0.0
-    return mean, math.sqrt(max(spread, 0.0))
+    return mean, math.sqrt(np.maximum(spread, 0.0))
 
 
 @njit(cache=True, nogil=True)
