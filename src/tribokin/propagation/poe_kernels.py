@@ -44,11 +44,11 @@ def order_bounds(twists, dq, orders, exp_coefficients, log_coefficients, exp_rad
         _tails(exp_coefficients, exp_radius, False, angular_sum, 1, terms, angular_tail)
         for order in range(orders):
             position[k, order] = np.minimum(full_tail[order], linear_sum * angular_tail[order])
-        if angular_sum < math.log(2.0):
+        converging = angular_sum < math.log(2.0)
+        if converging:
             _tails(log_coefficients, log_radius, True, angular_sum, 2, terms, angular_tail)
-            angle[k] = angular_tail[:orders]
-        else:
-            angle[k] = np.inf
+        for order in range(orders):  # (a loop: numba compiles an array's slice assignment slowly)
+            angle[k, order] = angular_tail[order] if converging else math.inf
     return position, angle
 
 
