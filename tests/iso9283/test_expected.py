@@ -1,18 +1,20 @@
-"""E|c + w| at the extremes of size: closed forms (a point, the Maxwell distribution) from 1e-300 to 1e300 m."""
+"""E|c + w| at the extremes of size: closed forms (a point, the Maxwell distribution) from 1e-300 to 1e300 m; E[RP_l]
+against the moments of an isotropic and a one-dimensional Gaussian; each on both kernel paths, and the compiled
+kernels (:mod:`tribokin.iso9283.expected_kernels`) against NumPy's (SciPy's Carlson integrals, LAPACK's eigenvalues)."""
 
 import math
 
 import numpy as np
 import pytest
 
-from tribokin.iso9283.expected import expected_norm
+from tribokin.iso9283.expected import eigenvalues, expected_norm, expected_rp_l, rp_l_from_moments
 
 #: E|w| of w ~ N(0, σ² I₃) over σ: the mean of the Maxwell distribution, 2 √(2/π).
 MAXWELL_MEAN = 2 * math.sqrt(2 / math.pi)
 
 
 @pytest.mark.parametrize("size", [1e-300, 1e-150, 1e-9, 1.0, 1e150, 1e300])
-def test_a_point_and_an_isotropic_cloud_keep_their_closed_forms_at_any_size(size):
+def test_a_point_and_an_isotropic_cloud_keep_their_closed_forms_at_any_size(size, kernel_path):
     centre = np.array([[0.6, -0.8, 0.0]]) * size  # |c| = size
     assert expected_norm(centre, np.zeros((1, 3, 3)))[0] == pytest.approx(size, rel=1e-15, abs=0)
     sigma = min(max(size, 1e-150), 1e150)  # σ² must be a float
@@ -22,12 +24,70 @@ def test_a_point_and_an_isotropic_cloud_keep_their_closed_forms_at_any_size(size
 
 
 @pytest.mark.parametrize("scale", [1e-150, 1e-20, 1e20, 1e150])
-def test_scaling_a_cloud_scales_its_expected_distance(scale):
+def test_scaling_a_cloud_scales_its_expected_distance(scale, kernel_path):
     centre = np.array([[0.3, -0.2, 0.5], [2.0, 0.1, 0.0]])
     covariance = np.array([[[0.2, 0.05, 0], [0.05, 0.1, 0.02], [0, 0.02, 0.3]], np.diag([1e-4, 2e-4, 5e-5])])
     scaled = expected_norm(scale * centre, covariance * scale * scale)
     np.testing.assert_allclose(scaled / scale, expected_norm(centre, covariance), rtol=1e-14)
 
 
-def test_no_deviation_is_no_distance():
+def test_no_deviation_is_no_distance(kernel_path):
     assert np.array_equal(expected_norm(np.zeros((2, 3)), np.zeros((2, 3, 3))), [0.0, 0.0])
+
+
+#: E|z|^k, k = 1..4, of a standard normal: in 3-D (the chi distribution of 3 degrees) and in 1-D.
+ISOTROPIC_MOMENTS = (MAXWELL_MEAN, 3.0, 4 * MAXWELL_MEAN, 15.0)
+LINE_MOMENTS = (math.sqrt(2 / math.pi), 1.0, 2 * math.sqrt(2 / math.pi), 3.0)
+
+
+@pytest.mark.parametrize("cycles", [10, 1000])
+@pytest.mark.parametrize("sigma", [1e-150, 1e-6, 1e150])
+def test_expected_rp_l_of_an_isotropic_and_a_one_dimensional_cloud_follows_their_moments(cycles, sigma, kernel_path):
+    """E[RP_l] and its spread from the Carlson integrals (isotropic: R_F = R_D = R_G = 1; along one axis the
+    integrals diverge where two eigenvalues vanish and their difference carries the moments) against the delta method
+    on the exact moments of |w| ((n - 1)/n of the covariance about the barycentre)."""
+    shrink = (cycles - 1) / cycles
+    for lam, moments in (([1.0, 1.0, 1.0], ISOTROPIC_MOMENTS), ([0.0, 1.0, 0.0], LINE_MOMENTS)):
+        mean, spread = rp_l_from_moments(tuple(m * shrink ** (k / 2) for k, m in enumerate(moments, start=1)), cycles)
+        got_mean, got_spread = expected_rp_l(np.array([lam]) * sigma ** 2, cycles)  # both scale as σ
+        assert got_mean[0] == pytest.approx(mean * sigma, rel=1e-10)  # along one axis: 1e-11, the eigenvalue floor
+        assert got_spread[0] == pytest.approx(spread * sigma, rel=1e-10)
+
+
+def with_path(monkeypatch, path, function, *args):
+    monkeypatch.setenv("TRIBOKIN_KERNELS", path)
+    return function(*args)
+
+
+def covariances(rng, count):
+    """Covariances J diag(v) Jᵀ of six joints, of rank 3, 2 (a zero row and column) and 1, and diagonal ones."""
+    jacobians = rng.normal(size=(count, 3, 6))
+    jacobians[count // 4:count // 2, 2] = 0.0
+    jacobians[count // 2:3 * count // 4, 1:] = 0.0
+    out = np.einsum("kin,kn,kjn->kij", jacobians, rng.uniform(0, 1, (count, 6)), jacobians)
+    out[-5:] = [np.eye(3), np.zeros((3, 3)), np.diag([1.0, 1e-12, 3.0]), np.diag([2.0, 2.0, 1e-300]), np.eye(3) * 7]
+    return out
+
+
+def test_the_compiled_closed_forms_agree_with_numpy(monkeypatch):
+    """Eigenvalues (Jacobi against LAPACK, to 1e-14 of the largest), E[RP_l] and its spread from the eigenvalues
+    (rank 3 to 0, n = 10 to 1000) and E|c + w| (its expansion and its quadrature, at sizes from 1e-300 to 1e300 m)
+    compiled against NumPy: to 1e-12."""
+    rng = np.random.default_rng(21)
+    matrices = covariances(rng, 400)
+    lapack, jacobi = (with_path(monkeypatch, path, eigenvalues, matrices) for path in ("numpy", "compiled"))
+    assert np.all(np.abs(jacobi - lapack) <= 1e-14 * np.abs(lapack).max(axis=1, keepdims=True))
+    for cycles in (10, 30, 1000):
+        for got, expected in zip(*(with_path(monkeypatch, path, expected_rp_l, lapack * 1e-12, cycles)
+                                   for path in ("compiled", "numpy"))):
+            np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0)
+    centres = rng.normal(size=(400, 3)) * np.exp(rng.uniform(-8, 3, (400, 1)))  # about and beyond the expansion
+    for size in (1e-300, 1e-150, 1e-6, 1.0, 1e150, 1e300):
+        spread = matrices * size * size if 1e-150 <= size <= 1e150 else np.zeros_like(matrices)
+        got, expected = (with_path(monkeypatch, path, expected_norm, centres * size, spread)
+                         for path in ("compiled", "numpy"))
+        np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0)
+    pairs = (centres[:12].reshape(6, 2, 3), matrices[:6, None])  # a batch of (6, 2) broadcast from both
+    got, expected = (with_path(monkeypatch, path, expected_norm, *pairs) for path in ("compiled", "numpy"))
+    assert got.shape == (6, 2)
+    np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0)

@@ -2,6 +2,7 @@
 statics of the gantry."""
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 from conftest import ROOT
@@ -84,7 +85,7 @@ def test_radial_force_across_the_couple_loads_less_than_the_former_sum():
 
 @pytest.mark.parametrize("q", [(0.0, 0.0, 0.0), (0.3, 0.5, 0.2), (0.6, 0.1, 0.5)])
 @pytest.mark.parametrize("payload", [0.0, 5.0])
-def test_gantry_loads_match_hand_statics(gantry, q, payload):
+def test_gantry_loads_match_hand_statics(gantry, q, payload, kernel_path):
     loads = BearingLoads(gantry, payload, SPAN)
     assert loads(q) == pytest.approx(hand_loads(*q, payload), rel=1e-9, abs=1e-9)
 
@@ -102,7 +103,7 @@ def test_loads_change_with_the_y_position_not_with_x(gantry):
     assert near[2] == pytest.approx(0.0, abs=1e-9)  # the vertical ram's weight goes to its drive
 
 
-def test_loads_of_several_configurations_match_hand_statics_each(gantry):
+def test_loads_of_several_configurations_match_hand_statics_each(gantry, kernel_path):
     configurations = np.array([(0.0, 0.0, 0.0), (0.3, 0.5, 0.2), (0.6, 0.1, 0.5)])
     loads = BearingLoads(gantry, 5.0, SPAN)(configurations)
     assert loads.shape == (3, 3)
@@ -112,9 +113,9 @@ def test_loads_of_several_configurations_match_hand_statics_each(gantry):
 
 
 @pytest.mark.parametrize("name", ["ur5", "panda", "xarm7"])
-def test_the_batched_statics_of_a_serial_chain_match_rnea(name):
+def test_the_batched_statics_of_a_serial_chain_match_rnea(name, kernel_path):
     """One statics pass over many configurations (the chain's placements, the bodies' weights summed from the tool
-    down) gives RNEA's wrenches, and so its loads, to rounding."""
+    down) gives RNEA's wrenches, and so its loads, to rounding (on either kernel path)."""
     robot = load_example_robot(name)
     loads = BearingLoads(robot, 2.5, np.full(robot.model.nv, 0.08))
     q = np.random.default_rng(7).uniform(robot.lower_limits, robot.upper_limits, (40, robot.model.nv))
@@ -124,3 +125,23 @@ def test_the_batched_statics_of_a_serial_chain_match_rnea(name):
     batched = loads(q)
     loads.chain = None  # RNEA at each configuration
     np.testing.assert_allclose(batched, loads(q), rtol=1e-13)
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda", "gantry"])
+def test_the_compiled_loads_agree_with_numpy(name, gantry, monkeypatch):
+    """The compiled statics (:mod:`tribokin.kinematics.loads_kernels`) against the NumPy path at 300 configurations,
+    to 1e-12 of each load or of the loads' scale (a load near zero, the gantry's vertical ram, is rounding), from the
+    chain's placements or without them; a tilted base (gravity across every axis) too."""
+    tilted = pin.SE3(pin.rpy.rpyToMatrix(0.3, -0.2, 0.5), np.array([0.4, -1.0, 0.2]))
+    robot = gantry if name == "gantry" else load_example_robot(name, base=tilted)
+    loads = BearingLoads(robot, 3.0, np.linspace(0.05, 0.3, robot.model.nv))
+    q = np.random.default_rng(11).uniform(robot.lower_limits, robot.upper_limits, (300, robot.model.nv))
+    placements = loads.chain.tool_in_joint(q)
+    monkeypatch.setenv("TRIBOKIN_KERNELS", "numpy")
+    reference = loads(q, placements)
+    monkeypatch.setenv("TRIBOKIN_KERNELS", "compiled")
+    compiled, without = loads(q, placements), loads(q)
+    scale = np.abs(reference).max()
+    np.testing.assert_allclose(compiled, reference, rtol=1e-12, atol=1e-12 * scale)
+    np.testing.assert_allclose(without, reference, rtol=1e-12, atol=1e-12 * scale)
+    assert loads(q[7]) == pytest.approx(reference[7], rel=1e-12, abs=1e-12 * scale)

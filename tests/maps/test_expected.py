@@ -6,6 +6,8 @@ streams; the expected figures come from the first-order model (closed form or co
 Monte Carlo error (about 0.25 % and up to 0.5 % of the mean here), so 1 % is about three standard errors.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -123,3 +125,65 @@ def test_the_first_order_models_bound_holds_against_exact_kinematics_at_every_ta
         linear = model.position_m[k] + deltas @ model.jacobian[k, :3].T
         assert np.linalg.norm(positions - linear, axis=1).max() <= model.bound[k, 0]
         assert np.linalg.norm(angles - deltas @ model.jacobian[k, 3:].T, axis=1).max() <= model.bound[k, 1] + 1e-15
+
+
+def targets_near(robot_name: str, count: int) -> np.ndarray:
+    """``count`` configurations about the robot's target (rad), the first the target itself."""
+    offsets = np.random.default_rng(31).normal(0.0, 0.3, (count, len(TARGETS[robot_name])))
+    offsets[0] = 0.0
+    return np.array(TARGETS[robot_name]) + offsets
+
+
+def expected_block(runner: PoseRunner, qs: np.ndarray, figure_set: str = "directional") -> dict:
+    """:func:`expected_targets` of configurations ``qs`` on the current kernel path, with their loads and frames."""
+    from tribokin.maps.expected import shape_table
+    from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES
+
+    study = runner.study
+    table = None if study.cycles >= ASYMPTOTIC_CYCLES else shape_table(study.cycles, study.seed)
+    forces = runner.normal_forces_at(qs)
+    out = expected_targets(runner, ExpectedSetup.build(runner, table, figure_set), qs, forces,
+                           *tool_frames(runner.robot, qs))
+    return {**out, "normal_forces_N": forces}
+
+
+@pytest.mark.parametrize("robot_name, law, cycles", [("ur5", "gaussian", 1000), ("panda", "gaussian", 30),
+                                                     ("ur5", "uniform", 30)])
+def test_the_compiled_expected_figures_agree_with_numpy(robot_name, law, cycles, monkeypatch):
+    """Every output of 40 targets' expected figures (closed form at 1000 cycles and with the shape table at 30,
+    sampled tests for a uniform law; vAP_p and RP_l_multi), compiled against NumPy: to 1e-12, lengths also to
+    1e-14 m (AP_p, vAP_p and sampled distances are differences of positions of about a metre, good to a few of their
+    roundings whichever the path), the same methods, fallbacks and dominant joints."""
+    runner = runner_for(robot_name, law)
+    runner.study = dataclasses.replace(runner.study, cycles=cycles)
+    qs = targets_near(robot_name, 40)
+    monkeypatch.setenv("TRIBOKIN_KERNELS", "numpy")
+    reference = expected_block(runner, qs)
+    monkeypatch.setenv("TRIBOKIN_KERNELS", "compiled")
+    compiled = expected_block(runner, qs)
+    assert (reference["method"] == (ANALYTIC if law == "gaussian" else SAMPLED)).all()
+    lengths = np.array([figure.name.endswith("_um") for figure in map_figures("directional")])
+    for name, expected in reference.items():
+        if name == "figures":
+            for columns, atol in ((lengths, 1e-14 * 1e6), (~lengths, 0.0)):
+                np.testing.assert_allclose(compiled[name][:, columns], expected[:, columns], rtol=1e-12, atol=atol)
+        elif expected.dtype.kind == "f":
+            np.testing.assert_allclose(compiled[name], expected, rtol=1e-12, atol=0, err_msg=name)
+        else:
+            np.testing.assert_array_equal(compiled[name], expected, err_msg=name)
+
+
+def test_a_targets_expected_figures_do_not_depend_on_the_others_in_its_block(kernel_path):
+    """The same 24 UR5 targets measured in one block and in two blocks, the second half first: the same figures
+    (the same bytes on the compiled path, whose kernels take one target at a time)."""
+    runner = runner_for("ur5", "gaussian")
+    runner.study = dataclasses.replace(runner.study, cycles=1000)
+    qs = targets_near("ur5", 24)
+    whole = expected_block(runner, qs)
+    halves = [expected_block(runner, qs[12:]), expected_block(runner, qs[:12])]
+    for name, values in whole.items():
+        split = np.concatenate([halves[1][name], halves[0][name]])
+        if kernel_path == "compiled":
+            assert np.array_equal(split, values, equal_nan=True), name
+        else:
+            np.testing.assert_allclose(split, values, rtol=1e-14, atol=0, err_msg=name)

@@ -134,7 +134,7 @@ def test_error_shrinks_like_the_next_power_and_stays_below_the_bound(robots, ord
     assert expected * 0.85 <= angle_big / angle_half <= expected * 1.15
 
 
-def test_bound_holds_for_large_deviations(robots):
+def test_bound_holds_for_large_deviations(robots, kernel_path):
     robot = robots["panda"]
     rng = np.random.default_rng(6)
     for q in random_configurations(robot, 3, rng):
@@ -156,7 +156,7 @@ def test_bound_series_tails_of_several_orders_at_once_are_each_orders_sum():
     """Tails for an array of starts (a last axis) against the series summed term by term, for each start."""
     import math
 
-    s = np.array([[0.01, 0.3], [0.05, 2.0]])
+    s = np.array([[0.01, 0.3], [0.05, 2.0], [0.5, 12.0]])  # about the series' radii 0.3 (log) and 10 (exp)
     starts = np.array([2, 3, 4])
     tails = _exp_tail(s, starts)
     for k, start in enumerate(starts):
@@ -231,7 +231,7 @@ def test_poses_propagated_together_match_each_alone(robots, engine):
         np.testing.assert_allclose(a, alone_a, rtol=0, atol=1e-15)
 
 
-def test_bounds_of_several_poses_are_each_poses_bound(robots):
+def test_bounds_of_several_poses_are_each_poses_bound(robots, kernel_path):
     from tribokin.propagation.poe import truncation_bound
 
     robot = robots["panda"]
@@ -246,3 +246,36 @@ def test_bounds_of_several_poses_are_each_poses_bound(robots):
         assert together.position_m[k] == pytest.approx(alone.position_m, rel=1e-12)
         assert together.angle_rad[k] == pytest.approx(alone.angle_rad, rel=1e-12)
     assert list(together.order) == [2, 3, 3] and np.isinf(together.angle_rad[2])
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_the_compiled_bounds_agree_with_numpy(robots, name, monkeypatch):
+    """The compiled bounds after each order (:mod:`tribokin.propagation.poe_kernels`) against the NumPy path, at
+    deviations from none to 3 rad (about and past each series' radius) on 40 poses of a few samples: to 1e-12."""
+    from tribokin.propagation.poe import _order_bounds
+
+    robot = robots[name]
+    rng = np.random.default_rng(12)
+    twists = np.array([tool_twists(robot, q) for q in random_configurations(robot, 40, rng)])
+    for size in (0.0, 1e-300, 1e-9, 1e-5, 1e-3, 0.05, 0.3, 3.0):
+        dq = rng.uniform(-size, size, (40, 5, robot.model.nv))
+        monkeypatch.setenv("TRIBOKIN_KERNELS", "numpy")
+        reference = _order_bounds(twists, dq)
+        monkeypatch.setenv("TRIBOKIN_KERNELS", "compiled")
+        for compiled, expected in zip(_order_bounds(twists, dq), reference):
+            assert np.array_equal(np.isinf(compiled), np.isinf(expected))
+            finite = np.isfinite(expected)
+            np.testing.assert_allclose(compiled[finite], expected[finite], rtol=1e-12, atol=0)
+
+
+def test_deviations_too_large_for_any_series_are_bounded_by_infinity_not_nan(robots, kernel_path):
+    """Deviations of 1e5 to 1e200 rad overflow the series' terms: the bounds are infinite (so exact FK is used), not
+    NaN (which no tolerance refuses)."""
+    from tribokin.propagation.poe import truncation_bound
+
+    robot = robots["ur5"]
+    twists = tool_twists(robot, random_configurations(robot, 1, np.random.default_rng(13))[0])
+    for size in (1e5, 1e200):
+        bound = truncation_bound(twists, np.full((2, robot.model.nv), size))
+        assert bound.position_m == np.inf and bound.angle_rad == np.inf
+    assert engine_bound(robot, np.zeros(robot.model.nv), np.full((2, robot.model.nv), 1e200)).engine == "exact"

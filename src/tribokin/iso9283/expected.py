@@ -28,6 +28,8 @@ import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 from scipy.special import elliprd, elliprf, elliprg, gammaln
 
+from tribokin.compiled import use_compiled
+
 
 #: Fewest cycles for which E[RP_l] is the delta method's (error under 0.5 %); fewer: the table's mean.
 ANALYTIC_MIN_CYCLES = 10
@@ -102,8 +104,16 @@ def rp_l_from_moments(moments: tuple[np.ndarray, ...], cycles: int) -> tuple[np.
 
 def expected_rp_l(lam: np.ndarray, cycles: int) -> tuple[np.ndarray, np.ndarray]:
     """E[RP_l] [m] of tests of ``cycles`` cycles with Gaussian deviations of covariance eigenvalues ``lam`` (..., 3)
-    [m²] (:func:`rp_l_from_moments`: use from ``ANALYTIC_MIN_CYCLES`` cycles), and one test's standard deviation."""
+    [m²] (:func:`rp_l_from_moments`: use from ``ANALYTIC_MIN_CYCLES`` cycles), and one test's standard deviation;
+    compiled where :func:`~tribokin.compiled.use_compiled`."""
     n = cycles
+    if use_compiled():
+        from tribokin.iso9283 import expected_kernels
+
+        lam = np.asarray(lam, dtype=float)
+        flat = np.ascontiguousarray(lam.reshape(-1, 3))
+        mean, spread = expected_kernels.expected_rp_l(flat, n, EIGENVALUE_FLOOR, _MEAN_NORM)
+        return mean.reshape(lam.shape[:-1]), spread.reshape(lam.shape[:-1])
     scale, unit = _scaled(lam)
     mean, spread = rp_l_from_moments(_unit_moments((n - 1) / n * unit), n)
     return mean * scale, spread * scale
@@ -128,9 +138,17 @@ def expected_norm(centre: np.ndarray, covariance: np.ndarray) -> np.ndarray:
     Where tr S < ``EXPANSION_RATIO`` |c|²: |c| + (tr S - ĉᵀ S ĉ) / (2 |c|). Elsewhere exactly, by the trapezoid rule
     on a log scale of E|x| = (2√π)⁻¹ ∫₀^∞ (1 - E e^{-t|x|²}) t^{-3/2} dt, whose Laplace transform is closed-form.
     Computed on c and S scaled by a power of two to order one (exactly), so that sizes from 1e-300 to 1e300 m
-    neither underflow nor overflow; 0 where c and S are.
+    neither underflow nor overflow; 0 where c and S are. Compiled where :func:`~tribokin.compiled.use_compiled`.
     """
     centre, covariance = np.asarray(centre, dtype=float), np.asarray(covariance, dtype=float)
+    if use_compiled():
+        from tribokin.iso9283 import expected_kernels
+
+        shape = np.broadcast_shapes(centre.shape[:-1], covariance.shape[:-2])
+        return expected_kernels.expected_norm(
+            np.ascontiguousarray(np.broadcast_to(centre, shape + (3,)).reshape(-1, 3)),
+            np.ascontiguousarray(np.broadcast_to(covariance, shape + (3, 3)).reshape(-1, 3, 3)), EXPANSION_RATIO,
+            _NODE_TIMES, _NODE_WEIGHTS, _LOG_STEP).reshape(shape)
     magnitude = np.maximum(np.abs(centre).max(axis=-1),
                            np.sqrt(np.abs(np.diagonal(covariance, axis1=-2, axis2=-1)).max(axis=-1)))
     zero = ~(magnitude > 0)
@@ -153,6 +171,8 @@ def expected_norm(centre: np.ndarray, covariance: np.ndarray) -> np.ndarray:
 
 
 _LOG_NODES = np.arange(-36.0, 36.0 + 1e-9, 0.25)  # u = ln t + ln scale²: the integrand decays as e^{-|u|/2}
+_LOG_STEP = float(_LOG_NODES[1] - _LOG_NODES[0])
+_NODE_TIMES, _NODE_WEIGHTS = np.exp(_LOG_NODES), np.exp(-_LOG_NODES / 2)  # e^u, e^{-u/2}
 
 
 def _norm_by_quadrature(centre: np.ndarray, covariance: np.ndarray) -> np.ndarray:
@@ -160,11 +180,23 @@ def _norm_by_quadrature(centre: np.ndarray, covariance: np.ndarray) -> np.ndarra
     lam = np.maximum(lam, 0.0)
     beta2 = np.einsum("kij,ki->kj", vectors, centre) ** 2
     scale2 = np.maximum(beta2.sum(axis=-1) + lam.sum(axis=-1), np.finfo(float).tiny)
-    t = np.exp(_LOG_NODES)[None, :, None] / scale2[:, None, None]
+    t = _NODE_TIMES[None, :, None] / scale2[:, None, None]
     log_transform = (-0.5 * np.log1p(2 * t * lam[:, None]) - t * beta2[:, None] / (1 + 2 * t * lam[:, None])).sum(-1)
-    integrand = -np.expm1(log_transform) * np.exp(-_LOG_NODES / 2)
-    step = _LOG_NODES[1] - _LOG_NODES[0]
-    return integrand.sum(axis=-1) * step * np.sqrt(scale2) / (2 * math.sqrt(math.pi))
+    integrand = -np.expm1(log_transform) * _NODE_WEIGHTS
+    return integrand.sum(axis=-1) * _LOG_STEP * np.sqrt(scale2) / (2 * math.sqrt(math.pi))
+
+
+def eigenvalues(matrices: np.ndarray) -> np.ndarray:
+    """(..., 3) ascending eigenvalues of symmetric (..., 3, 3) ``matrices`` (their unit): LAPACK's
+    (``np.linalg.eigvalsh``), or by Jacobi rotations where :func:`~tribokin.compiled.use_compiled` (the same to
+    rounding of the largest)."""
+    matrices = np.asarray(matrices, dtype=float)
+    if not use_compiled():
+        return np.linalg.eigvalsh(matrices)
+    from tribokin.iso9283 import expected_kernels
+
+    flat = np.ascontiguousarray(matrices.reshape(-1, 3, 3))
+    return expected_kernels.eigenvalues(flat).reshape(matrices.shape[:-1])
 
 
 def standardised_shape(lam: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

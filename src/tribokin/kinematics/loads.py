@@ -46,6 +46,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from tribokin.compiled import use_compiled
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
 
@@ -73,9 +74,9 @@ class BearingLoads:
         self.model = with_payload(robot, payload_kg)
         self.data = self.model.createData()
         self.configuration = robot.configuration  # Pinocchio's configuration of tribokin's q (the same joints)
-        self.span_m = np.asarray(bearing_span_m, dtype=float)
-        self.prismatic = robot.joint_is_prismatic
-        self.axes = robot.motion_axes
+        self.prismatic = np.ascontiguousarray(robot.joint_is_prismatic)  # contiguous, as the compiled path takes them
+        self.span_m = np.broadcast_to(np.asarray(bearing_span_m, dtype=float), self.prismatic.shape).copy()
+        self.axes = np.ascontiguousarray(robot.motion_axes, dtype=float)
         self.chain = serial_chain(robot)
         inertias = list(self.model.inertias)[1:]
         self.weights_N = np.array([i.mass for i in inertias])[:, None] * self.model.gravity.linear  # (nv, 3)
@@ -107,9 +108,18 @@ class BearingLoads:
         """Bearing load N_i [N] of every active joint at configuration ``q`` (nv,), or (poses, nv) at
         configurations (poses, nv): for a serial chain (:func:`~tribokin.kinematics.chain.serial_chain`) from one
         batched statics pass (:meth:`chain_wrenches`, RNEA's to rounding; ``placements``: its ``tool_in_joint`` at
-        the configurations, if already computed), else by RNEA at each."""
+        the configurations, if already computed; compiled where :func:`~tribokin.compiled.use_compiled`), else by
+        RNEA at each."""
         q = np.asarray(q, dtype=float)
         flat = q.reshape(-1, q.shape[-1])
+        if self.chain is not None and use_compiled():
+            from tribokin.kinematics.loads_kernels import chain_loads
+
+            if placements is None:
+                placements = self.chain.tool_in_joint(flat)
+            loads = chain_loads(np.ascontiguousarray(placements, dtype=float), self.weights_N, self.centres_m,
+                                self.axes, self.prismatic, self.span_m)
+            return loads.reshape(q.shape[:-1] + (self.model.nv,))
         if self.chain is not None:
             wrenches = self.chain_wrenches(flat, placements)
         else:

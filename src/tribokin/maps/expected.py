@@ -29,9 +29,10 @@ from functools import cached_property, lru_cache, partial
 
 import numpy as np
 
+from tribokin.compiled import use_compiled
 from tribokin.iso9283.cube import APPROACH_DIRECTIONS, approach_signs_from_jacobians
 from tribokin.iso9283.expected import ANALYTIC_MIN_CYCLES, ASYMPTOTIC_CYCLES, BAND_PERCENTILES, ShapeTable, c4, \
-    expected_norm, expected_rp_l, normal_band, percentile_error, rp_l_from_moments, standardised_shape
+    eigenvalues, expected_norm, expected_rp_l, normal_band, percentile_error, rp_l_from_moments, standardised_shape
 from tribokin.iso9283.metrics import orientation_repeatability, position_repeatability, position_spread
 from tribokin.maps.schema import map_figures
 from tribokin.propagation.exact import tool_deviations_at_poses, tool_frames
@@ -123,17 +124,33 @@ class LinearModel:
     deviation_variance: np.ndarray
     bound: np.ndarray
 
-    def covariance(self, rows: slice) -> np.ndarray:
-        """(k, 3, 3) covariance of the tool's position (``rows = slice(0, 3)``) or angle (``slice(3, 6)``) deviation."""
-        part = self.jacobian[:, rows]
+    @cached_property
+    def position_covariance(self) -> np.ndarray:
+        """(k, 3, 3) covariance of the tool's position deviation [m²]."""
+        return self._covariance(0)
+
+    @cached_property
+    def angle_covariance(self) -> np.ndarray:
+        """(k, 3, 3) covariance of the tool's angle deviation [rad²]."""
+        return self._covariance(3)
+
+    def _covariance(self, first: int) -> np.ndarray:
+        """J diag(var) Jᵀ of the Jacobian's rows ``first`` to ``first + 2``; compiled where
+        :func:`~tribokin.compiled.use_compiled`."""
+        if use_compiled():
+            from tribokin.maps.expected_kernels import covariances
+
+            return covariances(np.ascontiguousarray(self.jacobian, dtype=float),
+                               np.ascontiguousarray(self.deviation_variance, dtype=float), first)
+        part = self.jacobian[:, first:first + 3]
         return np.einsum("kin,kn,kjn->kij", part, self.deviation_variance, part)
 
     @cached_property
     def met(self) -> np.ndarray:
         """(k,) the bound is within ``DEFAULT_TOLERANCE``, or ``LINEAR_TOLERANCE`` of the deviation's own size (the
         root of its covariance's trace), in position [m] and in angle [rad]."""
-        sizes = np.sqrt(np.stack([np.trace(self.covariance(rows), axis1=1, axis2=2)
-                                  for rows in (slice(0, 3), slice(3, 6))], axis=1))
+        sizes = np.sqrt(np.stack([np.trace(covariance, axis1=1, axis2=2)
+                                  for covariance in (self.position_covariance, self.angle_covariance)], axis=1))
         return (self.bound <= np.maximum(DEFAULT_TOLERANCE, LINEAR_TOLERANCE * sizes)).all(axis=1)
 
 
@@ -169,17 +186,20 @@ def shape_table(cycles: int, seed: int) -> ShapeTable:
 class ExpectedSetup:
     """What every block of one scenario's expected map shares, built once per map: the tests' ``cycles``, the
     scenario's :class:`JointMoments`, the shape table of Gaussian tests (:class:`~tribokin.iso9283.expected.ShapeTable`;
-    ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on) and the map's ``figure_set`` (``"directional"``: vAP_p and
-    RP_l_multi too)."""
+    ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on), the map's ``figure_set`` (``"directional"``: vAP_p and
+    RP_l_multi too) and ``mean_signs`` (nv,), each joint's mean sign of travel over the sampled tests' cycles
+    (:func:`test_signs`), about which the test's first-order model is taken."""
 
     cycles: int
     moments: JointMoments
     table: ShapeTable | None
     figure_set: str
+    mean_signs: np.ndarray
 
     @classmethod
     def build(cls, runner: PoseRunner, table: ShapeTable | None, figure_set: str) -> ExpectedSetup:
-        return cls(runner.study.cycles, JointMoments.of(runner.models), table, figure_set)
+        signs = test_signs(runner, sampled_shape(SAMPLED_CYCLES, runner.study.cycles))
+        return cls(runner.study.cycles, JointMoments.of(runner.models), table, figure_set, signs.mean(axis=(0, 1)))
 
 
 def tests_for(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> int:
@@ -255,8 +275,7 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     columns = {figure.name: k for k, figure in enumerate(map_figures(setup.figure_set))}
     figures = np.full((len(qs), len(columns)), np.nan)
     unidirectional = runner.study.approach == "unidirectional"
-    signs = test_signs(runner, sampled_shape(SAMPLED_CYCLES, setup.cycles))
-    model = linear_model(robot, moments, qs, lever, np.broadcast_to(signs.mean(axis=(0, 1)), lever.shape),
+    model = linear_model(robot, moments, qs, lever, np.broadcast_to(setup.mean_signs, lever.shape),
                          mixed=not unidirectional)
     analytic = model.met & moments.gaussian & unidirectional
     out = {"figures": figures, "method": np.where(analytic, ANALYTIC, SAMPLED),
@@ -266,6 +285,7 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
         for name, values in _analytic(model, analytic, setup, translations[analytic]).items():
             figures[analytic, columns[name]] = values
     if not analytic.all():
+        signs = test_signs(runner, sampled_shape(SAMPLED_CYCLES, setup.cycles))
         sampled = _sampled(runner, setup, model, ~analytic, signs, qs, translations)
         out["band_error"][~analytic] = sampled.pop("band_error")
         for name, values in sampled.items():
@@ -406,8 +426,8 @@ def _analytic(model: LinearModel, chosen: np.ndarray, setup: ExpectedSetup, comm
               ) -> dict[str, np.ndarray]:
     """The figures of targets ``chosen`` in closed form (:mod:`tribokin.iso9283.expected`)."""
     n = setup.cycles
-    position = model.covariance(slice(0, 3))[chosen]
-    lam = np.linalg.eigvalsh(position)
+    position = model.position_covariance[chosen]
+    lam = eigenvalues(position)
     scale, shape = standardised_shape(lam)
     rp_l, spread = expected_rp_l(lam, n)
     if setup.table is None:  # from ASYMPTOTIC_CYCLES on
@@ -418,7 +438,7 @@ def _analytic(model: LinearModel, chosen: np.ndarray, setup: ExpectedSetup, comm
         with np.errstate(divide="ignore", invalid="ignore"):
             band = [np.where(mean > 0, rp_l * ratio / mean, 0.0) for ratio in (low, high)]
         semi_axis = semi_axis * scale
-    angle_std = np.sqrt(np.diagonal(model.covariance(slice(3, 6))[chosen], axis1=1, axis2=2))
+    angle_std = np.sqrt(np.diagonal(model.angle_covariance[chosen], axis1=1, axis2=2))
     return {"RP_l_um": rp_l * UM_PER_M, "RP_l_lo_um": band[0] * UM_PER_M, "RP_l_hi_um": band[1] * UM_PER_M,
             "AP_p_um": expected_norm(model.position_m[chosen] - commanded, position / n) * UM_PER_M,
             **{f"RP_{axis}_mdeg": 3 * c4(n) * angle_std[:, i] * MDEG_PER_RAD for i, axis in enumerate("abc")},
@@ -432,7 +452,7 @@ def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.nd
     signs = approach_signs_from_jacobians(twists, directions)  # (k, 3, nv)
     models = [linear_model(runner.robot, moments, qs, lever, signs[:, d], mixed=False) for d in range(len(directions))]
     centres = np.stack([m.position_m for m in models], axis=1)  # (k, 3 directions, 3)
-    noise = np.stack([m.covariance(slice(0, 3)) for m in models], axis=1) / cycles
+    noise = np.stack([m.position_covariance for m in models], axis=1) / cycles
     pairs = [(0, 1), (0, 2), (1, 2)]
     gaps = np.stack([centres[:, a] - centres[:, b] for a, b in pairs], axis=1)
     spreads = np.stack([noise[:, a] + noise[:, b] for a, b in pairs], axis=1)
@@ -440,7 +460,7 @@ def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.nd
     sizes = np.linalg.norm(gaps, axis=-1)
     order = np.argsort(-sizes, axis=1)
     first, second = (np.take_along_axis(sizes, order[:, [i]], axis=1)[:, 0] for i in (0, 1))
-    widths = np.sqrt(np.linalg.eigvalsh(spreads)[..., -1])
+    widths = np.sqrt(eigenvalues(spreads)[..., -1])
     width = np.take_along_axis(widths, order[:, [0]], axis=1)[:, 0] + np.take_along_axis(widths, order[:, [1]],
                                                                                          axis=1)[:, 0]
     vap = np.take_along_axis(expected, order[:, [0]], axis=1)[:, 0]

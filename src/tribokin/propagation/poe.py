@@ -45,6 +45,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from tribokin.compiled import use_compiled
 from tribokin.kinematics.robot import Robot
 
 #: Highest truncation order the engine expands to.
@@ -118,25 +119,33 @@ def _log_majorant_coefficients() -> np.ndarray:
 _LOG_COEFFICIENTS = _log_majorant_coefficients()
 
 
-def _series_tail(coefficients: np.ndarray, closed_form, s, start) -> np.ndarray:
-    """Σ_{m >= start} c_m s^m of a series with non-negative coefficients, without cancellation
-    (``s``: any array shape, element-wise; ``start``: an int, or a 1-D array of them, giving a last axis)."""
+#: The series are summed term by term up to these |s| (their first _TERMS terms then hold the tail to double
+#: precision), and beyond from their closed forms less their first terms (which cancel little there).
+_EXP_RADIUS, _LOG_RADIUS = 10.0, 0.3
+
+
+def _series_tail(coefficients: np.ndarray, closed_form, radius: float, s, start) -> np.ndarray:
+    """Σ_{m >= start} c_m s^m of a series with non-negative coefficients, without cancellation: term by term up to
+    |s| = ``radius``, else ``closed_form(s)`` less the first terms (``s``: any array shape, element-wise; ``start``: an
+    int, or a 1-D array of them, giving a last axis)."""
     s = np.asarray(s, dtype=float)
     terms = np.arange(_TERMS)
-    kept = np.where(terms[:, None] >= np.atleast_1d(start), coefficients[:, None], 0.0)  # (_TERMS, starts)
-    small = np.minimum(s, 0.1)[..., None] ** terms @ kept
-    if np.all(s <= 0.1):  # the first _TERMS terms hold the tail to double precision
+    kept = terms[:, None] >= np.atleast_1d(start)  # (_TERMS, starts)
+    small = np.minimum(s, radius)[..., None] ** terms @ np.where(kept, coefficients[:, None], 0.0)
+    if np.all(s <= radius):
         tail = small
     else:
-        with np.errstate(over="ignore"):
-            head = np.maximum(s, 0.1)[..., None] ** terms @ (coefficients[:, None] - kept)
-            tail = np.where(s[..., None] <= 0.1, small, closed_form(s)[..., None] - head)
+        with np.errstate(over="ignore", invalid="ignore"):
+            terms_at = np.maximum(s, radius)[..., None, None] ** terms[:, None] * coefficients[:, None]
+            head = np.where(kept, 0.0, terms_at).sum(axis=-2)  # no overflowed term of the tail in it
+            rest = np.where(np.isinf(head), np.inf, closed_form(s)[..., None] - head)  # s^start overflows too
+            tail = np.where(s[..., None] <= radius, small, rest)
     return tail if np.ndim(start) else tail[..., 0]
 
 
 def _exp_tail(s, start) -> np.ndarray:
     """Σ_{m >= start} s^m / m!."""
-    return _series_tail(_EXP_COEFFICIENTS, np.exp, s, start)
+    return _series_tail(_EXP_COEFFICIENTS, np.exp, _EXP_RADIUS, s, start)
 
 
 def _log_tail(w, start) -> np.ndarray:
@@ -144,8 +153,8 @@ def _log_tail(w, start) -> np.ndarray:
     w = np.asarray(w, dtype=float)
     converging = w < math.log(2.0)
     with np.errstate(divide="ignore", invalid="ignore"):
-        tail = _series_tail(_LOG_COEFFICIENTS, lambda x: -np.log(2.0 - np.exp(x)), np.where(converging, w, 0.0),
-                            start)
+        tail = _series_tail(_LOG_COEFFICIENTS, lambda x: -np.log(2.0 - np.exp(x)), _LOG_RADIUS,
+                            np.where(converging, w, 0.0), start)
     return np.where(converging if np.ndim(start) == 0 else converging[..., None], tail, np.inf)
 
 
@@ -168,6 +177,24 @@ def _batch_norms(twists: np.ndarray, dq: np.ndarray) -> _BatchNorms:
     return _BatchNorms(*np.moveaxis(sums.max(axis=-1), -1, 0))
 
 
+def _order_bounds(twists: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The position [m] and angle [rad] bounds (..., ``MAX_ORDER``) after each order 1 to ``MAX_ORDER``, of (..., 6, nv)
+    twists and (..., n, nv) deviations; compiled where :func:`~tribokin.compiled.use_compiled`."""
+    if use_compiled():
+        from tribokin.propagation import poe_kernels
+
+        batch = np.broadcast_shapes(twists.shape[:-2], dq.shape[:-2])
+        flat_twists, flat_dq = (np.ascontiguousarray(np.broadcast_to(a, batch + a.shape[-2:]).reshape(
+            (math.prod(batch),) + a.shape[-2:])) for a in (twists, dq))
+        position, angle = poe_kernels.order_bounds(flat_twists, flat_dq, MAX_ORDER, _EXP_COEFFICIENTS,
+                                                   _LOG_COEFFICIENTS, _EXP_RADIUS, _LOG_RADIUS)
+        return position.reshape(batch + (MAX_ORDER,)), angle.reshape(batch + (MAX_ORDER,))
+    norms = _batch_norms(twists, dq)
+    orders = np.arange(1, MAX_ORDER + 1)  # every order at once, along a last axis
+    position = np.minimum(_exp_tail(norms.full, orders + 1), norms.linear[..., None] * _exp_tail(norms.angular, orders))
+    return position, _log_tail(norms.angular, orders + 1)
+
+
 def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = None,
                      tolerance_m: float = DEFAULT_TOLERANCE, tolerance_rad: float = DEFAULT_TOLERANCE
                      ) -> TruncationBound:
@@ -184,15 +211,12 @@ def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = Non
     """
     if order is not None and not 1 <= order <= MAX_ORDER:
         raise ValueError(f"order must be 1 to {MAX_ORDER}, got {order}")
-    norms = _batch_norms(np.asarray(twists, dtype=float), np.asarray(dq, dtype=float))
-    orders = np.arange(1, MAX_ORDER + 1)  # every order at once, along a last axis
-    position = np.minimum(_exp_tail(norms.full, orders + 1), norms.linear[..., None] * _exp_tail(norms.angular, orders))
-    angle = _log_tail(norms.angular, orders + 1)
+    position, angle = _order_bounds(np.asarray(twists, dtype=float), np.asarray(dq, dtype=float))
     if order is None:  # the lowest order meeting both tolerances, else the highest
         met = (position <= tolerance_m) & (angle <= tolerance_rad)
         chosen = np.where(met.any(axis=-1), met.argmax(axis=-1), MAX_ORDER - 1)
     else:
-        chosen = np.full(norms.full.shape, order - 1)
+        chosen = np.full(position.shape[:-1], order - 1)
     bound = TruncationBound(chosen + 1, *(np.take_along_axis(a, chosen[..., None], axis=-1)[..., 0]
                                           for a in (position, angle)))
     if np.ndim(bound.order) == 0:

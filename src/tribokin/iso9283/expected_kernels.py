@@ -1,0 +1,251 @@
+"""Compiled (numba) kernels of :mod:`tribokin.iso9283.expected`, target by target: E[RP_l] and its spread (Carlson's
+R_F and R_D by duplication, the delta method), E|c + w| (expansion or quadrature), and the eigenvalues of symmetric
+3 × 3 matrices by cyclic Jacobi rotations. They agree with the NumPy path (SciPy's Carlson integrals, LAPACK's
+eigenvalues) to rounding, about 1e-14 relative.
+
+Imported only on the compiled path (:func:`tribokin.compiled.use_compiled`). The NumPy module's constants are passed
+in as arguments: numba's cache would keep a module global's old value.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+#: Relative error the duplication stops at (Carlson 1995: the truncated series' error is below it).
+_TOLERANCE = 1e-17
+#: The duplication's stopping factors: (3 r)^(-1/6) for R_F, (r / 4)^(-1/6) for R_D.
+_RF_FACTOR, _RD_FACTOR = (3 * _TOLERANCE) ** (-1 / 6), (_TOLERANCE / 4) ** (-1 / 6)
+#: Duplications at most: 4^-60 of the arguments' spread is far below any float64 argument's rounding.
+_DUPLICATIONS = 60
+#: The smallest normal float64.
+_TINY = float(np.finfo(np.float64).tiny)
+#: Cyclic Jacobi sweeps at most (a 3 × 3 matrix is diagonal to rounding after about five).
+_SWEEPS = 50
+
+
+@njit(cache=True, nogil=True)
+def _carlson(u, rd):
+    """Carlson's R_F(u_0, u_1, u_2), and into ``rd`` (3,) R_D with u_i last, of positive ``u`` (3,), by duplication
+    (Carlson 1995). The four share one sequence of duplicated arguments (R_F and R_D are means of the same
+    integrand's powers), run until each one's criterion is met; each then takes its own series."""
+    total = u[0] + u[1] + u[2]
+    means = np.empty(4)  # R_F's (u_0 + u_1 + u_2) / 3, then each R_D's (u_0 + u_1 + u_2 + 2 u_i) / 5
+    spreads = np.empty(4)
+    means[0] = total / 3
+    for i in range(3):
+        means[i + 1] = (total + 2 * u[i]) / 5
+    for f in range(4):
+        spreads[f] = max(abs(means[f] - u[0]), abs(means[f] - u[1]), abs(means[f] - u[2])) * (
+            _RF_FACTOR if f == 0 else _RD_FACTOR)
+    am = means.copy()
+    xm = u.copy()
+    sums = np.zeros(3)  # Σ 4^-m / (√z_m (z_m + λ_m)) of each R_D, z = u_i
+    power = 1.0
+    for _ in range(_DUPLICATIONS):
+        if (power * spreads[0] < abs(am[0]) and power * spreads[1] < abs(am[1]) and power * spreads[2] < abs(am[2])
+                and power * spreads[3] < abs(am[3])):
+            break
+        sx, sy, sz = math.sqrt(xm[0]), math.sqrt(xm[1]), math.sqrt(xm[2])
+        lam = sx * sy + sx * sz + sy * sz
+        sums[0] += power / (sx * (xm[0] + lam))
+        sums[1] += power / (sy * (xm[1] + lam))
+        sums[2] += power / (sz * (xm[2] + lam))
+        for i in range(3):
+            xm[i] = (xm[i] + lam) / 4
+        for f in range(4):
+            am[f] = (am[f] + lam) / 4
+        power /= 4
+    dx, dy = (means[0] - u[0]) * power / am[0], (means[0] - u[1]) * power / am[0]
+    dz = -(dx + dy)
+    e2, e3 = dx * dy - dz * dz, dx * dy * dz
+    for i in range(3):
+        a = am[i + 1]
+        dx, dy = (means[i + 1] - u[(i + 1) % 3]) * power / a, (means[i + 1] - u[(i + 2) % 3]) * power / a
+        dz = -(dx + dy) / 3
+        xy, z2 = dx * dy, dz * dz
+        f2, f3, f4, f5 = xy - 6 * z2, (3 * xy - 8 * z2) * dz, 3 * (xy - z2) * z2, xy * z2 * dz
+        series = 1 - 3 * f2 / 14 + f3 / 6 + 9 * f2 * f2 / 88 - 3 * f4 / 22 - 9 * f2 * f3 / 52 + 3 * f5 / 26
+        rd[i] = power * series / (a * math.sqrt(a)) + 3 * sums[i]
+    return (1 - e2 / 10 + e3 / 14 + e2 * e2 / 24 - 3 * e2 * e3 / 44) / math.sqrt(am[0])
+
+
+@njit(cache=True, nogil=True)
+def _unit_moments(u, mean_norm):
+    """E|w|^k, k = 1..4, of w ~ N(0, diag(u)) for positive ``u`` (3,), as ``iso9283.expected._unit_moments``: R_G from
+    R_F and the R_D whose last argument is the middle one (no cancellation), ∂R_G/∂u_i = R_F/4 - u_i R_D_i/12."""
+    rd = np.empty(3)  # R_D with u_i last
+    rf = _carlson(u, rd)
+    middle = 0
+    for i in range(3):
+        if (u[i] - u[(i + 1) % 3]) * (u[i] - u[(i + 2) % 3]) <= 0:
+            middle = i
+            break
+    x, y, z = u[(middle + 1) % 3], u[(middle + 2) % 3], u[middle]
+    rg = (z * rf - (x - z) * (y - z) * rd[middle] / 3 + math.sqrt(x * y / z)) / 2
+    m1 = mean_norm * rg
+    m2 = u[0] + u[1] + u[2]
+    slopes = 0.0
+    for i in range(3):
+        slopes += u[i] ** 2 * (rf / 4 - u[i] * rd[i] / 12)
+    m3 = m2 * m1 + 2 * mean_norm * slopes
+    m4 = m2 ** 2 + 2 * (u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
+    return m1, m2, m3, m4
+
+
+@njit(cache=True, nogil=True)
+def _rp_l_from_moments(m1, m2, m3, m4, n):
+    """(E[RP_l], its standard deviation) from one cycle's four moments, as ``iso9283.expected.rp_l_from_moments``."""
+    variance = np.maximum(m2 - m1 ** 2, 0.0)
+    central3 = m3 - 3 * m2 * m1 + 2 * m1 ** 3
+    central4 = m4 - 4 * m3 * m1 + 6 * m2 * m1 ** 2 - 3 * m1 ** 4
+    variance_of_s2 = central4 / n - variance ** 2 * (n - 3) / (n * (n - 1))
+    sigma = math.sqrt(variance)
+    if variance > 0:
+        mean = m1 + 3 * sigma * (1 - variance_of_s2 / (8 * variance ** 2))
+        spread = (variance + 9 * (central4 - variance ** 2) / (4 * variance) + 3 * central3 / sigma) / n
+    else:
+        mean, spread = m1 + 3 * sigma, 0.0
+    return mean, math.sqrt(np.maximum(spread, 0.0))
+
+
+@njit(cache=True, nogil=True)
+def expected_rp_l(lam, cycles, floor, mean_norm):
+    """(E[RP_l], one test's standard deviation) (k,) each [m] of tests of ``cycles`` cycles with Gaussian deviations of
+    covariance eigenvalues ``lam`` (k, 3) [m²], those below ``floor`` of the largest raised to it, as
+    ``iso9283.expected.expected_rp_l``; ``mean_norm``: E|z| of a standard normal 3-vector."""
+    n = cycles
+    mean, spread = np.empty(lam.shape[0]), np.empty(lam.shape[0])
+    unit = np.empty(3)
+    for k in range(lam.shape[0]):
+        a, b, c = np.maximum(lam[k, 0], 0.0), np.maximum(lam[k, 1], 0.0), np.maximum(lam[k, 2], 0.0)
+        largest = np.maximum(np.maximum(a, b), c)
+        divisor = largest if largest > 0 else 1.0
+        unit[0] = (n - 1) / n * np.maximum(a / divisor, floor)
+        unit[1] = (n - 1) / n * np.maximum(b / divisor, floor)
+        unit[2] = (n - 1) / n * np.maximum(c / divisor, floor)
+        m1, m2, m3, m4 = _unit_moments(unit, mean_norm)
+        mean[k], spread[k] = _rp_l_from_moments(m1, m2, m3, m4, n)
+        mean[k] *= math.sqrt(largest)
+        spread[k] *= math.sqrt(largest)
+    return mean, spread
+
+
+@njit(cache=True, nogil=True)
+def _jacobi(matrix, values, vectors):
+    """Eigenvalues into ``values`` (3,) ascending, and unit eigenvectors into the columns of ``vectors`` (3, 3), of the
+    symmetric ``matrix`` (3, 3; its upper triangle read, left unchanged) by cyclic Jacobi rotations (Numerical Recipes'
+    ``jacobi``: each rotation zeroes an off-diagonal element; small ones are dropped once they no longer change the
+    diagonal). NaN throughout if an element is."""
+    a = matrix.copy()
+    for i in range(3):
+        values[i] = a[i, i]
+        for j in range(3):
+            vectors[i, j] = 1.0 if i == j else 0.0
+    for sweep in range(_SWEEPS):
+        off = abs(a[0, 1]) + abs(a[0, 2]) + abs(a[1, 2])
+        if off != off or values[0] != values[0] or values[1] != values[1] or values[2] != values[2]:
+            values[:] = math.nan
+            vectors[:] = math.nan
+            return
+        if off == 0:
+            break
+        threshold = 0.2 * off / 9 if sweep < 3 else 0.0
+        for p, q in ((0, 1), (0, 2), (1, 2)):
+            r = 3 - p - q
+            element = a[p, q]
+            g = 100 * abs(element)
+            if sweep > 3 and abs(values[p]) + g == abs(values[p]) and abs(values[q]) + g == abs(values[q]):
+                a[p, q] = 0.0
+            elif abs(element) > threshold:
+                h = values[q] - values[p]
+                if abs(h) + g == abs(h):
+                    t = element / h
+                else:
+                    theta = 0.5 * h / element
+                    t = 1 / (abs(theta) + math.sqrt(1 + theta * theta))
+                    if theta < 0:
+                        t = -t
+                c = 1 / math.sqrt(1 + t * t)
+                s = t * c
+                tau = s / (1 + c)
+                values[p] -= t * element
+                values[q] += t * element
+                a[p, q] = 0.0
+                rp, rq = (min(r, p), max(r, p)), (min(r, q), max(r, q))
+                g, h = a[rp], a[rq]
+                a[rp] = g - s * (h + g * tau)
+                a[rq] = h + s * (g - h * tau)
+                for i in range(3):
+                    g, h = vectors[i, p], vectors[i, q]
+                    vectors[i, p] = g - s * (h + g * tau)
+                    vectors[i, q] = h + s * (g - h * tau)
+    for i in range(2):  # ascending, the vectors with them
+        for j in range(2 - i):
+            if values[j] > values[j + 1]:
+                values[j], values[j + 1] = values[j + 1], values[j]
+                for row in range(3):
+                    vectors[row, j], vectors[row, j + 1] = vectors[row, j + 1], vectors[row, j]
+
+
+@njit(cache=True, nogil=True)
+def eigenvalues(matrices):
+    """(k, 3) ascending eigenvalues of symmetric (k, 3, 3) ``matrices`` (:func:`_jacobi`)."""
+    out = np.empty((matrices.shape[0], 3))
+    vectors = np.empty((3, 3))
+    for k in range(matrices.shape[0]):
+        _jacobi(matrices[k], out[k], vectors)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def expected_norm(centre, covariance, ratio, times, weights, step):
+    """E|c + w| (k,) [m] for w ~ N(0, S), centres c (k, 3) [m] and covariances S (k, 3, 3) [m²], as
+    ``iso9283.expected.expected_norm``: on c and S scaled by a power of two to order one; where tr S < ``ratio`` |c|²
+    the expansion |c| + (tr S - ĉᵀ S ĉ) / (2 |c|), else the trapezoid rule of step ``step`` at the quadrature's
+    ``times`` e^u with ``weights`` e^(-u/2)."""
+    out = np.empty(centre.shape[0])
+    c = np.empty(3)
+    s = np.empty((3, 3))
+    lam = np.empty(3)
+    vectors = np.empty((3, 3))
+    for k in range(centre.shape[0]):
+        magnitude, diagonal = 0.0, 0.0  # NaN if any is
+        for i in range(3):
+            magnitude = np.maximum(magnitude, abs(centre[k, i]))
+            diagonal = np.maximum(diagonal, abs(covariance[k, i, i]))
+        magnitude = np.maximum(magnitude, math.sqrt(diagonal))
+        if not magnitude > 0:
+            out[k] = 0.0
+            continue
+        scale = 2.0 ** np.round(math.log2(magnitude))
+        for i in range(3):
+            c[i] = centre[k, i] / scale
+            for j in range(3):
+                s[i, j] = covariance[k, i, j] / scale / scale
+        size2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2]
+        trace = s[0, 0] + s[1, 1] + s[2, 2]
+        if trace < ratio * size2:
+            size = math.sqrt(size2)
+            along = 0.0
+            for i in range(3):
+                along += c[i] * (s[i, 0] * c[0] + s[i, 1] * c[1] + s[i, 2] * c[2])
+            out[k] = (size + (trace - along / size2) / (2 * size)) * scale
+            continue
+        _jacobi(s, lam, vectors)
+        beta2 = np.empty(3)
+        total = 0.0
+        for j in range(3):
+            lam[j] = np.maximum(lam[j], 0.0)
+            beta2[j] = (vectors[0, j] * c[0] + vectors[1, j] * c[1] + vectors[2, j] * c[2]) ** 2
+        scale2 = np.maximum(beta2[0] + beta2[1] + beta2[2] + (lam[0] + lam[1] + lam[2]), _TINY)
+        for m in range(times.shape[0]):
+            t = times[m] / scale2
+            transform = 0.0
+            for j in range(3):
+                transform += -0.5 * math.log1p(2 * t * lam[j]) - t * beta2[j] / (1 + 2 * t * lam[j])
+            total += -math.expm1(transform) * weights[m]
+        out[k] = total * step * math.sqrt(scale2) / (2 * math.sqrt(math.pi)) * scale
+    return out
