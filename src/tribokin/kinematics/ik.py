@@ -1,7 +1,7 @@
 """Inverse kinematics of the tool frame: damped least squares within joint limits, for one target
-(:func:`solve_ik`, Pinocchio) or many at once (:func:`solve_ik_batch`, NumPy, :mod:`tribokin.kinematics.chain`, or on
-the compiled path, :func:`tribokin.compiled.use_compiled`, :func:`tribokin.kinematics.ik_kernels.solve`, every target to
-its end).
+(:func:`solve_ik`, Pinocchio) or many at once (:func:`solve_ik_batch`, NumPy, :mod:`tribokin.kinematics.chain`); on the
+compiled path (:func:`tribokin.compiled.use_compiled`) both run :func:`tribokin.kinematics.ik_kernels.solve` for a robot
+with a serial chain (:func:`~tribokin.kinematics.chain.serial_chain`), every target to its end.
 
 A continuous joint has no limits: its angle is never clipped, and a solution gives it in [-π, π]
 (:meth:`~tribokin.kinematics.robot.Robot.wrapped`). Steps add to tribokin's joint values (one per joint), which is
@@ -17,7 +17,7 @@ import pinocchio as pin
 from scipy.linalg.lapack import dposv
 
 from tribokin.compiled import use_compiled
-from tribokin.kinematics.chain import SerialChain
+from tribokin.kinematics.chain import SerialChain, serial_chain
 from tribokin.kinematics.robot import Robot
 from tribokin.kinematics.se3_log import jlog6, log6
 
@@ -44,7 +44,7 @@ class IKResult:
 
 def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-10, angle_tol_rad: float = 1e-9,
              position_only: bool = False, iterations: int = 200, damping: float = 1e-6,
-             patience: int | None = None) -> IKResult:
+             patience: int | None = None, pinocchio: bool = False) -> IKResult:
     """Configuration that puts the tool frame at ``target``, from ``q_start``.
 
     Damped least squares on the frame error ``log6(M^-1 M_target)`` (tool frame),
@@ -56,7 +56,21 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
     An iterate depends on the one before only, so once ``q`` comes back to an earlier iterate to the bit (a solve
     that cannot converge often does, within about 50 iterations), the iterates go round the same cycle: the rest of
     the solve reads them back instead of computing them again (the same result, sooner).
+
+    On the compiled path, a robot with a serial chain is solved by :func:`tribokin.kinematics.ik_kernels.solve` (the
+    same iterates to rounding), unless ``pinocchio``. Rounding is all that differs, but at a nearly singular
+    configuration far from the target (where a solve that fails ends, or where it passes) a step divides by about
+    ``damping`` (a squared singular value near 0 plus it): a rounding difference of 1e-16 becomes one of about 1e-10,
+    iterates that do not converge magnify it further, and within some 20 steps the two paths go different ways (the
+    solve ends elsewhere, or on another branch). ``pinocchio`` keeps Pinocchio's path for solves whose end must be the
+    NumPy path's.
     """
+    chain = serial_chain(robot) if use_compiled() and not pinocchio else None
+    if chain is not None:
+        solved = _solve_compiled(chain, target.rotation, target.translation, q_start, position_tol_m, angle_tol_rad,
+                                 position_only, iterations, damping, patience)
+        return IKResult(solved.q[0], float(solved.position_error_m[0]), float(solved.angle_error_rad[0]),
+                        bool(solved.success[0]))
     model, data, frame = robot.model, robot.data, robot.tool_frame_id
     lower, upper = robot.lower_limits, robot.upper_limits
     q = np.minimum(np.maximum(np.asarray(q_start, dtype=float), lower), upper)  # np.clip, without its overhead
