@@ -29,7 +29,7 @@ def _angle_over_sin(angle, squared):
 
 @njit(cache=True, nogil=True)
 def log3_pinocchio(rotation, out):
-    """Pinocchio's ``log3`` of ``rotation`` (3, 3) into ``out`` (3,) [rad], every branch (Pinocchio 3 and 4's
+    """Pinocchio's ``log3`` of ``rotation`` (3, 3) into ``out`` (3,) [rad], every branch (Pinocchio 4.1's
     ``log3_impl``)."""
     normed = np.empty((3, 3))  # renormalize_rotation_matrix: columns 0 and 1 scaled to unit length, then crossed
     for column in range(2):
