@@ -56,10 +56,10 @@ def fallbacks_timed():
     """While open, :func:`tribokin.maps.rows._solve` (the one-by-one fallback) adds its seconds to the list yielded."""
     seconds, solve = [0.0], map_rows._solve
 
-    def run(*arguments):
+    def run(*arguments, **options):
         start = time.perf_counter()
         try:
-            return solve(*arguments)
+            return solve(*arguments, **options)
         finally:
             seconds[0] += time.perf_counter() - start
 

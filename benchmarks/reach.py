@@ -60,10 +60,10 @@ def child(mode: str, study: str, out: str, cycles: int) -> None:
     ik_seconds = defaultdict(float)
 
     def timed(solve, indices_of):
-        def run(*arguments):
+        def run(*arguments, **options):
             start = time.perf_counter()
             try:
-                return solve(*arguments)
+                return solve(*arguments, **options)
             finally:
                 indices = indices_of(*arguments)
                 for index in indices:

@@ -99,7 +99,7 @@ def test_deviations_across_pi_propagate_as_through_wide_revolute_joints(gen3_pai
         np.testing.assert_allclose(position, data.oMf[continuous.tool_frame_id].translation, rtol=0, atol=1e-15)
 
 
-def test_ik_crosses_pi_and_wraps_its_solution(gen3_pair):
+def test_ik_crosses_pi_and_wraps_its_solution(gen3_pair, kernel_path):
     continuous, revolute = gen3_pair
     solution = np.array([3.05, 0.6, -3.0, 1.3, 3.1, -0.8, 2.9])
     target = continuous.tool_placement(solution)

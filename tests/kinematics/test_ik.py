@@ -1,7 +1,8 @@
-"""Damped-least-squares IK of many targets at once against solve_ik target by target: the same iterates, to rounding,
-with the tool's orientation held or not, on the UR5 and the prismatic gantry; reachable targets and unreachable ones
-(which run to the iteration cap, alone after the batch's first iterations, and fail alike: their iterates, steps of
-a nearly singular system clipped to the joint limits, soon depend on every rounding)."""
+"""Damped-least-squares IK of many targets at once, on both kernel paths, against solve_ik target by target through
+Pinocchio: the same iterates, to rounding, with the tool's orientation held or not, on the UR5 and the prismatic
+gantry; reachable targets and unreachable ones (which run to the iteration cap, on the NumPy path alone after the
+batch's first iterations, and fail alike: their iterates, steps of a nearly singular system clipped to the joint
+limits, soon depend on every rounding)."""
 
 import numpy as np
 import pinocchio as pin
@@ -64,14 +65,16 @@ def one_by_one(robot, rotation, positions, starts, position_only, **options):
 
 
 @pytest.mark.parametrize("iterations", [200, BATCH_ITERATIONS - 2, BATCH_ITERATIONS + 1])
-def test_the_batch_follows_solve_ik(case, iterations):
+def test_the_batch_follows_solve_ik(case, iterations, kernel_path, monkeypatch):
+    """The batch on each kernel path (the compiled kernel, or NumPy then Pinocchio) against Pinocchio's solve_ik."""
     robot, rotation, positions, starts, position_only, beyond = case
     batch = solve_ik_batch(serial_chain(robot), rotation, positions, starts, position_only=position_only,
                            iterations=iterations)
+    monkeypatch.setenv("TRIBOKIN_KERNELS", "numpy")
     alone = one_by_one(robot, rotation, positions, starts, position_only, iterations=iterations)
     np.testing.assert_array_equal(batch.success, [r.success for r in alone])
     reachable = slice(0, len(positions) - beyond)
-    np.testing.assert_allclose(batch.q[reachable], [r.q for r in alone[reachable]], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(batch.q[reachable], [r.q for r in alone[reachable]], rtol=0, atol=1e-12)
     for name in ("position_error_m", "angle_error_rad"):
         np.testing.assert_allclose(getattr(batch, name)[reachable], [getattr(r, name) for r in alone[reachable]],
                                    rtol=1e-6, atol=1e-12)
@@ -79,7 +82,7 @@ def test_the_batch_follows_solve_ik(case, iterations):
         assert batch.success[reachable].all() and not batch.success[reachable.stop:].any()
 
 
-def test_each_target_is_solved_as_if_alone(case):
+def test_each_target_is_solved_as_if_alone(case, kernel_path):
     robot, rotation, positions, starts, position_only, _ = case
     chain = serial_chain(robot)
     together = solve_ik_batch(chain, rotation, positions, starts, position_only=position_only)

@@ -31,6 +31,15 @@ def _rotation_xyz(rpy_deg):
     return rz @ ry @ rx
 
 
+@pytest.fixture(scope="module", autouse=True)
+def numpy_path():
+    """The committed file was written on the NumPy kernel path (its cube poses' IK through Pinocchio): the compiled
+    path agrees with it to rounding, not to the bit (:mod:`tribokin.compiled`)."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("TRIBOKIN_KERNELS", "numpy")
+        yield
+
+
 @pytest.fixture(scope="module")
 def robot():
     return ur5_tracker_data.ur5()

@@ -1,4 +1,5 @@
-"""The tool frame's placement and Jacobian at many configurations at once, in NumPy, for a robot's serial chain.
+"""The tool frame's placement and Jacobian at many configurations at once, for a robot's serial chain: in NumPy, or
+compiled (:mod:`tribokin.kinematics.chain_kernels`) when :func:`tribokin.compiled.use_compiled` says so.
 
 The reduced models of :mod:`tribokin.kinematics.robot` are serial chains of 1-DoF joints. When every joint turns about
 or slides along a fixed axis of its own frame (Pinocchio's RX, RY, RZ, RevoluteUnaligned, their continuous RUBX, RUBY,
@@ -14,7 +15,7 @@ motion, ``base + cos(q_i)·turn_cos + sin(q_i)·turn_sin + q_i·slide`` (Rodrigu
 translation along the axis for a sliding one; a continuous joint's ``q_i`` is its angle, tribokin's value), and last the
 tool frame's placement in the last joint's frame. The products of the links from each joint to the tool
 (``tool_in_joint``) give both the tool's placement (from the first) and each joint's column of the tool Jacobian, in a
-few batched matrix products (a doubling scan).
+few batched matrix products (a doubling scan; the compiled kernels take them one at a time, a difference of rounding).
 """
 
 from __future__ import annotations
@@ -25,12 +26,22 @@ from functools import cached_property
 import numpy as np
 import pinocchio as pin
 
+from tribokin.compiled import use_compiled
 from tribokin.kinematics.robot import Robot
 
 #: Pinocchio joint models whose motion is a rotation about, or a translation along, a fixed axis of their frame.
 AXIS_JOINTS = frozenset({"JointModelRX", "JointModelRY", "JointModelRZ", "JointModelRevoluteUnaligned",
                          "JointModelRUBX", "JointModelRUBY", "JointModelRUBZ", "JointModelRevoluteUnboundedUnaligned",
                          "JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned"})
+
+
+def _kernels():
+    """:mod:`tribokin.kinematics.chain_kernels` on the compiled path (imported then), else ``None``."""
+    if not use_compiled():
+        return None
+    from tribokin.kinematics import chain_kernels
+
+    return chain_kernels
 
 
 @dataclass(frozen=True)
@@ -60,6 +71,8 @@ class SerialChain:
         ``robot.tool_placement``) and in each joint's frame after its motion (index ``i + 1`` for joint ``i``), at
         configurations ``q`` (k, nv) [m or rad]."""
         q = np.asarray(q, dtype=float).reshape(-1, len(self.turn_axes))
+        if kernels := _kernels():
+            return kernels.tool_in_joint(np.ascontiguousarray(q), self.kernel_terms)
         angles = np.zeros((len(q), len(self.base)))
         angles[:, :-1] = q
         base, terms = self._link_terms
@@ -76,6 +89,13 @@ class SerialChain:
         return links
 
     @cached_property
+    def kernel_terms(self) -> tuple[np.ndarray, ...]:
+        """The chain's arrays the compiled kernels take (:mod:`tribokin.kinematics.chain_kernels`), C-contiguous:
+        ``base``, ``turn_cos``, ``turn_sin``, ``slide``, ``turn_skews``, ``slide_axes``, ``turn_axes``."""
+        return tuple(np.ascontiguousarray(term, dtype=float) for term in (
+            self.base, self.turn_cos, self.turn_sin, self.slide, self.turn_skews, self.slide_axes, self.turn_axes))
+
+    @cached_property
     def _link_terms(self) -> tuple[np.ndarray, tuple[tuple[str, np.ndarray], ...]]:
         """The links' terms as (n + 1, 16) rows, for :meth:`tool_in_joint`: ``base``, and ``(factor, term)`` for
         ``turn_cos``, ``turn_sin``, ``slide`` (factor ``"cos"``, ``"sin"``, ``"q"``) except those that are zero
@@ -90,16 +110,19 @@ class SerialChain:
     def tool_jacobians(self, placements: np.ndarray) -> np.ndarray:
         """(k, 6, nv) Jacobians of the tool frame in the tool frame (Pinocchio's ``LOCAL``: rows linear [m/unit],
         angular [rad/unit]) at the configurations whose :meth:`tool_in_joint` are ``placements``."""
+        if kernels := _kernels():
+            return kernels.tool_jacobians(np.ascontiguousarray(placements), self.kernel_terms)
         in_joints = placements[:, 1:]
         linear = (self.turn_skews @ in_joints[..., :3, 3:])[..., 0] + self.slide_axes  # the tool's velocity per unit
         motions = np.stack([linear, np.broadcast_to(self.turn_axes, linear.shape)], axis=-1)  # (k, n, 3, 2)
         in_tool = np.swapaxes(in_joints[..., :3, :3], -1, -2) @ motions
         return in_tool.transpose(0, 3, 2, 1).reshape(len(placements), 6, len(self.turn_axes))
 
-
     def world_jacobians(self, placements: np.ndarray) -> np.ndarray:
         """(k, 6, nv) the tool Jacobians of :meth:`tool_jacobians` in world axes (Pinocchio's ``LOCAL_WORLD_ALIGNED``,
         as ``robot.tool_jacobian``)."""
+        if kernels := _kernels():
+            return kernels.world_jacobians(np.ascontiguousarray(placements), self.kernel_terms)
         local = self.tool_jacobians(placements)
         rotation = placements[:, 0, :3, :3]
         return np.concatenate([rotation @ local[:, :3], rotation @ local[:, 3:]], axis=1)
@@ -108,6 +131,8 @@ class SerialChain:
     def joints_in_world(placements: np.ndarray) -> np.ndarray:
         """(k, n, 4, 4) each joint frame's placement in the world after its motion (as ``data.oMi``), from the
         :meth:`tool_in_joint` ``placements``: the tool's in the world times the inverse of the tool's in the joint."""
+        if kernels := _kernels():
+            return kernels.joints_in_world(np.ascontiguousarray(placements))
         in_joint = placements[:, 1:]
         inverse = np.zeros_like(in_joint)
         rotation_t = np.swapaxes(in_joint[..., :3, :3], -1, -2)

@@ -1,5 +1,7 @@
 """Inverse kinematics of the tool frame: damped least squares within joint limits, for one target
-(:func:`solve_ik`, Pinocchio) or many at once (:func:`solve_ik_batch`, NumPy, :mod:`tribokin.kinematics.chain`).
+(:func:`solve_ik`, Pinocchio) or many at once (:func:`solve_ik_batch`, NumPy, :mod:`tribokin.kinematics.chain`); on the
+compiled path (:func:`tribokin.compiled.use_compiled`) both run :func:`tribokin.kinematics.ik_kernels.solve` for a robot
+with a serial chain (:func:`~tribokin.kinematics.chain.serial_chain`), every target to its end.
 
 A continuous joint has no limits: its angle is never clipped, and a solution gives it in [-π, π]
 (:meth:`~tribokin.kinematics.robot.Robot.wrapped`). Steps add to tribokin's joint values (one per joint), which is
@@ -14,15 +16,16 @@ import numpy as np
 import pinocchio as pin
 from scipy.linalg.lapack import dposv
 
-from tribokin.kinematics.chain import SerialChain
+from tribokin.compiled import use_compiled
+from tribokin.kinematics.chain import SerialChain, serial_chain
 from tribokin.kinematics.robot import Robot
 from tribokin.kinematics.se3_log import jlog6, log6
 
 #: Iterations in a row without progress after which an IK solve gives up.
 STALL_ITERATIONS = 20
-#: Iterations :func:`solve_ik_batch` takes for all its targets together; a target still iterating after them goes on
-#: alone (from a warm start most converge in one or two, and a few slow ones would keep a whole batch's cost per
-#: iteration going for up to ``iterations``).
+#: Iterations :func:`solve_ik_batch` takes for all its targets together on the NumPy path; a target still iterating
+#: after them goes on alone (from a warm start most converge in one or two, and a few slow ones would keep a whole
+#: batch's cost per iteration going for up to ``iterations``).
 BATCH_ITERATIONS = 4
 
 
@@ -41,7 +44,7 @@ class IKResult:
 
 def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-10, angle_tol_rad: float = 1e-9,
              position_only: bool = False, iterations: int = 200, damping: float = 1e-6,
-             patience: int | None = None) -> IKResult:
+             patience: int | None = None, pinocchio: bool = False) -> IKResult:
     """Configuration that puts the tool frame at ``target``, from ``q_start``.
 
     Damped least squares on the frame error ``log6(M^-1 M_target)`` (tool frame),
@@ -53,7 +56,21 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
     An iterate depends on the one before only, so once ``q`` comes back to an earlier iterate to the bit (a solve
     that cannot converge often does, within about 50 iterations), the iterates go round the same cycle: the rest of
     the solve reads them back instead of computing them again (the same result, sooner).
+
+    On the compiled path, a robot with a serial chain is solved by :func:`tribokin.kinematics.ik_kernels.solve` (the
+    same iterates to rounding), unless ``pinocchio``. Rounding is all that differs, but at a nearly singular
+    configuration far from the target (where a solve that fails ends, or where it passes) a step divides by about
+    ``damping`` (a squared singular value near 0 plus it): a rounding difference of 1e-16 becomes one of about 1e-10,
+    iterates that do not converge magnify it further, and within some 20 steps the two paths go different ways (the
+    solve ends elsewhere, or on another branch). ``pinocchio`` keeps Pinocchio's path for solves whose end must be the
+    NumPy path's.
     """
+    chain = serial_chain(robot) if use_compiled() and not pinocchio else None
+    if chain is not None:
+        solved = _solve_compiled(chain, target.rotation, target.translation, q_start, position_tol_m, angle_tol_rad,
+                                 position_only, iterations, damping, patience)
+        return IKResult(solved.q[0], float(solved.position_error_m[0]), float(solved.angle_error_rad[0]),
+                        bool(solved.success[0]))
     model, data, frame = robot.model, robot.data, robot.tool_frame_id
     lower, upper = robot.lower_limits, robot.upper_limits
     q = np.minimum(np.maximum(np.asarray(q_start, dtype=float), lower), upper)  # np.clip, without its overhead
@@ -132,11 +149,15 @@ def solve_ik_batch(chain: SerialChain, rotation: np.ndarray, positions_m: np.nda
     ``q_start`` (k, nv) [m or rad].
 
     The same iteration, error, damping, clipping, wrapping, convergence tests and success rule as :func:`solve_ik`,
-    each target stopping when it converges, in NumPy (:class:`~tribokin.kinematics.chain.SerialChain`,
+    each target stopping when it converges: on the compiled path every iteration by
+    :func:`tribokin.kinematics.ik_kernels.solve`; else in NumPy (:class:`~tribokin.kinematics.chain.SerialChain`,
     :mod:`~tribokin.kinematics.se3_log`) for its first ``BATCH_ITERATIONS`` iterations, then alone through
-    :func:`solve_ik` from where it is: its iterates differ from :func:`solve_ik`'s by rounding only, and do not depend
+    :func:`solve_ik` from where it is. Its iterates differ from :func:`solve_ik`'s by rounding only, and do not depend
     on the other targets of the batch.
     """
+    if use_compiled():
+        return _solve_compiled(chain, rotation, positions_m, q_start, position_tol_m, angle_tol_rad, position_only,
+                               iterations, damping, None)
     lower, upper = chain.robot.lower_limits, chain.robot.upper_limits
     goals = np.asarray(positions_m, dtype=float).reshape(-1, 3)
     q = np.minimum(np.maximum(np.array(q_start, dtype=float).reshape(len(goals), len(lower)), lower), upper)
@@ -174,3 +195,20 @@ def solve_ik_batch(chain: SerialChain, rotation: np.ndarray, positions_m: np.nda
         q[k], position_error[k], angle_error[k], success[k] = alone.q, alone.position_error_m, alone.angle_error_rad, \
             alone.success
     return IKResult(chain.robot.wrapped(q), position_error, angle_error, success)
+
+
+def _solve_compiled(chain: SerialChain, rotation, positions_m, q_start, position_tol_m: float, angle_tol_rad: float,
+                    position_only: bool, iterations: int, damping: float, patience: int | None) -> IKResult:
+    """:func:`tribokin.kinematics.ik_kernels.solve` of k targets at ``positions_m`` (k, 3) [m] turned by ``rotation``
+    (3, 3) from ``q_start`` (k, nv) [m or rad], its arguments in the types it is compiled for (one signature); the
+    solutions' continuous angles wrapped into [-π, π]."""
+    from tribokin.kinematics import ik_kernels
+
+    robot = chain.robot
+    goals = np.ascontiguousarray(positions_m, dtype=float).reshape(-1, 3)
+    starts = np.ascontiguousarray(q_start, dtype=float).reshape(len(goals), len(robot.lower_limits))
+    q, position_error, angle_error, success = ik_kernels.solve(
+        starts, goals, np.ascontiguousarray(rotation, dtype=float), chain.kernel_terms, robot.lower_limits,
+        robot.upper_limits, float(position_tol_m), float(angle_tol_rad), bool(position_only), int(iterations),
+        float(damping), -1 if patience is None else int(patience))
+    return IKResult(robot.wrapped(q), position_error, angle_error, success)

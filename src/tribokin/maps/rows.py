@@ -48,10 +48,11 @@ def _solve_from(robot: Robot, grid: TargetGrid, index: int, q_start) -> IKResult
     return solve_ik(robot, _target(grid, index), q_start, position_only=grid.rotation is None)
 
 
-def _solve(robot: Robot, grid: TargetGrid, index: int, q_start) -> IKResult:
-    """IK of target ``index`` from ``q_start``, then from seeded random restarts."""
+def _solve(robot: Robot, grid: TargetGrid, index: int, q_start, pinocchio: bool = False) -> IKResult:
+    """IK of target ``index`` from ``q_start``, then from seeded random restarts (Pinocchio's path when
+    ``pinocchio``, :func:`~tribokin.kinematics.ik.solve_ik`)."""
     return solve_ik_with_restarts(robot, _target(grid, index), q_start, lambda: ik_restart_stream(index),
-                                  IK_RESTARTS, position_only=grid.rotation is None)
+                                  IK_RESTARTS, position_only=grid.rotation is None, pinocchio=pinocchio)
 
 
 def first_bound_beyond(grid: TargetGrid, positions_m) -> tuple[np.ndarray, np.ndarray]:
@@ -84,13 +85,16 @@ def head_order(grid: TargetGrid) -> list[int]:
 
 def solve_row_heads(robot: Robot, grid: TargetGrid) -> np.ndarray:
     """(rows, nv) warm start of every grid row: its first target solved from the previous head
-    (the start posture for the first; the last reachable head after an unreachable one)."""
+    (the start posture for the first; the last reachable head after an unreachable one).
+
+    On Pinocchio's path whatever the kernel path (:func:`~tribokin.kinematics.ik.solve_ik`'s ``pinocchio``): a head
+    that is not reached warm-starts its row from where its failed IK ended, which depends on every rounding."""
     if grid.kind == "joint":
         return grid.joint_q(np.arange(0, grid.size, grid.row_length))
     heads = np.empty((grid.row_count, robot.model.nv))
     q_start = grid.start_q
     for row in head_order(grid):
-        result = _solve(robot, grid, row * grid.row_length, q_start)
+        result = _solve(robot, grid, row * grid.row_length, q_start, pinocchio=True)
         heads[row] = result.q
         if result.success:
             q_start = result.q
@@ -142,9 +146,11 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True
     before it were reached (:func:`extrapolate_rows`), the rows' targets of a column together
     (:func:`~tribokin.kinematics.ik.solve_ik_batch`; one by one when ``batched`` is False or NumPy cannot compute the
     robot's chain, :func:`~tribokin.kinematics.chain.serial_chain`); a target this does not solve is solved from its
-    row's last reached configuration (the head first), then from seeded random restarts, one by one. A row's
-    configurations depend on its head and the grid only, not on the other rows solved with it. Targets beyond the
-    robot's reach are not solved (:func:`beyond_reach_m`).
+    row's last reached configuration (the head first), then from seeded random restarts, one by one; until the row
+    has reached a target, on Pinocchio's path whatever the kernel path (:func:`~tribokin.kinematics.ik.solve_ik`'s
+    ``pinocchio``: from a head not reached, where its failed IK ended, where a solve goes depends on every rounding).
+    A row's configurations depend on its head and the grid only, not on the other rows solved with it. Targets beyond
+    the robot's reach are not solved (:func:`beyond_reach_m`).
 
     Returns:
         q (rows, columns, nv) [m or rad] (NaN where unreachable), reachable (rows, columns), and for unreachable
@@ -167,6 +173,7 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True
     reachable = np.zeros(indices.shape, dtype=bool)
     q_start = np.array(heads, dtype=float).reshape(len(indices), nv)
     streaks = np.zeros(len(indices), dtype=int)  # targets reached right before the column, in each row
+    started = np.zeros(len(indices), dtype=bool)  # rows that have reached a target
     for column in range(grid.row_length):
         within = np.isnan(closest[:, column, 0])
         predicted = extrapolate_rows(q[:, :column], streaks, robot.continuous)
@@ -178,7 +185,7 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True
             reachable[reached, column], routes[reached, column] = True, ALONG_ROW
             q[reached, column] = q_start[reached] = first.q[first.success]
         for row in np.flatnonzero(within & ~reachable[:, column]):  # from its last reached target, then restarts
-            result = _solve(robot, grid, indices[row, column], q_start[row])
+            result = _solve(robot, grid, indices[row, column], q_start[row], pinocchio=not started[row])
             reachable[row, column] = result.success
             if result.success:
                 q[row, column] = q_start[row] = result.q
@@ -187,6 +194,7 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True
                 closest[row, column] = result.position_error_m, np.nan if grid.rotation is None else \
                     result.angle_error_rad
         streaks = np.where(reachable[:, column], streaks + 1, 0)
+        started |= reachable[:, column]
     return q, reachable, closest, routes
 
 
