@@ -48,7 +48,7 @@ demo: $(VENV)/.base
 	@echo "tribokin is in $(VENV), not on your PATH: run $(VENV)/bin/tribokin, or first source $(VENV)/bin/activate"
 
 test: $(VENV)/.test
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n auto
 
 clean:
 	rm -rf $(VENV) $(DEMO_OUT)
