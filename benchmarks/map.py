@@ -14,7 +14,9 @@ default ``map.statistic = "expected"``) with only ``map.resolution`` and ``study
   (reachable targets × cycles / wall time); that the two wrote the same ``map.csv``; the 2-worker speed-up;
 * ``kernels``: the compiled kernels (numba) against the NumPy path (``TRIBOKIN_KERNELS=numpy``): the cold compile
   (numba's cache empty) and the warm load of a tiny map's command, and the whole command on 2 workers on both paths,
-  on the big plane and on the 10^6-target map, with their ratios (``goals``: whether they double each);
+  on the big plane and on the 10^6-target map, with their ratios (``goals``: whether they double each); how the big
+  plane's two map.csv differ (``map_csv_against_numpy``: targets whose IK found another configuration, and
+  elsewhere the largest differences);
 * ``fk_loop``: a single-core loop of Pinocchio frame forward kinematics per sample (``pin.forwardKinematics`` and
   ``pin.updateFramePlacement`` at UR5 configurations), its time per sample, and the command's rate over it: the
   loop's time for reachable targets × cycles samples over the command's wall time (the goal: 100× on 2 workers);
@@ -46,6 +48,7 @@ from __future__ import annotations
 
 import argparse
 import builtins
+import csv
 import importlib
 import json
 import os
@@ -334,6 +337,41 @@ def same_table(a: Path, b: Path) -> bool:
     return (a / "map.csv").read_bytes() == (b / "map.csv").read_bytes()
 
 
+#: Configurations [rad] that differ by more than this are taken to be other IK solutions (the IK's tolerance).
+SAME_CONFIGURATION_RAD = 1e-9
+#: The map figures compared between the kernel paths.
+COMPARED_FIGURES = ("RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg",
+                    "largest_semi_axis_um", "dominant_share")
+
+
+def path_agreement(compiled: Path, numpy_path: Path, row_length: int) -> dict:
+    """How the map.csv of the compiled path (folder ``compiled``) and the NumPy path's differ: targets reachable on
+    one path only, reachable targets whose configurations differ by more than ``SAME_CONFIGURATION_RAD`` (another
+    IK solution) and the grid rows they lie in, and elsewhere the largest configuration difference [rad] and
+    relative difference of a figure (``COMPARED_FIGURES``) and whether any dominant joint differs."""
+    def rows(folder):
+        with open(folder / "map.csv", newline="") as handle:
+            yield from csv.DictReader(line for line in handle if not line.startswith("#"))
+    reach_differs, moved, moved_rows, dominant_differs, q_max, figure_max = 0, 0, set(), 0, 0.0, 0.0
+    for index, (a, b) in enumerate(zip(rows(compiled), rows(numpy_path), strict=True)):
+        if a["reachable"] != b["reachable"]:
+            reach_differs += 1
+        if a["reachable"] != "true" or b["reachable"] != "true":
+            continue
+        q_difference = max(abs(float(a[k]) - float(b[k])) for k in a if k.startswith("q_"))
+        if q_difference > SAME_CONFIGURATION_RAD:
+            moved += 1
+            moved_rows.add(index // row_length)
+            continue
+        q_max = max(q_max, q_difference)
+        dominant_differs += a["dominant_joint"] != b["dominant_joint"]
+        figure_max = max([figure_max] + [abs(float(a[f]) / float(b[f]) - 1) for f in COMPARED_FIGURES
+                                          if float(b[f]) != 0])
+    return {"reachable_on_one_path_only": reach_differs, "other_configurations": moved,
+            "rows_with_other_configurations": len(moved_rows), "largest_configuration_difference_rad": q_max,
+            "largest_relative_figure_difference": figure_max, "dominant_joint_differs": dominant_differs}
+
+
 def benchmark(side: int, cycles: int, one_test_side: int, million_side: int, memory_sides: list[tuple[int, int]],
               fk_samples: int, quick: bool) -> dict:
     folder = Path(tempfile.mkdtemp(prefix="tribokin-bench-"))
@@ -355,7 +393,9 @@ def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_si
     identical = same_table(folder / "one-worker", folder / "two-workers")
     two_numpy = rates(command(big, folder / "two-workers-numpy", workers=2, kernels="numpy"), cycles)
     kernels.update({"numpy_two_workers": two_numpy,
-                    "compiled_over_numpy_two_workers": two_numpy["seconds"] / two["seconds"]})
+                    "compiled_over_numpy_two_workers": two_numpy["seconds"] / two["seconds"],
+                    "map_csv_against_numpy": path_agreement(folder / "two-workers", folder / "two-workers-numpy",
+                                                            side)})
     loop_s = fk_loop_seconds_per_sample(fk_samples)
     loop_rate = 1 / loop_s
 

@@ -3,8 +3,10 @@
 A module of compiled kernels imports numba at its top and is imported only once :func:`use_compiled` says so, so a
 run on the NumPy path never loads numba. The environment variable ``TRIBOKIN_KERNELS`` chooses: ``compiled`` (the
 default; the NumPy path when numba is not installed) or ``numpy``. It is read at each call, so child processes and
-tests follow it. The two paths agree to rounding (about 1e-12 relative), not to the bit: ``summary.json`` records
-which one a run took (:func:`kernels_used`).
+tests follow it. The two paths' kernels agree to rounding (about 1e-12 relative), not to the bit, so an iterative
+solve may end elsewhere within its tolerance, or where rounding decides (an IK crossing a singular configuration or
+running into a joint limit) on another solution: ``summary.json`` records which path a run took
+(:func:`kernels_used`).
 """
 
 from __future__ import annotations
