@@ -15,6 +15,7 @@ import pytest
 from conftest import GANTRY_MAP_TOML
 from tribokin import InputError, run_study
 from tribokin.cli import main
+from tribokin.compiled import kernels_used
 from tribokin.execution import executor_for
 from tribokin.maps.store import ChunkStore
 from tribokin.output.writers import map_table_name, write_map_table, write_results, write_summary
@@ -152,7 +153,7 @@ def test_unreachable_scheduler_is_refused_before_any_work(tmp_path, monkeypatch)
     assert error.value.key == "--scheduler"
 
 
-def test_finished_chunks_are_reused_on_resume_others_recomputed_and_settings_checked(tmp_path):
+def test_finished_chunks_are_reused_on_resume_others_recomputed_and_settings_checked(tmp_path, monkeypatch):
     study = tmp_path / "study.toml"
     study.write_text(GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 5"))
     folder = tmp_path / "chunks"
@@ -170,6 +171,9 @@ def test_finished_chunks_are_reused_on_resume_others_recomputed_and_settings_che
     np.testing.assert_array_equal(np.delete(rp_resumed, row_3), np.delete(rp_first, row_3))  # row 5 recomputed
     with pytest.raises(InputError, match="other settings"):
         run_study(study, seed=9, checkpoint=folder, resume=True)
+    with monkeypatch.context() as patch, pytest.raises(InputError, match="other settings"):
+        patch.setenv("TRIBOKIN_KERNELS", "compiled" if kernels_used() == "numpy" else "numpy")  # no mixed paths
+        run_study(study, checkpoint=folder, resume=True)
     with pytest.raises(InputError, match="--resume"):
         run_study(study, checkpoint=folder)
 

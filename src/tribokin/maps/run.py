@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tribokin.compiled import kernels_used
 from tribokin.errors import InputError
 from tribokin.execution import run_chunks
 from tribokin.kinematics.chain import serial_chain
@@ -225,7 +226,7 @@ def open_store(study: Study, job: MapJob, chunks: list[list[int]], size: int, ch
     is deleted with the store."""
     settings = {"study": study.mapping, "source": study.source, "chunks": chunks,
                 "scenarios": [[s.cycles, s.seed] for s in job.scenarios],
-                "robots": [spec.as_settings() for spec in job.robots]}
+                "robots": [spec.as_settings() for spec in job.robots], "kernels": kernels_used()}
     columns = job.layout.columns()
     if checkpoint is not None:
         return ChunkStore(checkpoint, fingerprint(settings), columns, size, resume)
