@@ -9,9 +9,11 @@ import tomllib
 from conftest import ROOT, killed_after
 from tribokin import InputError, run_study
 from tribokin.cli import main
+from tribokin.compiled import kernels_used
 from tribokin.execution import executor_for
 from tribokin.kinematics.loads import BearingLoads
 from tribokin.output.writers import write_results
+from tribokin.placement.search import open_store
 from tribokin.study.assembly import load_robot
 from tribokin.study.reading import load_study, read_study_file
 
@@ -154,6 +156,16 @@ def without_command(summary: bytes) -> dict:
 
 
 PLACEMENT_FILES = ("placement.csv", "best.toml", "placement.png")
+
+
+def test_a_resume_on_the_other_kernel_path_is_refused(study_file, tmp_path, monkeypatch):
+    """The candidates' results differ by rounding between the kernel paths (TRIBOKIN_KERNELS): not mixed."""
+    study = load_study(study_file)
+    open_store(study, 4, tmp_path / "chunks", resume=False)
+    open_store(study, 4, tmp_path / "chunks", resume=True)
+    monkeypatch.setenv("TRIBOKIN_KERNELS", "compiled" if kernels_used() == "numpy" else "numpy")
+    with pytest.raises(InputError, match="other settings"):
+        open_store(study, 4, tmp_path / "chunks", resume=True)
 
 
 def test_one_or_two_workers_and_a_resume_write_the_same_bytes(study_file, tmp_path):

@@ -16,6 +16,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from tribokin.compiled import kernels_used
 from tribokin.execution import run_chunks
 from tribokin.maps.result import ScenarioMap
 from tribokin.maps.run import chunk_order, prepare_map, run_map
@@ -73,7 +74,7 @@ def evaluate_candidate(study: Study, candidate: Candidate) -> dict[str, np.ndarr
 def open_store(study: Study, count: int, checkpoint, resume: bool) -> ChunkStore:
     """The search's store of finished candidates: in ``checkpoint`` (kept, for ``--resume``), else a temporary one."""
     key = fingerprint({"placement": study.mapping, "source": study.source, "cycles": study.cycles,
-                       "seed": study.seed})
+                       "seed": study.seed, "kernels": kernels_used()})
     if checkpoint is not None:
         return ChunkStore(checkpoint, key, COLUMNS, count, resume)
     return temporary_store(key, COLUMNS, count)
