@@ -9,11 +9,12 @@ from conftest import STUDIES
 from maps.test_grid import ur5_plane
 from tribokin import run_study
 from tribokin.kinematics import ik
+from tribokin.kinematics.robot import wrap_angles
 from tribokin.maps import rows as map_rows
 from tribokin.maps.grid import grid_neighbours, make_grid
 from tribokin.maps.schema import MapLayout
 from tribokin.maps.rows import beyond_reach_m, extrapolate_rows, fill_from_neighbours, first_bound_beyond, \
-    holes_beside_reached, solve_row_heads, solve_rows
+    holes_beside_reached, solve_row_heads, solve_rows, turned_into_limits
 from tribokin.maps.run import prepare_map
 from tribokin.study.assembly import load_robot, map_robots
 from tribokin.study.reading import load_study, read_study_file
@@ -152,6 +153,44 @@ def test_row_extrapolation_continues_a_polynomial_through_the_last_reached_targe
     assert predicted[1] == pytest.approx(line[5], abs=1e-12) and predicted[2] == pytest.approx(line[5], abs=1e-12)
     assert np.isnan(predicted[3:]).all()  # fewer than two
     assert np.isnan(extrapolate_rows(rows[:, :1], np.ones(5, dtype=int))).all()
+
+
+def test_a_warm_start_beyond_a_multi_turn_joints_limit_is_turned_back_within_it(horizontal):
+    robot, _, _ = horizontal  # UR5: every joint within ±2π
+    q = np.array([[6.3, -6.4, 0.1, 2 * np.pi, -7.0, 13.0], [np.nan, 0.0, 0.0, 0.0, 0.0, 0.0]])
+    turned = turned_into_limits(robot, q)
+    np.testing.assert_allclose(turned[0], [6.3 - 2 * np.pi, -6.4 + 2 * np.pi, 0.1, 2 * np.pi, -7.0 + 2 * np.pi,
+                                           13.0 - 4 * np.pi], rtol=0, atol=1e-15)  # at a limit: as it is
+    np.testing.assert_array_equal(turned[1], q[1])  # no warm start: none made up
+    panda = load_robot(load_study(STUDIES / "panda-map-vertical.toml"))  # every joint's limits less than a turn apart
+    beyond = np.array([[6.8, 0.0, 0.0, -2.0, 0.0, 2.0, 0.0]])
+    np.testing.assert_array_equal(turned_into_limits(panda, beyond), beyond)  # clipped by the IK as before
+
+
+def test_a_row_running_into_a_joint_limit_goes_on_along_its_branch_on_either_kernel_path(tmp_path, monkeypatch):
+    """studies/ur5-map-horizontal.toml at 600 × 600: rows 88 and 181 take the shoulder-lift joint to its limit 2π.
+    A warm start beyond it used to be clipped there, and the solve went to another branch, one that rounding chose
+    (pan turned by 3.4 rad in a 2 mm step, differently on the two kernel paths); turned by a whole turn, each step
+    moves every joint less than 0.1 rad modulo 2π, and the two paths agree to 1e-12 rad."""
+    study_file = tmp_path / "plane.toml"
+    study_file.write_text((STUDIES / "ur5-map-horizontal.toml").read_text().replace("[49, 29]", "[600, 600]"))
+    study = load_study(study_file)
+    robot = load_robot(study)
+    prepared = prepare_map(study, map_robots(study, robot))
+    grid, heads = prepared.grids[0], prepared.heads[0]
+    solved = {}
+    for path in ("numpy", "compiled"):
+        monkeypatch.setenv("TRIBOKIN_KERNELS", path)
+        solved[path] = solve_rows(robot, grid, [88, 181], heads[[88, 181]])
+    for path, (q, reachable, _, _) in solved.items():
+        for row in range(2):
+            path_q = q[row][reachable[row]]
+            steps = np.diff(path_q, axis=0)
+            assert np.abs(wrap_angles(steps)).max() < 0.1, path
+            assert np.abs(steps).max() > 6.0, path  # turned once on the way
+    assert (solved["numpy"][1] == solved["compiled"][1]).all()
+    reached = solved["numpy"][1]
+    assert np.abs(solved["numpy"][0] - solved["compiled"][0])[reached].max() < 1e-12
 
 
 @pytest.fixture(scope="module")

@@ -118,6 +118,17 @@ def extrapolate_rows(q: np.ndarray, streaks: np.ndarray, continuous: np.ndarray 
     return predicted
 
 
+def turned_into_limits(robot: Robot, q: np.ndarray) -> np.ndarray:
+    """Warm starts ``q`` (k, nv) [m or rad] with the angle of each revolute joint whose limits span a whole turn or
+    more (a UR arm's ±2π) turned by whole turns back within them when beyond (the same placements; the IK would
+    clip it at the limit instead, and a row running into the limit would leave its branch for one rounding chose)."""
+    lower, upper = robot.lower_limits, robot.upper_limits
+    multi_turn = ~robot.joint_is_prismatic & ~robot.continuous & (upper - lower >= 2 * math.pi)
+    turns = np.where(q > upper, -np.ceil((q - upper) / (2 * math.pi)),
+                     np.where(q < lower, np.ceil((lower - q) / (2 * math.pi)), 0.0))
+    return np.where(multi_turn & (turns != 0), q + 2 * math.pi * turns, q)
+
+
 def _solve_from_warm_starts(robot: Robot, chain: SerialChain | None, grid: TargetGrid, indices: np.ndarray,
                             positions_m: np.ndarray, q_starts: np.ndarray) -> IKResult:
     """IK of targets ``indices`` (k > 0) at ``positions_m`` (k, 3) [m] from ``q_starts`` (k, nv), without restarts:
@@ -143,7 +154,8 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True
     """Configurations of grid rows ``rows``, each from its head (``heads`` (rows, nv) [m or rad]), column by column.
 
     Each target is warm-started from the polynomial through its row's last reached targets when two or more right
-    before it were reached (:func:`extrapolate_rows`), the rows' targets of a column together
+    before it were reached (:func:`extrapolate_rows`; a multi-turn joint's angle beyond a limit turned back within it,
+    :func:`turned_into_limits`), the rows' targets of a column together
     (:func:`~tribokin.kinematics.ik.solve_ik_batch`; one by one when ``batched`` is False or NumPy cannot compute the
     robot's chain, :func:`~tribokin.kinematics.chain.serial_chain`); a target this does not solve is solved from its
     row's last reached configuration (the head first), then from seeded random restarts, one by one; until the row
@@ -176,7 +188,7 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True
     started = np.zeros(len(indices), dtype=bool)  # rows that have reached a target
     for column in range(grid.row_length):
         within = np.isnan(closest[:, column, 0])
-        predicted = extrapolate_rows(q[:, :column], streaks, robot.continuous)
+        predicted = turned_into_limits(robot, extrapolate_rows(q[:, :column], streaks, robot.continuous))
         warm = np.flatnonzero(within & ~np.isnan(predicted[:, 0]))
         if len(warm):
             first = _solve_from_warm_starts(robot, chain, grid, indices[warm, column], positions[warm, column],
