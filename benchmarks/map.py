@@ -91,16 +91,20 @@ def write_study(folder: Path, side_u: int, side_v: int, cycles: int, statistic: 
 
 
 #: numba's cache of compiled kernels for every child process of one run (empty at first: the cold compile), made by
-#: the run's first process and passed on to its children in this variable.
+#: the run's first process (:func:`main`, which deletes it at the end) and passed on to its children in this variable.
 NUMBA_CACHE_VARIABLE = "TRIBOKIN_BENCHMARK_NUMBA_CACHE"
-NUMBA_CACHE = Path(os.environ.get(NUMBA_CACHE_VARIABLE) or tempfile.mkdtemp(prefix="tribokin-bench-numba-"))
+
+
+def numba_cache() -> Path:
+    """This run's numba cache (:data:`NUMBA_CACHE_VARIABLE`)."""
+    return Path(os.environ[NUMBA_CACHE_VARIABLE])
 
 
 def child_env(kernels: str = "compiled") -> dict:
     """The environment of a child process: this checkout's sources, the run's numba cache, ``TRIBOKIN_KERNELS``."""
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), *filter(None, [env.get("PYTHONPATH")])])
-    env["NUMBA_CACHE_DIR"] = env[NUMBA_CACHE_VARIABLE] = str(NUMBA_CACHE)
+    env["NUMBA_CACHE_DIR"] = str(numba_cache())
     env["TRIBOKIN_KERNELS"] = kernels
     return env
 
@@ -131,7 +135,7 @@ def compile_times(study: Path, folder: Path) -> dict:
     """The compiled kernels' cost on a tiny map (``study``): the command with numba's cache empty (compiling every
     kernel the map uses), then filled (loading them), and on the NumPy path; cold and warm compile times as the
     differences."""
-    for stale in NUMBA_CACHE.iterdir():
+    for stale in numba_cache().iterdir():
         shutil.rmtree(stale) if stale.is_dir() else stale.unlink()
     cold = command(study, folder / "cold")["seconds"]
     warm = min(command(study, folder / "warm")["seconds"] for _ in range(3))
@@ -481,14 +485,16 @@ def main() -> None:
     if args.computed_child:
         return computed_child(args.computed_child[0], int(args.computed_child[1]))
 
-    if args.quick:
-        results = benchmark(120, args.cycles, 60, 316, [(100, 100), (200, 200), (200, 400)], 20_000, quick=True)
-    else:
-        results = benchmark(args.side, args.cycles, args.one_test_side, 1000, [(100, 100), (1000, 1000), (1000, 2000)],
-                            200_000, quick=False)
+    os.environ[NUMBA_CACHE_VARIABLE] = tempfile.mkdtemp(prefix="tribokin-bench-numba-")
+    try:
+        if args.quick:
+            results = benchmark(120, args.cycles, 60, 316, [(100, 100), (200, 200), (200, 400)], 20_000, quick=True)
+        else:
+            results = benchmark(args.side, args.cycles, args.one_test_side, 1000,
+                                [(100, 100), (1000, 1000), (1000, 2000)], 200_000, quick=False)
+    finally:
+        shutil.rmtree(numba_cache(), ignore_errors=True)
     results["benchmark_seconds"] = time.perf_counter() - START
-    if NUMBA_CACHE_VARIABLE not in os.environ:  # made by this process
-        shutil.rmtree(NUMBA_CACHE, ignore_errors=True)
     path = args.results or (None if args.quick else RESULTS)
     if path is not None:
         path.parent.mkdir(exist_ok=True)
