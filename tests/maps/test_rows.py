@@ -176,21 +176,14 @@ def test_a_row_running_into_a_joint_limit_goes_on_along_its_branch_on_either_ker
     study_file.write_text((STUDIES / "ur5-map-horizontal.toml").read_text().replace("[49, 29]", "[600, 600]"))
     study = load_study(study_file)
     robot = load_robot(study)
-    prepared = prepare_map(study, map_robots(study, robot))
-    grid, heads = prepared.grids[0], prepared.heads[0]
-    solved = {}
-    for path in ("numpy", "compiled"):
-        monkeypatch.setenv("TRIBOKIN_KERNELS", path)
-        solved[path] = solve_rows(robot, grid, [88, 181], heads[[88, 181]])
-    for path, (q, reachable, _, _) in solved.items():
+    solved = rows_on_both_paths(robot, make_grid(robot, study.map), monkeypatch, [88, 181])
+    for path, (_, q, reachable, _, _) in solved.items():
         for row in range(2):
-            path_q = q[row][reachable[row]]
-            steps = np.diff(path_q, axis=0)
+            steps = np.diff(q[row][reachable[row]], axis=0)
             assert np.abs(wrap_angles(steps)).max() < 0.1, path
             assert np.abs(steps).max() > 6.0, path  # turned once on the way
-    assert (solved["numpy"][1] == solved["compiled"][1]).all()
-    reached = solved["numpy"][1]
-    assert np.abs(solved["numpy"][0] - solved["compiled"][0])[reached].max() < 1e-12
+    reached_once, apart = differences(solved)
+    assert reached_once == 0 and apart.max() < 1e-12
 
 
 @pytest.fixture(scope="module")
@@ -229,13 +222,14 @@ def test_solving_rows_together_changes_only_rounding(horizontal):
     np.testing.assert_array_equal(closest[beyond], closest_alone[beyond])
 
 
-def rows_on_both_paths(robot, grid, monkeypatch) -> dict:
-    """Row heads and rows (:func:`solve_rows`) of the whole grid on each kernel path."""
+def rows_on_both_paths(robot, grid, monkeypatch, rows=None) -> dict:
+    """Row heads and rows ``rows`` (:func:`solve_rows`; default the whole grid) on each kernel path."""
+    rows = range(grid.row_count) if rows is None else rows
     solved = {}
     for path in ("numpy", "compiled"):
         monkeypatch.setenv("TRIBOKIN_KERNELS", path)
         heads = solve_row_heads(robot, grid)
-        solved[path] = heads, *solve_rows(robot, grid, range(grid.row_count), heads)
+        solved[path] = heads, *solve_rows(robot, grid, rows, heads[rows])
     return solved
 
 
