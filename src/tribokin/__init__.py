@@ -30,9 +30,9 @@ if TYPE_CHECKING:
 _LAZY = {"MapResult": "tribokin.maps.result", "StudyResult": "tribokin.run", "run_study": "tribokin.run",
          "PoseResult": "tribokin.simulation.pose_result", "BoxMap": "tribokin.study.map_spec",
          "JointMap": "tribokin.study.map_spec", "PlaneMap": "tribokin.study.map_spec",
-         "load_study": "tribokin.study.reading", "IsoCubeSpec": "tribokin.study.spec", "JointSpec": "tribokin.study.spec",
-         "PoseSpec": "tribokin.study.spec", "RobotSpec": "tribokin.study.spec", "ScenarioSpec": "tribokin.study.spec",
-         "Study": "tribokin.study.spec"}
+         "load_study": "tribokin.study.reading", "IsoCubeSpec": "tribokin.study.spec",
+         "JointSpec": "tribokin.study.spec", "PoseSpec": "tribokin.study.spec", "RobotSpec": "tribokin.study.spec",
+         "ScenarioSpec": "tribokin.study.spec", "Study": "tribokin.study.spec"}
 
 __all__ = ["run_study", "load_study", "Study", "RobotSpec", "JointSpec", "PoseSpec", "IsoCubeSpec", "PlaneMap",
            "BoxMap", "JointMap", "ScenarioSpec", "StudyResult", "PoseResult", "MapResult", "TribokinError",

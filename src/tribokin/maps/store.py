@@ -114,8 +114,8 @@ class ChunkStore:
         saved = json.loads(manifest.read_text()).get("key") if manifest.is_file() else None
         if saved is not None and saved != key:
             raise InputError("these chunks were computed with other settings (study file, cycles, seed, "
-                             "chunk size or kernel path, TRIBOKIN_KERNELS); rerun with the same ones, or pass --force without --resume to "
-                             "start over", self.folder, "--resume")
+                             "chunk size or kernel path, TRIBOKIN_KERNELS); rerun with the same ones, or pass "
+                             "--force without --resume to start over", self.folder, "--resume")
         parts = [manifest, self.folder / "done", *(_column_path(self.folder, name) for name in columns)]
         missing = [path.name for path in parts if not path.exists()]
         if missing:
