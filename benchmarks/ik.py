@@ -4,7 +4,8 @@ Run from the repository root: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src python ben
 quicker run). Writes ``benchmarks/results/ik.json`` and prints it.
 
 The grid is the shipped ``studies/ur5-map-horizontal.toml``'s plane (tool pointing down: the orientation held) at
-``--side`` × ``--side`` targets; its row heads are solved once (:func:`tribokin.maps.run.prepare_map`) and not timed.
+``--side`` × ``--side`` targets; where its rows start is solved once (:func:`tribokin.maps.run.prepare_map`) and not
+timed (a head beyond the reach is solved with its row, in both runs: :func:`tribokin.maps.rows.heads_from_starts`).
 Then, in one run, every row is solved from its head (:func:`tribokin.maps.rows.solve_rows`):
 
 * ``row_by_row``: a row at a time, each target by :func:`~tribokin.kinematics.ik.solve_ik`, by ``solve_row`` as it
@@ -122,9 +123,9 @@ def timed(solve_all, targets: int, repeats: int) -> tuple[dict, tuple]:
             "us_per_target_without_fallbacks": 1e6 * (seconds - fallback_seconds) / targets}, solutions
 
 
-def batched(robot, grid, heads, batches: list[list[int]]) -> tuple:
+def batched(robot, grid, starts, batches: list[list[int]]) -> tuple:
     """Every row solved ``batches`` of rows at a time: q, reachable, closest as :func:`timed` wants them."""
-    parts = [map_rows.solve_rows(robot, grid, rows, heads[rows]) for rows in batches]
+    parts = [map_rows.solve_rows(robot, grid, rows, starts[rows]) for rows in batches]
     return tuple(np.concatenate(arrays) for arrays in zip(*parts))
 
 
@@ -138,18 +139,19 @@ def main() -> None:
     study = load_study(mapping)
     robot = load_robot(study)
     prepared = prepare_map(study, map_robots(study, robot))
-    grid, heads = prepared.grids[0], prepared.heads[0]
+    grid, starts = prepared.grids[0], prepared.row_starts[0]
     rows = list(range(grid.row_count))
     before, (q_before, reachable_before, _) = timed(lambda: tuple(np.array(arrays) for arrays in zip(
-        *(solve_row_before(robot, grid, row, heads[row]) for row in rows))), grid.size, args.repeats)
+        *(solve_row_before(robot, grid, row, map_rows.heads_from_starts(robot, grid, [row], starts[[row]])[0])
+          for row in rows))), grid.size, args.repeats)
     runs, solutions = {}, []
     for size in sorted({study.map.rows_per_chunk, 8, 32, grid.row_count}):
         if size <= grid.row_count:
             batches = chunk_rows(study, grid.row_count) if size == study.map.rows_per_chunk else [
                 rows[start:start + size] for start in range(0, grid.row_count, size)]
-            runs[f"{size}_rows"], solved = timed(lambda: batched(robot, grid, heads, batches), grid.size, args.repeats)
+            runs[f"{size}_rows"], solved = timed(lambda: batched(robot, grid, starts, batches), grid.size, args.repeats)
             solutions.append(solved)
-    per_target = map_rows.solve_rows(robot, grid, rows, heads, batched=False)
+    per_target = map_rows.solve_rows(robot, grid, rows, starts, batched=False)
     q, reachable, _, _ = solutions[0]  # the map's chunks
     both = reachable & reachable_before
     difference = np.abs(q - q_before)[both].max(axis=-1)

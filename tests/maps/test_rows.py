@@ -14,7 +14,7 @@ from tribokin.maps import rows as map_rows
 from tribokin.maps.grid import grid_neighbours, make_grid
 from tribokin.maps.schema import MapLayout
 from tribokin.maps.rows import beyond_reach_m, extrapolate_rows, fill_from_neighbours, first_bound_beyond, \
-    holes_beside_reached, solve_row_heads, solve_rows, turned_into_limits
+    holes_beside_reached, solve_row_starts, solve_rows, turned_into_limits
 from tribokin.maps.run import prepare_map
 from tribokin.study.assembly import load_robot, map_robots
 from tribokin.study.reading import load_study, read_study_file
@@ -25,8 +25,8 @@ def solved():
     study = ur5_plane([5, 4])
     robot = load_robot(study)
     grid = make_grid(robot, study.map)
-    heads = solve_row_heads(robot, grid)
-    q, reachable, _, _ = solve_rows(robot, grid, range(grid.row_count), heads)
+    starts = solve_row_starts(robot, grid)
+    q, reachable, _, _ = solve_rows(robot, grid, range(grid.row_count), starts)
     q, reachable = q.reshape(grid.size, -1), reachable.ravel()
     assert reachable.all()
     return robot, grid, q, reachable
@@ -189,31 +189,61 @@ def test_a_row_running_into_a_joint_limit_goes_on_along_its_branch_on_either_ker
 @pytest.fixture(scope="module")
 def horizontal():
     """The UR5 plane of studies/ur5-map-horizontal.toml (tool pointing down, 49 × 29 targets, some beyond the reach
-    and some within it unreachable): robot, grid and row heads."""
+    and some within it unreachable): robot, grid and where its rows start."""
     study = load_study(STUDIES / "ur5-map-horizontal.toml")
     robot = load_robot(study)
     prepared = prepare_map(study, map_robots(study, robot))
-    return robot, prepared.grids[0], prepared.heads[0]
+    return robot, prepared.grids[0], prepared.row_starts[0]
 
 
 def test_the_rows_solved_together_are_each_solved_as_alone(horizontal):
-    robot, grid, heads = horizontal
+    robot, grid, starts = horizontal
     rows = range(grid.row_count)
-    together = solve_rows(robot, grid, rows, heads)
+    together = solve_rows(robot, grid, rows, starts)
     assert together[1].any() and not together[1].all()
     for row in (0, 7, 12, grid.row_count - 1):
-        alone = solve_rows(robot, grid, [row], heads[[row]])
+        alone = solve_rows(robot, grid, [row], starts[[row]])
         for array, whole in zip(alone, together):
             assert array[0].tobytes() == whole[row].tobytes()
+
+
+def heads_in_one_sequence(robot, grid) -> np.ndarray:
+    """Every row head solved in one sequence, each from the last head reached before it: the code before the heads
+    beyond the reach were left to their rows."""
+    heads, q_start = np.empty((grid.row_count, robot.model.nv)), grid.start_q
+    for row in map_rows.head_order(grid):
+        result = map_rows._solve(robot, grid, row * grid.row_length, q_start, pinocchio=True)
+        heads[row] = result.q
+        if result.success:
+            q_start = result.q
+    return heads
+
+
+def test_heads_beyond_the_reach_solved_with_their_rows_are_those_of_one_sequence(horizontal):
+    robot, grid, starts = horizontal
+    rows = range(grid.row_count)
+    deferred = map_rows.deferred_heads(grid, rows)
+    assert 0 < deferred.sum() < grid.row_count
+    heads = map_rows.heads_from_starts(robot, grid, rows, starts)
+    assert heads.tobytes() == heads_in_one_sequence(robot, grid).tobytes()
+    assert (heads[deferred] != starts[deferred]).any(axis=1).all()
+
+
+def test_the_head_of_a_row_beyond_the_reach_is_left_unsolved(horizontal, monkeypatch):
+    robot, grid, starts = horizontal
+    rows = np.flatnonzero(map_rows.deferred_heads(grid, range(grid.row_count)))
+    monkeypatch.setattr(map_rows, "_solve", None)  # no IK
+    kept = map_rows.heads_from_starts(robot, grid, rows, starts[rows], np.zeros(len(rows), dtype=bool))
+    assert kept.tobytes() == starts[rows].tobytes()
 
 
 def test_solving_rows_together_changes_only_rounding(horizontal):
     """Against the targets solved one by one (today's path before the batch): 0 of the 1 421 targets differ by more
     than 1e-9 rad or in reachability (seen: 7e-15 rad at most)."""
-    robot, grid, heads = horizontal
+    robot, grid, starts = horizontal
     rows = range(grid.row_count)
-    q, reachable, closest, _ = solve_rows(robot, grid, rows, heads)
-    q_alone, reachable_alone, closest_alone, _ = solve_rows(robot, grid, rows, heads, batched=False)
+    q, reachable, closest, _ = solve_rows(robot, grid, rows, starts)
+    q_alone, reachable_alone, closest_alone, _ = solve_rows(robot, grid, rows, starts, batched=False)
     both = reachable & reachable_alone
     assert both.sum() > 1000
     differing = (reachable != reachable_alone).sum() + (np.abs(q - q_alone)[both].max(axis=-1) > 1e-9).sum()
@@ -223,13 +253,13 @@ def test_solving_rows_together_changes_only_rounding(horizontal):
 
 
 def rows_on_both_paths(robot, grid, monkeypatch, rows=None) -> dict:
-    """Row heads and rows ``rows`` (:func:`solve_rows`; default the whole grid) on each kernel path."""
+    """Where the rows start and rows ``rows`` (:func:`solve_rows`; default the whole grid) on each kernel path."""
     rows = range(grid.row_count) if rows is None else rows
     solved = {}
     for path in ("numpy", "compiled"):
         monkeypatch.setenv("TRIBOKIN_KERNELS", path)
-        heads = solve_row_heads(robot, grid)
-        solved[path] = heads, *solve_rows(robot, grid, rows, heads[rows])
+        starts = solve_row_starts(robot, grid)
+        solved[path] = starts, *solve_rows(robot, grid, rows, starts[rows])
     return solved
 
 
@@ -242,7 +272,8 @@ def differences(solved) -> tuple[int, np.ndarray]:
 
 def test_the_compiled_ik_solves_the_ur5_rows_as_numpy_and_pinocchio(horizontal, monkeypatch):
     """studies/ur5-map-horizontal.toml (tool pointing down; 9 of its 29 row heads not reached, whose rows start where
-    their failed IK ended): the same heads to the bit (Pinocchio's path on both), the same reached targets and routes,
+    their failed IK ended): the same row starts to the bit (Pinocchio's path on both), the same reached targets and
+    routes,
     configurations within 1e-12 rad, and the same ``closest`` beyond the reach bounds (where IK failed, how close it
     came depends on every rounding)."""
     robot, grid, _ = horizontal
@@ -271,20 +302,21 @@ def test_the_compiled_ik_solves_the_panda_rows_as_numpy_but_for_a_redundant_arms
 
 def test_a_robot_numpy_cannot_compute_is_solved_target_by_target(solved, monkeypatch):
     robot, grid, _, _ = solved
-    heads = solve_row_heads(robot, grid)
-    alone = solve_rows(robot, grid, range(grid.row_count), heads, batched=False)
+    starts = solve_row_starts(robot, grid)
+    alone = solve_rows(robot, grid, range(grid.row_count), starts, batched=False)
     monkeypatch.setattr(map_rows, "serial_chain", lambda robot: None)
     monkeypatch.setattr(map_rows, "solve_ik_batch", None)
-    for array, expected in zip(solve_rows(robot, grid, range(grid.row_count), heads), alone):
+    for array, expected in zip(solve_rows(robot, grid, range(grid.row_count), starts), alone):
         assert array.tobytes() == expected.tobytes()
 
 
 def test_each_target_says_how_the_ik_reached_it(horizontal):
     """Checked by solving again: a target reached after restarts is not reached from its row's last reached
     configuration, one reached from there is, and the map counts every reached target once in summary.json."""
-    robot, grid, heads = horizontal
+    robot, grid, starts = horizontal
     rows = range(grid.row_count)
-    q, reachable, _, routes = solve_rows(robot, grid, rows, heads)
+    q, reachable, _, routes = solve_rows(robot, grid, rows, starts)
+    heads = map_rows.heads_from_starts(robot, grid, rows, starts)
     assert np.array_equal(routes != map_rows.UNREACHED, reachable)
     counts = np.bincount(routes.ravel(), minlength=5)
     assert counts[map_rows.ALONG_ROW] > 0.9 * reachable.sum() and counts[map_rows.FROM_LAST_REACHED] > 0

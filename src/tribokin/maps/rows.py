@@ -3,8 +3,10 @@
 Cartesian targets are solved by inverse kinematics,
 warm-started from a neighbour in an order that does not depend on how the rows are later
 split into chunks: the first target of every row (the *row heads*) is solved in one sequence
-from the start posture (:func:`solve_row_heads`), then each row is solved along its columns
+from the start posture (:func:`solve_row_starts`), then each row is solved along its columns
 from its head, a chunk's rows together (:func:`solve_rows`). So a row's configurations depend on the grid only.
+A head beyond the reach bounds is not reached, so no other head starts from it: it is solved with its row
+(:func:`heads_from_starts`), where the chunks run, from where the sequence would have started it.
 
 A target beyond the robot's reach (``grid.reach``, :mod:`tribokin.kinematics.reach`: the tool point's sphere, and with
 the tool's orientation held the last joint's) is unreachable without any IK iteration, except a row head: its failed
@@ -83,21 +85,51 @@ def head_order(grid: TargetGrid) -> list[int]:
     return order
 
 
-def solve_row_heads(robot: Robot, grid: TargetGrid) -> np.ndarray:
-    """(rows, nv) warm start of every grid row: its first target solved from the previous head
-    (the start posture for the first; the last reachable head after an unreachable one).
+#: How far [m] beyond the reach bounds a row head lies whose IK is left to its row (:func:`deferred_heads`): far
+#: beyond the IK's tolerances (1e-10 m, 1e-9 rad), so that it cannot be reached.
+DEFERRED_GAP_M = 1e-6
+
+
+def deferred_heads(grid: TargetGrid, rows) -> np.ndarray:
+    """(k,) whether the heads of grid rows ``rows`` lie more than ``DEFERRED_GAP_M`` beyond the robot's reach
+    (:func:`beyond_reach_m`, a head at a time: the same decision wherever it is made)."""
+    gaps = [beyond_reach_m(grid, [row * grid.row_length])[0] for row in rows]
+    return np.array([gap > DEFERRED_GAP_M for gap in gaps], dtype=bool)  # NaN (within reach): False
+
+
+def solve_row_starts(robot: Robot, grid: TargetGrid) -> np.ndarray:
+    """(rows, nv) where every grid row starts: its head (first target) solved from the previous head reached (the
+    start posture for the first), in :func:`head_order`; for a head beyond the reach (:func:`deferred_heads`), the
+    posture its IK starts from, solved with its row (:func:`heads_from_starts`).
 
     On Pinocchio's path whatever the kernel path (:func:`~tribokin.kinematics.ik.solve_ik`'s ``pinocchio``): a head
     that is not reached warm-starts its row from where its failed IK ended, which depends on every rounding."""
     if grid.kind == "joint":
         return grid.joint_q(np.arange(0, grid.size, grid.row_length))
-    heads = np.empty((grid.row_count, robot.model.nv))
+    starts = np.empty((grid.row_count, robot.model.nv))
+    deferred = deferred_heads(grid, range(grid.row_count))
     q_start = grid.start_q
     for row in head_order(grid):
-        result = _solve(robot, grid, row * grid.row_length, q_start, pinocchio=True)
-        heads[row] = result.q
-        if result.success:
-            q_start = result.q
+        starts[row] = q_start
+        if not deferred[row]:
+            result = _solve(robot, grid, row * grid.row_length, q_start, pinocchio=True)
+            starts[row] = result.q
+            if result.success:
+                q_start = result.q
+    return starts
+
+
+def heads_from_starts(robot: Robot, grid: TargetGrid, rows, starts: np.ndarray,
+                      wanted: np.ndarray | None = None) -> np.ndarray:
+    """(k, nv) the heads of grid rows ``rows`` from where they start (``starts`` (k, nv), :func:`solve_row_starts`):
+    each deferred head (:func:`deferred_heads`) solved from its start as the sequence of heads would have solved it,
+    for the rows ``wanted`` (k,) (default: all; the others keep their start)."""
+    heads = np.array(starts, dtype=float).reshape(len(rows), -1)
+    if grid.kind == "joint":
+        return heads
+    solve = deferred_heads(grid, rows) & (True if wanted is None else np.asarray(wanted, dtype=bool))
+    for k in np.flatnonzero(solve):
+        heads[k] = _solve(robot, grid, rows[k] * grid.row_length, heads[k], pinocchio=True).q
     return heads
 
 
@@ -149,9 +181,10 @@ IK_ROUTES = {"warm_started_along_row": ALONG_ROW, "from_last_reached": FROM_LAST
              "after_restarts": AFTER_RESTARTS, "from_neighbours": FROM_NEIGHBOUR}
 
 
-def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True) -> tuple[np.ndarray, np.ndarray,
-                                                                                            np.ndarray, np.ndarray]:
-    """Configurations of grid rows ``rows``, each from its head (``heads`` (rows, nv) [m or rad]), column by column.
+def solve_rows(robot: Robot, grid: TargetGrid, rows, starts, batched: bool = True) -> tuple[np.ndarray, np.ndarray,
+                                                                                             np.ndarray, np.ndarray]:
+    """Configurations of grid rows ``rows``, each from its head (from ``starts`` (rows, nv) [m or rad],
+    :func:`solve_row_starts`: a deferred head solved first, :func:`heads_from_starts`), column by column.
 
     Each target is warm-started from the polynomial through its row's last reached targets when two or more right
     before it were reached (:func:`extrapolate_rows`; a multi-turn joint's angle beyond a limit turned back within it,
@@ -183,7 +216,7 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, heads, batched: bool = True
     closest[..., 0] = [beyond_reach_m(grid, row) for row in indices]
     q = np.full((*indices.shape, nv), np.nan)
     reachable = np.zeros(indices.shape, dtype=bool)
-    q_start = np.array(heads, dtype=float).reshape(len(indices), nv)
+    q_start = heads_from_starts(robot, grid, list(rows), starts, np.isnan(closest[..., 0]).any(axis=1))
     streaks = np.zeros(len(indices), dtype=int)  # targets reached right before the column, in each row
     started = np.zeros(len(indices), dtype=bool)  # rows that have reached a target
     for column in range(grid.row_length):

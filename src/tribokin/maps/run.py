@@ -3,7 +3,7 @@
 Each target is measured like a single pose from its own random stream (:mod:`tribokin.maps.measure`),
 and only its scalar figures are kept, on disk (:class:`~tribokin.maps.store.ChunkStore`): memory
 holds a chunk's targets and a block's cycles, whatever the grid's size. A chunk solves and measures whole grid rows from
-their heads (:mod:`tribokin.maps.rows`), so the numbers depend on neither the chunk size,
+where they start (:mod:`tribokin.maps.rows`), so the numbers depend on neither the chunk size,
 nor the number of workers, nor where the chunks run, nor on a resume. Each robot the scenarios measure with
 (another robot, base or tool: :class:`~tribokin.study.assembly.MapRobots`) solves its own IK of the same targets;
 the scenarios of one robot are measured at its configurations, every scenario with the same streams.
@@ -30,7 +30,7 @@ from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES
 from tribokin.maps.expected import ExpectedSetup, expected_targets, shape_table
 from tribokin.maps.measure import measure_targets
 from tribokin.maps.result import MapResult, ScenarioMap
-from tribokin.maps.rows import FROM_NEIGHBOUR, fill_from_neighbours, first_tries, solve_row_heads, solve_rows, \
+from tribokin.maps.rows import FROM_NEIGHBOUR, fill_from_neighbours, first_tries, solve_row_starts, solve_rows, \
     solve_tries
 from tribokin.maps.schema import MapLayout, robot_column, scenario_column
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
@@ -75,8 +75,8 @@ def _job_context(job: MapJob) -> tuple[list[Robot], list[PoseRunner]]:
     return _local.cache[1:]
 
 
-def compute_chunk(job: MapJob, rows: list[int], heads: tuple[np.ndarray, ...]) -> dict[str, np.ndarray]:
-    """Solve grid rows ``rows`` for each robot from its ``heads`` (rows, nv), together (:func:`solve_rows`), then
+def compute_chunk(job: MapJob, rows: list[int], starts: tuple[np.ndarray, ...]) -> dict[str, np.ndarray]:
+    """Solve grid rows ``rows`` for each robot from its ``starts`` (rows, nv), together (:func:`solve_rows`), then
     measure them row by row (a row's reached targets measured together, in blocks: :func:`measure_into`).
 
     Returns:
@@ -86,9 +86,9 @@ def compute_chunk(job: MapJob, rows: list[int], heads: tuple[np.ndarray, ...]) -
     robots, runners = _job_context(job)
     row_length = job.grids[0].row_length
     arrays = empty_arrays(len(rows) * row_length, job.layout)
-    for r, (robot, grid, robot_heads) in enumerate(zip(robots, job.grids, heads)):
+    for r, (robot, grid, robot_starts) in enumerate(zip(robots, job.grids, starts)):
         scenarios = [(s, runners[s], job.setups[s]) for s in job.layout.scenarios_of(r)]
-        solved = solve_rows(robot, grid, rows, robot_heads)
+        solved = solve_rows(robot, grid, rows, robot_starts)
         for k, (row, q, reachable, closest, routes) in enumerate(zip(rows, *solved)):
             span = slice(k * row_length, (k + 1) * row_length)
             indices = grid.row_indices(row)
@@ -245,20 +245,22 @@ def chunk_order(count: int) -> list[int]:
 @dataclass(frozen=True)
 class PreparedMap:
     """A map checked and ready to run (:func:`prepare_map`): ``robots`` (the study's first) and their kinematic
-    ``specs`` (:class:`~tribokin.study.assembly.MapRobots`), ``grids`` each robot's grid of the map's targets, ``heads`` each robot's grid rows' starting postures (rows, nv), ``runners`` one per
-    scenario (the study itself without scenarios), ``layout`` the store's (each scenario's robot)."""
+    ``specs`` (:class:`~tribokin.study.assembly.MapRobots`), ``grids`` each robot's grid of the map's targets,
+    ``row_starts`` where each robot's grid rows start (rows, nv; :func:`~tribokin.maps.rows.solve_row_starts`),
+    ``runners`` one per scenario (the study itself without scenarios), ``layout`` the store's (each scenario's
+    robot)."""
 
     robots: tuple[Robot, ...]
     specs: tuple[RobotSpec, ...]
     grids: tuple[TargetGrid, ...]
-    heads: tuple[np.ndarray, ...]
+    row_starts: tuple[np.ndarray, ...]
     runners: list[PoseRunner]
     layout: MapLayout
 
 
 def prepare_map(study: Study, robots: MapRobots) -> PreparedMap:
     """The grids of the study's ``[map]``, one per robot its scenarios measure with (``robots``: the study's first,
-    whose held orientation the others hold), a runner per scenario and each robot's grid rows' starting postures,
+    whose held orientation the others hold), a runner per scenario and where each robot's grid rows start,
     checked before any work: the map's joints, ranges, start posture and orientation for each robot, each scenario's
     joints and friction laws, and its loads at each row's start."""
     scenarios = tuple(s.study for s in study.scenarios) or (study,)
@@ -269,17 +271,17 @@ def prepare_map(study: Study, robots: MapRobots) -> PreparedMap:
         except GridError as error:
             prefix = f"scenarios[{robots.places.index(r)}]." if r else ""  # the first scenario measured with it
             raise InputError(str(error), study.source, f"{prefix}map.{error.key}") from None
-    heads = tuple(solve_row_heads(robot, grid) for robot, grid in zip(robots.robots, grids))
+    starts = tuple(solve_row_starts(robot, grid) for robot, grid in zip(robots.robots, grids))
     runners = []
     for i, (scenario, r) in enumerate(zip(scenarios, robots.places)):
         robot = robots.robots[r]
         try:
             runners.append(PoseRunner(scenario, robot, joint_models(scenario, robot)))
-            runners[-1].normal_forces_at(heads[r])  # the loads at each row's start, checked before any chunk runs
+            runners[-1].normal_forces_at(starts[r])  # the loads at each row's start, checked before any chunk runs
         except InputError as error:
             key = error.key if not study.scenarios else f"scenarios[{i}].{error.key}"
             raise InputError(error.message, error.source, key) from None
-    return PreparedMap(robots.robots, robots.specs, tuple(grids), heads, runners, MapLayout.of(robots, study.map.figure_set))
+    return PreparedMap(robots.robots, robots.specs, tuple(grids), starts, runners, MapLayout.of(robots, study.map.figure_set))
 
 
 def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = None, checkpoint=None,
@@ -288,7 +290,7 @@ def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = Non
 
     Args:
         study: a study with a ``map`` (its ``scenarios``, if any, are measured instead of it).
-        prepared: its robots, grids, rows' starting postures and runners (:func:`prepare_map`).
+        prepared: its robots, grids, where its rows start and runners (:func:`prepare_map`).
         executor: where chunks run (:func:`~tribokin.execution.executor_for`; ``None``: here).
         checkpoint: folder where the results are kept as chunks finish (``None``: a temporary folder,
             deleted with the result).
@@ -306,7 +308,7 @@ def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = Non
     finished = set(store.finished())
     robots = list(prepared.robots)
     _local.cache = (job.token, robots, prepared.runners)  # chunks run in this thread need not rebuild them
-    todo = {k: (job, chunks[k], tuple(heads[chunks[k]] for heads in prepared.heads))
+    todo = {k: (job, chunks[k], tuple(starts[chunks[k]] for starts in prepared.row_starts))
             for k in chunk_order(len(chunks)) if k not in finished}
     done_targets = sum(len(chunks[k]) for k in finished) * grid.row_length
     report = progress if progress is not None and len(chunks) > 1 else lambda done, total: None
