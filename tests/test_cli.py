@@ -1,10 +1,11 @@
-"""The command's progress bar: its ETA leaves out the start-up, and it follows the map's progress reports."""
+"""The command's progress bar: its ETA leaves out the start-up, it follows the map's progress reports, and it says
+first when numba compiles the kernels."""
 
 import io
 
 from tqdm import std as tqdm_std
 
-from tribokin.cli import ETA_SAMPLES, ProgressBar, map_progress
+from tribokin.cli import COMPILING, ETA_SAMPLES, ProgressBar, map_progress
 
 
 def test_eta_counts_only_the_chunks_after_each_workers_first(monkeypatch):
@@ -41,3 +42,17 @@ def test_no_report_no_bar(capsys):
     with map_progress(warm_up=2):
         pass
     assert capsys.readouterr().err == ""
+
+
+def test_a_run_that_compiles_its_kernels_says_so_once_before_the_bar(capsys):
+    with map_progress(warm_up=1, compiling=True) as report:
+        report(0, 1000)
+        report(500, 1000)
+    error = capsys.readouterr().err
+    assert error.startswith(COMPILING + "\n") and error.count(COMPILING) == 1 and "| 500/1000 [" in error
+
+
+def test_one_that_does_not_says_nothing_of_it(capsys):
+    with map_progress(warm_up=1) as report:
+        report(0, 1000)
+    assert "numba" not in capsys.readouterr().err

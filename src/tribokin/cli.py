@@ -71,15 +71,40 @@ class ProgressBar(tqdm):
         return shown
 
 
+#: What the map's progress says first when numba compiles the kernels before its chunks run (:func:`map_progress`).
+COMPILING = ("map: numba compiles tribokin's kernels first, once after installing or changing tribokin "
+             "(TRIBOKIN_KERNELS=numpy runs without them)")
+
+
+def kernels_to_compile() -> bool:
+    """Whether a run compiles its kernels: on the compiled path (:func:`~tribokin.compiled.use_compiled`), with none
+    of tribokin's kernels (its modules ``*_kernels``) in numba's cache (:func:`~tribokin.compiled.cache_is_empty`)."""
+    from tribokin.compiled import cache_is_empty, use_compiled
+
+    if not use_compiled():
+        return False
+    import importlib
+    import pkgutil
+
+    import tribokin
+
+    names = [module.name for module in pkgutil.walk_packages(tribokin.__path__, "tribokin.")
+             if module.name.endswith("_kernels")]
+    return cache_is_empty([importlib.import_module(name) for name in names])
+
+
 @contextmanager
-def map_progress(warm_up: int):
+def map_progress(warm_up: int, compiling: bool = False):
     """A ``progress(done_targets, total_targets)`` callback drawing the map's :class:`ProgressBar`, made at
-    its first call; the bar is closed when the block ends."""
+    its first call (after the run's checks, before its chunks), and when ``compiling`` (:func:`kernels_to_compile`,
+    asked before the run) first saying so on stderr; the bar is closed when the block ends."""
     bar = None
 
     def report(done: int, total: int) -> None:
         nonlocal bar
         if bar is None:
+            if compiling:
+                print(COMPILING, file=sys.stderr, flush=True)
             bar = ProgressBar(total=total, initial=done, unit="target", desc="map", warm_up=warm_up)
         else:
             bar.update(done - bar.n)
@@ -132,7 +157,7 @@ def _compute_and_write(args, executor):
     check_chunk_folder(chunks, args.resume)
     resumed = chunks.exists()
     try:
-        with map_progress(warm_up=args.workers) as progress:
+        with map_progress(warm_up=args.workers, compiling=kernels_to_compile()) as progress:
             result = run_study(args.study, cycles=args.cycles, seed=args.seed, executor=executor, checkpoint=chunks,
                                resume=args.resume, progress=progress, meshes=args.report != "none")
         result.reproduce["command"] = ["tribokin", *args.argv]
@@ -307,7 +332,7 @@ def _calibrate(args) -> None:
     from tribokin.execution import executor_for
 
     with executor_for(args.workers, None) as executor, _claimed(args.out, args.force), \
-            map_progress(warm_up=args.workers) as progress:
+            map_progress(warm_up=args.workers, compiling=kernels_to_compile()) as progress:
         summary = calibrate(args.study, args.measurements, args.out, args.force, args.report, args.seed, executor,
                             progress)
     registration = summary["registration"]

@@ -48,3 +48,18 @@ def kernels_used() -> str:
     from importlib import metadata
 
     return f"{COMPILED} (numba {metadata.version('numba')})"
+
+
+def cache_is_empty(modules) -> bool:
+    """Whether numba's cache holds no compiled code, for their source as it now stands, of any kernel (a numba
+    dispatcher made with ``cache=True``) of ``modules``: a run on the compiled path then compiles the kernels it uses
+    (the first run after installing or changing tribokin). ``False`` when numba is not installed or ``modules`` has
+    no such kernel."""
+    if not _numba_installed():
+        return False
+    from numba.core.caching import FunctionCache
+
+    caches = [cache for module in modules for value in vars(module).values()
+              if isinstance(cache := getattr(value, "_cache", None), FunctionCache)]  # a dispatcher's, cache=True
+    return bool(caches) and not any(cache._cache_file._load_index() for cache in caches)  # {} when none is fresh
+
