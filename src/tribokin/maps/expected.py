@@ -357,15 +357,17 @@ def cycle_moments(positions: np.ndarray, cycles: int, normals: np.ndarray) -> tu
     covariance ē (Σ / n) ē, ē = E[(x_j - x̄) / l_j] (to first order), taken off the second moment.
     """
     n = cycles
-    centred = positions - positions.mean(axis=1, keepdims=True)
-    covariance = np.swapaxes(centred, 1, 2) @ centred / (positions.shape[1] - 1)
+    coordinates = np.moveaxis(positions, 2, 1).copy()  # (k, 3, M): each coordinate's cycles together in memory
+    centred = coordinates - coordinates.mean(axis=2, keepdims=True)
+    covariance = centred @ np.swapaxes(centred, 1, 2) / (positions.shape[1] - 1)
     lam, vectors = np.linalg.eigh(covariance)
     roots = vectors * np.sqrt(np.maximum(lam, 0.0) * (n - 1))[:, None, :] / n
-    offsets = (1 - 1 / n) * centred - normals @ np.swapaxes(roots, 1, 2)
-    squares = np.square(offsets).sum(axis=-1)
+    offsets = (1 - 1 / n) * centred
+    offsets -= roots @ normals.T
+    squares = np.square(offsets).sum(axis=1)
     distances = np.sqrt(squares)
     inverse = np.divide(1.0, distances, out=np.zeros_like(distances), where=distances > 0)
-    direction = (offsets * inverse[..., None]).mean(axis=1)
+    direction = (offsets * inverse[:, None, :]).mean(axis=2)
     shared = np.einsum("ki,kij,kj->k", direction, covariance, direction) / n
     moments = [distances.mean(axis=1), squares.mean(axis=1) - shared, (squares * distances).mean(axis=1),
                np.square(squares).mean(axis=1)]
