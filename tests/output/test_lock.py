@@ -77,15 +77,19 @@ def test_second_run_into_the_same_folder_is_refused_while_the_first_runs(tmp_pat
 
 
 def test_a_forked_child_does_not_hold_the_lock_after_its_parent_is_killed(tmp_path):
-    """A local worker forked during a run inherits the lock's descriptor; it closes it, so the lock ends with the run."""
+    """A local worker forked during a run inherits the lock's descriptor; it closes it, so the lock ends with the run.
+    The child says so once its fork has returned (the descriptor closed), before the parent is killed: until it has
+    run, it still holds the lock."""
     out = tmp_path / "out"
     holder = subprocess.Popen([sys.executable, "-c", "import os, time; from tribokin.output.lock import output_lock\n"
                                f"with output_lock({str(out)!r}):\n"
                                "    child = os.fork()\n"
-                               "    if child == 0:\n        time.sleep(60)\n        os._exit(0)\n"
-                               "    print(child, flush=True); time.sleep(60)"],
+                               "    if child == 0:\n        os.write(1, b'forked\\n')\n        time.sleep(60)\n"
+                               "        os._exit(0)\n"
+                               "    os.write(1, b'%d\\n' % child); time.sleep(60)"],
                               stdout=subprocess.PIPE, text=True)
-    child = int(holder.stdout.readline())
+    lines = {holder.stdout.readline().strip() for _ in range(2)}  # parent's and child's, each one write, either order
+    child = int((lines - {"forked"}).pop())
     try:
         holder.send_signal(signal.SIGKILL)
         holder.wait()
