@@ -62,4 +62,3 @@ def cache_is_empty(modules) -> bool:
     caches = [cache for module in modules for value in vars(module).values()
               if isinstance(cache := getattr(value, "_cache", None), FunctionCache)]  # a dispatcher's, cache=True
     return bool(caches) and not any(cache._cache_file._load_index() for cache in caches)  # {} when none is fresh
-

@@ -93,8 +93,8 @@ DEFERRED_GAP_M = 1e-6
 def deferred_heads(grid: TargetGrid, rows) -> np.ndarray:
     """(k,) whether the heads of grid rows ``rows`` lie more than ``DEFERRED_GAP_M`` beyond the robot's reach
     (:func:`beyond_reach_m`, a head at a time: the same decision wherever it is made)."""
-    gaps = [beyond_reach_m(grid, [row * grid.row_length])[0] for row in rows]
-    return np.array([gap > DEFERRED_GAP_M for gap in gaps], dtype=bool)  # NaN (within reach): False
+    gaps = np.array([beyond_reach_m(grid, [row * grid.row_length])[0] for row in rows], dtype=float)
+    return gaps > DEFERRED_GAP_M  # NaN (within reach, every head of a joint grid): False
 
 
 def solve_row_starts(robot: Robot, grid: TargetGrid) -> np.ndarray:
@@ -125,8 +125,6 @@ def heads_from_starts(robot: Robot, grid: TargetGrid, rows, starts: np.ndarray,
     each deferred head (:func:`deferred_heads`) solved from its start as the sequence of heads would have solved it,
     for the rows ``wanted`` (k,) (default: all; the others keep their start)."""
     heads = np.array(starts, dtype=float).reshape(len(rows), -1)
-    if grid.kind == "joint":
-        return heads
     solve = deferred_heads(grid, rows) & (True if wanted is None else np.asarray(wanted, dtype=bool))
     for k in np.flatnonzero(solve):
         heads[k] = _solve(robot, grid, rows[k] * grid.row_length, heads[k], pinocchio=True).q
