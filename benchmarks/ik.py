@@ -5,8 +5,7 @@ quicker run). Writes ``benchmarks/results/ik.json`` and prints it.
 
 The grid is the shipped ``studies/ur5-map-horizontal.toml``'s plane (tool pointing down: the orientation held) at
 ``--side`` × ``--side`` targets; where its rows start is solved once (:func:`tribokin.maps.run.prepare_map`) and not
-timed (a head beyond the reach is solved with its row, in both runs: :func:`tribokin.maps.rows.heads_from_starts`).
-Then, in one run, every row is solved from its head (:func:`tribokin.maps.rows.solve_rows`):
+timed. Then, in one run, every row is solved from its head (:func:`tribokin.maps.rows.solve_rows`):
 
 * ``row_by_row``: a row at a time, each target by :func:`~tribokin.kinematics.ik.solve_ik`, by ``solve_row`` as it
   was before the batch (:func:`solve_row_before`, its code; ``solve_rows(..., batched=False)`` gives the same bytes,
@@ -142,8 +141,7 @@ def main() -> None:
     grid, starts = prepared.grids[0], prepared.row_starts[0]
     rows = list(range(grid.row_count))
     before, (q_before, reachable_before, _) = timed(lambda: tuple(np.array(arrays) for arrays in zip(
-        *(solve_row_before(robot, grid, row, map_rows.heads_from_starts(robot, grid, [row], starts[[row]])[0])
-          for row in rows))), grid.size, args.repeats)
+        *(solve_row_before(robot, grid, row, starts[row]) for row in rows))), grid.size, args.repeats)
     runs, solutions = {}, []
     for size in sorted({study.map.rows_per_chunk, 8, 32, grid.row_count}):
         if size <= grid.row_count:
