@@ -5,8 +5,7 @@ quicker run). Writes ``benchmarks/results/ik.json`` and prints it.
 
 The grid is the shipped ``studies/ur5-map-horizontal.toml``'s plane (tool pointing down: the orientation held) at
 ``--side`` × ``--side`` targets; where its rows start is solved once (:func:`tribokin.maps.run.prepare_map`) and not
-timed (a head beyond the reach is solved with its row, in both runs: :func:`tribokin.maps.rows.heads_from_starts`).
-Then, in one run, every row is solved from its head (:func:`tribokin.maps.rows.solve_rows`):
+timed. Then, in one run, every row is solved from its head (:func:`tribokin.maps.rows.solve_rows`):
 
 * ``row_by_row``: a row at a time, each target by :func:`~tribokin.kinematics.ik.solve_ik`, by ``solve_row`` as it
   was before the batch (:func:`solve_row_before`, its code; ``solve_rows(..., batched=False)`` gives the same bytes,
@@ -82,7 +81,9 @@ def extrapolate_row_before(q: np.ndarray, reachable: np.ndarray) -> np.ndarray |
 
 
 def solve_row_before(robot, grid, row: int, head_q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``maps.rows.solve_row`` before the batch: grid row ``row`` target by target from its head."""
+    """``maps.rows.solve_row`` before the batch: grid row ``row`` target by target from where it starts (on
+    Pinocchio's path until it reaches a target, as :func:`~tribokin.maps.rows.solve_rows` now solves a row that starts
+    from another row's head)."""
     indices = grid.row_indices(row)
     closest = np.full((len(indices), 2), np.nan)
     q = np.full((len(indices), robot.model.nv), np.nan)
@@ -98,7 +99,7 @@ def solve_row_before(robot, grid, row: int, head_q) -> tuple[np.ndarray, np.ndar
         if predicted is not None:
             result = map_rows._solve_from(robot, grid, index, predicted)
         if result is None or not result.success:
-            result = map_rows._solve(robot, grid, index, q_start)
+            result = map_rows._solve(robot, grid, index, q_start, pinocchio=not reachable[:k].any())
         reachable[k] = result.success
         if result.success:
             q[k] = q_start = result.q
@@ -142,8 +143,7 @@ def main() -> None:
     grid, starts = prepared.grids[0], prepared.row_starts[0]
     rows = list(range(grid.row_count))
     before, (q_before, reachable_before, _) = timed(lambda: tuple(np.array(arrays) for arrays in zip(
-        *(solve_row_before(robot, grid, row, map_rows.heads_from_starts(robot, grid, [row], starts[[row]])[0])
-          for row in rows))), grid.size, args.repeats)
+        *(solve_row_before(robot, grid, row, starts[row]) for row in rows))), grid.size, args.repeats)
     runs, solutions = {}, []
     for size in sorted({study.map.rows_per_chunk, 8, 32, grid.row_count}):
         if size <= grid.row_count:

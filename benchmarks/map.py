@@ -223,7 +223,6 @@ class StageClock:
 STAGE_HOOKS = (
     ("tribokin.run", "load_robot", "robot"),
     ("tribokin.maps.run", "solve_row_starts", "IK: rows' heads"),
-    ("tribokin.maps.rows", "heads_from_starts", "IK: rows' heads"),  # those beyond the reach, in solve_rows
     ("tribokin.maps.run", "solve_rows", "IK: rows"),
     ("tribokin.maps.run", "fill_from_neighbours", "IK: holes from neighbours"),
     ("tribokin.simulation.pose_run", "PoseRunner.normal_forces_at", "loads"),

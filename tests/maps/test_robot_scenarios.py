@@ -50,18 +50,18 @@ def without_columns(table: str, *names: str) -> str:
 COMPARED = ("RP_l_ratio", "RP_l_diff_um", "reached_by")
 
 
-def horizontal(*scenarios: dict) -> dict:
-    """studies/ur5-map-horizontal.toml at 25 × 15 targets, where IK fills holes from neighbours, with ``scenarios``."""
-    study = read_study_file(STUDIES / "ur5-map-horizontal.toml").mapping
-    return {**study, "map": {**study["map"], "resolution": [25, 15]}, "scenarios": [{"name": "reference"}, *scenarios]}
+def vertical(*scenarios: dict) -> dict:
+    """studies/panda-map-vertical.toml at 15 × 19 targets, where IK fills holes from neighbours, with ``scenarios``."""
+    study = read_study_file(STUDIES / "panda-map-vertical.toml").mapping
+    return {**study, "map": {**study["map"], "resolution": [15, 19]}, "scenarios": [{"name": "reference"}, *scenarios]}
 
 
 def test_a_base_moved_by_zero_solves_its_own_ik_and_gives_the_same_bytes(tmp_path, monkeypatch):
     filled = []
     real = map_run.fill_from_neighbours
     monkeypatch.setattr(map_run, "fill_from_neighbours", lambda *args: filled.append(real(*args)) or filled[-1])
-    plain = run_study(horizontal({"name": "same"}), cycles=10)
-    zero_study = horizontal({"name": "same", "robot": {"base_xyz_m": [0.0, 0.0, 0.0]}})
+    plain = run_study(vertical({"name": "same"}), cycles=10)
+    zero_study = vertical({"name": "same", "robot": {"base_xyz_m": [0.0, 0.0, 0.0]}})
     zero = run_study(zero_study, cycles=10)
     assert (plain.map.robot_count, zero.map.robot_count) == (1, 2)  # the zero base is another robot, solved anew
     assert len(filled[0]) > 0 and [list(f) for f in filled[1:]] == [list(filled[0])] * 2  # its holes filled alike

@@ -5,13 +5,11 @@ warm-started from a neighbour in an order that does not depend on how the rows a
 split into chunks: the first target of every row (the *row heads*) is solved in one sequence
 from the start posture (:func:`solve_row_starts`), then each row is solved along its columns
 from its head, a chunk's rows together (:func:`solve_rows`). So a row's configurations depend on the grid only.
-A head beyond the reach bounds is not reached, so no other head starts from it: it is solved with its row
-(:func:`heads_from_starts`), where the chunks run, from where the sequence would have started it.
+A row whose head is not reached starts from the last head reached before it, on the branch of the rows before.
 
 A target beyond the robot's reach (``grid.reach``, :mod:`tribokin.kinematics.reach`: the tool point's sphere, and with
-the tool's orientation held the last joint's) is unreachable without any IK iteration, except a row head: its failed
-IK's configuration is its row's warm start. IK cannot reach such a target anyway, so every other target is solved
-along the same path as without the bounds.
+the tool's orientation held the last joint's) is unreachable without any IK iteration, a row head too. IK cannot reach
+such a target anyway, so every other target is solved along the same path as without the bounds.
 """
 
 from __future__ import annotations
@@ -85,50 +83,25 @@ def head_order(grid: TargetGrid) -> list[int]:
     return order
 
 
-#: How far [m] beyond the reach bounds a row head lies whose IK is left to its row (:func:`deferred_heads`): far
-#: beyond the IK's tolerances (1e-10 m, 1e-9 rad), so that it cannot be reached.
-DEFERRED_GAP_M = 1e-6
-
-
-def deferred_heads(grid: TargetGrid, rows) -> np.ndarray:
-    """(k,) whether the heads of grid rows ``rows`` lie more than ``DEFERRED_GAP_M`` beyond the robot's reach
-    (:func:`beyond_reach_m`, a head at a time: the same decision wherever it is made)."""
-    gaps = np.array([beyond_reach_m(grid, [row * grid.row_length])[0] for row in rows], dtype=float)
-    return gaps > DEFERRED_GAP_M  # NaN (within reach, every head of a joint grid): False
-
-
 def solve_row_starts(robot: Robot, grid: TargetGrid) -> np.ndarray:
-    """(rows, nv) where every grid row starts: its head (first target) solved from the previous head reached (the
-    start posture for the first), in :func:`head_order`; for a head beyond the reach (:func:`deferred_heads`), the
-    posture its IK starts from, solved with its row (:func:`heads_from_starts`).
+    """(rows, nv) where every grid row starts: its head (first target) solved from the last head reached before it
+    in :func:`head_order` (the start posture for the first), or, for a head not reached (beyond the reach without
+    any IK, :func:`beyond_reach_m`), that last head's configuration.
 
     On Pinocchio's path whatever the kernel path (:func:`~tribokin.kinematics.ik.solve_ik`'s ``pinocchio``): a head
-    that is not reached warm-starts its row from where its failed IK ended, which depends on every rounding."""
+    solved from a distant head may pass near a singular configuration, where its path depends on every rounding."""
     if grid.kind == "joint":
         return grid.joint_q(np.arange(0, grid.size, grid.row_length))
     starts = np.empty((grid.row_count, robot.model.nv))
-    deferred = deferred_heads(grid, range(grid.row_count))
+    beyond = ~np.isnan([beyond_reach_m(grid, [row * grid.row_length])[0] for row in range(grid.row_count)])
     q_start = grid.start_q
     for row in head_order(grid):
-        starts[row] = q_start
-        if not deferred[row]:
+        if not beyond[row]:
             result = _solve(robot, grid, row * grid.row_length, q_start, pinocchio=True)
-            starts[row] = result.q
             if result.success:
                 q_start = result.q
+        starts[row] = q_start
     return starts
-
-
-def heads_from_starts(robot: Robot, grid: TargetGrid, rows, starts: np.ndarray,
-                      wanted: np.ndarray | None = None) -> np.ndarray:
-    """(k, nv) the heads of grid rows ``rows`` from where they start (``starts`` (k, nv), :func:`solve_row_starts`):
-    each deferred head (:func:`deferred_heads`) solved from its start as the sequence of heads would have solved it,
-    for the rows ``wanted`` (k,) (default: all; the others keep their start)."""
-    heads = np.array(starts, dtype=float).reshape(len(rows), -1)
-    solve = deferred_heads(grid, rows) & (True if wanted is None else np.asarray(wanted, dtype=bool))
-    for k in np.flatnonzero(solve):
-        heads[k] = _solve(robot, grid, rows[k] * grid.row_length, heads[k], pinocchio=True).q
-    return heads
 
 
 def extrapolate_rows(q: np.ndarray, streaks: np.ndarray, continuous: np.ndarray | None = None) -> np.ndarray:
@@ -171,8 +144,9 @@ def _solve_from_warm_starts(robot: Robot, chain: SerialChain | None, grid: Targe
 
 
 #: How the IK reached a target (a map's ``ik_route`` column; a joint map's targets need no IK: ``UNREACHED``): not
-#: at all; warm-started along its row (:func:`extrapolate_rows`); from its row's last reached configuration (the head
-#: first); after random restarts; from a reached neighbour's configuration (:func:`fill_from_neighbours`).
+#: at all; warm-started along its row (:func:`extrapolate_rows`); from its row's last reached configuration (where
+#: the row starts, first); after random restarts; from a reached neighbour's configuration
+#: (:func:`fill_from_neighbours`).
 UNREACHED, ALONG_ROW, FROM_LAST_REACHED, AFTER_RESTARTS, FROM_NEIGHBOUR = range(5)
 #: The routes by the names ``summary.json`` counts them under.
 IK_ROUTES = {"warm_started_along_row": ALONG_ROW, "from_last_reached": FROM_LAST_REACHED,
@@ -181,17 +155,18 @@ IK_ROUTES = {"warm_started_along_row": ALONG_ROW, "from_last_reached": FROM_LAST
 
 def solve_rows(robot: Robot, grid: TargetGrid, rows, starts, batched: bool = True) -> tuple[np.ndarray, np.ndarray,
                                                                                              np.ndarray, np.ndarray]:
-    """Configurations of grid rows ``rows``, each from its head (from ``starts`` (rows, nv) [m or rad],
-    :func:`solve_row_starts`: a deferred head solved first, :func:`heads_from_starts`), column by column.
+    """Configurations of grid rows ``rows``, each from where it starts (``starts`` (rows, nv) [m or rad],
+    :func:`solve_row_starts`), column by column.
 
     Each target is warm-started from the polynomial through its row's last reached targets when two or more right
     before it were reached (:func:`extrapolate_rows`; a multi-turn joint's angle beyond a limit turned back within it,
     :func:`turned_into_limits`), the rows' targets of a column together
     (:func:`~tribokin.kinematics.ik.solve_ik_batch`; one by one when ``batched`` is False or NumPy cannot compute the
     robot's chain, :func:`~tribokin.kinematics.chain.serial_chain`); a target this does not solve is solved from its
-    row's last reached configuration (the head first), then from seeded random restarts, one by one; until the row
-    has reached a target, on Pinocchio's path whatever the kernel path (:func:`~tribokin.kinematics.ik.solve_ik`'s
-    ``pinocchio``: from a head not reached, where its failed IK ended, where a solve goes depends on every rounding).
+    row's last reached configuration (where the row starts, first), then from seeded random restarts, one by one;
+    until the row has reached a target, on Pinocchio's path whatever the kernel path
+    (:func:`~tribokin.kinematics.ik.solve_ik`'s ``pinocchio``: from another row's head, a solve may pass near a
+    singular configuration, and from there its path depends on every rounding).
     A row's configurations depend on its head and the grid only, not on the other rows solved with it. Targets beyond
     the robot's reach are not solved (:func:`beyond_reach_m`).
 
@@ -214,7 +189,7 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, starts, batched: bool = Tru
     closest[..., 0] = [beyond_reach_m(grid, row) for row in indices]
     q = np.full((*indices.shape, nv), np.nan)
     reachable = np.zeros(indices.shape, dtype=bool)
-    q_start = heads_from_starts(robot, grid, list(rows), starts, np.isnan(closest[..., 0]).any(axis=1))
+    q_start = np.array(starts, dtype=float).reshape(len(indices), nv)
     streaks = np.zeros(len(indices), dtype=int)  # targets reached right before the column, in each row
     started = np.zeros(len(indices), dtype=bool)  # rows that have reached a target
     for column in range(grid.row_length):
