@@ -1,11 +1,14 @@
 """The command's progress bar: its ETA leaves out the start-up, it follows the map's progress reports, and it says
-first when numba compiles the kernels."""
+first when numba compiles the kernels; the command's entry point."""
 
+import gc
 import io
+import sys
+from importlib.metadata import entry_points
 
 from tqdm import std as tqdm_std
 
-from tribokin.cli import COMPILING, ETA_SAMPLES, ProgressBar, map_progress
+from tribokin.cli import COMPILING, ETA_SAMPLES, ProgressBar, entry, map_progress
 
 
 def test_eta_counts_only_the_chunks_after_each_workers_first(monkeypatch):
@@ -56,3 +59,13 @@ def test_one_that_does_not_says_nothing_of_it(capsys):
     with map_progress(warm_up=1) as report:
         report(0, 1000)
     assert "numba" not in capsys.readouterr().err
+
+
+def test_the_command_returns_mains_status_with_what_main_left_frozen(monkeypatch, capsys):
+    assert entry_points(group="console_scripts")["tribokin"].value == "tribokin.cli:entry"
+    monkeypatch.setattr(sys, "argv", ["tribokin"])  # no command: the help, status 2
+    try:
+        assert entry() == 2 and gc.get_freeze_count() > 0
+    finally:
+        gc.unfreeze()
+    assert "usage: tribokin" in capsys.readouterr().err

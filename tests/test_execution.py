@@ -1,5 +1,7 @@
 """Where chunks run: one executor, checked and built once, shut down with its block (results: test_map_execution.py)."""
 
+import subprocess
+import sys
 import threading
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
@@ -20,6 +22,36 @@ def test_one_worker_runs_here_in_key_order_and_a_pool_is_shut_down_with_its_bloc
             assert dict(results) == {k: k * k for k in range(5)}
     with pytest.raises(RuntimeError):
         pool.submit(pow, 2, 2)
+
+
+#: Run in a fresh interpreter: a pool is forked only from a process without other threads, which a test session's
+#: earlier tests may have left.
+FROZEN_POOL = """
+import gc
+from tribokin.execution import executor_for, run_chunks
+
+def frozen(_):
+    return gc.get_freeze_count()
+
+if __name__ == "__main__":
+    before = gc.get_freeze_count()
+    with executor_for(workers=2) as pool:
+        start, during = pool._mp_context.get_start_method(), gc.get_freeze_count()
+        with run_chunks(frozen, {k: (k,) for k in range(2)}, pool) as results:
+            workers = sorted(count for _, count in results)
+    print(start, before, during, *workers, gc.get_freeze_count())
+"""
+
+
+def test_a_forked_pool_has_what_its_parent_had_frozen_for_its_life(tmp_path):
+    """The gc module's advice for workers forked without exec: their collections (and the parent's while they run)
+    do not walk what was there before the fork."""
+    script = tmp_path / "frozen_pool.py"
+    script.write_text(FROZEN_POOL)
+    start, before, during, *workers, after = subprocess.run(
+        [sys.executable, script], capture_output=True, text=True, check=True).stdout.split()
+    assert start == "fork" and int(before) == 0 and int(during) > 0 and int(after) == 0
+    assert all(int(count) > 0 for count in workers)  # inherited (less those freed since)
 
 
 def test_workers_are_checked_before_anything_is_built():

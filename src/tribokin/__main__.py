@@ -1,5 +1,5 @@
 import sys
 
-from tribokin.cli import main
+from tribokin.cli import entry
 
-sys.exit(main())
+sys.exit(entry())

@@ -7,6 +7,7 @@ and exits with status 2; nothing is written.
 from __future__ import annotations
 
 import argparse
+import gc
 import sys
 from contextlib import contextmanager
 from pathlib import Path
@@ -454,6 +455,15 @@ def build_parser() -> argparse.ArgumentParser:
                         "file instead, the default first")
     robots.set_defaults(handler=_robots)
     return parser
+
+
+def entry() -> int:
+    """The ``tribokin`` command (``python -m tribokin``): :func:`main`, then every object it leaves frozen
+    (:func:`gc.freeze`), so that the interpreter's exit does not search them for garbage before the process ends
+    (0.4 s after a 600 x 600 map); its exit handlers still run."""
+    status = main()
+    gc.freeze()
+    return status
 
 
 def main(argv=None) -> int:

@@ -9,6 +9,7 @@ workers end with the process that started them, however it ends (Linux).
 from __future__ import annotations
 
 import ctypes
+import gc
 import multiprocessing
 import os
 import signal
@@ -73,8 +74,9 @@ def executor_for(workers: int = 1, scheduler: str | None = None) -> Iterator[Exe
     Yields ``None`` (here, in key order) for one worker and no scheduler; else a
     :class:`~concurrent.futures.ProcessPoolExecutor` of ``workers`` local processes: forked from this
     process if it runs no other thread now (fast, and they inherit what it has loaded when the first
-    chunk is submitted), else spawned clean (forking a process with threads can deadlock); they end
-    when this process ends, even if it is killed. With ``scheduler``, the address of a
+    chunk is submitted; what it held when the pool was made stays frozen for the pool's life, :func:`gc.freeze`,
+    so that no collection, there or here, walks it), else spawned clean (forking a process with threads can
+    deadlock); they end when this process ends, even if it is killed. With ``scheduler``, the address of a
     dask.distributed scheduler (``"tcp://host:8786"``, its workers able to import tribokin), its
     client's executor.
     """
@@ -94,12 +96,16 @@ def executor_for(workers: int = 1, scheduler: str | None = None) -> Iterator[Exe
         yield None
         return
     start = "fork" if "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1 else "spawn"
+    if start == "fork":
+        gc.freeze()  # as the gc module advises before forking: no collection, here or in a worker, walks these again
     pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(start), initializer=_end_with,
                                initargs=(os.getpid(),))
     try:
         yield pool
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
+        if start == "fork":
+            gc.unfreeze()
 
 
 def local_workers(executor: Executor | None) -> int:
