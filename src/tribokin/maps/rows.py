@@ -4,7 +4,7 @@ Cartesian targets are solved by inverse kinematics,
 warm-started from a neighbour in an order that does not depend on how the rows are later
 split into chunks: the first target of every row (the *row heads*) is solved in one sequence
 from the start posture (:func:`solve_row_starts`), then each row is solved along its columns
-from its head, a chunk's rows together (:func:`solve_rows`). So a row's configurations depend on the grid only.
+from where it starts, a chunk's rows together (:func:`solve_rows`). So a row's configurations depend on the grid only.
 A row whose head is not reached starts from the last head reached before it, on the branch of the rows before.
 
 A target beyond the robot's reach (``grid.reach``, :mod:`tribokin.kinematics.reach`: the tool point's sphere, and with
@@ -167,8 +167,8 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, starts, batched: bool = Tru
     until the row has reached a target, on Pinocchio's path whatever the kernel path
     (:func:`~tribokin.kinematics.ik.solve_ik`'s ``pinocchio``: from another row's head, a solve may pass near a
     singular configuration, and from there its path depends on every rounding).
-    A row's configurations depend on its head and the grid only, not on the other rows solved with it. Targets beyond
-    the robot's reach are not solved (:func:`beyond_reach_m`).
+    A row's configurations depend on where it starts and the grid only, not on the other rows solved with it. Targets
+    beyond the robot's reach are not solved (:func:`beyond_reach_m`).
 
     Returns:
         q (rows, columns, nv) [m or rad] (NaN where unreachable), reachable (rows, columns), and for unreachable
