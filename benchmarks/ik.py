@@ -81,9 +81,7 @@ def extrapolate_row_before(q: np.ndarray, reachable: np.ndarray) -> np.ndarray |
 
 
 def solve_row_before(robot, grid, row: int, head_q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``maps.rows.solve_row`` before the batch: grid row ``row`` target by target from where it starts (on
-    Pinocchio's path until it reaches a target, as :func:`~tribokin.maps.rows.solve_rows` now solves a row that starts
-    from another row's head)."""
+    """``maps.rows.solve_row`` before the batch: grid row ``row`` target by target from where it starts."""
     indices = grid.row_indices(row)
     closest = np.full((len(indices), 2), np.nan)
     q = np.full((len(indices), robot.model.nv), np.nan)
@@ -99,7 +97,7 @@ def solve_row_before(robot, grid, row: int, head_q) -> tuple[np.ndarray, np.ndar
         if predicted is not None:
             result = map_rows._solve_from(robot, grid, index, predicted)
         if result is None or not result.success:
-            result = map_rows._solve(robot, grid, index, q_start, pinocchio=not reachable[:k].any())
+            result = map_rows._solve(robot, grid, index, q_start)
         reachable[k] = result.success
         if result.success:
             q[k] = q_start = result.q

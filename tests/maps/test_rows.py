@@ -331,9 +331,8 @@ def test_each_target_says_how_the_ik_reached_it(horizontal):
     for row, column in zip(*np.nonzero(np.isin(routes, [map_rows.FROM_LAST_REACHED, map_rows.AFTER_RESTARTS]))):
         before = np.flatnonzero(reachable[row, :column])
         start = q[row, before[-1]] if len(before) else starts[row]
-        index = grid.row_indices(row)[column]  # on solve_rows's path: Pinocchio's until the row has reached a target
-        again = ik.solve_ik(robot, map_rows._target(grid, index), start, position_only=grid.rotation is None,
-                            pinocchio=not len(before))
+        index = grid.row_indices(row)[column]
+        again = ik.solve_ik(robot, map_rows._target(grid, index), start, position_only=grid.rotation is None)
         assert again.success == (routes[row, column] == map_rows.FROM_LAST_REACHED)
     study = load_study(STUDIES / "ur5-map-horizontal.toml")
     summary = run_study(study).map.summary()

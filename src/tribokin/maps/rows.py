@@ -88,8 +88,9 @@ def solve_row_starts(robot: Robot, grid: TargetGrid) -> np.ndarray:
     in :func:`head_order` (the start posture for the first), or, for a head not reached (beyond the reach without
     any IK, :func:`beyond_reach_m`), that last head's configuration.
 
-    On Pinocchio's path whatever the kernel path (:func:`~tribokin.kinematics.ik.solve_ik`'s ``pinocchio``): a head
-    solved from a distant head may pass near a singular configuration, where its path depends on every rounding."""
+    On Pinocchio's path whatever the kernel path (:func:`~tribokin.kinematics.ik.solve_ik`'s ``pinocchio``), so that
+    every row starts from the same bytes on both: a head solved from a distant head may pass near a singular
+    configuration, where its path depends on every rounding."""
     if grid.kind == "joint":
         return grid.joint_q(np.arange(0, grid.size, grid.row_length))
     starts = np.empty((grid.row_count, robot.model.nv))
@@ -163,10 +164,7 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, starts, batched: bool = Tru
     :func:`turned_into_limits`), the rows' targets of a column together
     (:func:`~tribokin.kinematics.ik.solve_ik_batch`; one by one when ``batched`` is False or NumPy cannot compute the
     robot's chain, :func:`~tribokin.kinematics.chain.serial_chain`); a target this does not solve is solved from its
-    row's last reached configuration (where the row starts, first), then from seeded random restarts, one by one;
-    until the row has reached a target, on Pinocchio's path whatever the kernel path
-    (:func:`~tribokin.kinematics.ik.solve_ik`'s ``pinocchio``: from another row's head, a solve may pass near a
-    singular configuration, and from there its path depends on every rounding).
+    row's last reached configuration (where the row starts, first), then from seeded random restarts, one by one.
     A row's configurations depend on where it starts and the grid only, not on the other rows solved with it. Targets
     beyond the robot's reach are not solved (:func:`beyond_reach_m`).
 
@@ -191,7 +189,6 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, starts, batched: bool = Tru
     reachable = np.zeros(indices.shape, dtype=bool)
     q_start = np.array(starts, dtype=float).reshape(len(indices), nv)
     streaks = np.zeros(len(indices), dtype=int)  # targets reached right before the column, in each row
-    started = np.zeros(len(indices), dtype=bool)  # rows that have reached a target
     for column in range(grid.row_length):
         within = np.isnan(closest[:, column, 0])
         predicted = turned_into_limits(robot, extrapolate_rows(q[:, :column], streaks, robot.continuous))
@@ -203,7 +200,7 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, starts, batched: bool = Tru
             reachable[reached, column], routes[reached, column] = True, ALONG_ROW
             q[reached, column] = q_start[reached] = first.q[first.success]
         for row in np.flatnonzero(within & ~reachable[:, column]):  # from its last reached target, then restarts
-            result = _solve(robot, grid, indices[row, column], q_start[row], pinocchio=not started[row])
+            result = _solve(robot, grid, indices[row, column], q_start[row])
             reachable[row, column] = result.success
             if result.success:
                 q[row, column] = q_start[row] = result.q
@@ -212,7 +209,6 @@ def solve_rows(robot: Robot, grid: TargetGrid, rows, starts, batched: bool = Tru
                 closest[row, column] = result.position_error_m, np.nan if grid.rotation is None else \
                     result.angle_error_rad
         streaks = np.where(reachable[:, column], streaks + 1, 0)
-        started |= reachable[:, column]
     return q, reachable, closest, routes
 
 
