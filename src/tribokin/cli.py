@@ -149,7 +149,7 @@ def _compute_and_write(args, executor):
     """Run the study (resuming from ``<out>.chunks`` if asked) and write its output folder. A refusal
     deletes the chunk folder this run created, never one an interrupted run left for ``--resume``."""
     from tribokin.maps.store import check_chunk_folder, chunk_folder, discard
-    from tribokin.output.writers import write_results
+    from tribokin.output.writers import import_views, write_results
     from tribokin.run import run_study
 
     chunks = chunk_folder(args.out)
@@ -160,7 +160,8 @@ def _compute_and_write(args, executor):
     try:
         with map_progress(warm_up=args.workers, compiling=kernels_to_compile()) as progress:
             result = run_study(args.study, cycles=args.cycles, seed=args.seed, executor=executor, checkpoint=chunks,
-                               resume=args.resume, progress=progress, meshes=args.report != "none")
+                               resume=args.resume, progress=progress, meshes=args.report != "none",
+                               meanwhile=import_views)
         result.reproduce["command"] = ["tribokin", *args.argv]
         out = write_results(result, args.out, args.force, report=args.report, executor=executor)
     except InputError:

@@ -87,7 +87,7 @@ def scenario_settings(scenario: ScenarioSpec, robots: MapRobots, place: int) -> 
 
 def run_study(study, cycles: int | None = None, seed: int | None = None, *, executor: Executor | None = None,
               checkpoint=None, resume: bool = False, progress: Callable[[int, int], None] | None = None,
-              meshes: bool = True) -> StudyResult:
+              meshes: bool = True, meanwhile: Callable[[], None] | None = None) -> StudyResult:
     """Run a study from a TOML path, a mapping or a :class:`Study`.
 
     Args:
@@ -101,6 +101,7 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
             the targets of the candidates done, :func:`~tribokin.placement.search.run_placement`).
         meshes: load the robot's meshes, to draw it in a report (every mesh of a URDF must then be found);
             ``False``: its kinematics only.
+        meanwhile: called once, here, while the map's chunks run (:func:`~tribokin.maps.run.run_map`).
 
     Returns:
         the per-pose samples and ISO 9283 figures, and the map's per-target figures or the placement's per-candidate
@@ -134,7 +135,7 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     if study.placement is not None:
         placement = run_placement(study, executor, checkpoint, resume, progress)
     elif prepared_map is not None:
-        workspace_map = run_map(study, prepared_map, executor, checkpoint, resume, progress)
+        workspace_map = run_map(study, prepared_map, executor, checkpoint, resume, progress, meanwhile)
     settings = {
         "name": study.name,
         "source": study.source,

@@ -1,8 +1,11 @@
-"""Map runs: the order chunks are computed in and the progress they report (results: test_map_execution.py)."""
+"""Map runs: the order chunks are computed in, the progress they report, and what runs while they compute
+(results: test_map_execution.py)."""
 
 from conftest import GANTRY_MAP_TOML
 from tribokin import run_study
+from tribokin.execution import executor_for
 from tribokin.maps.run import chunk_order
+from tribokin.maps.store import ChunkStore
 
 SMALL_MAP = GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 5")  # 1000 targets in 40 chunks of one row
 
@@ -34,3 +37,17 @@ def test_a_map_of_one_chunk_reports_no_progress(tmp_path):
     calls = []
     assert run_study(study, progress=lambda *call: calls.append(call)).map.grid.size == 1000
     assert calls == []
+
+
+def test_meanwhile_runs_once_after_the_chunks_are_handed_to_the_workers_and_before_a_result_is_read(tmp_path,
+                                                                                                      monkeypatch):
+    study = tmp_path / "study.toml"
+    study.write_text(SMALL_MAP)
+    events = []
+    save = ChunkStore.save
+    monkeypatch.setattr(ChunkStore, "save", lambda store, *args: events.append("saved") or save(store, *args))
+    with executor_for(workers=2) as executor:
+        run_study(study, executor=executor, progress=lambda *call: events.append("progress"),
+                  meanwhile=lambda: events.append("meanwhile"))
+    assert events[:2] == ["progress", "meanwhile"] and events.count("meanwhile") == 1
+    assert events.count("saved") == 40  # every chunk's result read after it

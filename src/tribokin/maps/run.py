@@ -285,7 +285,8 @@ def prepare_map(study: Study, robots: MapRobots) -> PreparedMap:
 
 
 def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = None, checkpoint=None,
-            resume: bool = False, progress: Callable[[int, int], None] | None = None) -> MapResult:
+            resume: bool = False, progress: Callable[[int, int], None] | None = None,
+            meanwhile: Callable[[], None] | None = None) -> MapResult:
     """Measure the study's ``[map]`` for each scenario.
 
     Args:
@@ -297,6 +298,8 @@ def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = Non
         resume: reuse the chunks an interrupted run saved in ``checkpoint``.
         progress: called ``progress(done_targets, total_targets)`` before the chunks run (the targets of
             resumed chunks done) and as each finishes, if the map has more than one chunk.
+        meanwhile: called once, here, after the chunks are handed to ``executor`` and before their results are
+            read: while its workers compute, this process has the time (with no executor, before the chunks run).
     """
     studies = tuple(runner.study for runner in prepared.runners)
     names = [s.name for s in study.scenarios] or [study.name]
@@ -315,6 +318,8 @@ def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = Non
     try:
         with run_chunks(compute_chunk, todo, executor) as results:
             report(done_targets, grid.size)
+            if meanwhile is not None:
+                meanwhile()
             for chunk, arrays in results:
                 store.save(chunk, chunks[chunk][0] * grid.row_length, arrays)
                 done_targets += len(chunks[chunk]) * grid.row_length

@@ -220,6 +220,13 @@ def write_placement(placement: PlacementResult, folder: Path, out: Path) -> None
     (folder / BEST_STUDY).write_text(best_study_text(placement, Path(out)), encoding="utf-8")
 
 
+def import_views() -> None:
+    """Import what :func:`write_results` draws with (matplotlib, meshcat: about half a second) ahead of it, for a
+    process that has the time now: one waiting for a map's workers (:func:`~tribokin.run.run_study`'s
+    ``meanwhile``)."""
+    import tribokin.viz.contents  # noqa: F401
+
+
 def write_results(result: StudyResult, out, force: bool = False, report: str = "full", map_layers=None,
                   cube=None, executor: Executor | None = None) -> Path:
     """Write summary.json, the pose files (poses.csv, samples.npz), the map tables (map*.csv) or the placement's
