@@ -469,12 +469,13 @@ def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.nd
     close = np.flatnonzero(first - second <= TAIL_STDS * width)
     if len(close):
         z = expected_stream(runner.study.seed, "vap").standard_normal((VAP_DRAWS, len(directions), 3))
+        z = np.ascontiguousarray(z.transpose(1, 2, 0))  # (3 directions, 3, draws): each direction's draws by coordinate
         lam, vectors = np.linalg.eigh(noise[close])  # a root of each (close, 3 directions, 3, 3), singular ones too
         roots = vectors * np.sqrt(np.maximum(lam, 0.0))[..., None, :]
         for block in np.array_split(np.arange(len(close)), max(1, len(close) * VAP_DRAWS // BLOCK_CYCLES)):
-            barycentres = centres[close[block], None] + np.einsum("kdij,tdj->ktdi", roots[block], z)
-            vap[close[block]] = np.max([np.linalg.norm(barycentres[:, :, a] - barycentres[:, :, b], axis=-1)
-                                        for a, b in pairs], axis=0).mean(axis=1)
+            barycentres = [centres[close[block], d, :, None] + roots[block, d] @ z[d] for d in range(len(directions))]
+            distances = [np.sqrt(np.sum((barycentres[a] - barycentres[b]) ** 2, axis=1)) for a, b in pairs]
+            vap[close[block]] = np.max(distances, axis=0).mean(axis=1)  # (block, draws) -> (block,)
     bounds = np.max([np.where(m.met[:, None], m.bound, 0.0) for m in models], axis=0)
     return vap * UM_PER_M, bounds, np.sum([~m.met for m in models], axis=0).clip(max=1)
 
