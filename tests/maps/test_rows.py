@@ -239,7 +239,7 @@ def test_a_row_whose_head_is_not_reached_starts_from_the_last_head_reached(horiz
 def test_the_far_rows_keep_the_branch_of_the_rows_before_them(horizontal):
     """studies/ur5-map-horizontal.toml: every reached target with the elbow bent the same way and the second wrist
     joint on the same side, from the near rows to the far ones whose heads lie beyond the reach (when such a row
-    started where its head's failed IK ended, 175 of the 1 266 targets its row reached took other branches)."""
+    started where its head's failed IK ended, 175 of the 1 266 targets the rows reached took other branches)."""
     robot, grid, starts = horizontal
     q, reachable, _, _ = solve_rows(robot, grid, range(grid.row_count), starts)
     reached = q[reachable]
