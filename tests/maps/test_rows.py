@@ -283,8 +283,8 @@ def differences(solved) -> tuple[int, np.ndarray]:
 def test_the_compiled_ik_solves_the_ur5_rows_as_numpy_and_pinocchio(horizontal, monkeypatch):
     """studies/ur5-map-horizontal.toml (tool pointing down; 9 of its 29 row heads beyond the reach, whose rows start
     where another row's head was reached): the same row starts to the bit (Pinocchio's path on both), the same
-    reached targets and routes, configurations within 1e-12 rad, and the same ``closest`` beyond the reach bounds (where IK failed, how close it
-    came depends on every rounding)."""
+    reached targets and routes, configurations within 1e-12 rad, and the same ``closest`` beyond the reach bounds
+    (where IK failed, how close it came depends on every rounding)."""
     robot, grid, _ = horizontal
     solved = rows_on_both_paths(robot, grid, monkeypatch)
     assert solved["numpy"][0].tobytes() == solved["compiled"][0].tobytes()

@@ -94,7 +94,7 @@ def solve_row_starts(robot: Robot, grid: TargetGrid) -> np.ndarray:
     if grid.kind == "joint":
         return grid.joint_q(np.arange(0, grid.size, grid.row_length))
     starts = np.empty((grid.row_count, robot.model.nv))
-    beyond = ~np.isnan([beyond_reach_m(grid, [row * grid.row_length])[0] for row in range(grid.row_count)])
+    beyond = ~np.isnan(beyond_reach_m(grid, np.arange(grid.row_count) * grid.row_length))
     q_start = grid.start_q
     for row in head_order(grid):
         if not beyond[row]:
