@@ -95,8 +95,8 @@ def test_map_tables_of_a_real_map_are_the_repr_writers_bytes_written_block_by_bl
 
 
 def test_map_tables_formatted_by_two_workers_while_the_figures_are_drawn_are_the_same_bytes(tmp_path, monkeypatch):
-    """Blocks of 7 targets formatted by a pool of 2 processes (reading the map's store), while ``meanwhile`` runs
-    here: the same bytes as written here, block after block."""
+    """Blocks of 7 targets formatted by a pool of 2 processes (reading the map's store) into part files, while
+    ``meanwhile`` runs here: the same bytes as written here, block after block, and no part file left."""
     monkeypatch.setattr(writers, "TABLE_TARGETS", 7)
     study = copy.deepcopy(read_study_file(STUDIES / "ur5-map-horizontal.toml").mapping)
     study["map"]["resolution"] = [6, 5]
@@ -111,3 +111,4 @@ def test_map_tables_formatted_by_two_workers_while_the_figures_are_drawn_are_the
     assert events == [False]  # meanwhile ran before the table was opened
     assert (tmp_path / "pool.csv").read_bytes() == (tmp_path / "here.csv").read_bytes()
     assert (tmp_path / "here.csv").read_bytes().count(b"\r\n") == workspace_map.grid.size + 1
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["here.csv", "pool.csv"]

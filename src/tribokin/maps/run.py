@@ -1,12 +1,13 @@
 """Workspace maps: the ISO 9283 figures at every target of a grid, computed in chunks of whole rows.
 
-Each target is measured like a single pose from its own random stream (:mod:`tribokin.maps.measure`),
-and only its scalar figures are kept, on disk (:class:`~tribokin.maps.store.ChunkStore`): memory
-holds a chunk's targets and a block's cycles, whatever the grid's size. A chunk solves and measures whole grid rows from
-where they start (:mod:`tribokin.maps.rows`), so the numbers depend on neither the chunk size,
-nor the number of workers, nor where the chunks run, nor on a resume. Each robot the scenarios measure with
-(another robot, base or tool: :class:`~tribokin.study.assembly.MapRobots`) solves its own IK of the same targets;
-the scenarios of one robot are measured at its configurations, every scenario with the same streams.
+Each target's figures are expected values over ISO tests (:mod:`tribokin.maps.expected`), or those of one simulated
+test from the target's own random stream (a one-test map: :mod:`tribokin.maps.measure`). Only its scalar figures are
+kept, on disk (:class:`~tribokin.maps.store.ChunkStore`, into which a local worker writes its chunk itself, no values
+sent back through a pipe): memory holds a chunk's targets and a block's cycles, whatever the grid's size. A chunk
+solves and measures whole grid rows from where they start (:mod:`tribokin.maps.rows`), so the numbers depend on
+neither the chunk size, nor the number of workers, nor where the chunks run, nor on a resume. Each robot the scenarios
+measure with (another robot, base or tool: :class:`~tribokin.study.assembly.MapRobots`) solves its own IK of the same
+targets; the scenarios of one robot are measured at its configurations, every scenario with the same streams.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ import numpy as np
 
 from tribokin.compiled import kernels_used
 from tribokin.errors import InputError
-from tribokin.execution import run_chunks
+from tribokin.execution import local_pool, run_chunks
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
@@ -75,13 +76,15 @@ def _job_context(job: MapJob) -> tuple[list[Robot], list[PoseRunner]]:
     return _local.cache[1:]
 
 
-def compute_chunk(job: MapJob, rows: list[int], starts: tuple[np.ndarray, ...]) -> dict[str, np.ndarray]:
+def compute_chunk(job: MapJob, rows: list[int], starts: tuple[np.ndarray, ...],
+                  store: ChunkStore | None = None) -> dict[str, np.ndarray] | None:
     """Solve grid rows ``rows`` for each robot from its ``starts`` (rows, nv), together (:func:`solve_rows`), then
     measure them row by row (a row's reached targets measured together, in blocks: :func:`measure_into`).
 
     Returns:
         the chunk's targets' values of every column of the map's layout (:class:`~tribokin.maps.schema.MapLayout`),
-        in index order.
+        in index order; with a ``store`` (one this process can write: a local worker's), ``None``, the values
+        written there instead (:meth:`~tribokin.maps.store.ChunkStore.write`), not sent back through a pipe.
     """
     robots, runners = _job_context(job)
     row_length = job.grids[0].row_length
@@ -98,7 +101,11 @@ def compute_chunk(job: MapJob, rows: list[int], starts: tuple[np.ndarray, ...]) 
                 arrays["position_m"][span] = target_positions_m(robot, grid, indices, q)
             measure_into(arrays, span.start + np.flatnonzero(reachable), robot, scenarios, q[reachable],
                          indices[reachable])
-    return arrays
+    if store is None:
+        return arrays
+    first = rows[0] * row_length
+    store.write(slice(first, first + len(rows) * row_length), arrays)
+    return None
 
 
 def empty_arrays(n: int, layout: MapLayout, robot: int | None = None) -> dict[str, np.ndarray]:
@@ -311,7 +318,8 @@ def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = Non
     finished = set(store.finished())
     robots = list(prepared.robots)
     _local.cache = (job.token, robots, prepared.runners)  # chunks run in this thread need not rebuild them
-    todo = {k: (job, chunks[k], tuple(starts[chunks[k]] for starts in prepared.row_starts))
+    writer = store if local_pool(executor) is not None else None  # a local worker writes its chunk into the store
+    todo = {k: (job, chunks[k], tuple(starts[chunks[k]] for starts in prepared.row_starts), writer)
             for k in chunk_order(len(chunks)) if k not in finished}
     done_targets = sum(len(chunks[k]) for k in finished) * grid.row_length
     report = progress if progress is not None and len(chunks) > 1 else lambda done, total: None
@@ -321,7 +329,10 @@ def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = Non
             if meanwhile is not None:
                 meanwhile()
             for chunk, arrays in results:
-                store.save(chunk, chunks[chunk][0] * grid.row_length, arrays)
+                if arrays is None:  # written by the worker
+                    store.mark_done(chunk)
+                else:
+                    store.save(chunk, chunks[chunk][0] * grid.row_length, arrays)
                 done_targets += len(chunks[chunk]) * grid.row_length
                 report(done_targets, grid.size)
     finally:

@@ -4,7 +4,9 @@ the map's tables, the placement's table and best study, the figures, the report 
 from __future__ import annotations
 
 import csv
+import io
 import json
+import shutil
 from collections.abc import Callable, Iterator
 from concurrent.futures import Executor
 from contextlib import ExitStack
@@ -159,6 +161,8 @@ def map_table_columns(workspace_map: MapResult, scenario: ScenarioMap, targets: 
     return columns
 
 
+#: Bytes a part file of a map table is copied into its table at a time.
+PART_COPY_BYTES = 1 << 20
 #: Targets of a map table read from the store at once (their columns and reasons in memory together), a block
 #: formatted by one worker.
 TABLE_TARGETS = 1 << 14
@@ -169,6 +173,11 @@ def map_table_text(workspace_map: MapResult, scenario: ScenarioMap, targets: sli
     return "".join(table_lines(map_table_columns(workspace_map, scenario, targets))).encode()
 
 
+def write_map_table_part(workspace_map: MapResult, scenario: ScenarioMap, targets: slice, path: Path) -> None:
+    """:func:`map_table_text` written to file ``path`` (by a worker: the text stays out of the pipes)."""
+    path.write_bytes(map_table_text(workspace_map, scenario, targets))
+
+
 def write_map_tables(workspace_map: MapResult, tables: list[tuple[ScenarioMap, Path]],
                      executor: Executor | None = None, meanwhile: Callable[[], None] | None = None) -> None:
     """Each scenario's map as CSV (``tables``: scenario and path), one row per target in index order: position [m],
@@ -177,26 +186,40 @@ def write_map_tables(workspace_map: MapResult, tables: list[tuple[ScenarioMap, P
     coordinates, q_<joint> [m or rad], normal_force_<joint>_N [N] (its robot's joints), and the reason a target is
     unreachable.
 
-    ``TABLE_TARGETS`` targets are read at a time, each block formatted (:func:`map_table_text`) by a worker of
-    ``executor`` when it is a pool of this machine's processes (:func:`~tribokin.execution.local_pool`: they read the
-    map's store), else here; ``meanwhile()`` runs here while they work. The blocks are written in order."""
+    ``TABLE_TARGETS`` targets are read at a time. When ``executor`` is a pool of this machine's processes
+    (:func:`~tribokin.execution.local_pool`: they read the map's store), its workers format the blocks, each into a
+    part file beside its table (``.<table>.<block>.part``), which is appended to the table and deleted in order while
+    ``meanwhile()`` runs here; else the blocks are formatted here (:func:`map_table_text`), after ``meanwhile()``."""
     parts = list(workspace_map.blocks(TABLE_TARGETS))
-    todo = {(t, k): (workspace_map, scenario, part) for t, (scenario, _) in enumerate(tables)
-            for k, part in enumerate(parts)}
-    with run_chunks(map_table_text, todo, local_pool(executor)) as texts, ExitStack() as files:
+    pool = local_pool(executor)
+
+    def part_path(t: int, k: int) -> Path:
+        return tables[t][1].with_name(f".{tables[t][1].name}.{k}.part")
+
+    todo = {(t, k): (workspace_map, scenario, part) + ((part_path(t, k),) if pool is not None else ())
+            for t, (scenario, _) in enumerate(tables) for k, part in enumerate(parts)}
+    function = map_table_text if pool is None else write_map_table_part
+    with run_chunks(function, todo, pool) as texts, ExitStack() as files:
         if meanwhile is not None:
             meanwhile()
         handles = []
         for scenario, path in tables:
-            handles.append(files.enter_context(open(path, "w", newline="", encoding="utf-8")))
-            csv.writer(handles[-1]).writerow(map_table_columns(workspace_map, scenario, slice(0, 0)))
-            handles[-1].flush()
+            handles.append(files.enter_context(open(path, "wb")))
+            header = io.StringIO(newline="")
+            csv.writer(header).writerow(map_table_columns(workspace_map, scenario, slice(0, 0)))
+            handles[-1].write(header.getvalue().encode())
         written, waiting = [0] * len(tables), {}
         for key, text in texts:
             waiting[key] = text
             for t, handle in enumerate(handles):
                 while (t, written[t]) in waiting:
-                    handle.buffer.write(waiting.pop((t, written[t])))
+                    text = waiting.pop((t, written[t]))
+                    if text is None:
+                        with open(part_path(t, written[t]), "rb") as part:
+                            shutil.copyfileobj(part, handle, PART_COPY_BYTES)
+                        part_path(t, written[t]).unlink()
+                    else:
+                        handle.write(text)
                     written[t] += 1
 
 
