@@ -9,6 +9,7 @@ import pytest
 
 from conftest import AXIS_URDF, ROOT
 from tribokin.errors import RobotDescriptionError
+from tribokin.kinematics import robot as robot_module
 from tribokin.kinematics.robot import TESTED_ROBOTS, load_example_robot, load_urdf, rigid_placement
 
 
@@ -19,6 +20,44 @@ def test_example_robots_load_with_one_dof_chains(name):
     q = np.clip(robot.reference_q, robot.lower_limits, robot.upper_limits)
     assert np.all(np.isfinite(robot.tool_placement(q).translation))
     assert robot.tool_frame == [f.name for f in robot.model.frames][-1] or robot.tool_frame
+
+
+@pytest.mark.parametrize("name", TESTED_ROBOTS + ("panda_collision",))
+def test_example_robots_are_read_as_example_robot_datas_loader_reads_them(name):
+    """The arms (read from their loader's attributes, no mesh read), so100 (a free flyer) and panda_collision (a loader
+    of its own), both run whole: the same whole model, reference posture and geometry objects as the loader gives."""
+    from example_robot_data.robots_loader import loader
+
+    model, read_geometry, reference_q = robot_module._read_example_robot(name)
+    wrapper = loader(name).robot
+    assert model == wrapper.model
+    assert np.array_equal(reference_q, pin.neutral(wrapper.model) if wrapper.q0 is None else wrapper.q0)
+    for kind, theirs in ((pin.GeometryType.VISUAL, wrapper.visual_model),
+                         (pin.GeometryType.COLLISION, wrapper.collision_model)):
+        ours = read_geometry(kind)
+        assert [(g.name, Path(g.meshPath).resolve(), g.parentJoint, g.parentFrame) for g in ours.geometryObjects] == \
+            [(g.name, Path(g.meshPath).resolve(), g.parentJoint, g.parentFrame) for g in theirs.geometryObjects]
+        assert all(np.array_equal(a.placement.homogeneous, b.placement.homogeneous)
+                   for a, b in zip(ours.geometryObjects, theirs.geometryObjects))
+
+
+def test_an_arms_meshes_are_read_when_first_asked_for_each_kind_once(monkeypatch):
+    """Loading the UR5 reads no mesh; its collision meshes are read when the collision model is first asked for (a
+    light report), its visual ones (a third of a second) only with the visual model; each once."""
+    read = []
+    build = pin.buildGeomFromUrdf
+    monkeypatch.setattr(pin, "buildGeomFromUrdf", lambda model, path, kind, *rest: read.append(kind) or
+                        build(model, path, kind, *rest))
+    robot_module._example_robot.cache_clear()
+    try:
+        robot = load_example_robot("ur5", base=rigid_placement([0.1, 0.2, 0.3], [0, 0, 30]))
+        assert read == []
+        assert robot.collision_model.ngeoms == 8 and read == [pin.GeometryType.COLLISION]
+        assert robot.collision_model is robot.collision_model and read == [pin.GeometryType.COLLISION]
+        assert robot.visual_model.ngeoms > 0 and read == [pin.GeometryType.COLLISION, pin.GeometryType.VISUAL]
+        assert load_example_robot("ur5").visual_model.ngeoms > 0 and len(read) == 2  # read once per process
+    finally:
+        robot_module._example_robot.cache_clear()
 
 
 def test_panda_fingers_are_locked():

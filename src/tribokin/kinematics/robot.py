@@ -29,6 +29,7 @@ import math
 import warnings
 import xml.etree.ElementTree as ET
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -66,7 +67,10 @@ class Robot:
         label: robot name or URDF path, for reports.
         reference_q: (nv,) a typical working posture [m or rad] (example-robot-data's, else mid-range), within the
             limits (:func:`_within_limits`).
-        visual_model, collision_model: geometry models (may be ``None``).
+        read_geometry: ``read_geometry(kind)``, the geometry model of a ``pin.GeometryType`` (VISUAL, COLLISION) of
+            the reduced model; ``None``: none. :attr:`visual_model` and :attr:`collision_model` call it once each, when
+            first asked for (an example-robot-data robot's meshes are read only then: its visual meshes take a
+            third of a second).
         joint_is_prismatic: (nv,) True for prismatic joints (deviations in [m]), False for revolute ([rad]).
         continuous: (nv,) True for continuous joints (revolute, no limits; two values in Pinocchio's configuration).
         motion_axes: (nv, 3) unit motion axis of each joint in its own frame (linear or angular).
@@ -76,10 +80,10 @@ class Robot:
     tool_frame: str
     label: str
     reference_q: np.ndarray
-    visual_model: pin.GeometryModel | None = None
-    collision_model: pin.GeometryModel | None = None
+    read_geometry: Callable[[pin.GeometryType], pin.GeometryModel] | None = None
 
     def __post_init__(self):
+        self._geometries = {}
         self.tool_frame_id = self.model.getFrameId(self.tool_frame)
         self.data = self.model.createData()
         pin.forwardKinematics(self.model, self.data, pin.neutral(self.model))
@@ -97,6 +101,23 @@ class Robot:
         self._upper = np.where(self.continuous, np.inf, np.asarray(self.model.upperPositionLimit)[q_index])
         self._drawn = (np.where(self.continuous, -math.pi, self._lower),
                        np.where(self.continuous, math.pi, self._upper))
+
+    def geometry_model(self, kind: pin.GeometryType) -> pin.GeometryModel | None:
+        """The geometry model of ``kind`` (``pin.GeometryType.VISUAL`` or ``COLLISION``), read when first asked for;
+        ``None`` for a robot loaded without its meshes."""
+        if kind not in self._geometries:
+            self._geometries[kind] = None if self.read_geometry is None else self.read_geometry(kind)
+        return self._geometries[kind]
+
+    @property
+    def visual_model(self) -> pin.GeometryModel | None:
+        """The visual geometry model (:meth:`geometry_model`)."""
+        return self.geometry_model(pin.GeometryType.VISUAL)
+
+    @property
+    def collision_model(self) -> pin.GeometryModel | None:
+        """The collision geometry model (:meth:`geometry_model`)."""
+        return self.geometry_model(pin.GeometryType.COLLISION)
 
     @property
     def joint_names(self) -> list[str]:
@@ -215,10 +236,9 @@ def _add_tool_point(model: pin.Model, tool_frame: str, offset: pin.SE3) -> str:
     return name
 
 
-def _place_base(model: pin.Model, geometries, base: pin.SE3) -> None:
+def _place_base(model: pin.Model, base: pin.SE3) -> None:
     """Put the robot's base at ``base`` in the world: what hangs from the world (the first joints' placements, the
-    base's frames but the world's own, its geometry objects in ``geometries``) moved by ``base``; gravity stays the
-    world's -z."""
+    base's frames but the world's own) moved by ``base``; gravity stays the world's -z."""
     for joint in range(1, model.njoints):
         if model.parents[joint] == 0:
             model.jointPlacements[joint] = base * model.jointPlacements[joint]
@@ -227,10 +247,15 @@ def _place_base(model: pin.Model, geometries, base: pin.SE3) -> None:
         if frame.parentJoint == 0:
             frame.placement = base * frame.placement
             model.frames[index] = frame
-    for geometry in geometries:
-        for item in geometry.geometryObjects:
-            if item.parentJoint == 0:
-                item.placement = base * item.placement
+
+
+def _placed_geometry(geometry: pin.GeometryModel, base: pin.SE3) -> pin.GeometryModel:
+    """A copy of ``geometry`` whose objects hanging from the world are moved by ``base`` (:func:`_place_base`)."""
+    geometry = geometry.copy()
+    for item in geometry.geometryObjects:
+        if item.parentJoint == 0:
+            item.placement = base * item.placement
+    return geometry
 
 
 def _joint_value(joint, q) -> float:
@@ -239,11 +264,12 @@ def _joint_value(joint, q) -> float:
     return math.atan2(q[joint.idx_q + 1], q[joint.idx_q]) if joint.nq == 2 else float(q[joint.idx_q])
 
 
-def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, offset=None, base=None) -> Robot:
+def _reduce_to_chain(model, read_geometry, reference_q, tool_frame, label, offset=None, base=None) -> Robot:
     """Lock every joint that does not move ``tool_frame`` (default: :func:`~.tool_frames.default_tool_frame`); check the
     rest are 1-DoF with some travel; bring the reference posture within their limits (:func:`_within_limits`); add the
     tool point at ``offset`` (:func:`rigid_placement`) in ``tool_frame``, if given; put the base at ``base`` in the
-    world (:func:`_place_base`; geometry models copied), if given."""
+    world (:func:`_place_base`), if given. ``read_geometry(kind)``: the whole model's geometry model of a
+    ``pin.GeometryType`` (``None``: none), which the robot reduces and places the same way when first asked for."""
     _make_frame_names_unique(model)
     frames = [f.name for f in model.frames]
     if tool_frame is None:
@@ -255,10 +281,7 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, o
     chain = set(model.supports[model.frames[model.getFrameId(tool_frame)].parentJoint])
     locked = [j for j in range(1, model.njoints) if j not in chain or model.joints[j].shortname() == "JointModelFreeFlyer"]
     if locked:
-        if visual is None or collision is None:
-            model = pin.buildReducedModel(model, locked, reference_q)
-        else:
-            model, (visual, collision) = pin.buildReducedModel(model, [visual, collision], locked, reference_q)
+        model = pin.buildReducedModel(model, locked, reference_q)
     for joint, name in zip(model.joints[1:], list(model.names)[1:]):
         if joint.nv != 1 or joint.nq > 2:
             raise RobotDescriptionError(f"joint '{name}' ({joint.shortname()}) moves the tool but is not a 1-DoF "
@@ -269,9 +292,15 @@ def _reduce_to_chain(model, visual, collision, reference_q, tool_frame, label, o
     if offset is not None:
         tool_frame = _add_tool_point(model, tool_frame, offset)
     if base is not None:
-        visual, collision = (None if g is None else g.copy() for g in (visual, collision))
-        _place_base(model, [g for g in (visual, collision) if g is not None], base)
-    robot = Robot(model, tool_frame, label, kept_q, visual, collision)
+        _place_base(model, base)
+
+    def reduced_geometry(kind: pin.GeometryType) -> pin.GeometryModel:
+        geometry = read_geometry(kind)
+        if locked:
+            geometry = pin.buildReducedModel(full, [geometry], locked, reference_q)[1][0]
+        return geometry if base is None else _placed_geometry(geometry, base)
+
+    robot = Robot(model, tool_frame, label, kept_q, None if read_geometry is None else reduced_geometry)
     for name, low, high in zip(robot.joint_names, robot.lower_limits, robot.upper_limits):
         if not high > low:
             raise RobotDescriptionError(f"joint '{name}' moves the tool, but its limits [{low:g}, {high:g}] leave it "
@@ -322,9 +351,10 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
 
 
 def _read_urdf(path, package_dirs=(), meshes: bool = True, xacro_args: dict[str, str] | None = None
-               ) -> tuple[pin.Model, pin.GeometryModel | None, pin.GeometryModel | None, np.ndarray]:
-    """The whole model of the URDF (or xacro) at ``path`` (:func:`load_urdf`), its geometry models (``None`` without
-    ``meshes``) and its reference posture: each 1-DoF joint at mid-range, the rest neutral."""
+               ) -> tuple[pin.Model, Callable[[pin.GeometryType], pin.GeometryModel] | None, np.ndarray]:
+    """The whole model of the URDF (or xacro) at ``path`` (:func:`load_urdf`), its geometry models by kind (read now,
+    so that a mesh that cannot be read is an error before any work; ``None`` without ``meshes``) and its reference
+    posture: each 1-DoF joint at mid-range, the rest neutral."""
     path = Path(path)
     if not path.is_file():
         raise RobotDescriptionError(f"URDF file '{path}' not found", "path")
@@ -340,11 +370,11 @@ def _read_urdf(path, package_dirs=(), meshes: bool = True, xacro_args: dict[str,
     except (RuntimeError, ValueError) as error:
         first = str(error).strip().splitlines()[0] if str(error).strip() else "unreadable"
         raise RobotDescriptionError(f"cannot read URDF '{path}': {first}", "path") from None
-    visual = collision = None
+    geometries = None
     if meshes:
         try:
-            visual, collision = (_quiet(pin.buildGeomFromUrdfString, model, text, kind, None, list(map(str, dirs)))
-                                 for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION))
+            geometries = {kind: _quiet(pin.buildGeomFromUrdfString, model, text, kind, None, list(map(str, dirs)))
+                          for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION)}
         except (RuntimeError, ValueError) as error:
             raise RobotDescriptionError(f"cannot read the meshes of URDF '{path}': {_loader_message(error)}",
                                         "path") from None
@@ -353,7 +383,7 @@ def _read_urdf(path, package_dirs=(), meshes: bool = True, xacro_args: dict[str,
         low, high = model.lowerPositionLimit[joint.idx_q], model.upperPositionLimit[joint.idx_q]
         if joint.nq == 1 and np.isfinite(low) and np.isfinite(high) and high - low < 1e3:
             mid_range[joint.idx_q] = (low + high) / 2
-    return model, visual, collision, mid_range
+    return model, None if geometries is None else geometries.__getitem__, mid_range
 
 
 def load_example_robot(name: str, tool_frame: str | None = None, tool_offset: pin.SE3 | None = None,
@@ -361,9 +391,8 @@ def load_example_robot(name: str, tool_frame: str | None = None, tool_offset: pi
     """Load a robot that example-robot-data ships, by name (e.g. ``"ur5"``); ``tool_frame``, ``tool_offset`` and
     ``base`` as for :func:`load_urdf`."""
     _check_robot_name(name)
-    model, visual, collision, reference_q = _example_robot(name)
-    return _reduce_to_chain(pin.Model(model), visual, collision, reference_q.copy(), tool_frame, name, tool_offset,
-                            base)
+    model, read_geometry, reference_q = _example_robot(name)
+    return _reduce_to_chain(pin.Model(model), read_geometry, reference_q.copy(), tool_frame, name, tool_offset, base)
 
 
 def _check_robot_name(name: str) -> None:
@@ -388,24 +417,58 @@ def candidate_tool_frames(robot: str) -> ToolFrames:
 
 @functools.lru_cache(maxsize=None)
 def _example_robot(name: str):
-    """(model, visual model, collision model, reference posture) of an example-robot-data robot, read
-    once per process (reading its meshes takes a third of a second); callers copy the model.
-
-    Its meshes must lie inside example-robot-data's ``robots`` folder; they are checked after
-    example-robot-data has loaded them (its files, named by no user input).
-    """
-    from example_robot_data.robots_loader import loader
-
+    """(model, ``read_geometry(kind)``, reference posture) of an example-robot-data robot, read once per process;
+    callers copy the model (:func:`_read_example_robot`)."""
     try:
-        robot_loader = _quiet(loader, name)
+        return _read_example_robot(name)
     except (ImportError, OSError, RuntimeError, ValueError) as error:
         reason = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
         if "SDF" in reason and not pin.WITH_SDFORMAT:
             reason = f"its description is an SDF file, and this Pinocchio ({pin.__version__}) was built without SDF"
         raise RobotDescriptionError(f"example-robot-data cannot load '{name}': {reason}", "name") from None
-    wrapper = robot_loader.robot
-    urdf = Path(robot_loader.df_path).resolve()
-    robots = Path(robot_loader.model_path).resolve()  # its robots folder (a URDF may lie in a robots folder inside it)
+
+
+def _read_example_robot(name: str):
+    """:func:`_example_robot` uncached and unchecked.
+
+    A fixed-base robot whose loader is example-robot-data's plain URDF loader (``RobotLoader``'s ``__init__``, no
+    free flyer: the arms) is read as that loader reads it, from its class's attributes: the URDF through Pinocchio,
+    the reference posture from its SRDF (example-robot-data's ``readParamsFromSrdf``), but no mesh; each kind of
+    geometry is read when first asked for (the visual meshes take a third of a second). Its meshes must lie inside
+    example-robot-data's ``robots`` folder, checked before any is read. Any other loader (its own ``__init__``, a
+    free flyer, an SDF file) is run whole, meshes included, and its meshes checked after (its own files, named by no
+    user input).
+    """
+    from example_robot_data.robots_loader import ROBOTS, loader
+    from example_robot_data.utils import RobotLoader, getModelPath, readParamsFromSrdf
+
+    kind = ROBOTS[name]
+    if kind.__init__ is not RobotLoader.__init__ or kind.free_flyer or not kind.urdf_filename:
+        robot_loader = _quiet(loader, name)
+        wrapper = robot_loader.robot
+        _confine_example_meshes(Path(robot_loader.df_path), Path(robot_loader.model_path))
+        geometries = {pin.GeometryType.VISUAL: wrapper.visual_model, pin.GeometryType.COLLISION: wrapper.collision_model}
+        reference_q = wrapper.q0 if wrapper.q0 is not None else pin.neutral(wrapper.model)
+        return wrapper.model, geometries.__getitem__, np.asarray(reference_q)
+    description = f"{kind.path}/{kind.urdf_subpath}/{kind.urdf_filename}"
+    robots = Path(kind.model_path or getModelPath(description))
+    urdf = robots / description
+    _confine_example_meshes(urdf, robots)
+    model = _quiet(pin.buildModelFromUrdf, str(urdf))
+    reference_q = pin.neutral(model)
+    if kind.srdf_filename:
+        reference_q = readParamsFromSrdf(model, str(robots / kind.path / kind.srdf_subpath / kind.srdf_filename), False,
+                                         kind.has_rotor_parameters, kind.ref_posture)
+
+    @functools.lru_cache(maxsize=None)
+    def read_geometry(geometry_type: pin.GeometryType) -> pin.GeometryModel:
+        return _quiet(pin.buildGeomFromUrdf, model, str(urdf), geometry_type, None, [str(robots.parent.parent)])
+
+    return model, read_geometry, np.asarray(reference_q)
+
+
+def _confine_example_meshes(urdf: Path, robots: Path) -> None:
+    """Check that the meshes of example-robot-data's URDF ``urdf`` lie inside its ``robots`` folder (a URDF may lie
+    in a robots folder inside it) (:func:`~tribokin.kinematics.urdf_meshes.confine_meshes`)."""
+    urdf, robots = urdf.resolve(), robots.resolve()
     confine_meshes(ET.parse(urdf).getroot(), urdf, [robots.parent.parent], allowed_dirs=[robots])
-    reference_q = wrapper.q0 if wrapper.q0 is not None else pin.neutral(wrapper.model)
-    return wrapper.model, wrapper.visual_model, wrapper.collision_model, np.asarray(reference_q)
