@@ -64,6 +64,8 @@ def test_scattered_reads_in_file_pieces_return_values_in_the_order_asked(tmp_pat
     np.testing.assert_array_equal(store.read("q", 7), q[7])
     assert store.read("reachable", np.int64(3)).shape == () and store.read("reachable", 3)
     np.testing.assert_array_equal(store.read("q", [-1, -10]), q[[-1, -10]])
+    for index in ([9, 0, 4, 4, 8, 1], [7], [], slice(2, 9), 7, [-1, -10]):  # one element of each target's value
+        np.testing.assert_array_equal(store.read("q", index, item=1), q[index, 1])
     for outside in ([10], [-11], 10):
         with pytest.raises(IndexError):
             store.read("q", outside)

@@ -48,17 +48,18 @@ class ScenarioMap:
         ``reachable`` (k,), ``closest`` (k, 2) (:class:`MapResult`)."""
         return self.store.read(robot_column(self.robot, name), targets)
 
-    def read(self, name: str, targets=slice(None)) -> np.ndarray:
-        """Column ``name`` at ``targets``: ``figures`` (k, len(map_figures(figure_set))), ``normal_forces_N`` (k, nv)
-        bearing loads [N], ``dominant_joint`` (k,) index in ``joint_names`` of the joint with the largest share of
+    def read(self, name: str, targets=slice(None), item: int | None = None) -> np.ndarray:
+        """Column ``name`` at ``targets`` (with ``item``, only that element of each target's value:
+        :meth:`~tribokin.maps.store.ChunkStore.read`): ``figures`` (k, len(map_figures(figure_set))),
+        ``normal_forces_N`` (k, nv) bearing loads [N], ``dominant_joint`` (k,) index in ``joint_names`` of the joint with the largest share of
         the position variance (-1: none); an expected map's ``method``, ``fallbacks``, ``engine_bound``, ``band_error``
         (:func:`~tribokin.maps.expected.expected_targets`)."""
-        return self.store.read(scenario_column(self.number, name), targets)
+        return self.store.read(scenario_column(self.number, name), targets, item)
 
     def figure(self, name: str, targets=slice(None)) -> np.ndarray:
         """Figure ``name`` (:func:`~tribokin.maps.schema.map_figures`) at ``targets`` (default: all; read the whole
         column only for small maps)."""
-        return self.read("figures", targets)[:, figure_index(name, self.figure_set)]
+        return self.read("figures", targets, figure_index(name, self.figure_set))
 
     def has(self, name: str) -> bool:
         """Whether the map has figure ``name``."""

@@ -214,26 +214,32 @@ class ChunkStore:
             data = b"".join(os.pread(handle.fileno(), size, offset + int(i) * size) for i in index)
         return np.frombuffer(data, dtype=dtype).reshape(len(index), *shape[1:]).copy()
 
-    def read(self, name: str, index=slice(None)) -> np.ndarray:
-        """Column ``name`` at targets ``index`` (a slice, an index, or indices), in memory. Scattered
+    def read(self, name: str, index=slice(None), item: int | None = None) -> np.ndarray:
+        """Column ``name`` at targets ``index`` (a slice, an index, or indices), in memory; with ``item``, only that
+        element of each target's value (one figure of a row of figures), the rest not copied. Scattered
         indices are read ``READ_ROWS`` rows of the file at a time (up to ``PREAD_TARGETS`` of them, one ``pread``
         each), so the pages a read touches stay bounded."""
+        def take(rows):
+            return (lambda column: column[rows]) if item is None else (lambda column: column[rows, item])
+
         if isinstance(index, slice):
-            return self._mapped(name, lambda column: column[index])
+            return self._mapped(name, take(index))
         if np.ndim(index) == 0:
-            return self._pread(name, np.array([index], dtype=np.intp))[0].reshape(self._layout(name)[1][1:])
+            value = self._pread(name, np.array([index], dtype=np.intp))[0].reshape(self._layout(name)[1][1:])
+            return value if item is None else value[item]
         index = np.asarray(index, dtype=np.intp)
         if len(index) <= PREAD_TARGETS:
-            return self._pread(name, index)
+            values = self._pread(name, index)
+            return values if item is None else values[:, item]
         order = np.argsort(index, kind="stable")
         ordered = index[order]
         bounds = np.searchsorted(ordered, np.arange(0, self.size + READ_ROWS, READ_ROWS))
         pieces = [(lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:]) if hi > lo]
         if not pieces:
-            return self._mapped(name, lambda column: column[index])
+            return self._mapped(name, take(index))
         values = None
         for lo, hi in pieces:
-            part = self._mapped(name, lambda column: column[ordered[lo:hi]])
+            part = self._mapped(name, take(ordered[lo:hi]))
             if values is None:
                 values = np.empty((len(index), *part.shape[1:]), dtype=part.dtype)
             values[order[lo:hi]] = part
