@@ -141,6 +141,9 @@ def test_the_reach_bounds_change_only_the_reasons_of_targets_beyond_them(monkeyp
                                  "'wrist_3_joint' would be ") for reason in reasons[bounds == 1])
     assert reasons[bounds == 1][0].endswith("m from (0, 0, 0.08916) m, where it never goes farther than 0.9184 m "
                                             "(no IK tried)")
+    for b in (0, 1):  # how far the bounded point is from the sphere's centre, each target its own
+        assert [reason.split(" m from ")[0].split(" ")[-1] for reason in reasons[bounds == b]] == \
+            [f"{bounded.grid.reach[b].radius_m + gap:.4g}" for gap in gaps[bounds == b]]
 
 
 def test_row_extrapolation_continues_a_polynomial_through_the_last_reached_targets():

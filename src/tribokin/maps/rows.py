@@ -312,22 +312,25 @@ def unreachable_reasons(grid: TargetGrid, positions_m: np.ndarray, closest: np.n
     the targets' positions (k, 3) [m] and how close the IK came to them (k, 2) [m, rad] (:func:`solve_rows`)."""
     bounds, gaps = first_bound_beyond(grid, positions_m) if grid.reach else (np.full(len(closest), -1), None)
     reasons = np.full(len(closest), "", dtype=object)
-    for k in np.flatnonzero((bounds >= 0) | ~np.isnan(closest[:, 0])):  # the others were reached: no reason
-        reasons[k] = unreachable_reason(*closest[k]) if bounds[k] < 0 else \
-            beyond_reach_reason(grid.reach[bounds[k]], gaps[k])
+    for k in np.flatnonzero((bounds < 0) & ~np.isnan(closest[:, 0])):  # the others were reached: no reason
+        reasons[k] = unreachable_reason(*closest[k])
+    for b, reach in enumerate(grid.reach):
+        beyond = np.flatnonzero(bounds == b)
+        reasons[beyond] = beyond_reach_reasons(reach, gaps[beyond])
     return reasons
 
 
-def beyond_reach_reason(reach: ReachSphere, gap_m: float) -> str:
-    """Why a target is unreachable whose point bounded by ``reach`` (the tool point, or with the tool's orientation
-    held the last joint's origin) lies ``gap_m`` [m] beyond it."""
+def beyond_reach_reasons(reach: ReachSphere, gaps_m: np.ndarray) -> list[str]:
+    """Why each target is unreachable whose point bounded by ``reach`` (the tool point, or with the tool's orientation
+    held the last joint's origin) lies ``gaps_m`` (k,) [m] beyond it."""
     centre = ", ".join(f"{value:.4g}" for value in reach.centre_m + 0.0)
-    where = f"{reach.radius_m + gap_m:.4g} m from ({centre}) m"
     if reach.offset_m is None:
-        return (f"beyond the robot's reach: {where}, where the tool point never goes farther than "
-                f"{reach.radius_m:.4g} m (no IK tried)")
-    return (f"beyond the robot's reach with the tool's orientation held: {reach.point} would be {where}, where it "
-            f"never goes farther than {reach.radius_m:.4g} m (no IK tried)")
+        before, after = "beyond the robot's reach: ", (f" m from ({centre}) m, where the tool point never goes farther "
+                                                        f"than {reach.radius_m:.4g} m (no IK tried)")
+    else:
+        before = f"beyond the robot's reach with the tool's orientation held: {reach.point} would be "
+        after = f" m from ({centre}) m, where it never goes farther than {reach.radius_m:.4g} m (no IK tried)"
+    return [f"{before}{distance:.4g}{after}" for distance in (reach.radius_m + np.asarray(gaps_m)).tolist()]
 
 
 def unreachable_reason(position_error_m: float, angle_error_rad: float) -> str:
