@@ -2,12 +2,14 @@
 
 import copy
 import math
+import pickle
 
 import numpy as np
 import pytest
 
 from conftest import ROOT
 from tribokin import InputError, run_study
+from tribokin.execution import executor_for
 from tribokin.simulation.pose_run import PoseRunner, joint_space_task
 from tribokin.streams import map_target_stream
 from tribokin.study.assembly import joint_models, load_robot
@@ -47,6 +49,17 @@ def test_gantry_with_fixed_loads_gives_a_flat_map_and_flags_unreachable_targets(
     summary = result.summary()["map"]
     assert (summary["count"], summary["reachable"], summary["unreachable"], summary["cycles"]) == (32, 28, 4, 10)
     assert summary["RP_l_um"]["min"] == pytest.approx(summary["RP_l_um"]["max"], rel=1e-6)
+
+
+def test_a_maps_summary_computed_on_a_worker_is_the_one_computed_here():
+    """summarise_on: a worker of a local pool computes the summary (its copy of the map carries no summary, nor this
+    process's computation under way), summary() waits for it; the same as computed here."""
+    here = run_study(gantry_map_study(normal_force_N=500.0)).map
+    there = run_study(gantry_map_study(normal_force_N=500.0)).map
+    with executor_for(2) as pool:
+        there.summarise_on(pool)
+        assert pickle.loads(pickle.dumps(there))._summary is None
+        assert there.summary() == here.summary() and there._summary is there.summary()
 
 
 def gantry_loads_by_hand(y):

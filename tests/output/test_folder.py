@@ -27,7 +27,7 @@ def test_run_killed_while_writing_leaves_no_output_folder(tmp_path):
     command = [sys.executable, "-m", "tribokin", "run", study, "--out", out]
     run = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 60
-    while not list(tmp_path.glob(".out.partial-*/summary.json")) and run.poll() is None and time.monotonic() < deadline:
+    while not list(tmp_path.glob(".out.partial-*/poses.csv")) and run.poll() is None and time.monotonic() < deadline:
         time.sleep(0.002)
     run.send_signal(signal.SIGKILL)
     run.wait()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
+from concurrent.futures import Executor, Future
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -108,7 +109,11 @@ class MapResult:
     joint_names: list[str]
     store: ChunkStore = field(repr=False)
     scenarios: dict[str, ScenarioMap]
-    _summary: dict | None = field(default=None, init=False, repr=False)
+    _summary: dict | Future | None = field(default=None, init=False, repr=False)
+
+    def __getstate__(self) -> dict:
+        """What a worker gets: the map without this process's summary, or its computation under way."""
+        return {**self.__dict__, "_summary": None}
 
     @property
     def grid(self) -> TargetGrid:
@@ -215,10 +220,19 @@ class MapResult:
                 **({"ik": self.ik_routes(scenario.robot)} if self.grid.kind != "joint" else {})}
 
     def summary(self) -> dict:
-        """The ``map`` block of ``summary.json`` (computed once)."""
+        """The ``map`` block of ``summary.json``, computed once: here, or on a worker (:meth:`summarise_on`), whose
+        result it then waits for."""
+        if isinstance(self._summary, Future):
+            self._summary = self._summary.result()
         if self._summary is None:
             self._summary = self._summarise()
         return self._summary
+
+    def summarise_on(self, pool: Executor) -> None:
+        """Start computing :meth:`summary` on a worker of ``pool`` (this machine's processes: they read the store),
+        unless it is known or under way, while this process does other work."""
+        if self._summary is None:
+            self._summary = pool.submit(map_summary, self)
 
     def _summarise(self) -> dict:
         reference, size = self.reference, self.grid.size
@@ -278,3 +292,8 @@ class MapResult:
             if flags.any():
                 return self.read("q", part.start + int(np.argmax(flags)))
         return None
+
+
+def map_summary(workspace_map: MapResult) -> dict:
+    """``workspace_map.summary()`` (run where an executor runs it: :meth:`MapResult.summarise_on`)."""
+    return workspace_map.summary()

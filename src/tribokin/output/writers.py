@@ -255,24 +255,27 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
     """Write summary.json, the pose files (poses.csv, samples.npz), the map tables (map*.csv) or the placement's
     files (placement.csv, best.toml) to ``out``, atomically, with the figures and, unless ``report`` is ``"none"``,
     ``report.html`` and ``scene.npz``, as :func:`~tribokin.viz.contents.write_views` decides (``report``,
-    ``map_layers``, ``cube``: see there); the map tables' blocks formatted on ``executor``'s local workers while
-    everything else is written here (:func:`write_map_tables`).
+    ``map_layers``, ``cube``: see there); the map's statistics (:meth:`~tribokin.maps.result.MapResult.summarise_on`)
+    and its tables' blocks (:func:`write_map_tables`) computed on ``executor``'s local workers while everything else is
+    drawn and written here.
     """
     with atomic_folder(out, force) as folder:
         def the_rest() -> None:
             from tribokin.viz.contents import write_views  # matplotlib and meshcat: imported while the blocks format
 
-            write_summary(result, folder)
             if result.poses:
                 write_pose_table(result, folder)
                 write_samples(result, folder)
             if result.placement is not None:
                 write_placement(result.placement, folder, Path(out))
             write_views(result, folder, report, map_layers, cube)
+            write_summary(result, folder)
 
         if result.map is None:
             the_rest()
         else:
+            if local_pool(executor) is not None:
+                result.map.summarise_on(local_pool(executor))  # the map's statistics meanwhile, on a worker
             write_map_tables(result.map, [(scenario, folder / map_table_name(result.map, scenario))
                                           for scenario in result.map.scenarios.values()], executor, the_rest)
     return Path(out)
