@@ -167,7 +167,8 @@ def first_tries_solved(job: MapJob, robot: int, read, executor: Executor) -> dic
     make one after another."""
     tries = first_tries(job.grids[robot], read)
     parts = math.ceil(len(tries) / TRIES_PER_PART)
-    todo = {k: (job, robot, [(index, read("q", neighbour)) for index, neighbour in tries[k::parts]])
+    starts = read("q", np.array([neighbour for _, neighbour in tries], dtype=np.intp))  # the neighbours' at once
+    todo = {k: (job, robot, [(index, q) for (index, _), q in zip(tries[k::parts], starts[k::parts])])
             for k in range(parts)}
     solved = {}
     with run_chunks(solve_tries_of, todo, executor) as results:
