@@ -1,6 +1,6 @@
 """Speed and memory of workspace maps: the whole ``tribokin run`` command on a UR5 plane, in one run.
 
-Run from the repository root: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src python benchmarks/map.py`` (about 4 minutes on
+Run from the repository root: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src python benchmarks/map.py`` (about 5 minutes on
 2 cores; ``--quick`` for a small run of about a minute, printed and not written unless ``--results`` is given).
 Writes ``benchmarks/results/map.json`` and prints it.
 
@@ -10,11 +10,12 @@ default ``map.statistic = "expected"``) with only ``map.resolution`` and ``study
 
 * ``command``: the wall time of ``python -m tribokin run <study> --out <tmp> --report light`` in a child process
   (imports, IK, figures, map.csv, heat maps, report: what a user waits for) on a ``--side`` × ``--side`` plane
-  (600 × 600) × ``--cycles`` (1000), on 1 worker and on 2 (``--workers 2``), and the target-cycles/s it makes
-  (reachable targets × cycles / wall time); that the two wrote the same ``map.csv``; the 2-worker speed-up;
+  (600 × 600) × ``--cycles`` (1000), on 1 worker and on 2 (``--workers 2``), each the best of 3 runs (as the FK loop;
+  ``runs_s``: every run's), and the target-cycles/s it makes (reachable targets × cycles / wall time); that the two
+  wrote the same ``map.csv``; the 2-worker speed-up;
 * ``kernels``: the compiled kernels (numba) against the NumPy path (``TRIBOKIN_KERNELS=numpy``): the cold compile
   (numba's cache empty) and the warm load of a tiny map's command, and the whole command on 2 workers on both paths,
-  on the big plane and on the 10^6-target map, with their ratios (``goals``: whether they double each); how the big
+  on the big plane (best of 3 each) and on the 10^6-target map (one run each), with their ratios (``goals``: whether they double each); how the big
   plane's two map.csv differ (``map_csv_against_numpy``: targets whose IK found another configuration, and
   elsewhere the largest differences);
 * ``fk_loop``: a single-core loop of Pinocchio frame forward kinematics per sample (``pin.forwardKinematics`` and
@@ -69,6 +70,9 @@ STUDY = ROOT / "studies" / "ur5-map-horizontal.toml"
 #: Goals of the issue: the command on 2 workers over the FK loop, a 10^6-target map's computation and command [s],
 #: and the memory growth per target from 10^6 to 2·10^6 targets [B].
 GOAL_FK_RATIO, GOAL_MILLION_COMPUTED_S, GOAL_MILLION_COMMAND_S, GOAL_GROWTH_B = 100, 10.0, 20.0, 1.0
+#: Runs of each command on the big plane, the best kept (as the FK loop's best of 3): one run moves by 10-20 % with
+#: whatever else the machine does.
+PLANE_REPEATS = 3
 
 
 def study_text(side_u: int, side_v: int, cycles: int, statistic: str = "expected") -> str:
@@ -116,19 +120,22 @@ def child(*arguments) -> dict:
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def command(study: Path, out: Path, workers: int = 1, kernels: str = "compiled") -> dict:
+def command(study: Path, out: Path, workers: int = 1, kernels: str = "compiled", repeats: int = 1) -> dict:
     """Wall time of ``tribokin run study --out out --report light --workers N`` in a child process (``kernels``: the
-    kernels' path, ``TRIBOKIN_KERNELS``), and the map's targets and reachable targets (its summary.json)."""
-    shutil.rmtree(out, ignore_errors=True)
-    start = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "tribokin", "run", str(study), "--out", str(out), "--report", "light",
-                    "--workers", str(workers)], check=True, env=child_env(kernels), stdout=subprocess.DEVNULL,
-                   stderr=subprocess.DEVNULL)
-    seconds = time.perf_counter() - start
+    kernels' path, ``TRIBOKIN_KERNELS``): the best of ``repeats`` runs (``runs_s``: each run's), and the map's targets
+    and reachable targets (its summary.json)."""
+    runs = []
+    for _ in range(repeats):
+        shutil.rmtree(out, ignore_errors=True)
+        start = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "tribokin", "run", str(study), "--out", str(out), "--report", "light",
+                        "--workers", str(workers)], check=True, env=child_env(kernels), stdout=subprocess.DEVNULL,
+                       stderr=subprocess.DEVNULL)
+        runs.append(time.perf_counter() - start)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["reproduce"]["kernels"].startswith(kernels), summary["reproduce"]["kernels"]
-    return {"workers": workers, "kernels": kernels, "seconds": seconds, "targets": summary["map"]["count"],
-            "reachable": summary["map"]["reachable"]}
+    return {"workers": workers, "kernels": kernels, "seconds": min(runs), "runs_s": runs,
+            "targets": summary["map"]["count"], "reachable": summary["map"]["reachable"]}
 
 
 def compile_times(study: Path, folder: Path) -> dict:
@@ -392,10 +399,11 @@ def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_si
     command(tiny, folder / "warm-up", kernels="numpy")  # the files read once, into the page cache
     kernels = compile_times(tiny, folder)
     big = write_study(folder, side, side, cycles)
-    serial = rates(command(big, folder / "one-worker"), cycles)
-    two = rates(command(big, folder / "two-workers", workers=2), cycles)
+    serial = rates(command(big, folder / "one-worker", repeats=PLANE_REPEATS), cycles)
+    two = rates(command(big, folder / "two-workers", workers=2, repeats=PLANE_REPEATS), cycles)
     identical = same_table(folder / "one-worker", folder / "two-workers")
-    two_numpy = rates(command(big, folder / "two-workers-numpy", workers=2, kernels="numpy"), cycles)
+    two_numpy = rates(command(big, folder / "two-workers-numpy", workers=2, kernels="numpy", repeats=PLANE_REPEATS),
+                      cycles)
     kernels.update({"numpy_two_workers": two_numpy,
                     "compiled_over_numpy_two_workers": two_numpy["seconds"] / two["seconds"],
                     "map_csv_against_numpy": path_agreement(folder / "two-workers", folder / "two-workers-numpy",
