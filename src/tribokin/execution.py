@@ -58,9 +58,11 @@ def check_executor(workers: int, scheduler: str | None) -> None:
                          "address", "command line", "--scheduler") from None
 
 
-def _end_with(parent: int) -> None:
-    """Worker initializer: have the kernel kill this process when its parent ends (Linux), and end now if
-    the parent already has (between the fork and this call)."""
+def _start_worker(parent: int) -> None:
+    """Worker initializer: freeze what this process holds now (:func:`gc.freeze`: a forked worker's inheritance, which
+    no collection here then walks, nor copies the pages of), have the kernel kill this process when its parent ends
+    (Linux), and end now if the parent already has (between the fork and this call)."""
+    gc.freeze()
     if sys.platform == "linux":
         ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
     if os.getppid() != parent:
@@ -74,9 +76,9 @@ def executor_for(workers: int = 1, scheduler: str | None = None) -> Iterator[Exe
     Yields ``None`` (here, in key order) for one worker and no scheduler; else a
     :class:`~concurrent.futures.ProcessPoolExecutor` of ``workers`` local processes: forked from this
     process if it runs no other thread now (fast, and they inherit what it has loaded when the first
-    chunk is submitted; what it held when the pool was made stays frozen for the pool's life, :func:`gc.freeze`,
-    so that no collection, there or here, walks it), else spawned clean (forking a process with threads can
-    deadlock); they end when this process ends, even if it is killed. With ``scheduler``, the address of a
+    chunk is submitted, frozen there: :func:`_start_worker`), else spawned clean (forking a process with threads can
+    deadlock); they end when this process ends, even if it is killed. What :func:`run_chunks` froze here is unfrozen
+    when the block ends. With ``scheduler``, the address of a
     dask.distributed scheduler (``"tcp://host:8786"``, its workers able to import tribokin), its
     client's executor.
     """
@@ -96,16 +98,13 @@ def executor_for(workers: int = 1, scheduler: str | None = None) -> Iterator[Exe
         yield None
         return
     start = "fork" if "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1 else "spawn"
-    if start == "fork":
-        gc.freeze()  # as the gc module advises before forking: no collection, here or in a worker, walks these again
-    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(start), initializer=_end_with,
+    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(start), initializer=_start_worker,
                                initargs=(os.getpid(),))
     try:
         yield pool
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
-        if start == "fork":
-            gc.unfreeze()
+        gc.unfreeze()
 
 
 def local_workers(executor: Executor | None) -> int:
@@ -127,11 +126,14 @@ def run_chunks(function: Callable, chunks: dict, executor: Executor | None = Non
     ``chunks``, as they finish.
 
     Every chunk is submitted to ``executor`` on entering the block, before the first result is asked
-    for; those not started when the block ends are cancelled. ``None``: run here, in key order.
+    for; those not started when the block ends are cancelled. ``None``: run here, in key order. What this process
+    holds when they are submitted is frozen first (:func:`gc.freeze`, as the gc module advises before a fork: a local
+    pool forks its workers at its first chunk), so that no collection here walks it while they run.
     """
     if executor is None:
         yield ((key, function(*arguments)) for key, arguments in chunks.items())
         return
+    gc.freeze()
     futures = {executor.submit(function, *arguments): key for key, arguments in chunks.items()}
     try:  # a future is let go once its result is out: local memory and a cluster's hold no finished chunk
         yield ((futures.pop(future), future.result()) for future in as_completed(futures))
