@@ -468,7 +468,8 @@ def _read_example_robot(name: str):
 
 
 def _confine_example_meshes(urdf: Path, robots: Path) -> None:
-    """Check that the meshes of example-robot-data's URDF ``urdf`` lie inside its ``robots`` folder (a URDF may lie
-    in a robots folder inside it) (:func:`~tribokin.kinematics.urdf_meshes.confine_meshes`)."""
+    """Check that the meshes of example-robot-data's URDF ``urdf`` are files inside its ``robots`` folder (a URDF may
+    lie in a robots folder inside it) (:func:`~tribokin.kinematics.urdf_meshes.confine_meshes`): read only when
+    drawn, they are checked before any work."""
     urdf, robots = urdf.resolve(), robots.resolve()
-    confine_meshes(ET.parse(urdf).getroot(), urdf, [robots.parent.parent], allowed_dirs=[robots])
+    confine_meshes(ET.parse(urdf).getroot(), urdf, [robots.parent.parent], allowed_dirs=[robots], required=True)
