@@ -15,9 +15,9 @@ default ``map.statistic = "expected"``) with only ``map.resolution`` and ``study
   wrote the same ``map.csv``; the 2-worker speed-up;
 * ``kernels``: the compiled kernels (numba) against the NumPy path (``TRIBOKIN_KERNELS=numpy``): the cold compile
   (numba's cache empty) and the warm load of a tiny map's command, and the whole command on 2 workers on both paths,
-  on the big plane (best of 3 each) and on the 10^6-target map (one run each), with their ratios (``goals``: whether they double each); how the big
-  plane's two map.csv differ (``map_csv_against_numpy``: targets whose IK found another configuration, and
-  elsewhere the largest differences);
+  on the big plane (best of 3 each) and on the 10^6-target map (one run each), with their ratios (``goals``:
+  whether they double each); how the big plane's two map.csv differ (``map_csv_against_numpy``: targets whose IK
+  found another configuration, and elsewhere the largest differences);
 * ``fk_loop``: a single-core loop of Pinocchio frame forward kinematics per sample (``pin.forwardKinematics`` and
   ``pin.updateFramePlacement`` at UR5 configurations), its time per sample, and the command's rate over it: the
   loop's time for reachable targets × cycles samples over the command's wall time (the goal: 100× on 2 workers);

@@ -442,23 +442,25 @@ def _read_example_robot(name: str):
     from example_robot_data.robots_loader import ROBOTS, loader
     from example_robot_data.utils import RobotLoader, getModelPath, readParamsFromSrdf
 
-    kind = ROBOTS[name]
-    if kind.__init__ is not RobotLoader.__init__ or kind.free_flyer or not kind.urdf_filename:
+    attributes = ROBOTS[name]  # the loader's class
+    if attributes.__init__ is not RobotLoader.__init__ or attributes.free_flyer or not attributes.urdf_filename:
         robot_loader = _quiet(loader, name)
         wrapper = robot_loader.robot
         _confine_example_meshes(Path(robot_loader.df_path), Path(robot_loader.model_path))
-        geometries = {pin.GeometryType.VISUAL: wrapper.visual_model, pin.GeometryType.COLLISION: wrapper.collision_model}
+        geometries = {pin.GeometryType.VISUAL: wrapper.visual_model,
+                      pin.GeometryType.COLLISION: wrapper.collision_model}
         reference_q = wrapper.q0 if wrapper.q0 is not None else pin.neutral(wrapper.model)
         return wrapper.model, geometries.__getitem__, np.asarray(reference_q)
-    description = f"{kind.path}/{kind.urdf_subpath}/{kind.urdf_filename}"
-    robots = Path(kind.model_path or getModelPath(description))
+    description = f"{attributes.path}/{attributes.urdf_subpath}/{attributes.urdf_filename}"
+    robots = Path(attributes.model_path or getModelPath(description))
     urdf = robots / description
     _confine_example_meshes(urdf, robots)
     model = _quiet(pin.buildModelFromUrdf, str(urdf))
     reference_q = pin.neutral(model)
-    if kind.srdf_filename:
-        reference_q = readParamsFromSrdf(model, str(robots / kind.path / kind.srdf_subpath / kind.srdf_filename), False,
-                                         kind.has_rotor_parameters, kind.ref_posture)
+    if attributes.srdf_filename:
+        srdf = robots / attributes.path / attributes.srdf_subpath / attributes.srdf_filename
+        reference_q = readParamsFromSrdf(model, str(srdf), False, attributes.has_rotor_parameters,
+                                         attributes.ref_posture)
 
     @functools.lru_cache(maxsize=None)
     def read_geometry(geometry_type: pin.GeometryType) -> pin.GeometryModel:

@@ -52,9 +52,9 @@ class ScenarioMap:
     def read(self, name: str, targets=slice(None), item: int | None = None) -> np.ndarray:
         """Column ``name`` at ``targets`` (with ``item``, only that element of each target's value:
         :meth:`~tribokin.maps.store.ChunkStore.read`): ``figures`` (k, len(map_figures(figure_set))),
-        ``normal_forces_N`` (k, nv) bearing loads [N], ``dominant_joint`` (k,) index in ``joint_names`` of the joint with the largest share of
-        the position variance (-1: none); an expected map's ``method``, ``fallbacks``, ``engine_bound``, ``band_error``
-        (:func:`~tribokin.maps.expected.expected_targets`)."""
+        ``normal_forces_N`` (k, nv) bearing loads [N], ``dominant_joint`` (k,) index in ``joint_names`` of the joint
+        with the largest share of the position variance (-1: none); an expected map's ``method``, ``fallbacks``,
+        ``engine_bound``, ``band_error`` (:func:`~tribokin.maps.expected.expected_targets`)."""
         return self.store.read(scenario_column(self.number, name), targets, item)
 
     def figure(self, name: str, targets=slice(None)) -> np.ndarray:
