@@ -279,7 +279,8 @@ def _reduce_to_chain(model, read_geometry, reference_q, tool_frame, label, offse
                                     f"{label}: {', '.join(frames[1:])}", "tool_frame")
     full = model
     chain = set(model.supports[model.frames[model.getFrameId(tool_frame)].parentJoint])
-    locked = [j for j in range(1, model.njoints) if j not in chain or model.joints[j].shortname() == "JointModelFreeFlyer"]
+    locked = [j for j in range(1, model.njoints)
+              if j not in chain or model.joints[j].shortname() == "JointModelFreeFlyer"]
     if locked:
         model = pin.buildReducedModel(model, locked, reference_q)
     for joint, name in zip(model.joints[1:], list(model.names)[1:]):

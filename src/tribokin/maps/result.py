@@ -282,7 +282,8 @@ class MapResult:
             bound = np.fmax(bound, np.nanmax(scenario.read("engine_bound", part)[flags], axis=0, initial=0.0))
             band_error = max(band_error, float(np.nanmax(scenario.read("band_error", part)[flags], initial=0.0)))
         return {"analytic_targets": analytic, "sampled_targets": sampled, "fallback_targets": fallback,
-                "engine_max_deviation_nm": float(bound[0] * 1e9), "engine_max_angle_deviation_nrad": float(bound[1] * 1e9),
+                "engine_max_deviation_nm": float(bound[0] * 1e9),
+                "engine_max_angle_deviation_nrad": float(bound[1] * 1e9),
                 "RP_l_band_max_mc_error": band_error}
 
     def first_reachable_q(self) -> np.ndarray | None:

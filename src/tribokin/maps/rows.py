@@ -249,7 +249,8 @@ def first_tries(grid: TargetGrid, read) -> list[tuple[int, int]]:
     tries = []
     for index in _within_reach(grid, holes_beside_reached(grid, read)):
         neighbours = grid_neighbours(grid, index)
-        tries += [(index, neighbour) for neighbour, reached in zip(neighbours, read("reachable", neighbours)) if reached]
+        tries += [(index, neighbour)
+                  for neighbour, reached in zip(neighbours, read("reachable", neighbours)) if reached]
     return tries
 
 

@@ -289,7 +289,8 @@ def prepare_map(study: Study, robots: MapRobots) -> PreparedMap:
         except InputError as error:
             key = error.key if not study.scenarios else f"scenarios[{i}].{error.key}"
             raise InputError(error.message, error.source, key) from None
-    return PreparedMap(robots.robots, robots.specs, tuple(grids), starts, runners, MapLayout.of(robots, study.map.figure_set))
+    return PreparedMap(robots.robots, robots.specs, tuple(grids), starts, runners,
+                       MapLayout.of(robots, study.map.figure_set))
 
 
 def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = None, checkpoint=None,
