@@ -44,12 +44,12 @@ def test_meanwhile_runs_once_after_the_chunks_are_handed_to_the_workers_and_befo
     study = tmp_path / "study.toml"
     study.write_text(SMALL_MAP)
     events = []
-    save, mark_done = ChunkStore.save, ChunkStore.mark_done
+    save = ChunkStore.save
     monkeypatch.setattr(ChunkStore, "save", lambda store, *args: events.append("saved") or save(store, *args))
-    monkeypatch.setattr(ChunkStore, "mark_done", lambda store, *args: events.append("done") or mark_done(store, *args))
     with executor_for(workers=2) as executor:
-        run_study(study, executor=executor, progress=lambda *call: events.append("progress"),
-                  meanwhile=lambda: events.append("meanwhile"))
+        run_study(study, executor=executor, checkpoint=tmp_path / "chunks",
+                  progress=lambda *call: events.append("progress"), meanwhile=lambda: events.append("meanwhile"))
     assert events[:2] == ["progress", "meanwhile"] and events.count("meanwhile") == 1
-    assert events.count("done") == 40  # every chunk's result read after it
-    assert "saved" not in events  # each written into the store by its worker: no values came back through a pipe
+    assert events.count("progress") == 41  # every chunk's result read after it
+    assert "saved" not in events  # each saved in the store by its worker: no values came back through a pipe
+    assert len(list((tmp_path / "chunks" / "done").iterdir())) == 40

@@ -76,7 +76,7 @@ def _job_context(job: MapJob) -> tuple[list[Robot], list[PoseRunner]]:
     return _local.cache[1:]
 
 
-def compute_chunk(job: MapJob, rows: list[int], starts: tuple[np.ndarray, ...],
+def compute_chunk(job: MapJob, chunk: int, rows: list[int], starts: tuple[np.ndarray, ...],
                   store: ChunkStore | None = None) -> dict[str, np.ndarray] | None:
     """Solve grid rows ``rows`` for each robot from its ``starts`` (rows, nv), together (:func:`solve_rows`), then
     measure them row by row (a row's reached targets measured together, in blocks: :func:`measure_into`).
@@ -84,7 +84,8 @@ def compute_chunk(job: MapJob, rows: list[int], starts: tuple[np.ndarray, ...],
     Returns:
         the chunk's targets' values of every column of the map's layout (:class:`~tribokin.maps.schema.MapLayout`),
         in index order; with a ``store`` (one this process can write: a local worker's), ``None``, the values
-        written there instead (:meth:`~tribokin.maps.store.ChunkStore.write`), not sent back through a pipe.
+        saved there instead as chunk ``chunk`` (:meth:`~tribokin.maps.store.ChunkStore.save`), not sent back through
+        a pipe.
     """
     robots, runners = _job_context(job)
     row_length = job.grids[0].row_length
@@ -103,8 +104,7 @@ def compute_chunk(job: MapJob, rows: list[int], starts: tuple[np.ndarray, ...],
                          indices[reachable])
     if store is None:
         return arrays
-    first = rows[0] * row_length
-    store.write(slice(first, first + len(rows) * row_length), arrays)
+    store.save(chunk, rows[0] * row_length, arrays)
     return None
 
 
@@ -320,8 +320,8 @@ def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = Non
     finished = set(store.finished())
     robots = list(prepared.robots)
     _local.cache = (job.token, robots, prepared.runners)  # chunks run in this thread need not rebuild them
-    writer = store if local_pool(executor) is not None else None  # a local worker writes its chunk into the store
-    todo = {k: (job, chunks[k], tuple(starts[chunks[k]] for starts in prepared.row_starts), writer)
+    writer = store if local_pool(executor) is not None else None  # a local worker saves its chunk in the store
+    todo = {k: (job, k, chunks[k], tuple(starts[chunks[k]] for starts in prepared.row_starts), writer)
             for k in chunk_order(len(chunks)) if k not in finished}
     done_targets = sum(len(chunks[k]) for k in finished) * grid.row_length
     report = progress if progress is not None and len(chunks) > 1 else lambda done, total: None
@@ -331,9 +331,7 @@ def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = Non
             if meanwhile is not None:
                 meanwhile()
             for chunk, arrays in results:
-                if arrays is None:  # written by the worker
-                    store.mark_done(chunk)
-                else:
+                if arrays is not None:  # else saved by the worker
                     store.save(chunk, chunks[chunk][0] * grid.row_length, arrays)
                 done_targets += len(chunks[chunk]) * grid.row_length
                 report(done_targets, grid.size)

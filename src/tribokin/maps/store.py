@@ -2,8 +2,8 @@
 
 The store is a folder holding ``manifest.json`` (a fingerprint of the settings that determine the
 numbers), one ``<column>.npy`` per result column over all targets, a marker ``done/<k>`` per finished
-chunk (written once the chunk's rows are flushed to disk: by the process that computed them, a local worker's
-or this one), and records of later steps
+chunk (written once the chunk's rows are flushed to disk, by the process that computed them: a local worker or
+this one), and records of later steps
 (``<name>.npz``, each written under a temporary name and renamed, so complete or absent). A run
 killed at any point leaves only finished work marked, which ``--resume`` keeps.
 
@@ -176,10 +176,6 @@ class ChunkStore:
     def save(self, chunk: int, first: int, arrays: dict[str, np.ndarray]) -> None:
         """Write chunk ``chunk``'s arrays (targets ``first`` on), then mark it finished."""
         self.write(slice(first, first + len(next(iter(arrays.values())))), arrays)
-        self.mark_done(chunk)
-
-    def mark_done(self, chunk: int) -> None:
-        """Mark chunk ``chunk`` finished, once its values are written (:meth:`write`, here or in another process)."""
         with self._intact():
             (self.folder / "done" / str(chunk)).touch()
 

@@ -274,8 +274,9 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
         if result.map is None:
             the_rest()
         else:
-            if local_pool(executor) is not None:
-                result.map.summarise_on(local_pool(executor))  # the map's statistics meanwhile, on a worker
+            pool = local_pool(executor)
+            if pool is not None:
+                result.map.summarise_on(pool)  # the map's statistics meanwhile, on a worker
             write_map_tables(result.map, [(scenario, folder / map_table_name(result.map, scenario))
                                           for scenario in result.map.scenarios.values()], executor, the_rest)
     return Path(out)
