@@ -3,6 +3,9 @@ against the moments of an isotropic and a one-dimensional Gaussian; each on both
 kernels (:mod:`tribokin.iso9283.expected_kernels`) against NumPy's (SciPy's Carlson integrals, LAPACK's eigenvalues)."""
 
 import math
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -91,3 +94,12 @@ def test_the_compiled_closed_forms_agree_with_numpy(monkeypatch):
     got, expected = (with_path(monkeypatch, path, expected_norm, *pairs) for path in ("compiled", "numpy"))
     assert got.shape == (6, 2)
     np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0)
+
+
+def test_the_shape_table_alone_imports_scipy_interpolate():
+    """The import takes about 0.1 s; runs of ASYMPTOTIC_CYCLES cycles or more use no table."""
+    code = ("import sys, numpy as np; from tribokin.iso9283.expected import ShapeTable; "
+            "assert 'scipy.interpolate' not in sys.modules, 'imported'; "
+            "ShapeTable.simulate(30, np.random.default_rng(0)).at(np.array([0.5, 0.5])); "
+            "assert 'scipy.interpolate' in sys.modules, 'never imported'")
+    subprocess.run([sys.executable, "-c", code], check=True, env=os.environ | {"PYTHONPATH": os.pathsep.join(sys.path)})

@@ -1,6 +1,9 @@
 """Friction laws: moments against closed forms, sampling, validation, presets."""
 
 import math
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -149,8 +152,11 @@ def test_a_law_defined_in_one_class_parses_from_a_study_and_is_fitted(monkeypatc
         parameters = ("low", "mode", "high")
 
         def __init__(self, low, mode, high, provenance=None):
-            dist = stats.triang((mode - low) / (high - low), loc=low, scale=high - low)
-            super().__init__(dist, {"low": low, "mode": mode, "high": high}, provenance)
+            super().__init__({"low": low, "mode": mode, "high": high}, provenance)
+
+        def _distribution(self):
+            low, mode, high = (self.params[key] for key in self.parameters)
+            return stats.triang((mode - low) / (high - low), loc=low, scale=high - low)
 
         @classmethod
         def maximum_likelihood(cls, mu):
@@ -168,6 +174,27 @@ def test_a_law_defined_in_one_class_parses_from_a_study_and_is_fitted(monkeypatc
     mu = model.friction.rvs(size=2000, random_state=np.random.default_rng(0))
     fit = next(f for f in fitting.fit_laws(mu) if f.law == "triangular")
     assert type(fit.to_law()) is Triangular and fit.params["mode"] == pytest.approx(0.1, abs=0.01)
+
+
+@pytest.mark.parametrize("mean, std", [(0.0, 0.05), (0.02, 0.05), (0.03, 0.01), (0.1375, 0.0075), (1e-300, 1e-3),
+                                       (0.5, 1e-300), (10.0, 10.0)])
+def test_truncated_gaussian_closed_forms_are_scipys(mean, std):
+    truncated = stats.truncnorm(a=-mean / std, b=np.inf, loc=mean, scale=std)
+    with np.errstate(over="ignore"):  # scipy squares a = -mean/std: 5e299 overflows, harmlessly
+        scipys = truncated.mean(), truncated.std(), truncated.pdf(mean + std)
+    law = Gaussian(mean, std)
+    assert (law.mean(), law.std(), law.pdf(mean + std)) == pytest.approx(scipys, rel=1e-12)
+    assert law.support() == (0.0, math.inf)  # scipy's lower end, mean - std·(mean/std), may round off zero
+
+
+def test_moments_and_draws_of_the_closed_form_laws_do_not_import_scipy_stats():
+    """scipy.stats takes about 0.3 s to import: a map of these laws needs none of it."""
+    code = ("import sys, numpy as np; from tribokin.tribology import Constant, Gaussian, Uniform, preset; "
+            "laws = [Gaussian(0.1, 0.01), Gaussian(0.1, 0.0), Uniform(0.1, 0.1), Constant(0.1), preset('42CD4-treated')]; "
+            "[(law.describe(), law.rvs(3, np.random.default_rng(0))) for law in laws]; "
+            "assert 'scipy.stats' not in sys.modules, 'imported'; Gaussian(0.1, 0.01).pdf(0.1); "
+            "assert 'scipy.stats' in sys.modules, 'never imported'")
+    subprocess.run([sys.executable, "-c", code], check=True, env=os.environ | {"PYTHONPATH": os.pathsep.join(sys.path)})
 
 
 def test_truncated_gaussian_moments_are_within_one_percent_of_the_parameters_from_three_std():

@@ -25,7 +25,6 @@ from dataclasses import dataclass
 from statistics import NormalDist
 
 import numpy as np
-from scipy.interpolate import RegularGridInterpolator
 from scipy.special import elliprd, elliprf, elliprg, gammaln
 
 from tribokin.compiled import use_compiled
@@ -250,7 +249,12 @@ class ShapeTable:
         return cls(cycles, tests, *values, error)
 
     def at(self, shape: np.ndarray) -> tuple[np.ndarray, ...]:
-        """(mean, low, high, semi_axis) over √λ₁ at shapes (..., 2) (:func:`standardised_shape`), interpolated."""
+        """(mean, low, high, semi_axis) over √λ₁ at shapes (..., 2) (:func:`standardised_shape`), interpolated.
+
+        ``scipy.interpolate`` is imported here, by the runs of fewer than :data:`ASYMPTOTIC_CYCLES` cycles that use a
+        table: the import takes about 0.1 s, before a map's workers start."""
+        from scipy.interpolate import RegularGridInterpolator
+
         axis = np.linspace(0.0, 1.0, TABLE_NODES)
         return tuple(RegularGridInterpolator((axis, axis), values)(shape)
                      for values in (self.mean, self.low, self.high, self.semi_axis))

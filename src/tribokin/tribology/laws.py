@@ -2,7 +2,7 @@
 
 Each law has the shape of a frozen ``scipy.stats`` distribution --
 ``rvs(size, random_state)``, ``mean()``, ``std()``, ``support()``, ``pdf(x)``
--- so users need no new vocabulary; most delegate to ``scipy.stats``.
+-- so users need no new vocabulary; most delegate to ``scipy.stats``, made on first use (see :func:`_stats`).
 Friction coefficients are dimensionless, never negative and at most ``MU_MAX``.
 
 Every subclass that names its ``law`` is registered in ``LAWS`` as it is defined: study files
@@ -16,7 +16,7 @@ import math
 import numbers
 
 import numpy as np
-from scipy import stats
+from scipy import special
 
 from tribokin.checks import finite, within
 from tribokin.errors import InputError, LawError
@@ -44,6 +44,14 @@ def _check_coefficient(**values: float) -> None:
             raise LawError(error.message, key) from None
 
 
+def _stats():
+    """``scipy.stats``, imported when a law first needs its distribution (a density, a fit, or a moment without a
+    closed form here): the import takes about 0.3 s, in the serial start of a map command, and a map of a Gaussian or
+    constant law needs none of these."""
+    from scipy import stats
+    return stats
+
+
 #: Every friction law by the name study files give it, in the order the classes are defined.
 LAWS: dict[str, type[FrictionLaw]] = {}
 
@@ -52,10 +60,10 @@ class FrictionLaw:
     """Base class: a law of the friction coefficient mu [-].
 
     Subclasses set ``law`` (the name in study files; a subclass that sets it is registered in ``LAWS``) and
-    ``parameters`` (the keys a study file gives, in the order of the constructor's arguments), pass ``dist`` (a
-    frozen scipy distribution, or ``None`` for a law of zero width: every draw is ``value``) and ``params``, and
-    may draw faster than scipy in :meth:`_draw`; ``provenance`` says where the numbers come from. A law that can
-    be fitted to measured mu defines ``maximum_likelihood``.
+    ``parameters`` (the keys a study file gives, in the order of the constructor's arguments), pass ``params`` and,
+    for a law of zero width, ``value`` (every draw); the others make their frozen scipy distribution in
+    :meth:`_distribution`, called on first use. They may draw faster than scipy in :meth:`_draw`; ``provenance``
+    says where the numbers come from. A law that can be fitted to measured mu defines ``maximum_likelihood``.
     """
 
     law: str = ""
@@ -74,8 +82,7 @@ class FrictionLaw:
         maximum likelihood, or ``None`` when the law is not fitted (this base: never) or cannot fit ``mu``."""
         return None
 
-    def __init__(self, dist, params: dict, provenance: str | None = None, value: float | None = None):
-        self._dist = dist
+    def __init__(self, params: dict, provenance: str | None = None, value: float | None = None):
         self._value = value
         self.params = params
         self.provenance = provenance
@@ -86,9 +93,18 @@ class FrictionLaw:
             self._known[name] = compute()
         return self._known[name]
 
+    def _distribution(self):
+        """The law's frozen scipy distribution (laws of zero width have none)."""
+        raise NotImplementedError
+
+    @property
+    def _dist(self):
+        """:meth:`_distribution`, made once; ``None`` for a law of zero width."""
+        return None if self._value is not None else self._once("dist", self._distribution)
+
     def rvs(self, size=None, random_state: np.random.Generator | None = None) -> np.ndarray:
         """Draw friction coefficients [-] with a NumPy generator."""
-        if self._dist is None:
+        if self._value is not None:
             return np.full(size if size is not None else (), self._value)
         return self._draw(size, np.random.default_rng(random_state))
 
@@ -97,23 +113,23 @@ class FrictionLaw:
 
     def mean(self) -> float:
         """Mean friction coefficient [-]."""
-        return self._value if self._dist is None else self._once("mean", lambda: float(self._dist.mean()))
+        return self._value if self._value is not None else self._once("mean", lambda: float(self._dist.mean()))
 
     def std(self) -> float:
         """Standard deviation of the friction coefficient [-]."""
-        return 0.0 if self._dist is None else self._once("std", lambda: float(self._dist.std()))
+        return 0.0 if self._value is not None else self._once("std", lambda: float(self._dist.std()))
 
     def support(self) -> tuple[float, float]:
         """Smallest and largest possible friction coefficient [-]."""
-        if self._dist is None:
-            return self.mean(), self.mean()
+        if self._value is not None:
+            return self._value, self._value
         low, high = self._once("support", self._dist.support)
         return max(float(low), 0.0), float(high)
 
     def pdf(self, x) -> np.ndarray:
         """Probability density at ``x`` [1/-] (a law of zero width: infinite at its value, zero elsewhere)."""
-        if self._dist is None:
-            return np.where(np.asarray(x) == self.mean(), np.inf, 0.0)
+        if self._value is not None:
+            return np.where(np.asarray(x) == self._value, np.inf, 0.0)
         return self._dist.pdf(x)
 
     def describe(self) -> dict:
@@ -146,7 +162,7 @@ class Constant(FrictionLaw):
 
     def __init__(self, mu: float, provenance: str | None = None):
         _check_coefficient(mu=mu)
-        super().__init__(None, {"mu": float(mu)}, provenance, value=float(mu))
+        super().__init__({"mu": float(mu)}, provenance, value=float(mu))
 
 
 class Uniform(FrictionLaw):
@@ -159,14 +175,18 @@ class Uniform(FrictionLaw):
         _check_coefficient(low=low, high=high)
         if low > high:
             raise LawError(f"low ({low}) is above high ({high}): swap them", "low")
-        super().__init__(stats.uniform(loc=low, scale=high - low) if high > low else None,
-                         {"low": float(low), "high": float(high)}, provenance, value=float(low))
+        super().__init__({"low": float(low), "high": float(high)}, provenance,
+                         value=None if high > low else float(low))
+
+    def _distribution(self):
+        return _stats().uniform(loc=self.params["low"], scale=self.params["high"] - self.params["low"])
 
     def _draw(self, size, rng: np.random.Generator) -> np.ndarray:
         return rng.uniform(self.params["low"], self.params["high"], size)
 
     @classmethod
     def maximum_likelihood(cls, mu: np.ndarray):
+        stats = _stats()
         loc, scale = stats.uniform.fit(mu)
         return stats.uniform(loc, scale), {"low": float(loc), "high": float(loc + scale)}
 
@@ -176,8 +196,8 @@ class Gaussian(FrictionLaw):
 
     Friction cannot be negative, so the normal law is truncated at zero
     (``scipy.stats.truncnorm``); ``mean()`` and ``std()`` are those of the
-    truncated law, within 1 % of the parameters when ``mean`` >= 3 ``std``.
-    Asperity-dominated contacts (paper §4.2).
+    truncated law, within 1 % of the parameters when ``mean`` >= 3 ``std``,
+    in closed form. Asperity-dominated contacts (paper §4.2).
     """
 
     law = "gaussian"
@@ -185,8 +205,31 @@ class Gaussian(FrictionLaw):
 
     def __init__(self, mean: float, std: float, provenance: str | None = None):
         _check_coefficient(mean=mean, std=std)
-        dist = stats.truncnorm(a=-mean / std, b=np.inf, loc=mean, scale=std) if std > 0 else None
-        super().__init__(dist, {"mean": float(mean), "std": float(std)}, provenance, value=float(mean))
+        super().__init__({"mean": float(mean), "std": float(std)}, provenance, value=None if std > 0 else float(mean))
+
+    def _distribution(self):
+        mean, std = self.params["mean"], self.params["std"]
+        return _stats().truncnorm(a=-mean / std, b=np.inf, loc=mean, scale=std)
+
+    def _standard_moments(self) -> tuple[float, float]:
+        """Mean and variance of the standard normal truncated below at a = -mean/std <= 0: lambda and
+        1 + lambda (a - lambda), lambda = phi(a) / (1 - Phi(a)), the formulas ``scipy.stats.truncnorm`` evaluates."""
+        a = -self.params["mean"] / self.params["std"]
+        hazard = math.exp(-0.5 * a * a) / math.sqrt(2 * math.pi) / float(special.ndtr(-a))
+        return hazard, 1.0 + hazard * (a - hazard)
+
+    def mean(self) -> float:
+        if self._value is not None:
+            return self._value
+        return self.params["mean"] + self.params["std"] * self._standard_moments()[0]
+
+    def std(self) -> float:
+        if self._value is not None:
+            return 0.0
+        return self.params["std"] * math.sqrt(self._standard_moments()[1])
+
+    def support(self) -> tuple[float, float]:
+        return (self._value, self._value) if self._value is not None else (0.0, math.inf)
 
     def _draw(self, size, rng: np.random.Generator) -> np.ndarray:
         """Normal draws, each negative one drawn again: exactly the truncated law, and since
@@ -202,6 +245,7 @@ class Gaussian(FrictionLaw):
     @classmethod
     def maximum_likelihood(cls, mu: np.ndarray):
         """The untruncated normal fit (the law truncates it at mu = 0, which changes nothing when mean >> std)."""
+        stats = _stats()
         loc, scale = stats.norm.fit(mu)
         return stats.norm(loc, scale), {"mean": float(loc), "std": float(scale)}
 
@@ -219,18 +263,21 @@ class Lognormal(FrictionLaw):
                            "no sliding contact has less friction (superlubric ones reach about 1e-4)", "mean")
         sigma_log = math.sqrt(math.log1p((std / mean) ** 2))
         median = mean / math.sqrt(1 + (std / mean) ** 2)
-        super().__init__(stats.lognorm(s=sigma_log, scale=median) if std > 0 else None,
-                         {"mean": float(mean), "std": float(std)}, provenance, value=float(mean))
-        self._log_median, self._sigma_log = math.log(median), sigma_log
+        super().__init__({"mean": float(mean), "std": float(std)}, provenance, value=None if std > 0 else float(mean))
+        self._median, self._sigma_log = median, sigma_log
+
+    def _distribution(self):
+        return _stats().lognorm(s=self._sigma_log, scale=self._median)
 
     def _draw(self, size, rng: np.random.Generator) -> np.ndarray:
-        return rng.lognormal(self._log_median, self._sigma_log, size)
+        return rng.lognormal(math.log(self._median), self._sigma_log, size)
 
     @classmethod
     def maximum_likelihood(cls, mu: np.ndarray):
         """Location fixed at 0; ``None`` when a value is <= 0 (outside the law's support)."""
         if np.any(mu <= 0):
             return None
+        stats = _stats()
         s, _, scale = stats.lognorm.fit(mu, floc=0)
         mean = scale * math.exp(s * s / 2)
         return stats.lognorm(s, 0, scale), {"mean": float(mean), "std": float(mean * math.sqrt(math.expm1(s * s)))}
@@ -261,8 +308,10 @@ class Empirical(FrictionLaw):
         _check_coefficient(values=float(values.min()))
         _check_coefficient(values=float(values.max()))
         self.values = values
-        super().__init__(stats.rv_histogram(np.histogram(values, bins="auto"), density=True),
-                         {"values": values.tolist()}, provenance)
+        super().__init__({"values": values.tolist()}, provenance)
+
+    def _distribution(self):
+        return _stats().rv_histogram(np.histogram(self.values, bins="auto"), density=True)
 
     def _draw(self, size, rng: np.random.Generator) -> np.ndarray:
         return rng.choice(self.values, size=size, replace=True)
@@ -288,7 +337,7 @@ class Scaled(FrictionLaw):
 
     def __init__(self, law: FrictionLaw, scale: float, quantity: str):
         self.inner, self.scale, self.quantity, self.law = law, float(scale), quantity, law.law
-        super().__init__(None, {"value" if k == "mu" else k: np.multiply(v, scale).tolist()
+        super().__init__({"value" if k == "mu" else k: np.multiply(v, scale).tolist()
                                 for k, v in law.params.items()}, law.provenance)
 
     def __eq__(self, other) -> bool:
