@@ -20,7 +20,9 @@ default ``map.statistic = "expected"``) with only ``map.resolution`` and ``study
   found another configuration, and elsewhere the largest differences);
 * ``fk_loop``: a single-core loop of Pinocchio frame forward kinematics per sample (``pin.forwardKinematics`` and
   ``pin.updateFramePlacement`` at UR5 configurations), its time per sample, and the command's rate over it: the
-  loop's time for reachable targets × cycles samples over the command's wall time (the goal: 100× on 2 workers);
+  loop's time for reachable targets × cycles samples over the command's wall time: the best run over the best loop,
+  and (``paired``) each 2-worker run over the loop timed right after it, whose median the goal (100× on 2 workers)
+  is judged on, since a shared machine's speed drifts in the minutes between the loop and the runs;
 * ``one_test``: the same command with ``map.statistic = "one-test"`` (one simulated test per target: the engine
   before expected maps) on a ``--one-test-side`` plane (a 600 × 600 one would take minutes), beside the expected
   map on the same plane; its time per reachable target scaled to the big plane's reachable targets (``scaled``) for
@@ -55,6 +57,7 @@ import json
 import os
 import platform
 import shutil
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -120,11 +123,14 @@ def child(*arguments) -> dict:
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def command(study: Path, out: Path, workers: int = 1, kernels: str = "compiled", repeats: int = 1) -> dict:
+def command(study: Path, out: Path, workers: int = 1, kernels: str = "compiled", repeats: int = 1,
+            loop_samples: int | None = None) -> dict:
     """Wall time of ``tribokin run study --out out --report light --workers N`` in a child process (``kernels``: the
     kernels' path, ``TRIBOKIN_KERNELS``): the best of ``repeats`` runs (``runs_s``: each run's), and the map's targets
-    and reachable targets (its summary.json)."""
-    runs = []
+    and reachable targets (its summary.json). With ``loop_samples``, the FK loop is timed right after each run
+    (:func:`fk_loop_seconds_per_sample`, ``loop_s``: each run's), so that each run has a loop time taken while the
+    machine ran at the same speed."""
+    runs, loops = [], []
     for _ in range(repeats):
         shutil.rmtree(out, ignore_errors=True)
         start = time.perf_counter()
@@ -132,10 +138,13 @@ def command(study: Path, out: Path, workers: int = 1, kernels: str = "compiled",
                         "--workers", str(workers)], check=True, env=child_env(kernels), stdout=subprocess.DEVNULL,
                        stderr=subprocess.DEVNULL)
         runs.append(time.perf_counter() - start)
+        if loop_samples is not None:
+            loops.append(fk_loop_seconds_per_sample(loop_samples))
     summary = json.loads((out / "summary.json").read_text())
     assert summary["reproduce"]["kernels"].startswith(kernels), summary["reproduce"]["kernels"]
     return {"workers": workers, "kernels": kernels, "seconds": min(runs), "runs_s": runs,
-            "targets": summary["map"]["count"], "reachable": summary["map"]["reachable"]}
+            "targets": summary["map"]["count"], "reachable": summary["map"]["reachable"]} | (
+        {"loop_s": loops} if loops else {})
 
 
 def compile_times(study: Path, folder: Path) -> dict:
@@ -151,6 +160,19 @@ def compile_times(study: Path, folder: Path) -> dict:
                    "the NumPy path (best of 3); differences to the NumPy path",
             "cold_command_s": cold, "warm_command_s": warm, "numpy_command_s": plain,
             "cold_compile_s": cold - plain, "warm_load_s": warm - plain}
+
+
+def paired_ratios(run: dict, cycles: int) -> dict:
+    """Each run of ``run`` (:func:`command` with ``loop_samples``) over the FK loop timed right after it, and their
+    median: unlike the best run over the best loop, timed minutes apart, this ratio does not move with the speed of
+    a shared machine between the two."""
+    ratios = [run["reachable"] * cycles * loop / seconds for seconds, loop in zip(run["runs_s"], run["loop_s"])]
+    return {"how": "each 2-worker run's loop-equivalent time (reachable targets x cycles x the loop's time per sample, "
+                   "the loop timed right after that run, best of 3) over its wall time; the goal is judged on the "
+                   "median",
+            "runs": [{"command_s": seconds, "loop_s_per_sample": loop, "ratio": ratio}
+                     for seconds, loop, ratio in zip(run["runs_s"], run["loop_s"], ratios)],
+            "median_ratio": float(statistics.median(ratios))}
 
 
 def rates(run: dict, cycles: int) -> dict:
@@ -400,7 +422,7 @@ def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_si
     kernels = compile_times(tiny, folder)
     big = write_study(folder, side, side, cycles)
     serial = rates(command(big, folder / "one-worker", repeats=PLANE_REPEATS), cycles)
-    two = rates(command(big, folder / "two-workers", workers=2, repeats=PLANE_REPEATS), cycles)
+    two = rates(command(big, folder / "two-workers", workers=2, repeats=PLANE_REPEATS, loop_samples=fk_samples), cycles)
     identical = same_table(folder / "one-worker", folder / "two-workers")
     two_numpy = rates(command(big, folder / "two-workers-numpy", workers=2, kernels="numpy", repeats=PLANE_REPEATS),
                       cycles)
@@ -442,7 +464,8 @@ def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_si
         "fk_loop": {"seconds_per_sample": loop_s, "samples_per_s": loop_rate,
                     "equivalent_seconds": two["reachable"] * cycles * loop_s,
                     "one_worker_over_loop": serial["target_cycles_per_s"] / loop_rate,
-                    "two_workers_over_loop": two["target_cycles_per_s"] / loop_rate},
+                    "two_workers_over_loop": two["target_cycles_per_s"] / loop_rate,
+                    "paired": paired_ratios(two, cycles)},
         "one_test": {"resolution": [one_test_side, one_test_side], "workers": 2, "run": one_test,
                      "expected_same_plane": expected_small,
                      "one_test_over_expected_same_plane": one_test["seconds"] / expected_small["seconds"],
@@ -460,7 +483,7 @@ def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_si
     }
     million_measured = million_command["targets"] >= 10**6
     results["goals"] = {
-        "100x_fk_loop_two_workers": results["fk_loop"]["two_workers_over_loop"] >= GOAL_FK_RATIO,
+        "100x_fk_loop_two_workers": results["fk_loop"]["paired"]["median_ratio"] >= GOAL_FK_RATIO,
         "million_computed_under_10_s": million_computed["seconds"] < GOAL_MILLION_COMPUTED_S if million_measured
         else None,
         "million_command_under_20_s": million_command["seconds"] < GOAL_MILLION_COMMAND_S if million_measured else None,
