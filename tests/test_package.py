@@ -21,6 +21,23 @@ assert not loaded, loaded
 """
 
 
+MAP_COMMAND = """
+import sys
+from tribokin.cli import build_parser
+build_parser()
+import tribokin.run, tribokin.output.writers, tribokin.viz.contents
+assert "scipy.spatial" not in sys.modules, "imported"
+from tribokin.measurement.registration import register_measurements
+"""
+
+
+def test_a_map_command_does_not_import_scipy_spatial():
+    """scipy.spatial takes about 0.15 s to import: the parser, a run and its views need none of it (the measurement
+    commands import it when they register a frame)."""
+    done = subprocess.run([sys.executable, "-c", MAP_COMMAND], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+
+
 def test_every_public_name_resolves_to_its_module():
     for name in tribokin.__all__:
         value = getattr(tribokin, name)

@@ -4,7 +4,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from tribokin.iso9283.metrics import directional_metrics, multidirectional_variation, pose_metrics, \
+from scipy.spatial.distance import pdist
+
+from tribokin.iso9283.metrics import directional_metrics, largest_distance, multidirectional_variation, pose_metrics, \
     position_repeatability
 
 
@@ -37,6 +39,15 @@ def test_vap_is_largest_distance_between_direction_barycenters():
     barycenters = np.array([[0, 0, 0], [3, 0, 0], [0, 4, 0]], dtype=float)
     assert multidirectional_variation(barycenters) == pytest.approx(5.0)
     assert multidirectional_variation(barycenters[:1]) is None
+
+
+def test_largest_distance_is_scipys_largest_pairwise_distance_repeated_points_included():
+    rng = np.random.default_rng(3)
+    for count in (2, 3, 7, 90):
+        points = rng.normal(scale=[1e-6, 0.3, 20.0], size=(count, 3))
+        points[count // 2:] = points[0]  # repeated points (a pose's commanded position on every row)
+        assert largest_distance(points) == pytest.approx(pdist(points).max(), rel=1e-15)
+    assert largest_distance(np.ones((5, 3))) == 0.0 == largest_distance(np.zeros((1, 3)))
 
 
 def test_figures_per_direction_and_across_directions_by_hand():

@@ -21,11 +21,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial.distance import pdist
 
 from tribokin.calibration.data import PoseData
 from tribokin.calibration.fit import Calibration, fit
 from tribokin.calibration.model import JointModel, predict_series
+from tribokin.iso9283.metrics import largest_distance
 
 DRAWS = 2000
 SEED = 9283
@@ -116,7 +116,7 @@ def predict_pose(calibration: Calibration, pose: PoseData, rng: np.random.Genera
         measured = np.array([np.mean(s.points_m, axis=0) for s in pose.series])
         simulated = np.stack(barycentres, axis=1)
         spans = np.linalg.norm(simulated[:, :, None] - simulated[:, None, :], axis=-1).max(axis=(1, 2))
-        vap = _summary(pdist(measured).max(), spans)
+        vap = _summary(largest_distance(measured), spans)
     return PosePrediction(pose.label, tuple(s.direction for s in pose.series), tuple(rp_l), vap)
 
 

@@ -20,7 +20,6 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from scipy.spatial.distance import pdist
 
 
 @dataclass(frozen=True)
@@ -134,12 +133,20 @@ def variance_contributions(position_jacobian: np.ndarray, dq: np.ndarray) -> np.
         return np.where(total > 0, parts / np.where(total > 0, total, 1.0), np.nan)
 
 
+def largest_distance(points_m: np.ndarray) -> float:
+    """The largest distance between two of the (k, 3) points [m] (0 for fewer than two), over their distinct points:
+    scipy's ``pdist`` without importing ``scipy.spatial`` (0.15 s) into every command."""
+    distinct = np.unique(points_m, axis=0)
+    differences = distinct[:, None, :] - distinct[None, :, :]
+    return float(np.sqrt(np.einsum("ijk,ijk->ij", differences, differences).max(initial=0.0)))
+
+
 def multidirectional_variation(barycenters_m: np.ndarray) -> float | None:
     """vAP_p [m]: largest distance between the (k, 3) barycenters reached from k approach directions.
 
     ``None`` for fewer than two directions.
     """
-    return float(pdist(barycenters_m).max()) if len(barycenters_m) > 1 else None
+    return largest_distance(barycenters_m) if len(barycenters_m) > 1 else None
 
 
 def pose_metrics(positions: np.ndarray, angles: np.ndarray, commanded_position: np.ndarray) -> PoseMetrics:

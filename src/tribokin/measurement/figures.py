@@ -27,10 +27,9 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from scipy.spatial.distance import pdist
 
-from tribokin.iso9283.metrics import (barycenter, covariance_semi_axes, multidirectional_variation,
-                              orientation_repeatability, position_repeatability)
+from tribokin.iso9283.metrics import (barycenter, covariance_semi_axes, largest_distance, multidirectional_variation,
+                                      orientation_repeatability, position_repeatability)
 from tribokin.measurement.contract import Measurements, Pose, Series
 from tribokin.measurement.registration import Registration
 from tribokin.units import MDEG_PER_RAD, UM_PER_M
@@ -177,7 +176,7 @@ def pose_clouds(pose: Pose, registration: Registration | None) -> Clouds:
     commanded = pose.pooled("commanded_m")
     if commanded is None:
         return Clouds(positions, None, None, False)
-    spread = float(pdist(commanded).max(initial=0.0))
+    spread = largest_distance(commanded)
     if registration is None or spread == 0:
         return Clouds(positions, [s.commanded_m for s in pose.series], spread, False)
     mean = commanded.mean(axis=0)

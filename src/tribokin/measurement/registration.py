@@ -12,7 +12,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from tribokin.iso9283.metrics import barycenter
 from tribokin.measurement.contract import Measurements
@@ -58,6 +57,8 @@ def register(measured_m: np.ndarray, commanded_m: np.ndarray, poses: tuple[str, 
     singular = np.linalg.svd(commanded_m - commanded_centre, compute_uv=False)
     if singular[1] <= COLLINEAR_RATIO * singular[0]:
         return None
+    from scipy.spatial.transform import Rotation  # here: scipy.spatial takes 0.15 s to import, for every command
+
     rotation = Rotation.align_vectors(commanded_m - commanded_centre, measured_m - measured_centre)[0].as_matrix()
     translation = commanded_centre - rotation @ measured_centre
     residual = measured_m @ rotation.T + translation - commanded_m
