@@ -71,8 +71,8 @@ def test_the_committed_file_is_a_measurement_file_of_five_poses_three_series_of_
     for pose, cube_pose in zip(measurements.poses, poses):
         assert [s.direction for s in pose.series] == ["+x", "+y", "+z"]
         assert all(s.cycles.tolist() == list(range(1, 31)) for s in pose.series)
-        assert pose.q_spread == 0.0  # every row holds the same q, its mean (the pose's q) to rounding:
-        np.testing.assert_allclose(pose.q, cube_pose.q, rtol=0, atol=1e-15)
+        assert pose.q_spread == 0.0  # every row holds the same q, the cube's, to rounding (its IK's, a few ulps):
+        np.testing.assert_allclose(pose.q, cube_pose.q, rtol=0, atol=1e-13)
         np.testing.assert_allclose(pose.pooled("commanded_m"), np.tile(cube_pose.position_m, (90, 1)), atol=1e-10)
     numbers = _text_and_numbers(COMMITTED)[1]  # every row's commanded position is the kinematics of its q, to the bit
     assert all(np.all(row[3:6] == robot.tool_placement(row[6:]).translation) for row in numbers)

@@ -25,7 +25,6 @@ from dataclasses import dataclass
 from statistics import NormalDist
 
 import numpy as np
-from scipy.special import elliprd, elliprf, elliprg, gammaln
 
 from tribokin.compiled import use_compiled
 
@@ -52,6 +51,8 @@ _MEAN_NORM = 2 * math.sqrt(2 / math.pi)  # E|z| of a standard normal 3-vector
 
 def _carlson_derivative(lam: np.ndarray, i: int) -> np.ndarray:
     """∂R_G/∂λ_i of (..., 3) arguments: R_F/4 - λ_i R_D/12, the other two arguments first."""
+    from scipy.special import elliprd, elliprf  # here: the compiled path needs none of scipy.special
+
     others = [lam[..., j] for j in range(3) if j != i]
     return elliprf(*others, lam[..., i]) / 4 - lam[..., i] * elliprd(*others, lam[..., i]) / 12
 
@@ -66,6 +67,8 @@ def _scaled(lam) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _unit_moments(unit: np.ndarray) -> tuple[np.ndarray, ...]:
+    from scipy.special import elliprg  # here: the compiled path needs none of scipy.special
+
     m1 = _MEAN_NORM * elliprg(unit[..., 0], unit[..., 1], unit[..., 2])
     m2 = unit.sum(axis=-1)
     slopes = np.stack([_carlson_derivative(unit, i) for i in range(3)], axis=-1)
@@ -128,7 +131,7 @@ def normal_band(mean: np.ndarray, spread: np.ndarray) -> tuple[np.ndarray, np.nd
 def c4(cycles: int) -> float:
     """E[S] / σ of the sample standard deviation (n - 1) of ``cycles`` Gaussian values."""
     n = cycles
-    return math.sqrt(2 / (n - 1)) * math.exp(gammaln(n / 2) - gammaln((n - 1) / 2))
+    return math.sqrt(2 / (n - 1)) * math.exp(math.lgamma(n / 2) - math.lgamma((n - 1) / 2))
 
 
 def expected_norm(centre: np.ndarray, covariance: np.ndarray) -> np.ndarray:

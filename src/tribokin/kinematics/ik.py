@@ -14,7 +14,6 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 import pinocchio as pin
-from scipy.linalg.lapack import dposv
 
 from tribokin.compiled import use_compiled
 from tribokin.kinematics.chain import SerialChain, serial_chain
@@ -107,8 +106,7 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
             error, jacobian = current.rotation.T @ gap, jacobian[:3]
         else:
             jacobian = pin.Jlog6(error_motion) @ jacobian
-        _, step, _ = dposv(jacobian @ jacobian.T + regularisation, error)  # SPD: Cholesky, without numpy's checks
-        step = jacobian.T @ step
+        step = jacobian.T @ np.linalg.solve(jacobian @ jacobian.T + regularisation, error)
         q = np.minimum(np.maximum(q + step, lower), upper)
     return IKResult(robot.wrapped(q), position_error, angle_error, _succeeded(converged, position_error, angle_error,
                                                                               position_tol_m, angle_tol_rad))

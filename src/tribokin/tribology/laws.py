@@ -16,7 +16,6 @@ import math
 import numbers
 
 import numpy as np
-from scipy import special
 
 from tribokin.checks import finite, within
 from tribokin.errors import InputError, LawError
@@ -215,7 +214,7 @@ class Gaussian(FrictionLaw):
         """Mean and variance of the standard normal truncated below at a = -mean/std <= 0: lambda and
         1 + lambda (a - lambda), lambda = phi(a) / (1 - Phi(a)), the formulas ``scipy.stats.truncnorm`` evaluates."""
         a = -self.params["mean"] / self.params["std"]
-        hazard = math.exp(-0.5 * a * a) / math.sqrt(2 * math.pi) / float(special.ndtr(-a))
+        hazard = math.exp(-0.5 * a * a) / math.sqrt(2 * math.pi) / (0.5 * math.erfc(a / math.sqrt(2)))  # Phi(-a)
         return hazard, 1.0 + hazard * (a - hazard)
 
     def mean(self) -> float:
