@@ -81,7 +81,9 @@ def before_cell(value) -> str:
 
 
 def write_before(handle, columns: dict) -> None:
-    csv.writer(handle).writerows([before_cell(v) for v in row] for row in zip(*columns.values()))
+    text = io.StringIO(newline="")
+    csv.writer(text).writerows([before_cell(v) for v in row] for row in zip(*columns.values()))
+    handle.write(text.getvalue().encode())
 
 
 def write_now(handle, columns: dict) -> None:
@@ -91,12 +93,14 @@ def write_now(handle, columns: dict) -> None:
 def write_table(path: Path, side: int, write_block, tiny: bool) -> float:
     """Seconds to write the table at ``path`` block by block (building the blocks not counted)."""
     rng, seconds = np.random.default_rng(7), 0.0
-    with open(path, "w", newline="", encoding="utf-8") as handle:
+    with open(path, "wb") as handle:
         for part in blocks(side * side):
             columns = synthetic_columns(rng, part, side, tiny)
             start = time.perf_counter()
             if part.start == 0:
-                csv.writer(handle).writerow(columns)
+                header = io.StringIO(newline="")
+                csv.writer(header).writerow(columns)
+                handle.write(header.getvalue().encode())
             write_block(handle, columns)
             seconds += time.perf_counter() - start
     return seconds
@@ -144,7 +148,7 @@ def float_formatting(side: int, rows: int = 4096) -> dict:
         "orjson_per_column_csv_writer_ns": ns(lambda part: csv.writer(io.StringIO()).writerows(
             zip(*orjson_columns(part)))),
         "orjson_per_column_join_ns": ns(lambda part: "\r\n".join(map(",".join, zip(*orjson_columns(part))))),
-        "float_lines_ns": ns(lambda part: "\r\n".join(float_lines(np.column_stack(part)))),
+        "float_lines_ns": ns(lambda part: b"\r\n".join(float_lines(np.column_stack(part)))),
     }
 
 

@@ -39,20 +39,27 @@ def test_every_float_is_written_as_repr_and_round_trips_bit_for_bit():
     rng = np.random.default_rng(22)
     values = np.concatenate([rng.integers(0, 2**64, 200_003, dtype=np.uint64).view(np.float64),
                              rng.normal(size=50_000) * 10.0 ** rng.integers(-320, 300, 50_000), SPECIAL])
-    cells = float_lines(values[:, None])
+    cells = [cell.decode() for cell in float_lines(values[:, None])]
     assert cells == ["" if np.isnan(v) else repr(v) for v in values.tolist()]
     finite = ~np.isnan(values)
     parsed = np.array([float(cell) for cell, keep in zip(cells, finite) if keep])
     assert np.array_equal(parsed.view(np.int64), values[finite].view(np.int64))
-    assert float_lines(values.reshape(-1, 4)) == [",".join(cells[i:i + 4]) for i in range(0, len(cells), 4)]
-    assert float_lines(values[::-7, None]) == cells[::-7] and float_lines(np.empty((0, 3))) == []
+    assert float_lines(values.reshape(-1, 4)) == [",".join(cells[i:i + 4]).encode() for i in range(0, len(cells), 4)]
+    assert float_lines(values[::-7, None]) == [cell.encode() for cell in cells[::-7]]
+    assert float_lines(np.empty((0, 3))) == []
+
+
+def test_rows_of_nan_only_and_rows_with_some_nan_have_empty_cells():
+    values = np.array([[np.nan, np.nan, np.nan], [1.0, np.nan, -2.5], [np.nan, 3e-5, np.nan], [0.5, 1.0, 2.0]])
+    assert float_lines(values) == [b",,", b"1.0,,-2.5", b",3e-05,", b"0.5,1.0,2.0"]
+    assert float_lines(np.full((2, 1), np.nan)) == [b"", b""]
 
 
 def test_booleans_and_text_are_written_as_csv_writer_writes_them():
     texts = np.array(TEXTS, dtype=object)
     columns = {"ok": np.arange(len(TEXTS)) % 2 == 0, "name": texts, "x": np.linspace(0, 1, len(TEXTS))}
-    assert column_cells(columns["ok"])[:2] == ["true", "false"]
-    lines = "".join(table_lines(columns))
+    assert column_cells(columns["ok"])[:2] == [b"true", b"false"]
+    lines = b"".join(table_lines(columns)).decode()
     assert lines == repr_lines(columns)
     assert [row[1] for row in csv.reader(io.StringIO(lines))] == TEXTS
 
@@ -62,7 +69,7 @@ def test_lines_are_the_same_however_many_are_formatted_at_a_time(rows):
     rng = np.random.default_rng(rows)
     columns = {"a": rng.normal(size=10), "b": np.where(rng.random(10) < 0.5, np.nan, rng.random(10) * 1e-6),
                "c": rng.random(10) < 0.5, "d": rng.choice(np.array(TEXTS, dtype=object), 10)}
-    assert "".join(table_lines(columns, rows)) == repr_lines(columns)
+    assert b"".join(table_lines(columns, rows)).decode() == repr_lines(columns)
 
 
 def test_map_tables_of_a_real_map_are_the_repr_writers_bytes_written_block_by_block(tmp_path, monkeypatch):

@@ -89,16 +89,23 @@ def write_samples(result: StudyResult, folder: Path) -> None:
     np.savez_compressed(folder / "samples.npz", **arrays)
 
 
-def float_lines(values: np.ndarray) -> list[str]:
-    """Each row of an (n, k) float array as CSV cells joined by commas, every float as ``repr`` writes it, NaN
+def float_lines(values: np.ndarray) -> list[bytes]:
+    """Each row of an (n, k) float array as CSV cells (UTF-8) joined by commas, every float as ``repr`` writes it, NaN
     empty: orjson's shortest round-trip digits, or ``repr`` for the rows holding a value whose styles differ (±inf,
-    and 1e-9 <= |value| < 1e-4, which orjson writes ``1e-9``, ``0.00001``)."""
+    and 1e-9 <= |value| < 1e-4, which orjson writes ``1e-9``, ``0.00001``). A row of NaN only is commas, and only
+    rows with some NaN are searched for orjson's ``null``."""
     values = np.ascontiguousarray(values, dtype=np.float64)
-    lines = orjson.dumps(values, option=orjson.OPT_SERIALIZE_NUMPY)[2:-2].decode().replace("null", "").split("],[")
+    lines = orjson.dumps(values, option=orjson.OPT_SERIALIZE_NUMPY)[2:-2].split(b"],[")
+    missing = np.isnan(values)
+    empty = missing.all(axis=1)
+    for i in np.flatnonzero(empty).tolist():
+        lines[i] = b"," * (values.shape[1] - 1)
+    for i in np.flatnonzero(missing.any(axis=1) & ~empty).tolist():
+        lines[i] = lines[i].replace(b"null", b"")
     magnitude = np.abs(values)
     differ = (np.isinf(values) | ((magnitude >= 1e-9) & (magnitude < 1e-4))).any(axis=1)
     for i, row in zip(np.flatnonzero(differ).tolist(), values[differ].tolist()):
-        lines[i] = ",".join("" if np.isnan(value) else repr(value) for value in row)
+        lines[i] = ",".join("" if np.isnan(value) else repr(value) for value in row).encode()
     return lines[:len(values)]  # no rows: "[]" splits into one empty line
 
 
@@ -108,18 +115,18 @@ def text_cell(text: str) -> str:
     return '"' + text.replace('"', '""') + '"' if any(c in text for c in ',"\r\n') else text
 
 
-def column_cells(values: np.ndarray) -> list[str]:
-    """CSV cells of a column of booleans (true/false) or of text (:func:`text_cell`)."""
+def column_cells(values: np.ndarray) -> list[bytes]:
+    """CSV cells (UTF-8) of a column of booleans (true/false) or of text (:func:`text_cell`)."""
     if values.dtype.kind == "b":
-        return np.array(["false", "true"], dtype=object)[values.astype(np.intp)].tolist()
+        return np.array([b"false", b"true"], dtype=object)[values.astype(np.intp)].tolist()
     cells = [str(value) for value in values.tolist()]
-    quoted = {text: text_cell(text) for text in set(cells)}
+    quoted = {text: text_cell(text).encode() for text in set(cells)}
     return [quoted[text] for text in cells]
 
 
-def table_lines(columns: dict[str, np.ndarray], rows: int = 4096) -> Iterator[str]:
-    """The CSV lines (``\\r\\n``-terminated, as ``csv.writer``) of equally long ``columns``, ``rows`` lines at a
-    time: consecutive float columns together (:func:`float_lines`), the others a column at a time
+def table_lines(columns: dict[str, np.ndarray], rows: int = 4096) -> Iterator[bytes]:
+    """The CSV lines (UTF-8, ``\\r\\n``-terminated, as ``csv.writer``) of equally long ``columns``, ``rows`` lines at
+    a time: consecutive float columns together (:func:`float_lines`), the others a column at a time
     (:func:`column_cells`)."""
     runs = [(floating, list(run)) for floating, run in groupby(columns.values(), key=lambda v: v.dtype.kind == "f")]
     for part in blocks(len(next(iter(columns.values()))), rows):
@@ -129,7 +136,7 @@ def table_lines(columns: dict[str, np.ndarray], rows: int = 4096) -> Iterator[st
                 pieces.append(float_lines(np.column_stack([values[part] for values in run])))
             else:
                 pieces.extend(column_cells(values[part]) for values in run)
-        yield "\r\n".join(map(",".join, zip(*pieces))) + "\r\n"
+        yield b"\r\n".join(map(b",".join, zip(*pieces))) + b"\r\n"
 
 
 def reached_by_cells(workspace_map: MapResult, scenario: ScenarioMap, targets: slice) -> np.ndarray:
@@ -170,7 +177,7 @@ TABLE_TARGETS = 1 << 14
 
 def map_table_text(workspace_map: MapResult, scenario: ScenarioMap, targets: slice) -> bytes:
     """The lines (UTF-8) of ``scenario``'s map table at ``targets``, without the header (:func:`table_lines`)."""
-    return "".join(table_lines(map_table_columns(workspace_map, scenario, targets))).encode()
+    return b"".join(table_lines(map_table_columns(workspace_map, scenario, targets)))
 
 
 def write_map_table_part(workspace_map: MapResult, scenario: ScenarioMap, targets: slice, path: Path) -> None:
@@ -237,8 +244,10 @@ def write_placement(placement: PlacementResult, folder: Path, out: Path) -> None
     """``placement.csv`` (one row per candidate, best first: :meth:`~tribokin.placement.result.PlacementResult.columns`)
     and ``best.toml`` (:func:`~tribokin.output.placed_study.best_study_text`, its paths relative to ``out``)."""
     columns = placement.columns()
-    with open(folder / "placement.csv", "w", newline="", encoding="utf-8") as handle:
-        csv.writer(handle).writerow(columns)
+    header = io.StringIO(newline="")
+    csv.writer(header).writerow(columns)
+    with open(folder / "placement.csv", "wb") as handle:
+        handle.write(header.getvalue().encode())
         handle.writelines(table_lines(columns))
     (folder / BEST_STUDY).write_text(best_study_text(placement, Path(out)), encoding="utf-8")
 
