@@ -118,10 +118,17 @@ def map_progress(warm_up: int, compiling: bool = False):
 
 
 def _run(args) -> None:
-    from tribokin.execution import executor_for
+    from tribokin.output.views_process import ViewsProcess
 
-    with executor_for(args.workers, args.scheduler) as executor, _claimed(args.out, args.force):
-        result, out = _compute_and_write(args, executor)
+    views = ViewsProcess.start(args.study, args.cycles, args.seed, args.report)  # first: it imports meanwhile
+    try:
+        from tribokin.execution import executor_for
+
+        with executor_for(args.workers, args.scheduler) as executor, _claimed(args.out, args.force):
+            result, out = _compute_and_write(args, executor, views)
+    finally:
+        if views is not None:
+            views.close()
     files = []
     if result.poses:
         _print_poses(result)
@@ -145,9 +152,10 @@ def _run(args) -> None:
               f"live viewer: tribokin view {out}")
 
 
-def _compute_and_write(args, executor):
-    """Run the study (resuming from ``<out>.chunks`` if asked) and write its output folder. A refusal
-    deletes the chunk folder this run created, never one an interrupted run left for ``--resume``."""
+def _compute_and_write(args, executor, views=None):
+    """Run the study (resuming from ``<out>.chunks`` if asked) and write its output folder, its views drawn by
+    ``views`` (:class:`~tribokin.output.views_process.ViewsProcess`) if given. A refusal deletes the chunk folder this
+    run created, never one an interrupted run left for ``--resume``."""
     from tribokin.maps.store import check_chunk_folder, chunk_folder, discard
     from tribokin.output.writers import import_views, write_results
     from tribokin.run import run_study
@@ -161,9 +169,9 @@ def _compute_and_write(args, executor):
         with map_progress(warm_up=args.workers, compiling=kernels_to_compile()) as progress:
             result = run_study(args.study, cycles=args.cycles, seed=args.seed, executor=executor, checkpoint=chunks,
                                resume=args.resume, progress=progress, meshes=args.report != "none",
-                               meanwhile=import_views)
+                               meanwhile=None if views is not None else import_views)
         result.reproduce["command"] = ["tribokin", *args.argv]
-        out = write_results(result, args.out, args.force, report=args.report, executor=executor)
+        out = write_results(result, args.out, args.force, report=args.report, executor=executor, views=views)
     except InputError:
         if not resumed:
             discard(chunks)

@@ -228,6 +228,10 @@ class MapResult:
             self._summary = self._summarise()
         return self._summary
 
+    def use_summary(self, summary: dict) -> None:
+        """Take ``summary``, this map's computed elsewhere (by the views' process), as :meth:`summary`."""
+        self._summary = summary
+
     def summarise_on(self, pool: Executor) -> None:
         """Start computing :meth:`summary` on a worker of ``pool`` (this machine's processes: they read the store),
         unless it is known or under way, while this process does other work."""

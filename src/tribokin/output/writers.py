@@ -22,6 +22,7 @@ from tribokin.maps.schema import figure_index, table_figures
 from tribokin.maps.streaming import blocks
 from tribokin.output.folder import atomic_folder
 from tribokin.output.placed_study import BEST_STUDY, best_study_text
+from tribokin.output.views_process import ViewsProcess
 from tribokin.placement.result import PlacementResult
 from tribokin.run import StudyResult
 from tribokin.study.names import map_table_file
@@ -255,37 +256,57 @@ def write_placement(placement: PlacementResult, folder: Path, out: Path) -> None
 def import_views() -> None:
     """Import what :func:`write_results` draws with (matplotlib, meshcat: about half a second) ahead of it, for a
     process that has the time now: one waiting for a map's workers (:func:`~tribokin.run.run_study`'s
-    ``meanwhile``)."""
+    ``meanwhile``) and that draws the views itself (no :class:`~tribokin.output.views_process.ViewsProcess`)."""
     import tribokin.viz.contents  # noqa: F401
 
 
 def write_results(result: StudyResult, out, force: bool = False, report: str = "full", map_layers=None,
-                  cube=None, executor: Executor | None = None) -> Path:
+                  cube=None, executor: Executor | None = None, views: ViewsProcess | None = None) -> Path:
     """Write summary.json, the pose files (poses.csv, samples.npz), the map tables (map*.csv) or the placement's
     files (placement.csv, best.toml) to ``out``, atomically, with the figures and, unless ``report`` is ``"none"``,
     ``report.html`` and ``scene.npz``, as :func:`~tribokin.viz.contents.write_views` decides (``report``,
-    ``map_layers``, ``cube``: see there); the map's statistics (:meth:`~tribokin.maps.result.MapResult.summarise_on`)
-    and its tables' blocks (:func:`write_map_tables`) computed on ``executor``'s local workers while everything else is
-    drawn and written here.
+    ``map_layers``, ``cube``: see there).
+
+    The views are drawn by ``views`` (:class:`~tribokin.output.views_process.ViewsProcess`, which also computes the
+    map's summary; closed here) while this process writes the rest, else here; the map's tables' blocks
+    (:func:`write_map_tables`) and, without ``views``, its statistics
+    (:meth:`~tribokin.maps.result.MapResult.summarise_on`) are computed on ``executor``'s local workers meanwhile.
     """
     with atomic_folder(out, force) as folder:
-        def the_rest() -> None:
-            from tribokin.viz.contents import write_views  # matplotlib and meshcat: imported while the blocks format
+        try:
+            drawing = views is not None and views.draw(result, folder, report, map_layers, cube)
 
-            if result.poses:
-                write_pose_table(result, folder)
-                write_samples(result, folder)
-            if result.placement is not None:
-                write_placement(result.placement, folder, Path(out))
-            write_views(result, folder, report, map_layers, cube)
+            def the_rest() -> None:
+                if result.poses:
+                    write_pose_table(result, folder)
+                    write_samples(result, folder)
+                if result.placement is not None:
+                    write_placement(result.placement, folder, Path(out))
+                if not drawing:
+                    _write_views(result, folder, report, map_layers, cube)
+
+            if result.map is None:
+                the_rest()
+            else:
+                pool = local_pool(executor)
+                if pool is not None and not drawing:
+                    result.map.summarise_on(pool)  # the map's statistics meanwhile, on a worker
+                write_map_tables(result.map, [(scenario, folder / map_table_name(result.map, scenario))
+                                              for scenario in result.map.scenarios.values()], executor, the_rest)
+            if drawing:
+                drawn, summary = views.wait()
+                if not drawn:  # the views' process was lost: drawn here instead
+                    _write_views(result, folder, report, map_layers, cube)
+                elif result.map is not None:
+                    result.map.use_summary(summary)
             write_summary(result, folder)
-
-        if result.map is None:
-            the_rest()
-        else:
-            pool = local_pool(executor)
-            if pool is not None:
-                result.map.summarise_on(pool)  # the map's statistics meanwhile, on a worker
-            write_map_tables(result.map, [(scenario, folder / map_table_name(result.map, scenario))
-                                          for scenario in result.map.scenarios.values()], executor, the_rest)
+        finally:
+            if views is not None:
+                views.close()
     return Path(out)
+
+
+def _write_views(result: StudyResult, folder: Path, report: str, map_layers, cube) -> None:
+    from tribokin.viz.contents import write_views  # matplotlib and meshcat: imported when first drawn here
+
+    write_views(result, folder, report, map_layers, cube)

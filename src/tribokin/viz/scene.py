@@ -168,15 +168,20 @@ def _point_size_m(points_m: np.ndarray) -> float:
     return float(np.clip(0.6 * spacing, 0.004, 0.05))
 
 
+def robot_geometry(robot: Robot, variant: str):
+    """The geometry a report of ``variant`` draws, read on first use: ``("visual", the visual model)`` for
+    ``"full"``, else ``("collision", the collision model)`` (a model is ``None`` where the robot has none)."""
+    return ("visual", robot.visual_model) if variant == "full" else ("collision", robot.collision_model)
+
+
 def draw_robot(vis, robot: Robot, q, variant: str) -> tuple[list[str], RobotDrawn | None]:
     """The robot at ``q`` under ``vis["tribokin/robot"]``; returns notes (e.g. no geometry) and what it drew.
 
-    ``"full"`` draws the visual meshes, ``"light"`` the (much smaller) collision meshes.
+    ``"full"`` draws the visual meshes, ``"light"`` the (much smaller) collision meshes (:func:`robot_geometry`).
     """
     from pinocchio.visualize import MeshcatVisualizer
 
-    kind = "visual" if variant == "full" else "collision"
-    geometry = robot.visual_model if variant == "full" else robot.collision_model
+    kind, geometry = robot_geometry(robot, variant)
     if geometry is None:
         return [f"no {kind} geometry for {robot.label}: robot not drawn"], None
     viewer = MeshcatVisualizer(robot.model, None, geometry)

@@ -1,0 +1,130 @@
+"""The views of a run (figures, report, scene) drawn by a process of its own, forked when the command starts.
+
+While the command's serial start (its imports, the study, the robot, a map's row heads) keeps one core busy, this
+process imports what draws (matplotlib, meshcat: about 0.35 s of a core that would otherwise compete with the map's
+workers for it), loads the study's robot and reads the meshes its report draws. It then draws the results it is sent
+into the output folder (:func:`~tribokin.viz.contents.write_views`), computes there the map's summary, which the report
+shows, and sends that back. The same files as drawn by the writing process: the same code, the same inputs.
+
+Forked only on Linux-like systems (``fork``), with two cores or more for this process, and while the command runs no
+other thread; else (and through the Python API) the views are drawn by the writing process
+(:func:`~tribokin.output.writers.write_results` without one), as they are if this process is lost, or declines: its
+study or robot did not load, or the study file changed between its reading and the command's.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import signal
+import threading
+import traceback
+from dataclasses import replace
+from pathlib import Path
+
+from tribokin.execution import end_with_parent
+
+
+class RemoteTraceback(Exception):
+    """The traceback, as text, of an unexpected error in the views' process (the cause of the error raised here)."""
+
+    def __str__(self) -> str:
+        return self.args[0]
+
+
+class ViewsProcess:
+    """The process that draws a run's views: :meth:`start` it, :meth:`draw` once, :meth:`wait`, :meth:`close`."""
+
+    def __init__(self, process, connection):
+        self._process, self._connection = process, connection
+
+    @classmethod
+    def start(cls, study, cycles: int | None, seed: int | None, report: str) -> ViewsProcess | None:
+        """Fork the process for the study at path ``study`` (with the command line's ``cycles`` and ``seed``) and its
+        ``report`` (``"full"``, ``"light"``, ``"none"``), or ``None`` where it would not pay or could deadlock
+        (see the module)."""
+        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+        if cores < 2 or "fork" not in multiprocessing.get_all_start_methods() or threading.active_count() > 1:
+            return None
+        here, there = multiprocessing.Pipe()
+        process = multiprocessing.get_context("fork").Process(
+            target=_serve, args=(there, os.getpid(), study, cycles, seed, report), daemon=True, name="tribokin-views")
+        process.start()
+        there.close()
+        return cls(process, here)
+
+    def draw(self, result, folder: Path, report: str, map_layers, cube) -> bool:
+        """Send ``result`` (a :class:`~tribokin.run.StudyResult`; its robot is the process's own) to be drawn into
+        ``folder`` as :func:`~tribokin.viz.contents.write_views` draws it; ``False`` if the process is gone."""
+        try:
+            self._connection.send((replace(result, robot=None), folder, report, map_layers, cube))
+        except OSError:  # it ended (killed, out of memory): the writing process draws instead
+            return False
+        return True
+
+    def wait(self) -> tuple[bool, dict | None]:
+        """Whether the views were drawn, and the map's summary (``None`` without a map), once they are; ``(False,
+        None)`` if the process ended first, or declined (its study or robot did not load, or the study file changed
+        since it read it). Raises the error that drawing raised."""
+        try:
+            outcome, value, remote = self._connection.recv()
+        except (EOFError, OSError):
+            return False, None
+        if outcome == "error":
+            raise value from (None if remote is None else RemoteTraceback(remote))
+        return outcome == "done", value
+
+    def close(self) -> None:
+        """End the process (at once, if it is still drawing: the output folder is then being discarded)."""
+        if self._process.is_alive():
+            self._process.kill()
+        self._process.join()
+        self._connection.close()
+
+
+def _serve(connection, parent: int, study, cycles, seed, report: str) -> None:
+    """The views' process: prepare, then draw the one job sent, reply, and end."""
+    from tribokin.errors import TribokinError
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the command answers Ctrl-C, and ends this process
+    end_with_parent(parent)
+    robot, study_sha256 = _prepared(study, cycles, seed, report)
+    try:
+        result, folder, report, map_layers, cube = connection.recv()
+    except EOFError:  # the command ended without results to draw (an error, or nothing to run)
+        return
+    if robot is None or result.reproduce.get("study_sha256") != study_sha256:  # the study changed since, or did not
+        connection.send(("declined", None, None))                               # load here: the command draws
+        return
+    try:
+        from tribokin.viz.contents import write_views
+
+        result = replace(result, robot=robot)
+        write_views(result, folder, report, map_layers, cube)
+        reply = ("done", None if result.map is None else result.map.summary(), None)
+    except BaseException as error:  # noqa: BLE001 - every error goes back to the command, which raises it
+        reply = ("error", error, None if isinstance(error, TribokinError) else traceback.format_exc())
+    try:
+        connection.send(reply)
+    except Exception:  # noqa: BLE001 - an error that does not pickle goes back as its text
+        connection.send(("error", RuntimeError(repr(reply[1])), reply[2]))
+
+
+def _prepared(study, cycles, seed, report: str):
+    """Import what draws, load the study's robot (with the meshes its report draws, none for ``"none"``) and read the
+    geometry the report draws: the robot and the study's SHA-256, or ``(None, None)`` if either does not load here
+    (the command says why, or draws itself)."""
+    try:
+        import pinocchio.visualize  # noqa: F401 - what draws the robot
+        import tribokin.viz.contents  # noqa: F401 - matplotlib, meshcat
+        from tribokin.study.assembly import load_robot
+        from tribokin.study.reading import load_study
+        from tribokin.viz.scene import robot_geometry
+
+        loaded = load_study(study, cycles, seed)
+        robot = load_robot(loaded, meshes=report != "none")
+        if report != "none":
+            robot_geometry(robot, report)
+        return robot, loaded.sha256
+    except Exception:  # noqa: BLE001 - reported by the command, which checks every input
+        return None, None

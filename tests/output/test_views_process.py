@@ -1,0 +1,167 @@
+"""The views' process: it draws the same files and computes the same summary as the writing process would, in a
+process of its own; its errors come back as the command's; a lost one is replaced; it ends with the command."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from conftest import GANTRY_MAP_TOML, STUDIES
+from tribokin import InputError, run_study
+from tribokin.output.views_process import RemoteTraceback, ViewsProcess
+from tribokin.output.writers import write_results
+
+#: A small map with unreachable targets and a pose, drawn with a light report.
+STUDY = GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 20").replace("resolution = [25, 40]", "resolution = [6, 5]") \
+    + '\n[[poses]]\nname = "P1"\nq = [0.2, 0.2, 0.2]\n'
+
+
+@pytest.fixture
+def study(tmp_path):
+    path = tmp_path / "study.toml"
+    path.write_text(STUDY)
+    return path
+
+
+def files(folder) -> dict[str, bytes]:
+    return {path.name: path.read_bytes() for path in sorted(folder.iterdir())}
+
+
+def record_drawing_pid(monkeypatch, tmp_path, raises: BaseException | None = None):
+    """write_views records the process that draws (in a file: the views' process is forked after this patch), and
+    raises ``raises`` if given."""
+    import tribokin.viz.contents as contents
+
+    real = contents.write_views
+
+    def write_views(*arguments, **options):
+        (tmp_path / f"drawn-by-{os.getpid()}").touch()
+        if raises is not None:
+            raise raises
+        return real(*arguments, **options)
+
+    monkeypatch.setattr(contents, "write_views", write_views)
+
+
+def drawn_by(tmp_path) -> list[int]:
+    return [int(path.name.rsplit("-", 1)[1]) for path in tmp_path.glob("drawn-by-*")]
+
+
+def test_the_views_process_draws_the_same_files_and_summary_as_the_writing_process(study, tmp_path, monkeypatch):
+    record_drawing_pid(monkeypatch, tmp_path)
+    write_results(run_study(study), tmp_path / "here", report="light")
+    assert drawn_by(tmp_path) == [os.getpid()]
+    views = ViewsProcess.start(study, None, None, "light")
+    assert views is not None
+    result = run_study(study)
+    write_results(result, tmp_path / "there", report="light", views=views)
+    assert len(drawn_by(tmp_path)) == 2 and os.getpid() in drawn_by(tmp_path)  # the second in another process
+    assert not views._process.is_alive()  # closed by write_results
+    there = files(tmp_path / "there")
+    assert there == files(tmp_path / "here") and {"report.html", "map_RP_l.png", "field_P1.png"} <= set(there)
+    assert result.map.summary() == json.loads(there["summary.json"])["map"]  # the summary it sent back
+
+
+def test_an_error_while_drawing_is_raised_by_the_command_and_nothing_is_written(study, tmp_path, monkeypatch):
+    record_drawing_pid(monkeypatch, tmp_path, raises=InputError("cannot read this mesh", "robot.stl"))
+    views = ViewsProcess.start(study, None, None, "light")
+    with pytest.raises(InputError) as raised:
+        write_results(run_study(study), tmp_path / "out", report="light", views=views)
+    assert raised.value.one_line() == "robot.stl: cannot read this mesh"
+    assert drawn_by(tmp_path) != [os.getpid()] and not (tmp_path / "out").exists()
+    assert not views._process.is_alive()
+
+
+def test_an_unexpected_error_comes_back_with_the_views_process_traceback(study, tmp_path, monkeypatch):
+    record_drawing_pid(monkeypatch, tmp_path, raises=ZeroDivisionError("a bug"))
+    views = ViewsProcess.start(study, None, None, "none")
+    with pytest.raises(ZeroDivisionError, match="a bug") as raised:
+        write_results(run_study(study), tmp_path / "out", report="none", views=views)
+    assert isinstance(raised.value.__cause__, RemoteTraceback)
+    assert "in write_views" in str(raised.value.__cause__) and "ZeroDivisionError: a bug" in str(raised.value.__cause__)
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("when", ["killed before it is sent the results", "killed while it draws",
+                                  "the study file changed after it read it"])
+def test_a_lost_or_declining_views_process_is_replaced_by_the_writing_process(study, tmp_path, monkeypatch, when):
+    if when == "killed while it draws":
+        import tribokin.viz.contents as contents
+
+        monkeypatch.setattr(contents, "write_views", lambda *arguments, **options: os.kill(os.getpid(), signal.SIGKILL))
+    views = ViewsProcess.start(study, None, None, "light")
+    if when == "killed before it is sent the results":
+        views._process.kill()
+        views._process.join()
+    elif when == "killed while it draws":
+        monkeypatch.undo()  # the views' process has the patch: it is killed while it draws; here, drawn as ever
+    else:  # as if the file was edited between its reading and the command's: another file, read here
+        study = tmp_path / "edited.toml"
+        study.write_text(STUDY.replace("seed = 8", "seed = 9"))
+    record_drawing_pid(monkeypatch, tmp_path)
+    write_results(run_study(study), tmp_path / "there", report="light", views=views)
+    assert os.getpid() in drawn_by(tmp_path)  # drawn here
+    write_results(run_study(study), tmp_path / "here", report="light")
+    assert files(tmp_path / "there") == files(tmp_path / "here")
+
+
+def test_none_is_started_on_one_core_or_beside_another_thread(study, monkeypatch):
+    stop = threading.Event()
+    other = threading.Thread(target=stop.wait)
+    other.start()
+    try:
+        assert ViewsProcess.start(study, None, None, "light") is None  # forking beside a thread can deadlock
+    finally:
+        stop.set()
+        other.join()
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0})
+    assert ViewsProcess.start(study, None, None, "light") is None
+
+
+def test_the_command_interrupted_says_one_line_and_leaves_no_process(tmp_path):
+    """Ctrl-C reaches every process of the command: the views' process ignores it and ends with the command."""
+    path = tmp_path / "study.toml"
+    path.write_text(GANTRY_MAP_TOML)
+    def as_in_a_terminal():  # its own process group; SIGINT not ignored (as a shell's background job inherits it)
+        os.setsid()
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+    run = subprocess.Popen([sys.executable, "-m", "tribokin", "run", path, "--out", tmp_path / "out", "--workers",
+                            "2"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                           preexec_fn=as_in_a_terminal)
+    deadline = time.monotonic() + 60
+    while not any((tmp_path / "out.chunks" / "done").glob("*")) and run.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.005)
+    children = [int(pid) for pid in Path(f"/proc/{run.pid}/task/{run.pid}/children").read_text().split()]
+    assert len(children) >= 3  # two workers and the views' process
+    os.killpg(run.pid, signal.SIGINT)  # as a terminal sends it: to the whole process group
+    error = run.communicate(timeout=60)[1]
+    assert run.returncode == 130 and error.splitlines()[-1] == "tribokin: interrupted; nothing was written", error
+    assert "Traceback" not in error
+    deadline = time.monotonic() + 10
+    while any(Path(f"/proc/{pid}").exists() for pid in children) and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert not any(Path(f"/proc/{pid}").exists() for pid in children)
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_shipped_study_through_the_command_draws_what_the_api_draws(tmp_path):
+    """The command (views' process, two workers) against the Python API (drawn in one process): every file."""
+    study = STUDIES / "panda-map-vertical.toml"
+    done = subprocess.run([sys.executable, "-m", "tribokin", "run", study, "--out", tmp_path / "command", "--workers",
+                           "2", "--cycles", "30", "--report", "light"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    write_results(run_study(study, cycles=30), tmp_path / "api", report="light")
+    command, api = files(tmp_path / "command"), files(tmp_path / "api")
+    assert command.keys() == api.keys() and "report.html" in command
+    for name in set(command) - {"summary.json"}:
+        assert command[name] == api[name], name
+    summaries = [json.loads(files[("summary.json")]) for files in (command, api)]
+    assert summaries[0]["reproduce"].pop("command") is not None and summaries[1]["reproduce"].pop("command") is None
+    assert summaries[0] == summaries[1]
