@@ -61,13 +61,20 @@ def check_executor(workers: int, scheduler: str | None) -> None:
 def end_with_parent(parent: int) -> None:
     """In a process forked from ``parent``: freeze what this process holds now (:func:`gc.freeze`: its inheritance,
     which no collection here then walks, nor copies the pages of), have the kernel kill this process when its parent
-    ends (Linux), and end now if the parent already has (between the fork and this call). A local worker's
-    initializer."""
+    ends (Linux), and end now if the parent already has (between the fork and this call)."""
     gc.freeze()
     if sys.platform == "linux":
         ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
     if os.getppid() != parent:
         os._exit(1)
+
+
+def _start_worker(parent: int) -> None:
+    """A local worker's initializer: it ends with its parent (:func:`end_with_parent`), and at once and silently on
+    Ctrl-C (SIGINT's own action, not Python's KeyboardInterrupt and its traceback: a terminal sends it to every process
+    of the command, whose own process says it was interrupted; a chunk not finished is computed on ``--resume``)."""
+    end_with_parent(parent)
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 @contextmanager
@@ -77,7 +84,7 @@ def executor_for(workers: int = 1, scheduler: str | None = None) -> Iterator[Exe
     Yields ``None`` (here, in key order) for one worker and no scheduler; else a
     :class:`~concurrent.futures.ProcessPoolExecutor` of ``workers`` local processes: forked from this
     process if it runs no other thread now (fast, and they inherit what it has loaded when the first
-    chunk is submitted, frozen there: :func:`end_with_parent`), else spawned clean (forking a process with threads can
+    chunk is submitted, frozen there: :func:`_start_worker`), else spawned clean (forking a process with threads can
     deadlock); they end when this process ends, even if it is killed. What :func:`run_chunks` froze here is unfrozen
     when the block ends. With ``scheduler``, the address of a
     dask.distributed scheduler (``"tcp://host:8786"``, its workers able to import tribokin), its
@@ -99,7 +106,7 @@ def executor_for(workers: int = 1, scheduler: str | None = None) -> Iterator[Exe
         yield None
         return
     start = "fork" if "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1 else "spawn"
-    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(start), initializer=end_with_parent,
+    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(start), initializer=_start_worker,
                                initargs=(os.getpid(),))
     try:
         yield pool

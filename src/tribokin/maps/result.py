@@ -228,8 +228,8 @@ class MapResult:
             self._summary = self._summarise()
         return self._summary
 
-    def use_summary(self, summary: dict) -> None:
-        """Take ``summary``, this map's computed elsewhere (by the views' process), as :meth:`summary`."""
+    def use_summary(self, summary: dict | Future) -> None:
+        """Take ``summary``, this map's computed elsewhere (or its future), as :meth:`summary`."""
         self._summary = summary
 
     def summarise_on(self, pool: Executor) -> None:

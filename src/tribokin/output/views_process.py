@@ -19,6 +19,7 @@ import os
 import signal
 import threading
 import traceback
+from concurrent.futures import Future
 from dataclasses import replace
 from pathlib import Path
 
@@ -53,17 +54,26 @@ class ViewsProcess:
         there.close()
         return cls(process, here)
 
-    def draw(self, result, folder: Path, report: str, map_layers, cube) -> bool:
+    def draw(self, result, folder: Path, report: str, map_layers, cube, summary_follows: bool = False) -> bool:
         """Send ``result`` (a :class:`~tribokin.run.StudyResult`; its robot is the process's own) to be drawn into
-        ``folder`` as :func:`~tribokin.viz.contents.write_views` draws it; ``False`` if the process is gone."""
+        ``folder`` as :func:`~tribokin.viz.contents.write_views` draws it; ``False`` if the process is gone.
+        ``summary_follows``: the map's summary will be sent (:meth:`send_summary`), not computed there."""
         try:
-            self._connection.send((replace(result, robot=None), folder, report, map_layers, cube))
+            self._connection.send((replace(result, robot=None), folder, report, map_layers, cube, summary_follows))
         except OSError:  # it ended (killed, out of memory): the writing process draws instead
             return False
         return True
 
+    def send_summary(self, summary: dict) -> None:
+        """Send the map's summary (computed meanwhile on a worker) for the report, which waits for it."""
+        try:
+            self._connection.send(summary)
+        except OSError:  # it ended: :meth:`wait` says so
+            pass
+
     def wait(self) -> tuple[bool, dict | None]:
-        """Whether the views were drawn, and the map's summary (``None`` without a map), once they are; ``(False,
+        """Whether the views were drawn, and the map's summary (``None`` without a map, or when it was sent), once
+        they are; ``(False,
         None)`` if the process ended first, or declined (its study or robot did not load, or the study file changed
         since it read it). Raises the error that drawing raised."""
         try:
@@ -90,7 +100,7 @@ def _serve(connection, parent: int, study, cycles, seed, report: str) -> None:
     end_with_parent(parent)
     robot, study_sha256 = _prepared(study, cycles, seed, report)
     try:
-        result, folder, report, map_layers, cube = connection.recv()
+        result, folder, report, map_layers, cube, summary_follows = connection.recv()
     except EOFError:  # the command ended without results to draw (an error, or nothing to run)
         return
     if robot is None or result.reproduce.get("study_sha256") != study_sha256:  # the study changed since, or did not
@@ -100,14 +110,30 @@ def _serve(connection, parent: int, study, cycles, seed, report: str) -> None:
         from tribokin.viz.contents import write_views
 
         result = replace(result, robot=robot)
+        if result.map is not None and summary_follows:
+            result.map.use_summary(_received(connection))
         write_views(result, folder, report, map_layers, cube)
-        reply = ("done", None if result.map is None else result.map.summary(), None)
+        reply = ("done", None if result.map is None or summary_follows else result.map.summary(), None)
     except BaseException as error:  # noqa: BLE001 - every error goes back to the command, which raises it
         reply = ("error", error, None if isinstance(error, TribokinError) else traceback.format_exc())
     try:
         connection.send(reply)
     except Exception:  # noqa: BLE001 - an error that does not pickle goes back as its text
         connection.send(("error", RuntimeError(repr(reply[1])), reply[2]))
+
+
+def _received(connection) -> Future:
+    """The next object ``connection`` receives, as a future (received by a thread, while this one draws)."""
+    future = Future()
+
+    def receive() -> None:
+        try:
+            future.set_result(connection.recv())
+        except BaseException as error:  # noqa: BLE001 - the command ended: whoever waits for it learns why
+            future.set_exception(error)
+
+    threading.Thread(target=receive, daemon=True).start()
+    return future
 
 
 def _prepared(study, cycles, seed, report: str):

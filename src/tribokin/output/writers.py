@@ -267,14 +267,17 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
     ``report.html`` and ``scene.npz``, as :func:`~tribokin.viz.contents.write_views` decides (``report``,
     ``map_layers``, ``cube``: see there).
 
-    The views are drawn by ``views`` (:class:`~tribokin.output.views_process.ViewsProcess`, which also computes the
-    map's summary; closed here) while this process writes the rest, else here; the map's tables' blocks
-    (:func:`write_map_tables`) and, without ``views``, its statistics
-    (:meth:`~tribokin.maps.result.MapResult.summarise_on`) are computed on ``executor``'s local workers meanwhile.
+    The views are drawn by ``views`` (:class:`~tribokin.output.views_process.ViewsProcess`; closed here) while this
+    process writes the rest, else here; the map's tables' blocks (:func:`write_map_tables`) and its statistics
+    (:meth:`~tribokin.maps.result.MapResult.summarise_on`, sent on to ``views`` for the report) are computed on
+    ``executor``'s local workers meanwhile (without them, by ``views``, or here).
     """
     with atomic_folder(out, force) as folder:
         try:
-            drawing = views is not None and views.draw(result, folder, report, map_layers, cube)
+            pool = local_pool(executor) if result.map is not None else None
+            if pool is not None:
+                result.map.summarise_on(pool)  # the map's statistics meanwhile, on a worker
+            drawing = views is not None and views.draw(result, folder, report, map_layers, cube, pool is not None)
 
             def the_rest() -> None:
                 if result.poses:
@@ -284,20 +287,19 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
                     write_placement(result.placement, folder, Path(out))
                 if not drawing:
                     _write_views(result, folder, report, map_layers, cube)
+                elif pool is not None:
+                    views.send_summary(result.map.summary())
 
             if result.map is None:
                 the_rest()
             else:
-                pool = local_pool(executor)
-                if pool is not None and not drawing:
-                    result.map.summarise_on(pool)  # the map's statistics meanwhile, on a worker
                 write_map_tables(result.map, [(scenario, folder / map_table_name(result.map, scenario))
                                               for scenario in result.map.scenarios.values()], executor, the_rest)
             if drawing:
                 drawn, summary = views.wait()
-                if not drawn:  # the views' process was lost: drawn here instead
+                if not drawn:  # the views' process was lost, or declined: drawn here instead
                     _write_views(result, folder, report, map_layers, cube)
-                elif result.map is not None:
+                elif summary is not None:
                     result.map.use_summary(summary)
             write_summary(result, folder)
         finally:
