@@ -28,7 +28,7 @@ default ``map.statistic = "expected"``) with only ``map.resolution`` and ``study
   map on the same plane; its time per reachable target scaled to the big plane's reachable targets (``scaled``) for
   the ratio of one-test to expected time there, and the ratio measured on the same plane;
 * ``stages``: µs per target (all targets of the plane) of each stage of one in-process run of the command on the
-  big plane (1 worker), from timing hooks wrapped around the functions that do each stage, each stage's time its own
+  big plane (1 worker, every stage in one process: the views too, not by the views' process), from timing hooks wrapped around the functions that do each stage, each stage's time its own
   (a stage inside another counts for itself only): imports, the robot (URDF and meshes), IK (rows' heads, rows,
   holes from neighbours), bearing loads, tool frames (what measuring a row takes besides the loads and the
   figures), expected figures, the map's store, map.csv, figures and report, and the rest (``other``: the command
@@ -43,6 +43,10 @@ default ``map.statistic = "expected"``) with only ``map.resolution`` and ``study
   (the caps are reached by 10^6) is what grows with the map;
 * ``goals``: which of the issue's goals this run meets.
 
+tribokin's sources are compiled to bytecode first (``compileall``, into ``src/**/__pycache__``), as installing a
+package does: where ``PYTHONDONTWRITEBYTECODE`` is set (this machine sets it) a checkout's modules would otherwise be
+compiled again by every command (about 0.06 s of its serial start).
+
 Timings are wall clock on whatever machine runs this, which may be shared (``machine.load_average`` before and after
 the run says how busy it was): read them as orders of magnitude, and compare ratios measured in the same run.
 """
@@ -51,6 +55,7 @@ from __future__ import annotations
 
 import argparse
 import builtins
+import compileall
 import csv
 import importlib
 import json
@@ -267,11 +272,15 @@ STAGE_HOOKS = (
 
 def stages_child(study: str, out: str) -> None:
     """In a child process: ``tribokin run study --out out --report light`` (1 worker) in this process, its stages
-    timed (:data:`STAGE_HOOKS`); print the seconds per stage as one JSON line."""
+    timed (:data:`STAGE_HOOKS`), the views drawn here too (not by the views' process the command forks: its time would
+    be missing); print the seconds per stage as one JSON line."""
     clock = StageClock()
     clock.wrap_imports()
     clock.enter("other")
     from tribokin.cli import main
+    from tribokin.output.views_process import ViewsProcess
+
+    ViewsProcess.start = classmethod(lambda cls, *arguments: None)
 
     for module, attribute, stage in STAGE_HOOKS:
         owner = importlib.import_module(module)
@@ -516,6 +525,7 @@ def main() -> None:
     if args.computed_child:
         return computed_child(args.computed_child[0], int(args.computed_child[1]))
 
+    compileall.compile_dir(ROOT / "src", quiet=1)  # as installing tribokin does: see the module's last paragraph
     os.environ[NUMBA_CACHE_VARIABLE] = tempfile.mkdtemp(prefix="tribokin-bench-numba-")
     try:
         if args.quick:
