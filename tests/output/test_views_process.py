@@ -111,6 +111,21 @@ def test_a_lost_or_declining_views_process_is_replaced_by_the_writing_process(st
     assert files(tmp_path / "there") == files(tmp_path / "here")
 
 
+def test_results_with_large_pose_samples_are_drawn_by_the_writing_process(study, tmp_path, monkeypatch):
+    """Sending them would take their memory twice again: the writing process draws, as it did before."""
+    import tribokin.output.views_process as views_process
+
+    record_drawing_pid(monkeypatch, tmp_path)
+    views = ViewsProcess.start(study, None, None, "none")
+    result = run_study(study)
+    pose = result.poses[0]
+    samples = sum(a.nbytes for a in (pose.positions_m, pose.angles_rad, pose.approach, pose.mu, pose.dq))
+    monkeypatch.setattr(views_process, "SENT_POSE_BYTES", samples - 1)
+    write_results(result, tmp_path / "out", report="none", views=views)
+    assert drawn_by(tmp_path) == [os.getpid()] and (tmp_path / "out" / "field_P1.png").exists()
+    assert not views._process.is_alive()
+
+
 def test_none_is_started_on_one_core_or_beside_another_thread(study, monkeypatch):
     stop = threading.Event()
     other = threading.Thread(target=stop.wait)

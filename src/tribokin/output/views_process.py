@@ -8,8 +8,9 @@ shows, and sends that back. The same files as drawn by the writing process: the 
 
 Forked only on Linux-like systems (``fork``), with two cores or more for this process, and while the command runs no
 other thread; else (and through the Python API) the views are drawn by the writing process
-(:func:`~tribokin.output.writers.write_results` without one), as they are if this process is lost, or declines: its
-study or robot did not load, or the study file changed between its reading and the command's.
+(:func:`~tribokin.output.writers.write_results` without one), as they are for results whose poses' samples are large
+(:data:`SENT_POSE_BYTES`), and if this process is lost, or declines: its study or robot did not load, or the study
+file changed between its reading and the command's.
 """
 
 from __future__ import annotations
@@ -24,6 +25,11 @@ from dataclasses import replace
 from pathlib import Path
 
 from tribokin.execution import end_with_parent
+
+
+#: The largest poses' samples [bytes] sent to the views' process: sending more would take that much memory twice again
+#: (the pickled copy, the process's copy), beyond what the run's memory check counts (a map's results are on disk).
+SENT_POSE_BYTES = 64 << 20
 
 
 class RemoteTraceback(Exception):
@@ -57,7 +63,12 @@ class ViewsProcess:
     def draw(self, result, folder: Path, report: str, map_layers, cube, summary_follows: bool = False) -> bool:
         """Send ``result`` (a :class:`~tribokin.run.StudyResult`; its robot is the process's own) to be drawn into
         ``folder`` as :func:`~tribokin.viz.contents.write_views` draws it; ``False`` if the process is gone.
-        ``summary_follows``: the map's summary will be sent (:meth:`send_summary`), not computed there."""
+        ``summary_follows``: the map's summary will be sent (:meth:`send_summary`), not computed there. ``False``
+        too for results whose poses' samples take more than ``SENT_POSE_BYTES``: drawn by the writing process."""
+        samples = sum(array.nbytes for pose in result.poses
+                      for array in (pose.positions_m, pose.angles_rad, pose.approach, pose.mu, pose.dq))
+        if samples > SENT_POSE_BYTES:
+            return False
         try:
             self._connection.send((replace(result, robot=None), folder, report, map_layers, cube, summary_follows))
         except OSError:  # it ended (killed, out of memory): the writing process draws instead
