@@ -34,10 +34,12 @@ from tribokin.measurement.registration import register_measurements
 """
 
 
-def test_a_map_command_imports_none_of_scipys_heavy_subpackages():
+def test_the_modules_of_a_map_command_import_none_of_scipys_heavy_subpackages():
     """scipy.spatial, .special and .linalg take about 0.15 s to import (they share scipy._lib's array API layer),
-    scipy.stats 0.3 s: the parser, the run of a map and its views need none of them on the compiled path (the
-    measurement commands import them when they register a frame, the NumPy path for Carlson's integrals)."""
+    scipy.stats 0.3 s: the parser, the run's modules and its views import none of them. A run still imports
+    scipy.linalg through numba (which looks for BLAS when it loads its first kernel) on the compiled path, and
+    scipy.special for Carlson's integrals on the NumPy path; the measurement commands import scipy.spatial when they
+    register a frame."""
     done = subprocess.run([sys.executable, "-c", MAP_COMMAND], cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
 
