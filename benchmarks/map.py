@@ -1,6 +1,6 @@
 """Speed and memory of workspace maps: the whole ``tribokin run`` command on a UR5 plane, in one run.
 
-Run from the repository root: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src python benchmarks/map.py`` (about 5 minutes on
+Run from the repository root: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src python benchmarks/map.py`` (about 3 minutes on
 2 cores; ``--quick`` for a small run of about a minute, printed and not written unless ``--results`` is given).
 Writes ``benchmarks/results/map.json`` and prints it.
 
