@@ -96,6 +96,7 @@ def test_reading_results_in_small_blocks_changes_nothing(variant, reference, tmp
     result = run_study(variant)
     monkeypatch.setattr("tribokin.maps.streaming.BLOCK_TARGETS", 4)
     monkeypatch.setattr("tribokin.maps.streaming.BINS", 3)
+    monkeypatch.setattr("tribokin.maps.streaming.GATHER_VALUES", 4)
     assert written(result, tmp_path / "out") == reference
     rp = result.map.reference.figure("RP_l_um")
     assert json.loads(reference["summary.json"])["map"]["RP_l_um"]["median"] == np.nanmedian(rp)

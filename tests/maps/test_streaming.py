@@ -14,9 +14,10 @@ def reader(values):
 
 @pytest.fixture
 def small_blocks(monkeypatch):
-    """Blocks and bins small enough for the narrowing passes to run on a few hundred values."""
+    """Blocks, bins and gathered values few enough for the narrowing passes to run on a few hundred values."""
     monkeypatch.setattr("tribokin.maps.streaming.BLOCK_TARGETS", 16)
     monkeypatch.setattr("tribokin.maps.streaming.BINS", 8)
+    monkeypatch.setattr("tribokin.maps.streaming.GATHER_VALUES", 16)
 
 
 def test_blocks_cover_the_range_once():
@@ -24,8 +25,13 @@ def test_blocks_cover_the_range_once():
     assert list(blocks(0, 4)) == []
 
 
+@pytest.mark.parametrize("narrowed", [True, False])
 @pytest.mark.parametrize("count", [3, 12, 999, 1000])
-def test_spread_equals_numpy_on_the_finite_values(small_blocks, count):
+def test_spread_equals_numpy_on_the_finite_values(monkeypatch, count, narrowed):
+    """Narrowed down by counting passes (few values gathered at once), or gathered in one pass."""
+    monkeypatch.setattr("tribokin.maps.streaming.BLOCK_TARGETS", 16)
+    monkeypatch.setattr("tribokin.maps.streaming.BINS", 8)
+    monkeypatch.setattr("tribokin.maps.streaming.GATHER_VALUES", 16 if narrowed else 1 << 22)
     values = np.random.default_rng(count).lognormal(size=count)
     values[::7] = np.nan
     values[1::11] = np.inf
@@ -41,6 +47,16 @@ def test_every_rank_is_found_with_ties_and_near_equal_values(small_blocks):
         assert order_statistic(reader(values), len(values), rank) == ordered[rank]
 
 
+def test_the_widest_columns_are_narrowed_down_without_overflow(small_blocks):
+    """Values from -1.8e308 to 1.5e299: their range is beyond the largest float (a hypothesis example)."""
+    values = np.array([0.0] * 7 + [1.4752687743193205e299, -1.797693133387047e308, 5e-324, -np.finfo(float).max]
+                      + list(np.random.default_rng(1).normal(size=40)))
+    ordered = np.sort(values)
+    for rank in range(len(values)):
+        assert order_statistic(reader(values), len(values), rank) == ordered[rank]
+    assert spread(reader(values), len(values))["median"] == np.median(values)
+
+
 def test_no_finite_values_give_none():
     assert spread(reader(np.full(5, np.nan)), 5) == {"min": None, "median": None, "max": None}
 
@@ -51,11 +67,11 @@ def test_median_is_numpys_for_any_column(values):
 
     values = np.array(values)
     finite = values[np.isfinite(values)]
-    saved = streaming.BLOCK_TARGETS, streaming.BINS
-    streaming.BLOCK_TARGETS, streaming.BINS = 8, 4  # (hypothesis runs the test many times: no fixture)
+    saved = streaming.BLOCK_TARGETS, streaming.BINS, streaming.GATHER_VALUES
+    streaming.BLOCK_TARGETS, streaming.BINS, streaming.GATHER_VALUES = 8, 4, 8  # (hypothesis runs it many times)
     try:
         median = spread(reader(values), len(values))["median"]
     finally:
-        streaming.BLOCK_TARGETS, streaming.BINS = saved
+        streaming.BLOCK_TARGETS, streaming.BINS, streaming.GATHER_VALUES = saved
     with np.errstate(over="ignore"):  # the mean of two huge middle values may overflow, in numpy too
         assert median == (np.median(finite) if finite.size else None)

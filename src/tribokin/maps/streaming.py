@@ -1,5 +1,6 @@
 """Statistics of per-target columns read block by block, so a map of any size is summarised in
-bounded memory: minimum, exact median and maximum of a column that is never held whole."""
+bounded memory: minimum, exact median and maximum of a column that is never held whole (its finite values at most
+``GATHER_VALUES`` at once)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,9 @@ import numpy as np
 BLOCK_TARGETS = 1 << 16
 #: Bins of a counting pass when narrowing down an order statistic.
 BINS = 4096
+#: Most values gathered at once to take order statistics from (32 MiB): a column with more finite values is narrowed
+#: down by counting passes first.
+GATHER_VALUES = 1 << 22
 
 
 def blocks(size: int, block: int | None = None) -> Iterator[slice]:
@@ -30,9 +34,9 @@ def order_statistic(read: Callable[[slice], np.ndarray], size: int, rank: int) -
     """The ``rank``-th smallest finite value (0-based) of a column of ``size`` values that ``read(slice)``
     returns block by block, exactly.
 
-    While more than ``BLOCK_TARGETS`` candidates remain, a pass counts them in ``BINS`` bins between
+    While more than ``GATHER_VALUES`` candidates remain, a pass counts them in ``BINS`` bins between
     their extremes and keeps the bin holding the rank; the extremes fall in different bins, so every
-    pass drops some, and typically all but a ``BINS``-th. The last pass gathers and sorts the rest.
+    pass drops some, and typically all but a ``BINS``-th. The last pass gathers the rest and partitions them.
     """
     low, high, below = -np.inf, np.inf, 0  # candidates: low <= value <= high; ``below`` values under low
 
@@ -46,9 +50,10 @@ def order_statistic(read: Callable[[slice], np.ndarray], size: int, rank: int) -
             if values.size:
                 count, low_seen, high_seen = count + values.size, min(low_seen, values.min()), max(high_seen, values.max())
         low, high = low_seen, high_seen
-        if count <= BLOCK_TARGETS or low == high:
+        if count <= GATHER_VALUES or low == high:
             break
-        edges = np.linspace(low, high, BINS + 1)
+        edges = np.linspace(low / 2, high / 2, BINS + 1) * 2  # in halves: high - low may exceed the largest float
+        edges[0], edges[-1] = low, high
         counts = np.zeros(BINS, dtype=np.int64)
         for values in candidates():
             counts += np.bincount(np.clip(np.searchsorted(edges, values, side="right") - 1, 0, BINS - 1),
@@ -60,18 +65,24 @@ def order_statistic(read: Callable[[slice], np.ndarray], size: int, rank: int) -
         low, high = edges[chosen], np.nextafter(upper, -np.inf) if chosen + 1 < BINS else upper
     if low == high:
         return float(low)
-    gathered = np.sort(np.concatenate(list(candidates())))
-    return float(gathered[rank - below])
+    return float(np.partition(np.concatenate(list(candidates())), rank - below)[rank - below])
 
 
 def spread(read: Callable[[slice], np.ndarray], size: int) -> dict:
     """``{min, median, max}`` of the finite values of a column read block by block (``None`` each when
-    there are none); the median as :func:`numpy.median` gives it (the mean of the middle two of an even count)."""
-    count, low, high = 0, np.inf, -np.inf
+    there are none); the median as :func:`numpy.median` gives it (the mean of the middle two of an even count).
+    Up to ``GATHER_VALUES`` finite values, in one pass; more, through :func:`order_statistic`."""
+    count, low, high, kept = 0, np.inf, -np.inf, []
     for values in _finite(read, size):
         if values.size:
             count, low, high = count + values.size, min(low, values.min()), max(high, values.max())
+            if count <= GATHER_VALUES:
+                kept.append(values)
     if not count:
         return {"min": None, "median": None, "max": None}
-    middle = [order_statistic(read, size, rank) for rank in sorted({(count - 1) // 2, count // 2})]
+    ranks = sorted({(count - 1) // 2, count // 2})
+    if count <= GATHER_VALUES:
+        middle = np.partition(np.concatenate(kept), ranks)[ranks]
+    else:
+        middle = [order_statistic(read, size, rank) for rank in ranks]
     return {"min": float(low), "median": float(np.mean(middle)), "max": float(high)}
