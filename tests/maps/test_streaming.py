@@ -31,7 +31,7 @@ def test_spread_equals_numpy_on_the_finite_values(monkeypatch, count, narrowed):
     """Narrowed down by counting passes (few values gathered at once), or gathered in one pass."""
     monkeypatch.setattr("tribokin.maps.streaming.BLOCK_TARGETS", 16)
     monkeypatch.setattr("tribokin.maps.streaming.BINS", 8)
-    monkeypatch.setattr("tribokin.maps.streaming.GATHER_VALUES", 16 if narrowed else 1 << 22)
+    monkeypatch.setattr("tribokin.maps.streaming.GATHER_VALUES", 16 if narrowed else 1 << 20)
     values = np.random.default_rng(count).lognormal(size=count)
     values[::7] = np.nan
     values[1::11] = np.inf

@@ -12,9 +12,9 @@ import numpy as np
 BLOCK_TARGETS = 1 << 16
 #: Bins of a counting pass when narrowing down an order statistic.
 BINS = 4096
-#: Most values gathered at once to take order statistics from (32 MiB): a column with more finite values is narrowed
-#: down by counting passes first.
-GATHER_VALUES = 1 << 22
+#: Most values gathered at once to take order statistics from (8 MiB, and as much again to partition them): a column
+#: with more finite values is narrowed down by counting passes first.
+GATHER_VALUES = 1 << 20
 
 
 def blocks(size: int, block: int | None = None) -> Iterator[slice]:
