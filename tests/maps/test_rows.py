@@ -158,6 +158,16 @@ def test_row_extrapolation_continues_a_polynomial_through_the_last_reached_targe
     assert np.isnan(extrapolate_rows(rows[:, :1], np.ones(5, dtype=int))).all()
 
 
+def test_rows_with_as_many_points_give_each_row_the_same_bytes_as_rows_with_others():
+    """Every row alike (most columns) takes no masks: the same bytes as each row among rows of other counts."""
+    q = np.random.default_rng(5).normal(size=(4, 6, 3))
+    for count in (2, 3, 4):
+        alike = extrapolate_rows(q, np.full(4, count))
+        mixed = extrapolate_rows(q, np.array([count, 5 - count, count, 1]))
+        np.testing.assert_array_equal(alike[[0, 2]], mixed[[0, 2]])
+        assert np.isnan(mixed[3]).all() and not np.isnan(alike).any()
+
+
 def test_a_warm_start_beyond_a_multi_turn_joints_limit_is_turned_back_within_it(horizontal):
     robot, _, _ = horizontal  # UR5: every joint within ±2π
     q = np.array([[6.3, -6.4, 0.1, 2 * np.pi, -7.0, 13.0], [np.nan, 0.0, 0.0, 0.0, 0.0, 0.0]])

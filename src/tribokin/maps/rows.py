@@ -114,12 +114,20 @@ def extrapolate_rows(q: np.ndarray, streaks: np.ndarray, continuous: np.ndarray 
     if continuous is not None and continuous.any() and q.shape[1]:
         q = np.where(continuous, q[:, -1:] + wrap_angles(q - q[:, -1:]), q)
     counts = np.minimum(streaks, EXTRAPOLATION_POINTS)
+    if len(counts) and (counts == counts[0]).all() and counts[0] >= 2:  # every row alike (most columns): no masks
+        return _polynomial_step(q, int(counts[0]))
     predicted = np.full((len(q), q.shape[2]), np.nan)
     for count in range(2, EXTRAPOLATION_POINTS + 1):
         rows = counts == count
         if rows.any():
-            predicted[rows] = sum((-1) ** (j + 1) * math.comb(count, j) * q[rows, -j] for j in range(1, count + 1))
+            predicted[rows] = _polynomial_step(q[rows], count)
     return predicted
+
+
+def _polynomial_step(q: np.ndarray, count: int) -> np.ndarray:
+    """The polynomial through the last ``count`` configurations of each row of ``q`` (rows, columns, nv), one step
+    further: sum over j of (-1)^(j+1) C(count, j) q[:, -j]."""
+    return sum((-1) ** (j + 1) * math.comb(count, j) * q[:, -j] for j in range(1, count + 1))
 
 
 def turned_into_limits(robot: Robot, q: np.ndarray) -> np.ndarray:
@@ -127,6 +135,8 @@ def turned_into_limits(robot: Robot, q: np.ndarray) -> np.ndarray:
     more (a UR arm's ±2π) turned by whole turns back within them when beyond (the same placements; the IK would
     clip it at the limit instead, and a row running into the limit would leave its branch for one rounding chose)."""
     lower, upper = robot.lower_limits, robot.upper_limits
+    if not ((q > upper) | (q < lower)).any():  # none beyond its limits (NaN rows included): most columns
+        return q
     multi_turn = ~robot.joint_is_prismatic & ~robot.continuous & (upper - lower >= 2 * math.pi)
     turns = np.where(q > upper, -np.ceil((q - upper) / (2 * math.pi)),
                      np.where(q < lower, np.ceil((lower - q) / (2 * math.pi)), 0.0))
