@@ -35,7 +35,7 @@ import numpy as np
 import orjson
 
 from tribokin.maps.streaming import blocks
-from tribokin.output.writers import float_lines, table_lines
+from tribokin.output.writers import float_lines, header_line, table_lines
 
 RESULTS = Path(__file__).resolve().parent / "results" / "map_csv.json"
 JOINTS = ("shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2", "wrist_3")
@@ -98,9 +98,7 @@ def write_table(path: Path, side: int, write_block, tiny: bool) -> float:
             columns = synthetic_columns(rng, part, side, tiny)
             start = time.perf_counter()
             if part.start == 0:
-                header = io.StringIO(newline="")
-                csv.writer(header).writerow(columns)
-                handle.write(header.getvalue().encode())
+                handle.write(header_line(columns))
             write_block(handle, columns)
             seconds += time.perf_counter() - start
     return seconds

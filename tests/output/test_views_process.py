@@ -121,8 +121,7 @@ def test_results_with_large_pose_samples_are_drawn_by_the_writing_process(study,
     record_drawing_pid(monkeypatch, tmp_path)
     views = ViewsProcess.start(study, None, None, "none")
     result = run_study(study)
-    pose = result.poses[0]
-    samples = sum(a.nbytes for a in (pose.positions_m, pose.angles_rad, pose.approach, pose.mu, pose.dq))
+    samples = sum(values.nbytes for values in result.poses[0].samples().values())
     monkeypatch.setattr(views_process, "SENT_POSE_BYTES", samples - 1)
     write_results(result, tmp_path / "out", report="none", views=views)
     assert drawn_by(tmp_path) == [os.getpid()] and (tmp_path / "out" / "field_P1.png").exists()
@@ -182,6 +181,6 @@ def test_a_shipped_study_through_the_command_draws_what_the_api_draws(tmp_path):
     assert command.keys() == api.keys() and "report.html" in command
     for name in set(command) - {"summary.json"}:
         assert command[name] == api[name], name
-    summaries = [json.loads(files[("summary.json")]) for files in (command, api)]
+    summaries = [json.loads(folder["summary.json"]) for folder in (command, api)]
     assert summaries[0]["reproduce"].pop("command") is not None and summaries[1]["reproduce"].pop("command") is None
     assert summaries[0] == summaries[1]

@@ -78,6 +78,8 @@ def spread(read: Callable[[slice], np.ndarray], size: int) -> dict:
             count, low, high = count + values.size, min(low, values.min()), max(high, values.max())
             if count <= GATHER_VALUES:
                 kept.append(values)
+            else:
+                kept.clear()  # too many: narrowed down by order_statistic
     if not count:
         return {"min": None, "median": None, "max": None}
     ranks = sorted({(count - 1) // 2, count // 2})

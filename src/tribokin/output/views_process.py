@@ -3,8 +3,9 @@
 While the command's serial start (its imports, the study, the robot, a map's row heads) keeps one core busy, this
 process imports what draws (matplotlib, meshcat: about 0.35 s of a core that would otherwise compete with the map's
 workers for it), loads the study's robot and reads the meshes its report draws. It then draws the results it is sent
-into the output folder (:func:`~tribokin.viz.contents.write_views`), computes there the map's summary, which the report
-shows, and sends that back. The same files as drawn by the writing process: the same code, the same inputs.
+into the output folder (:func:`~tribokin.viz.contents.write_views`). The map's summary, which the report shows, is sent
+after them when a local worker computes it (:meth:`ViewsProcess.send_summary`); else this process computes it and
+sends it back. The same files as drawn by the writing process: the same code, the same inputs.
 
 Forked only on Linux-like systems (``fork``), with two cores or more for this process, and while the command runs no
 other thread; else (and through the Python API) the views are drawn by the writing process
@@ -65,9 +66,7 @@ class ViewsProcess:
         ``folder`` as :func:`~tribokin.viz.contents.write_views` draws it; ``False`` if the process is gone.
         ``summary_follows``: the map's summary will be sent (:meth:`send_summary`), not computed there. ``False``
         too for results whose poses' samples take more than ``SENT_POSE_BYTES``: drawn by the writing process."""
-        samples = sum(array.nbytes for pose in result.poses
-                      for array in (pose.positions_m, pose.angles_rad, pose.approach, pose.mu, pose.dq))
-        if samples > SENT_POSE_BYTES:
+        if sum(values.nbytes for pose in result.poses for values in pose.samples().values()) > SENT_POSE_BYTES:
             return False
         try:
             self._connection.send((replace(result, robot=None), folder, report, map_layers, cube, summary_follows))
@@ -84,9 +83,8 @@ class ViewsProcess:
 
     def wait(self) -> tuple[bool, dict | None]:
         """Whether the views were drawn, and the map's summary (``None`` without a map, or when it was sent), once
-        they are; ``(False,
-        None)`` if the process ended first, or declined (its study or robot did not load, or the study file changed
-        since it read it). Raises the error that drawing raised."""
+        they are; ``(False, None)`` if the process ended first, or declined (its study or robot did not load, or the
+        study file changed since it read it). Raises the error that drawing raised."""
         try:
             outcome, value, remote = self._connection.recv()
         except (EOFError, OSError):

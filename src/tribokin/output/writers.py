@@ -81,11 +81,7 @@ def write_samples(result: StudyResult, folder: Path) -> None:
     cycles), ``approach`` (n,) each cycle's index into ``directions``, the approach directions' labels."""
     arrays = {}
     for pose in result.poses:
-        arrays[f"{pose.name}/positions_m"] = pose.positions_m
-        arrays[f"{pose.name}/angles_rad"] = pose.angles_rad
-        arrays[f"{pose.name}/dq"] = pose.dq
-        arrays[f"{pose.name}/mu"] = pose.mu
-        arrays[f"{pose.name}/approach"] = pose.approach
+        arrays.update({f"{pose.name}/{name}": values for name, values in pose.samples().items()})
         arrays[f"{pose.name}/directions"] = np.array(pose.directions)
     np.savez_compressed(folder / "samples.npz", **arrays)
 
@@ -108,6 +104,13 @@ def float_lines(values: np.ndarray) -> list[bytes]:
     for i, row in zip(np.flatnonzero(differ).tolist(), values[differ].tolist()):
         lines[i] = ",".join("" if np.isnan(value) else repr(value) for value in row).encode()
     return lines[:len(values)]  # no rows: "[]" splits into one empty line
+
+
+def header_line(names) -> bytes:
+    """The CSV header line (UTF-8, ``\\r\\n``-terminated) of columns ``names``, as ``csv.writer`` writes it."""
+    text = io.StringIO(newline="")
+    csv.writer(text).writerow(names)
+    return text.getvalue().encode()
 
 
 def text_cell(text: str) -> str:
@@ -213,9 +216,7 @@ def write_map_tables(workspace_map: MapResult, tables: list[tuple[ScenarioMap, P
         handles = []
         for scenario, path in tables:
             handles.append(files.enter_context(open(path, "wb")))
-            header = io.StringIO(newline="")
-            csv.writer(header).writerow(map_table_columns(workspace_map, scenario, slice(0, 0)))
-            handles[-1].write(header.getvalue().encode())
+            handles[-1].write(header_line(map_table_columns(workspace_map, scenario, slice(0, 0))))
         written, waiting = [0] * len(tables), {}
         for key, text in texts:
             waiting[key] = text
@@ -245,10 +246,8 @@ def write_placement(placement: PlacementResult, folder: Path, out: Path) -> None
     """``placement.csv`` (one row per candidate, best first: :meth:`~tribokin.placement.result.PlacementResult.columns`)
     and ``best.toml`` (:func:`~tribokin.output.placed_study.best_study_text`, its paths relative to ``out``)."""
     columns = placement.columns()
-    header = io.StringIO(newline="")
-    csv.writer(header).writerow(columns)
     with open(folder / "placement.csv", "wb") as handle:
-        handle.write(header.getvalue().encode())
+        handle.write(header_line(columns))
         handle.writelines(table_lines(columns))
     (folder / BEST_STUDY).write_text(best_study_text(placement, Path(out)), encoding="utf-8")
 

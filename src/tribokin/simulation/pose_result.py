@@ -44,6 +44,11 @@ class PoseResult:
     extra: dict = field(default_factory=dict)
     direction_extra: dict[str, dict] = field(default_factory=dict)
 
+    def samples(self) -> dict[str, np.ndarray]:
+        """The arrays of one value (row) per cycle, by name: what ``samples.npz`` keeps of the pose."""
+        return {"positions_m": self.positions_m, "angles_rad": self.angles_rad, "dq": self.dq, "mu": self.mu,
+                "approach": self.approach}
+
     @property
     def cycles(self) -> int:
         """Cycles at the pose, all directions together."""
