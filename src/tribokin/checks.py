@@ -83,13 +83,14 @@ def within(check, low: float, high: float, unit: str, why: str):
 
 
 def finite_cell(cell: str, where: str, source, key) -> float:
-    """The text of a table's cell as a finite number; ``where`` names its row (``line 4``, ``data row 3``)."""
+    """The text of a table's cell as a finite number; ``where`` names its place (``line 4``, ``line 4, column 2``).
+    The error never quotes the cell: a file's content stays out of messages."""
     try:
         value = float(cell)
     except ValueError:
         value = math.nan
     if not math.isfinite(value):
-        raise InputError(f"{where} holds {cell!r}, not a finite number; fix or remove that row", source, key)
+        raise InputError(f"{where}: expected a finite number; fix or remove that row", source, key)
     return value
 
 

@@ -31,6 +31,10 @@ class Symlink(str):
     """A file of a case that is a symbolic link to this target."""
 
 
+class Fifo(str):
+    """A file of a case that is a FIFO (named pipe): reading it would block until something writes to it."""
+
+
 STUDY = AXIS_STUDY_TOML
 GANTRY_MAP = _replace(_replace(GANTRY_MAP_TOML, "cycles = 400", "cycles = 5"), "resolution = [25, 40]",
                       "resolution = [4, 3]")
@@ -81,8 +85,9 @@ def xacro_case(include: str, *, expected, id, files=None):
 GOOD_LOG = "cycle,mu\n" + "\n".join(f"{i},{0.12 + 0.01 * np.sin(i)}" for i in range(1, 41)) + "\n"
 GOOD_PROFILE = "x_m,z_m\n" + "\n".join(f"{i * 1e-6},{1e-6 * np.sin(i / 3)}" for i in range(200)) + "\n"
 TURNED = AXIS_URDF.parents[1] / "src" / "tribokin" / "data" / "profiles" / "turned.csv"
-SURFACE_LAW = (f'{{ surface = "{TURNED}", normal_force_N = 150.0, contact_area_m2 = 1e-6, '
-               'film_thickness_m = 1.2e-6 }')
+#: A surface law on the shipped profile, copied beside the study (``TURNED_FILE``): a study reads only its own folder's.
+SURFACE_LAW = '{ surface = "turned.csv", normal_force_N = 150.0, contact_area_m2 = 1e-6, film_thickness_m = 1.2e-6 }'
+TURNED_FILE = {"turned.csv": TURNED.read_bytes()}
 
 
 def study(old: str | None = None, new: str = "", *options, expected, id, base=STUDY, files=None,
@@ -95,8 +100,8 @@ def study(old: str | None = None, new: str = "", *options, expected, id, base=ST
 
 
 def friction(law: str, *, expected, id):
-    """A `tribokin run` case with ``joints.friction = law``."""
-    return study('{ preset = "42CD4-raw" }', law, expected=expected, id=id)
+    """A `tribokin run` case with ``joints.friction = law`` (the profile of ``SURFACE_LAW`` beside the study)."""
+    return study('{ preset = "42CD4-raw" }', law, expected=expected, id=id, files=TURNED_FILE)
 
 
 def measurement(command: str, content, *options, expected, id, at_fault="{tmp}/in.csv", files=None):
@@ -112,6 +117,108 @@ def command(argv, *, expected, id, files=None):
 
 
 RUN = ["run", "{tmp}/study.toml", "--out", "{tmp}/out", "--report", "none"]
+
+#: Written into the files a case must not read: no output of the case may hold it.
+SECRET = "TRIBOKIN-SECRET-c0ffee"
+SECRET_LOG = f"{SECRET},mu\n" + GOOD_LOG
+SECRET_LAW = f'law = "constant"\nmu = 0.1\n# {SECRET}\n'
+#: The study of the confinement cases sits in ``s/`` under the case's folder: ``{tmp}/secret.csv`` is outside it.
+INNER_RUN = ["run", "{tmp}/s/study.toml", "--out", "{tmp}/out", "--report", "none"]
+SURFACE_KEYS = "normal_force_N = 150.0, contact_area_m2 = 1e-6, film_thickness_m = 1.2e-6"
+
+
+def confined(law: str, *, expected, id, files=None, base=STUDY, at_fault="s/study.toml"):
+    """A `tribokin run` case of ``s/study.toml``: ``base`` with ``joints.friction = law`` (``{tmp}`` in the study's
+    text is the case's folder)."""
+    text = _replace(base, '{ preset = "42CD4-raw" }', law)
+    return pytest.param({"s/study.toml": text, "secret.csv": SECRET_LOG, "secret.toml": SECRET_LAW, **(files or {})},
+                        INNER_RUN, (f"{{tmp}}/{at_fault}", *expected), id=id)
+
+
+OUTSIDE = ("outside the folders a study may read ({tmp}/s)", "study.data_dirs")
+CALIBRATION_STUDY = STUDY + '\n[calibration]\nfit = ["stiffness"]\nnoise_floor_m = 1e-6\n'
+
+# issue 35: files a study names resolve (symlinks followed) inside its folder or its study.data_dirs before anything
+# opens them; no system file, FIFO or device is read; no error quotes a file's content
+CONFINEMENT_CASES = [
+    confined('{ log = "{tmp}/secret.csv" }', expected=("joints.friction.log", *OUTSIDE), id="confine-log-absolute"),
+    confined('{ log = "../secret.csv" }', expected=("joints.friction.log", *OUTSIDE, "(resolved: {tmp}/secret.csv)"),
+             id="confine-log-dot-dot"),
+    confined('{ log = "link.csv" }', files={"s/link.csv": Symlink("../secret.csv")},
+             expected=("joints.friction.log", *OUTSIDE, "(resolved: {tmp}/secret.csv)"), id="confine-log-symlink-out"),
+    confined('{ log = "data/secret.csv" }', files={"s/data": Symlink("..")},
+             expected=("joints.friction.log", *OUTSIDE, "(resolved: {tmp}/secret.csv)"),
+             id="confine-log-symlinked-folder-out"),
+    confined('{ log = "/etc/passwd" }', expected=("joints.friction.log", *OUTSIDE), id="confine-log-etc-passwd"),
+    confined('{ file = "{tmp}/secret.toml" }', expected=("joints.friction.file", *OUTSIDE),
+             id="confine-law-file-absolute"),
+    confined('{ file = "../secret.toml" }', expected=("joints.friction.file", *OUTSIDE), id="confine-law-file-dot-dot"),
+    confined('{ file = "law.toml" }', files={"s/law.toml": 'log = "../secret.csv"\n'}, at_fault="s/law.toml",
+             expected=("log", *OUTSIDE), id="confine-law-file-naming-a-log-outside"),
+    confined(f'{{ surface = "../secret.csv", {SURFACE_KEYS} }}', expected=("joints.friction.surface", *OUTSIDE),
+             id="confine-surface-dot-dot"),
+    confined(f'{{ surface = "/proc/self/environ", {SURFACE_KEYS} }}',
+             expected=("joints.friction.surface", "outside the folders"), id="confine-surface-proc-environ"),
+    confined(f'{{ surface = "/proc/self/environ", {SURFACE_KEYS} }}', base=STUDY.replace("seed = 3", 'seed = 3\n'
+                                                                                          'data_dirs = ["/"]'),
+             expected=("joints.friction.surface", "system file under /proc"), id="confine-surface-proc-data-dirs-root"),
+    confined('{ log = "/dev/zero" }', base=STUDY.replace("seed = 3", 'seed = 3\ndata_dirs = ["/"]'),
+             expected=("joints.friction.log", "'/dev/zero' is a system file"), id="confine-log-dev-zero"),
+    confined('{ log = "pipe.csv" }', files={"s/pipe.csv": Fifo()},
+             expected=("joints.friction.log", "is a FIFO (named pipe)"), id="confine-log-fifo"),
+    confined('{ log = "logs" }', files={"s/logs/x.csv": GOOD_LOG},
+             expected=("joints.friction.log", "is a folder"), id="confine-log-folder"),
+    confined('{ preset = "42CD4-raw" }', base=STUDY.replace('q = [0.25]', 'q = [0.25]\nfriction = { log = '
+                                                                          '"../secret.csv" }'),
+             expected=("poses[0].friction.log", *OUTSIDE), id="confine-pose-log-dot-dot"),
+    confined('{ preset = "42CD4-raw" }', base=GANTRY_MAP.replace(
+        "[map]", '[[scenarios]]\nname = "logged"\njoints = { friction = { log = "../secret.csv" } }\n\n[map]'),
+             expected=("scenarios[0].joints.friction.log", *OUTSIDE), id="confine-scenario-log-dot-dot"),
+    # study.data_dirs admits a folder outside the study's: the log there is read (and then found too short)
+    confined('{ log = "../logs/short.csv" }', base=STUDY.replace("seed = 3", 'seed = 3\ndata_dirs = ["../logs"]'),
+             files={"logs/short.csv": "cycle,mu\n1,0.1\n"}, at_fault="s/../logs/short.csv",
+             expected=("mu", "at least 20"), id="confine-data-dirs-admits-a-folder-outside"),
+    confined('{ log = "../logs/short.csv" }', base=STUDY.replace("seed = 3", 'seed = 3\ndata_dirs = ["../log"]'),
+             files={"logs/short.csv": "cycle,mu\n1,0.1\n"},
+             expected=("joints.friction.log", "outside the folders a study may read ({tmp}/s, {tmp}/log)"),
+             id="confine-data-dirs-lists-another-folder"),
+    # files given on the command line: anywhere, but no system file, FIFO or device, and no content in the error
+    measurement("fit-friction", None, files={"in.csv": Symlink("/proc/self/environ")},
+                expected=("(resolved: /proc/", "system file"), id="confine-fit-friction-proc-environ"),
+    command(["fit-friction", "/proc/self/environ", "--out", "{tmp}/out"],
+            expected=("/proc/self/environ: ", "system file"), id="confine-fit-friction-proc-environ-absolute"),
+    command(["surface", "/dev/zero", "--out", "{tmp}/out"], expected=("/dev/zero: ", "system file"),
+            id="confine-surface-dev-zero"),
+    measurement("surface", Fifo(), expected=("is a FIFO",), id="confine-surface-fifo"),
+    command(["measure", "/proc/self/environ", "--out", "{tmp}/out"], expected=("/proc/self/environ: ", "system file"),
+            id="confine-measure-proc-environ"),
+    command(["measure", "{tmp}/in.csv", "--out", "{tmp}/out", "--noise-floor", "/dev/zero"],
+            files={"in.csv": "pose,cycle,x_m,y_m,z_m\nP,1,0,0,0\nP,2,0,0,0\n"},
+            expected=("/dev/zero: ", "system file"), id="confine-measure-noise-floor-dev-zero"),
+    command(["calibrate", "{tmp}/study.toml", "--measurements", "/proc/self/environ", "--out", "{tmp}/out"],
+            files={"study.toml": CALIBRATION_STUDY}, expected=("/proc/self/environ: ", "system file"),
+            id="confine-calibrate-measurements-proc-environ"),
+    command(["run", "/proc/self/environ", "--out", "{tmp}/out"], expected=("/proc/self/environ: ", "system file"),
+            id="confine-run-study-proc-environ"),
+    measurement("fit-friction", SECRET_LOG.replace(",mu", ",friction"), expected=("mu", "line 1: expected a header"),
+                id="confine-log-header-not-quoted"),
+    measurement("fit-friction", GOOD_LOG.replace("\n8,", f"\n8,{SECRET}\n#"),
+                expected=("mu", "line 9, column 2: expected a finite number"), id="confine-log-cell-not-quoted"),
+    measurement("surface", GOOD_PROFILE.replace("\n2e-06,", f"\n2e-06,{SECRET}\n#"),
+                expected=("z_m", "line 4, column 2: expected a finite number"), id="confine-profile-cell-not-quoted"),
+    command(["measure", "{tmp}/in.csv", "--out", "{tmp}/out"],
+            files={"in.csv": f"pose,cycle,x_m,y_m,z_m,{SECRET}\nP,1,0,0,0,0\nP,2,0,0,0,0\n"},
+            expected=("in.csv: line 1, column 6: unknown column",), id="confine-measure-header-not-quoted"),
+    command(["measure", "{tmp}/in.csv", "--out", "{tmp}/out"],
+            files={"in.csv": f"pose,cycle,x_m,y_m,z_m\nP,1,0,0,0\nP,2,0,{SECRET},0\n"},
+            expected=("in.csv: y_m: line 3, column 4: expected a finite number",),
+            id="confine-measure-cell-not-quoted"),
+    command(["calibrate", "{tmp}/study.toml", "--measurements", "{tmp}/in.csv", "--out", "{tmp}/out"],
+            files={"study.toml": CALIBRATION_STUDY, "in.csv": f"{SECRET},cycle,x_m,y_m,z_m\nP,1,0,0,0\n"},
+            expected=("in.csv: line 1, column 1: unknown column",), id="confine-calibrate-header-not-quoted"),
+    confined('{ file = "law.toml" }', files={"s/law.toml": f'file = "{SECRET}"\n'}, at_fault="s/law.toml",
+             expected=("file", "not another law file"), id="confine-law-file-name-not-quoted"),
+]
 
 # issue 19: names and pre-checks: refused before any pose or map target is measured
 PRE_CHECKS = [
@@ -323,6 +430,7 @@ CASES = [
     study("[map]", '[[scenarios]]\nname = "a"\njoints = { stifness = 1.0 }\n\n[map]', base=GANTRY_MAP,
           expected=("scenarios[0].joints.stifness", "did you mean 'stiffness'"), id="scenario-unknown-key"),
     *PRE_CHECKS,  # issue 19: names and pre-checks
+    *CONFINEMENT_CASES,  # issue 35: files confined, system files refused, content never quoted
     # -- command-line options
     command([*RUN, "--cycles", "0"], expected=("command line", "--cycles", "between 2 and"), id="option-cycles-zero"),
     command([*RUN, "--cycles", "many"], expected=("command line", "--cycles", "invalid int"),
@@ -368,9 +476,9 @@ CASES = [
     measurement("fit-friction", "cycle,friction\n1,0.1\n", expected=("mu", "columns"), id="log-wrong-columns"),
     measurement("fit-friction", "cycle,mu\n" + "\n".join(f"{i},0.1" for i in range(5)) + "\n",
                 expected=("mu", "at least 20"), id="log-too-short"),
-    measurement("fit-friction", GOOD_LOG.replace("\n8,", "\n8,x"), expected=("mu", "data row 8"),
+    measurement("fit-friction", GOOD_LOG.replace("\n8,", "\n8,x"), expected=("mu", "line 9, column 2"),
                 id="log-not-a-number"),
-    measurement("fit-friction", GOOD_LOG.replace("\n8,", "\n8,nan\n#"), expected=("mu", "data row 8", "finite"),
+    measurement("fit-friction", GOOD_LOG.replace("\n8,", "\n8,nan\n#"), expected=("mu", "line 9, column 2", "finite"),
                 id="log-nan"),
     measurement("fit-friction", GOOD_LOG.replace("\n8,", "\n8,-"), expected=("mu", "data row 8", "never negative"),
                 id="log-negative-mu"),
@@ -383,9 +491,9 @@ CASES = [
                 id="log-running-in-negative"),
     # -- surface profiles (tribokin surface)
     measurement("surface", "x_m,height\n1,2\n", expected=("x_m, z_m",), id="profile-wrong-columns"),
-    measurement("surface", GOOD_PROFILE.replace("\n2e-06,", "\n2e-06,abc,"), expected=("z_m", "data row 3"),
+    measurement("surface", GOOD_PROFILE.replace("\n2e-06,", "\n2e-06,abc,"), expected=("z_m", "line 4, column 2"),
                 id="profile-not-a-number"),
-    measurement("surface", GOOD_PROFILE.replace("x_m,z_m\n", "x_m,z_m\nfoo,1\n"), expected=("x_m", "data row 1"),
+    measurement("surface", GOOD_PROFILE.replace("x_m,z_m\n", "x_m,z_m\nfoo,1\n"), expected=("x_m", "line 2, column 1"),
                 id="profile-x-not-a-number"),
     measurement("surface", "x_m,z_m\n0,1\n1,2\n", expected=("x_m", "at least 50"), id="profile-too-short"),
     measurement("surface", GOOD_PROFILE.replace("\n3e-06,", "\n1e-06,"), expected=("x_m", "increase strictly"),
@@ -550,8 +658,10 @@ def _create(tmp: Path, files: dict) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
         if isinstance(content, Symlink):
             path.symlink_to(content)
-        else:
-            path.write_bytes(content if isinstance(content, bytes) else content.encode())
+        elif isinstance(content, Fifo):
+            os.mkfifo(path)
+        else:  # "{tmp}" in a text stands for the case's folder
+            path.write_bytes(content if isinstance(content, bytes) else content.replace("{tmp}", str(tmp)).encode())
 
 
 def _tree(folder: Path) -> dict[str, bytes | str | None]:
@@ -570,6 +680,7 @@ def _assert_refused(tmp: Path, before: dict, status: int, out: str, err: str, ex
     assert status == 2, (out, err)
     assert len(lines) == 1 and lines[0].startswith("tribokin: error: "), err
     assert "Traceback" not in err and out == ""
+    assert SECRET not in err  # no error quotes what a file holds
     for text in expected:
         assert text.format(tmp=tmp) in lines[0], (text, lines[0])
     assert _tree(tmp) == before  # no output, temporary, chunk or lock file; nothing changed
@@ -654,3 +765,17 @@ def test_output_parent_that_cannot_hold_folders(tmp_path, capsys):
     assert status == 2 and "--out" in error and len(error.strip().splitlines()) == 1
     assert (tmp_path / "notes.txt").read_text() == "mine" and sorted(p.name for p in tmp_path.iterdir()) == [
         "notes.txt", "study.toml"]
+
+
+@pytest.mark.parametrize("files, argv, expected", [case for case in CONFINEMENT_CASES if case.id in (
+    "confine-surface-proc-environ", "confine-surface-proc-data-dirs-root", "confine-fit-friction-proc-environ",
+    "confine-measure-proc-environ")])
+def test_the_process_environment_is_never_printed(tmp_path, files, argv, expected):
+    """The campaign's case: a study or a command naming /proc/self/environ printed the whole environment, here
+    holding SECRET; a process of its own, as /proc/self/environ shows the environment a process started with."""
+    _create(tmp_path, files)
+    before = _tree(tmp_path)
+    done = subprocess.run([sys.executable, "-m", "tribokin", *(arg.format(tmp=tmp_path) for arg in argv)],
+                          capture_output=True, text=True, cwd=tmp_path, env={**os.environ, "TRIBOKIN_TEST": SECRET})
+    assert SECRET not in done.stdout
+    _assert_refused(tmp_path, before, done.returncode, done.stdout, done.stderr, expected)

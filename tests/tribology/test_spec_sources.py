@@ -28,6 +28,29 @@ def test_errors_inside_a_law_file_name_that_file(tmp_path):
         law_from_spec({"file": "nope.toml"}, "study.toml", "joints.friction", tmp_path)
 
 
+def test_a_law_file_that_is_not_toml_is_located_not_quoted(tmp_path):
+    (tmp_path / "law.toml").write_text('law = "constant"\nsecret_7f3a = 1\nsecret_7f3a = 2\n')
+    with pytest.raises(InputError) as error:
+        law_from_spec({"file": "law.toml"}, "study.toml", "joints.friction", tmp_path)
+    assert "at line 3, column" in error.value.message and "secret_7f3a" not in error.value.one_line()
+
+
+def test_files_out_of_the_roots_are_refused_and_roots_admit_them(tmp_path):
+    study, shared = tmp_path / "study", tmp_path / "shared"
+    study.mkdir()
+    shared.mkdir()
+    mu = np.full(40, 0.12) + np.linspace(0, 1e-3, 40)
+    (shared / "log.csv").write_text("mu\n" + "\n".join(map(str, mu)) + "\n")
+    (study / "law.toml").write_text('log = "../shared/log.csv"\nrunning_in = 0\n')
+    with pytest.raises(InputError, match="joints.friction.log: .*outside the folders"):
+        law_from_spec({"log": "../shared/log.csv"}, "s.toml", "joints.friction", study)
+    with pytest.raises(InputError, match="law.toml: log: .*outside the folders"):  # a law file's own: the same roots
+        law_from_spec({"file": "law.toml"}, "s.toml", "joints.friction", study)
+    for spec in ({"log": "../shared/log.csv", "running_in": 0}, {"file": "law.toml"}):
+        law = law_from_spec(spec, "s.toml", "joints.friction", study, (study, shared))
+        assert isinstance(law, Empirical) and law.mean() == pytest.approx(mu.mean())
+
+
 def test_log_kind_trims_running_in(tmp_path):
     mu = np.concatenate([np.full(10, 0.3), np.full(40, 0.12)]) + np.linspace(0, 1e-3, 50)
     (tmp_path / "log.csv").write_text("mu\n" + "\n".join(map(str, mu)) + "\n")
@@ -59,6 +82,7 @@ def test_surface_kind_errors_name_the_key(edit, key):
 
 def test_surface_study_runs(tmp_path):
     study = axis_study(friction={"surface": str(PROFILES / "turned.csv"), **SURFACE})
+    study["study"]["data_dirs"] = [str(PROFILES)]  # a study reads only its folder's files and those it lists
     result = run_study(study)
     assert 0.09 <= result.poses[0].mu.min() and result.poses[0].mu.max() <= 0.16
 

@@ -25,6 +25,7 @@ from collections.abc import Collection
 import numpy as np
 
 from tribokin.checks import finite_cell
+from tribokin.confinement import regular_file
 from tribokin.errors import InputError, closest_hint
 
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
@@ -178,26 +179,30 @@ class _Table:
 
     def __init__(self, path):
         self.path = Path(path)
-        if not self.path.is_file():
-            raise InputError("file not found; check the path", self.path)
+        real = regular_file(self.path, self.path)
         try:
-            text = self.path.read_text(encoding="utf-8-sig")  # a spreadsheet's byte-order mark is not a name
+            text = real.read_text(encoding="utf-8-sig")  # a spreadsheet's byte-order mark is not a name
         except UnicodeDecodeError:
             raise InputError("not a text CSV file", self.path) from None
-        records = [(number, [cell.strip() for cell in next(csv.reader([line]))])
-                   for number, line in enumerate(text.splitlines(), start=1)
-                   if line.strip() and not line.lstrip().startswith("#")]
+        try:
+            records = [(number, [cell.strip() for cell in next(csv.reader([line]))])
+                       for number, line in enumerate(text.splitlines(), start=1)
+                       if line.strip() and not line.lstrip().startswith("#")]
+        except csv.Error as error:  # a cell beyond the csv module's field limit, a NUL
+            raise InputError(f"not a CSV file: {error}", self.path) from None
         if len(records) < 2:
             raise InputError("needs a header line and at least one data row", self.path)
-        self.header = records[0][1]
+        self.header_line, self.header = records[0]
         self.records = records[1:]
         self.lines = np.array([number for number, _ in self.records])
         if len(self.header) == 1 and ";" in self.header[0]:
             raise InputError("columns are separated by ';'; separate them by commas (decimal points, not commas)",
                              self.path)
-        for name in self.header:
+        for index, name in enumerate(self.header):
             if self.header.count(name) > 1:
-                raise InputError("the column is given twice; keep one", self.path, name)
+                again = self.header.index(name, index + 1)
+                raise InputError(f"line {self.header_line}: columns {index + 1} and {again + 1} have the same name, "
+                                 "given twice; keep one", self.path)
         for number, row in self.records:
             if len(row) != len(self.header):
                 raise InputError(f"line {number} has {len(row)} cells, the header {len(self.header)}; "
@@ -216,7 +221,8 @@ class _Table:
 
     def numbers(self, name: str, factor: float = 1.0, bounds: str | None = None) -> np.ndarray:
         """Column ``name`` as finite floats times ``factor``, within ``RANGES[bounds]`` (in SI) if given."""
-        values = np.array([finite_cell(cell, f"line {number}", self.path, name)
+        column = self.header.index(name) + 1
+        values = np.array([finite_cell(cell, f"line {number}, column {column}", self.path, name)
                            for number, cell in zip(self.lines, self.texts(name))]) * factor
         if bounds is not None:
             low, high, unit, why = RANGES[bounds]
@@ -253,10 +259,11 @@ class _Table:
 
     def refuse_unknown(self, known: set[str]) -> None:
         """Refuse a column that is not in ``known`` and is not a ``q_<joint>``."""
-        for name in self.header:
+        for index, name in enumerate(self.header):
             if name not in known and not (name.startswith("q_") and len(name) > 2):
-                raise InputError(f"unknown column{closest_hint(name, sorted(known))}; rename or remove it "
-                                 f"(units go in the name: _m, _mm, _deg, _rad, _s)", self.path, name)
+                raise InputError(f"line {self.header_line}, column {index + 1}: unknown column"
+                                 f"{closest_hint(name, sorted(known))}; rename or remove it (units go in the name: _m, "
+                                 "_mm, _deg, _rad, _s)", self.path)
 
 
 def _all_triple_columns() -> set[str]:

@@ -7,8 +7,10 @@ The study's own text is kept (its comments and layout, through ``tomlkit``), wit
   giving its interval; a value the data cannot determine is left as the study gives it, and a comment says so;
 - ``[[poses]]`` for the measured poses (their configurations and approach directions), so that ``run`` predicts
   there too, approached as they were measured;
-- relative paths (``robot.urdf``, ``robot.package_dirs``, law files ``file``, ``log``, ``surface``) rewritten
-  relative to the output folder, so that they name the same files from there.
+- relative paths (``robot.urdf``, ``robot.package_dirs``, law files ``file``, ``log``, ``surface``,
+  ``study.data_dirs``) rewritten relative to the output folder, so that they name the same files from there; a study
+  naming law files lists its own folder in ``study.data_dirs``, where they may still be read from
+  (:func:`~tribokin.confinement.confined_file`).
 """
 
 from __future__ import annotations
@@ -41,17 +43,21 @@ def _moved(path: str, source_dir: Path, out: Path) -> str:
     return Path(os.path.relpath((source_dir / path).absolute(), out.absolute())).as_posix()
 
 
-def _move_law_files(item, source_dir: Path, out: Path) -> None:
-    """Rewrite the file keys of every law table inside ``item`` (tables and arrays of tables, recursively)."""
+def _move_law_files(item, source_dir: Path, out: Path) -> bool:
+    """Rewrite the file keys of every law table inside ``item`` (tables and arrays of tables, recursively); whether
+    there were any."""
+    found = False
     if isinstance(item, (dict, Table)):
         for key, value in item.items():
             if key in LAW_FILE_KEYS and isinstance(value, str):
                 item[key] = _moved(value, source_dir, out)
+                found = True
             else:
-                _move_law_files(value, source_dir, out)
+                found = _move_law_files(value, source_dir, out) or found
     elif isinstance(item, (list, AoT)):
         for value in item:
-            _move_law_files(value, source_dir, out)
+            found = _move_law_files(value, source_dir, out) or found
+    return found
 
 
 def _move_paths(document, source_dir: Path, out: Path) -> None:
@@ -60,9 +66,17 @@ def _move_paths(document, source_dir: Path, out: Path) -> None:
         robot["urdf"] = _moved(robot["urdf"], source_dir, out)
     if "package_dirs" in robot:
         robot["package_dirs"] = [_moved(p, source_dir, out) for p in robot["package_dirs"]]
+    names_files = False
     for section in ("joints", "poses", "scenarios"):
         if section in document:
-            _move_law_files(document[section], source_dir, out)
+            names_files = _move_law_files(document[section], source_dir, out) or names_files
+    study = document.get("study", {})
+    if names_files or "data_dirs" in study:
+        own = [_moved(".", source_dir, out)] if names_files else []
+        folders = own + [_moved(folder, source_dir, out) for folder in study.get("data_dirs", [])]
+        if "study" not in document:
+            document.add("study", tomlkit.table())
+        document["study"]["data_dirs"] = list(dict.fromkeys(folders))
 
 
 def calibrated_study_text(study_text: str, source_dir: Path, out: Path, header: list[str],

@@ -98,8 +98,10 @@ def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
         if given not in ("friction", own):
             raise InputError(f"joint '{name}' is {'prismatic' if prismatic else 'revolute'}: give its friction as "
                              f"joints.{name}.{own} [{'N' if prismatic else 'N·m'}]", study.source, key)
-        law = law_from_spec(spec.friction, study.source, key, study.base_dir) if given == "friction" else \
-            scaled_law_from_spec(getattr(spec, given), FRICTION_SCALE[given], given, study.source, key)
+        if given == "friction":
+            law = law_from_spec(spec.friction, study.source, key, study.base_dir, study.data_roots)
+        else:
+            law = scaled_law_from_spec(getattr(spec, given), FRICTION_SCALE[given], given, study.source, key)
         values = {k: v for k, v in asdict(spec).items() if k not in FRICTION_KEYS}
         models.append(JointErrorModel(law, **values))
     return models
@@ -113,7 +115,7 @@ def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]
         with located(study.source, f"poses[{i}].q"):
             q = robot.check_configuration(p.q)
         friction = None if p.friction is None else law_from_spec(p.friction, study.source, f"poses[{i}].friction",
-                                                                study.base_dir)
+                                                                study.base_dir, study.data_roots)
         task = joint_space_task(p.name, q, p.normal_force_N, friction)
         if p.directions is not None:
             signs = np.array([label_approach_signs(robot, q, label) for label in p.directions])

@@ -8,6 +8,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from tribokin.checks import seed_int
+from tribokin.confinement import regular_file
 from tribokin.errors import InputError
 from tribokin.study.spec import Study, cycle_count, parse_study
 
@@ -20,9 +21,7 @@ else:  # pragma: no cover
 def read_study_file(path) -> Study:
     """Read and validate a TOML study file."""
     path = Path(path)
-    if not path.is_file():
-        raise InputError("study file not found", path)
-    content = path.read_bytes()
+    content = regular_file(path, path, missing="study file not found").read_bytes()
     try:
         text = content.decode("utf-8")
     except UnicodeDecodeError as error:

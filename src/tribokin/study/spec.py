@@ -64,6 +64,7 @@ STUDY_KEYS = {
     "seed": (seed_int, 0),
     "approach": (one_of(*APPROACH_MODES), "unidirectional"),
     "engine": (one_of("fast", "exact"), "fast"),
+    "data_dirs": (string_list, []),
 }
 
 
@@ -450,11 +451,18 @@ class Study:
     sha256: str | None = None
     calibration: CalibrationSpec | None = None
     placement: PlacementSpec | None = None
+    data_dirs: tuple[str, ...] = ()
 
     @property
     def has_tests(self) -> bool:
         """The study names something to run: poses, an ISO cube or a map."""
         return bool(self.poses) or self.iso_cube is not None or self.map is not None
+
+    @property
+    def data_roots(self) -> tuple[Path, ...]:
+        """The folders the files it names (law files, logs, surface profiles) must lie in: its own folder, then its
+        ``study.data_dirs`` (relative to its folder)."""
+        return (self.base_dir, *(self.base_dir / folder for folder in self.data_dirs))
 
     @property
     def payload_kg(self) -> float:
@@ -559,6 +567,7 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         scenarios=parse_scenarios(mapping, source, base_dir),
         calibration=calibration,
         placement=placement,
+        data_dirs=_frozen(study["data_dirs"]),
     )
 
 

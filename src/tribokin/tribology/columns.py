@@ -1,4 +1,4 @@
-"""Numeric columns from a CSV measurement file, with errors naming file and column.
+"""Numeric columns from a CSV measurement file, with errors naming the file, the line and the column.
 
 Lines starting with ``#`` are comments (provenance headers); the first other
 line holds the column names.
@@ -8,18 +8,31 @@ from __future__ import annotations
 
 import csv
 import warnings
+from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
 from tribokin.checks import finite_cell
+from tribokin.confinement import regular_file
 from tribokin.errors import InputError
+
+
+def _records(handle) -> Iterator[tuple[int, list[str]]]:
+    """(line number, cells) of each CSV record of ``handle`` that is neither a comment nor blank."""
+    reader = csv.reader("\n" if line.lstrip().startswith("#") else line for line in handle)
+    for row in reader:
+        if any(cell.strip() for cell in row):
+            yield reader.line_num, row
 
 
 def read_columns(path, layouts: tuple[tuple[str, ...], ...], min_rows: int,
                  optional: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
     """The columns of the first layout whose names all appear in the header of ``path``.
+
+    The file must be a regular file (:func:`~tribokin.confinement.regular_file`); errors name its lines and columns,
+    never what they hold.
 
     Args:
         path: CSV file.
@@ -31,28 +44,29 @@ def read_columns(path, layouts: tuple[tuple[str, ...], ...], min_rows: int,
         column name -> float array, for the matching layout and the optional columns present.
     """
     path = Path(path)
-    if not path.is_file():
-        raise InputError("file not found; check the path", path)
+    real = regular_file(path, path)
     try:
-        with open(path, newline="", encoding="utf-8") as handle:
-            rows = [row for row in csv.reader(line for line in handle if not line.lstrip().startswith("#"))
-                    if any(cell.strip() for cell in row)]
+        with open(real, newline="", encoding="utf-8") as handle:
+            records = list(_records(handle))
     except UnicodeDecodeError:
         raise InputError("not a text CSV file", path) from None
-    header = [name.strip() for name in rows[0]] if rows else []
+    except csv.Error as error:  # a cell beyond the csv module's field limit, a NUL
+        raise InputError(f"not a CSV file: {error}", path) from None
+    header = [name.strip() for name in records[0][1]] if records else []
     layout = next((names for names in layouts if all(name in header for name in names)), None)
     if layout is None:
         wanted = " or ".join(f"'{', '.join(names)}'" for names in layouts)
-        raise InputError(f"needs the columns {wanted} in its header line (found: {', '.join(header) or 'nothing'})",
-                         path, layouts[0][next((i for i, n in enumerate(layouts[0]) if n not in header), 0)])
-    data = rows[1:]
+        where = f"line {records[0][0]}: expected a header" if records else "no header line: expected one"
+        raise InputError(f"{where} naming the columns {wanted}", path,
+                         layouts[0][next((i for i, n in enumerate(layouts[0]) if n not in header), 0)])
+    data = records[1:]
     if len(data) < min_rows:
         raise InputError(f"has {len(data)} data rows; at least {min_rows} are needed", path, layout[0])
     columns = {}
     for name in layout + tuple(name for name in optional if name in header):
         index = header.index(name)
-        columns[name] = np.array([finite_cell(row[index] if index < len(row) else "", f"data row {line + 1}", path,
-                                              name) for line, row in enumerate(data)])
+        columns[name] = np.array([finite_cell(row[index] if index < len(row) else "",
+                                              f"line {line}, column {index + 1}", path, name) for line, row in data])
     return columns
 
 

@@ -7,17 +7,21 @@
 ``{ log = "tribometer.csv", running_in = 50 }`` (the trimmed measured mu, resampled),
 ``{ surface = "profile.csv", normal_force_N = 150, contact_area_m2 = 1e-6, film_thickness_m = 1.2e-6 }``
 (mu simulated cycle by cycle from the profile's asperities, see ``contact``).
-File names are relative to the study file.
+File names are relative to the study file; each must resolve (symlinks followed) inside one of the folders the
+caller allows (``roots``: by default the folder they are relative to) before it is opened
+(:func:`~tribokin.confinement.confined_file`).
 """
 
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 
 import numpy as np
 
 from tribokin.checks import finite, seed_int, whole_number, within
+from tribokin.confinement import confined_file
 from tribokin.errors import InputError, LawError, closest_hint
 from tribokin.tribology import laws
 from tribokin.tribology.laws import MU_MAX, MU_MIN, Constant, Empirical, FrictionLaw, Scaled
@@ -29,12 +33,12 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 
-def _from_preset(spec: dict, base_dir: Path) -> FrictionLaw:
+def _from_preset(spec: dict, base_dir: Path, roots: tuple[Path, ...]) -> FrictionLaw:
     _only_keys(spec, ("preset",))
     return preset(spec["preset"])
 
 
-def _from_law(spec: dict, base_dir: Path) -> FrictionLaw:
+def _from_law(spec: dict, base_dir: Path, roots: tuple[Path, ...]) -> FrictionLaw:
     name, known = spec["law"], laws.LAWS
     if name not in known:
         raise InputError(f"unknown law '{name}'{closest_hint(str(name), list(known))}; valid laws: "
@@ -47,28 +51,33 @@ def _from_law(spec: dict, base_dir: Path) -> FrictionLaw:
     return law(*(spec[k] for k in law.parameters))  # checks the parameters
 
 
-def _from_file(spec: dict, base_dir: Path) -> FrictionLaw:
+def _from_file(spec: dict, base_dir: Path, roots: tuple[Path, ...]) -> FrictionLaw:
     _only_keys(spec, ("file",))
     path = base_dir / str(spec["file"])
-    if not path.is_file():
-        raise InputError(f"law file '{path}' not found; write it with `tribokin fit-friction`", key="file")
+    real = confined_file(path, roots, None, "file", "not found; write it with `tribokin fit-friction`")
     try:
-        mapping = tomllib.loads(path.read_text(encoding="utf-8"))
+        mapping = tomllib.loads(real.read_text(encoding="utf-8"))
+    except UnicodeDecodeError as error:
+        raise InputError(f"not valid TOML: not UTF-8 text (at byte {error.start})", path) from None
     except ValueError as error:  # also a number of more than 4300 digits
-        raise InputError(f"not valid TOML: {error}", path) from None
+        where = re.search(r"\(at (line \d+, column \d+|end of document)\)", str(error))  # tomllib quotes keys: not them
+        raise InputError(f"not valid TOML{' at ' + where.group(1) if where else ''}: expected a law file as "
+                         "`tribokin fit-friction` writes it (law = \"...\" and its parameters)", path) from None
     if "file" in mapping:  # one level only: a law file naming itself, or a ring of them, would never end
-        raise InputError(f"a law file holds the law itself (law = ..., preset = ..., log = ...), not another law "
-                         f"file; point the study at {mapping['file']!r} directly", path, "file")
-    law = law_from_spec(mapping, path, "", path.parent)
+        raise InputError("a law file holds the law itself (law = ..., preset = ..., log = ...), not another law "
+                         "file; point the study at the file this key names directly", path, "file")
+    law = law_from_spec(mapping, path, "", path.parent, roots)
     law.provenance = law.provenance or f"law file {path} (its comments say where it comes from)"
     return law
 
 
-def _from_log(spec: dict, base_dir: Path) -> FrictionLaw:
+def _from_log(spec: dict, base_dir: Path, roots: tuple[Path, ...]) -> FrictionLaw:
     from tribokin.tribology.tribometer import read_log, steady_state
 
     _only_keys(spec, ("log", "running_in"))
-    log = read_log(base_dir / str(spec["log"]))
+    path = base_dir / str(spec["log"])
+    confined_file(path, roots, None, "log")
+    log = read_log(path)
     mu, trimmed = steady_state(log, spec.get("running_in"))
     how = "given" if "running_in" in spec else "detected"
     return Empirical(mu, provenance=f"tribometer log {log.source}: {mu.size} cycles after {trimmed} running-in "
@@ -106,7 +115,7 @@ def _count(spec: dict, key: str) -> int:
     return check(spec.get(key, default), None, key)
 
 
-def _from_surface(spec: dict, base_dir: Path) -> FrictionLaw:
+def _from_surface(spec: dict, base_dir: Path, roots: tuple[Path, ...]) -> FrictionLaw:
     from tribokin.tribology import contact
     from tribokin.tribology.surfaces import profile_statistics
 
@@ -115,7 +124,9 @@ def _from_surface(spec: dict, base_dir: Path) -> FrictionLaw:
     values = {key: _number(spec, key) for key in SURFACE_REQUIRED}
     values.update({key: _number(spec, key, default) for key, default in optional.items()})
     values.update({key: _count(spec, key) for key in SURFACE_COUNTS})
-    surface = profile_statistics(base_dir / str(spec["surface"]))
+    path = base_dir / str(spec["surface"])
+    confined_file(path, roots, None, "surface")
+    surface = profile_statistics(path)
     contacts = contact.mean_contacts(surface, values["contact_area_m2"], values["film_thickness_m"])
     if contacts * values["cycles"] > MAX_SUMMIT_DRAWS:
         raise InputError(f"{values['contact_area_m2']:g} m² puts {contacts:.3g} summits of {surface.source} in "
@@ -146,7 +157,7 @@ def _only_keys(spec: dict, allowed: tuple[str, ...]) -> None:
 
 
 def law_from_spec(spec, source: str | Path | None = None, key: str = "friction",
-                  base_dir: str | Path = ".") -> FrictionLaw:
+                  base_dir: str | Path = ".", roots=None) -> FrictionLaw:
     """Build the friction law a study file describes.
 
     Args:
@@ -154,6 +165,7 @@ def law_from_spec(spec, source: str | Path | None = None, key: str = "friction",
         source: file the mapping came from, for error messages.
         key: dotted key of the mapping in that file, for error messages.
         base_dir: folder that relative file names in the mapping are resolved against.
+        roots: folders the files the mapping names must lie in (symlinks followed); ``None``: ``base_dir``.
     """
     if isinstance(spec, FrictionLaw):
         return spec
@@ -163,7 +175,7 @@ def law_from_spec(spec, source: str | Path | None = None, key: str = "friction",
     if kind is None:
         raise InputError(f"needs one of the keys {', '.join(SPEC_KINDS)}", source, key)
     try:
-        return SPEC_KINDS[kind](spec, Path(base_dir))
+        return SPEC_KINDS[kind](spec, Path(base_dir), tuple(Path(r) for r in (roots or (base_dir,))))
     except LawError as error:
         raise InputError(error.message, source, ".".join(part for part in (key, error.parameter) if part)) from None
     except InputError as error:
