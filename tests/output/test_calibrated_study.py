@@ -60,9 +60,11 @@ def test_relative_paths_name_the_same_files_from_the_output_folder(tmp_path):
 
 def test_data_dirs_are_moved_and_a_study_naming_no_files_gets_none(tmp_path):
     source, out = tmp_path / "studies", tmp_path / "results" / "fit"
-    listed = STUDY.replace("# my study: keep this comment", '[study]\ndata_dirs = ["shared", "/srv/logs"]')
+    listed = STUDY.replace("# my study: keep this comment", '[study]\ndata_dirs = ["shared", "/srv/logs"]') + \
+        '\n[[scenarios]]\nname = "other"\nstudy = { data_dirs = ["other"] }\n'
     parsed = tomllib.loads(calibrated_study_text(listed, source, out, [], [], []))
     assert parsed["study"]["data_dirs"] == ["../../studies", "../../studies/shared", "/srv/logs"]
+    assert parsed["scenarios"][0]["study"]["data_dirs"] == ["../../studies", "../../studies/other"]
     plain = STUDY.replace('friction = { file = "laws/law.toml" }', 'friction = { preset = "42CD4-raw" }').replace(
         'friction = { log = "logs/run.csv" }', "")
     assert "data_dirs" not in calibrated_study_text(plain, source, out, [], [], [])

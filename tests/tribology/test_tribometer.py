@@ -51,6 +51,6 @@ def test_mu_above_ten_or_overflowing_names_the_row_without_warnings(tmp_path, st
     path.write_text(f"{steady}{last}\n")
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # a warning would be a second line on stderr
-        with pytest.raises(InputError, match="data row 26 gives mu") as error:
+        with pytest.raises(InputError, match="line 27 gives mu") as error:
             read_log(path)
     assert error.value.key == key and error.value.source == str(path)

@@ -70,13 +70,20 @@ def _move_paths(document, source_dir: Path, out: Path) -> None:
     for section in ("joints", "poses", "scenarios"):
         if section in document:
             names_files = _move_law_files(document[section], source_dir, out) or names_files
-    study = document.get("study", {})
-    if names_files or "data_dirs" in study:
-        own = [_moved(".", source_dir, out)] if names_files else []
-        folders = own + [_moved(folder, source_dir, out) for folder in study.get("data_dirs", [])]
+    own = [_moved(".", source_dir, out)] if names_files else []
+    if own or "data_dirs" in document.get("study", {}):
         if "study" not in document:
             document.add("study", tomlkit.table())
-        document["study"]["data_dirs"] = list(dict.fromkeys(folders))
+        _move_data_dirs(document["study"], own, source_dir, out)
+    for scenario in document.get("scenarios", []):
+        if isinstance(scenario.get("study"), (dict, Table)) and "data_dirs" in scenario["study"]:
+            _move_data_dirs(scenario["study"], own, source_dir, out)
+
+
+def _move_data_dirs(study, own: list[str], source_dir: Path, out: Path) -> None:
+    """``study.data_dirs`` named from ``out``, after the folders ``own`` (the study's own, when it names files)."""
+    folders = own + [_moved(folder, source_dir, out) for folder in study.get("data_dirs", [])]
+    study["data_dirs"] = list(dict.fromkeys(folders))
 
 
 def calibrated_study_text(study_text: str, source_dir: Path, out: Path, header: list[str],

@@ -28,8 +28,8 @@ def _records(handle) -> Iterator[tuple[int, list[str]]]:
 
 
 def read_columns(path, layouts: tuple[tuple[str, ...], ...], min_rows: int,
-                 optional: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
-    """The columns of the first layout whose names all appear in the header of ``path``.
+                 optional: tuple[str, ...] = ()) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """The columns of the first layout whose names all appear in the header of ``path``, and each row's line.
 
     The file must be a regular file (:func:`~tribokin.confinement.regular_file`); errors name its lines and columns,
     never what they hold.
@@ -41,7 +41,8 @@ def read_columns(path, layouts: tuple[tuple[str, ...], ...], min_rows: int,
         optional: further columns read when present.
 
     Returns:
-        column name -> float array, for the matching layout and the optional columns present.
+        column name -> float array, for the matching layout and the optional columns present; and the line number of
+        each data row in the file (comments and blank lines counted), for messages.
     """
     path = Path(path)
     real = regular_file(path, path)
@@ -67,7 +68,7 @@ def read_columns(path, layouts: tuple[tuple[str, ...], ...], min_rows: int,
         index = header.index(name)
         columns[name] = np.array([finite_cell(row[index] if index < len(row) else "",
                                               f"line {line}, column {index + 1}", path, name) for line, row in data])
-    return columns
+    return columns, np.array([line for line, _ in data])
 
 
 @contextmanager

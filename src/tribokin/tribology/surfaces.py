@@ -86,20 +86,20 @@ class SurfaceStatistics:
 
 def read_profile(path) -> tuple[np.ndarray, np.ndarray]:
     """Positions x [m] and heights z [m] of a profile CSV (``x_m, z_m``); x must increase strictly."""
-    columns = read_columns(path, (("x_m", "z_m"),), MIN_POINTS)
+    columns, lines = read_columns(path, (("x_m", "z_m"),), MIN_POINTS)
     for key, (largest, why) in PROFILE_LIMITS_M.items():
         beyond = np.abs(columns[key]) > largest
         if beyond.any():
             row = int(np.argmax(beyond))
-            raise InputError(f"data row {row + 1} holds {columns[key][row]:g} m, beyond ±{largest:g} m: {why}; check "
+            raise InputError(f"line {lines[row]} holds {columns[key][row]:g} m, beyond ±{largest:g} m: {why}; check "
                              "the units", path, key)
     x = columns["x_m"]
     steps = np.diff(x)
     if np.any(steps <= 0):
-        raise InputError(f"must increase strictly; data row {int(np.argmax(steps <= 0)) + 2} does not", path, "x_m")
+        raise InputError(f"must increase strictly; line {lines[np.argmax(steps <= 0) + 1]} does not", path, "x_m")
     if np.any(steps < MIN_SPACING_M):
         row = int(np.argmax(steps < MIN_SPACING_M))
-        raise InputError(f"data row {row + 2} lies {steps[row]:g} m after the one before; points closer than "
+        raise InputError(f"line {lines[row + 1]} lies {steps[row]:g} m after the one before; points closer than "
                          f"{MIN_SPACING_M:g} m are below atomic size: check the units", path, "x_m")
     return x, columns["z_m"]
 

@@ -30,21 +30,21 @@ class TribometerLog:
 
 def read_log(path) -> TribometerLog:
     """Read a tribometer log (``cycle, mu`` or ``friction_force_N, normal_force_N``)."""
-    columns = read_columns(path, (("mu",), ("friction_force_N", "normal_force_N")), MIN_CYCLES, ("cycle",))
+    columns, lines = read_columns(path, (("mu",), ("friction_force_N", "normal_force_N")), MIN_CYCLES, ("cycle",))
     if "mu" in columns:
         mu, key = columns["mu"], "mu"
     else:
         normal, key = columns["normal_force_N"], "friction_force_N"
         if np.any(normal <= 0):
-            raise InputError(f"data row {int(np.argmax(normal <= 0)) + 1} has a normal force <= 0", path,
+            raise InputError(f"line {lines[np.argmax(normal <= 0)]}: expected a normal force > 0", path,
                              "normal_force_N")
         with np.errstate(over="ignore"):  # an overflowing ratio is refused below, as too large
             mu = np.abs(columns["friction_force_N"]) / normal
     if np.any(mu < 0):
-        raise InputError(f"data row {int(np.argmax(mu < 0)) + 1} has mu < 0: friction is never negative", path, "mu")
+        raise InputError(f"line {lines[np.argmax(mu < 0)]}: expected mu >= 0: friction is never negative", path, key)
     if np.any(mu > MU_MAX):
         row = int(np.argmax(mu > MU_MAX))
-        raise InputError(f"data row {row + 1} gives mu = {mu[row]:g}, above {MU_MAX:g}: not sliding friction (clean "
+        raise InputError(f"line {lines[row]} gives mu = {mu[row]:g}, above {MU_MAX:g}: not sliding friction (clean "
                          "metals in vacuum reach a few); check the row and the units", path, key)
     cycle = columns.get("cycle", np.arange(1, mu.size + 1, dtype=float))
     return TribometerLog(str(path), cycle, mu)
