@@ -768,8 +768,7 @@ def test_output_parent_that_cannot_hold_folders(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("files, argv, expected", [case for case in CONFINEMENT_CASES if case.id in (
-    "confine-surface-proc-environ", "confine-surface-proc-data-dirs-root", "confine-fit-friction-proc-environ",
-    "confine-measure-proc-environ")])
+    "confine-surface-proc-environ", "confine-fit-friction-proc-environ")])
 def test_the_process_environment_is_never_printed(tmp_path, files, argv, expected):
     """The campaign's case: a study or a command naming /proc/self/environ printed the whole environment, here
     holding SECRET; a process of its own, as /proc/self/environ shows the environment a process started with."""
