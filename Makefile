@@ -35,13 +35,11 @@ demo: $(VENV)/.base
 	$(VENV)/bin/tribokin calibrate studies/ur5-calibrate.toml --measurements studies/data/ur5-tracker.csv \
 		--out $(DEMO_OUT)/ur5-fit --force
 	$(VENV)/bin/tribokin run $(DEMO_OUT)/ur5-fit/calibrated.toml --out $(DEMO_OUT)/ur5-predicted --force
-	@echo "== measured and calibrated: the IPA UR10 laser-tracker data (../shared/data/ipa-ur10, MIT)"
-	@if [ -d ../shared/data/ipa-ur10 ]; then \
-		$(PY) tools/ipa_series_d.py ../shared/data/ipa-ur10 --out $(DEMO_OUT)/ipa-ur10-series-d.csv --force >/dev/null && \
-		$(VENV)/bin/tribokin measure $(DEMO_OUT)/ipa-ur10-series-d.csv --out $(DEMO_OUT)/ipa-measured --force && \
-		$(VENV)/bin/tribokin calibrate studies/ur10-ipa-calibrate.toml --measurements $(DEMO_OUT)/ipa-ur10-series-d.csv \
-			--out $(DEMO_OUT)/ipa-fit --force || exit $$?; \
-	else echo "(../shared/data/ipa-ur10 not found: skipped)"; fi
+	@echo "== measured and calibrated: the IPA UR10 laser-tracker data (studies/data/ipa-ur10, MIT)"
+	$(PY) tools/ipa_series_d.py studies/data/ipa-ur10 --out $(DEMO_OUT)/ipa-ur10-series-d.csv --force >/dev/null
+	$(VENV)/bin/tribokin measure $(DEMO_OUT)/ipa-ur10-series-d.csv --out $(DEMO_OUT)/ipa-measured --force
+	$(VENV)/bin/tribokin calibrate studies/ur10-ipa-calibrate.toml --measurements $(DEMO_OUT)/ipa-ur10-series-d.csv \
+		--out $(DEMO_OUT)/ipa-fit --force
 	@echo "demo results: $(DEMO_OUT)/<study>/ (summary.json, poses.csv, field_*.png, report.html; maps: map*.csv, map_*.png)"
 	@for study in $(DEMO_STUDIES) ur5-measured ur5-fit ur5-predicted ipa-measured ipa-fit; do \
 		if [ -f $(DEMO_OUT)/$$study/report.html ]; then echo "report: $(DEMO_OUT)/$$study/report.html"; fi; done

@@ -1,7 +1,7 @@
 """Where the time of ``tribokin calibrate`` goes, stage by stage, on the shipped examples.
 
 Run from the repository root: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src python benchmarks/calibrate.py``
-(the IPA example needs ``../shared/data/ipa-ur10``; it is converted into a temporary file first).
+(the examples: the synthetic UR5 data and Series D of the IPA UR10 data, both in ``studies/data``).
 Writes ``benchmarks/results/calibrate.json`` and prints a table: seconds of each stage (reading and
 assembling the inputs, the fit, the profile intervals, the predictions at the measured poses, the
 leave-one-pose-out refits) and of the whole command with ``--report none``. One run each: the figures
@@ -30,7 +30,6 @@ from tribokin.study.reading import read_study_file
 
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS = ROOT / "benchmarks" / "results" / "calibrate.json"
-IPA = ROOT.parent / "shared" / "data" / "ipa-ur10"
 
 
 def stages(study_path: Path, data_path: Path) -> dict:
@@ -77,12 +76,9 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as scratch:
         scratch = Path(scratch)
         examples = {"ur5-synthetic": (ROOT / "studies" / "ur5-calibrate.toml", ROOT / "studies" / "data" /
-                                      "ur5-tracker.csv")}
-        if IPA.is_dir():
-            converted = scratch / "ipa.csv"
-            subprocess.run([sys.executable, str(ROOT / "tools" / "ipa_series_d.py"), str(IPA), "--out",
-                            str(converted)], check=True, capture_output=True)
-            examples["ipa-ur10"] = (ROOT / "studies" / "ur10-ipa-calibrate.toml", converted)
+                                      "ur5-tracker.csv"),
+                    "ipa-ur10": (ROOT / "studies" / "ur10-ipa-calibrate.toml", ROOT / "studies" / "data" /
+                                 "ipa-ur10-series-d.csv")}
         for name, (study, data) in examples.items():
             entry = stages(study, data)
             (scratch / name).mkdir()

@@ -1,6 +1,9 @@
 """Convert Series D of the IPA UR10 laser-tracker data into tribokin's measurement CSV (issue 21).
 
-    python tools/ipa_series_d.py ../shared/data/ipa-ur10 --out ipa-ur10-series-d.csv [--force]
+    python tools/ipa_series_d.py studies/data/ipa-ur10 --out ipa-ur10-series-d.csv [--force]
+
+``studies/data/ipa-ur10`` holds the upstream Series D files with their licence and provenance; what this
+script writes from them is committed as ``studies/data/ipa-ur10-series-d.csv`` (a test keeps the two equal).
 
 Reads ``raw/Series_D/measurements_iso_cubes.csv`` (``;`` separators, decimal commas) and
 ``raw/Series_D/Trafo_TM_F_init.txt`` of the data folder and writes one row per measurement of every
@@ -234,7 +237,7 @@ def _provenance(kept, commanded_m, poses: int, rows: int) -> list[str]:
         "Source: GitHub christianlandgraf/ipa-robot-accuracy, commit 507fba69bdaf6c43c2faf306e70a7e37c5e39b89,",
         "file Series_D/measurements_iso_cubes.csv.",
         f"Licence: {LICENCE}.",
-        "Converted by tools/ipa_series_d.py (tribokin); see ../shared/data/ipa-ur10/README.md for the data.",
+        "Converted by tools/ipa_series_d.py (tribokin); see studies/data/ipa-ur10/README.md in tribokin for the data.",
         "Frames: x_m, y_m, z_m = measured T-Mac probe origin in the LASER TRACKER frame (not the robot base",
         "frame: register it); cx_m, cy_m, cz_m = commanded probe TCP of the row in the robot base frame (ROS",
         "base_link, the maker's base turned 180 deg about z); q_<joint> [rad]; sx_mm, sy_mm, sz_mm = the",

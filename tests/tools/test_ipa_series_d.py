@@ -1,20 +1,25 @@
 """tools/ipa_series_d.py: Series D of the IPA UR10 data as a measurement file, checked against facts read by hand
-from the raw file (../shared/data/ipa-ur10 beside the repository), and its one-line errors."""
+from the raw file (the copy in studies/data/ipa-ur10, checked against its upstream git blob hashes), the committed
+conversion, and its one-line errors."""
 
 from __future__ import annotations
 
 import csv
+import hashlib
 import io
+import re
 from collections import Counter
 
 import numpy as np
 import pytest
 
 from conftest import ROOT, load_tool
+from tribokin.study.reading import read_study_file
 
 ipa_series_d = load_tool("ipa_series_d")
 
-DATA = ROOT.parent / "shared" / "data" / "ipa-ur10"
+DATA = ROOT / "studies" / "data" / "ipa-ur10"
+COMMITTED = ROOT / "studies" / "data" / "ipa-ur10-series-d.csv"
 RAW = DATA / "raw" / "Series_D" / "measurements_iso_cubes.csv"
 TRAFO = DATA / "raw" / "Series_D" / "Trafo_TM_F_init.txt"
 JOINTS = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
@@ -55,6 +60,42 @@ def converted(tmp_path_factory):
     out = tmp_path_factory.mktemp("ipa") / "ipa-ur10-series-d.csv"
     assert ipa_series_d.main([str(DATA), "--out", str(out)]) == 0
     return out
+
+
+def _git_blob(data: bytes) -> str:
+    """Git's object hash of a file's bytes (``git hash-object``)."""
+    return hashlib.sha1(b"blob %d\0" % len(data) + data).hexdigest()
+
+
+def test_the_vendored_files_are_the_upstream_bytes_listed_in_the_provenance_note():
+    # The note's table: | `path` | bytes | `git blob` | upstream path | ..., the hashes read from the upstream
+    # commit's tree (git ls-tree -r 507fba69...).
+    listed = {m[1]: (int(m[2]), m[3]) for m in re.finditer(r"^\| `([^`]+)` \| (\d+) \| `([0-9a-f]{40})` \|",
+                                                           (DATA / "README.md").read_text(encoding="utf-8"), re.M)}
+    assert {"raw/Series_D/measurements_iso_cubes.csv", "raw/Series_D/Trafo_TM_F_init.txt", "LICENSE"} <= set(listed)
+    present = {p.relative_to(DATA).as_posix() for p in DATA.rglob("*") if p.is_file()} - {"README.md"}
+    assert present == set(listed)
+    for name, (size, blob) in listed.items():
+        data = (DATA / name).read_bytes()
+        assert (len(data), _git_blob(data)) == (size, blob), name
+    assert b"\r\n" in (DATA / "raw/Series_D/measurements_iso_cubes.csv").read_bytes()  # CRLF kept, as upstream
+
+
+def test_the_committed_conversion_is_what_the_tool_writes(converted):
+    assert COMMITTED.read_bytes() == converted.read_bytes()
+    comments, _ = _read(converted.read_text())
+    named = [line for line in comments if line.startswith("Converted by")]
+    assert named == ["Converted by tools/ipa_series_d.py (tribokin); see studies/data/ipa-ur10/README.md in "
+                     "tribokin for the data."] and (DATA / "README.md").is_file()
+
+
+def test_the_shipped_study_uses_the_probe_offset_the_conversion_prints():
+    comments, _ = _read(COMMITTED.read_text(encoding="utf-8"))
+    printed = {key: tuple(float(v) for v in line.split("[")[1].split("]")[0].split(","))
+               for line in comments for key in ("tool_offset_m", "tool_offset_rpy_deg")
+               if line.startswith(f"  robot.{key} = [")}
+    robot = read_study_file(ROOT / "studies" / "ur10-ipa-calibrate.toml").robot
+    assert printed == {"tool_offset_m": robot.tool_offset_m, "tool_offset_rpy_deg": robot.tool_offset_rpy_deg}
 
 
 def test_counts_read_by_hand_from_the_raw_file(converted, capsys):
