@@ -8,6 +8,7 @@ import json
 import math
 import time
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 import pytest
@@ -304,17 +305,31 @@ def doubling(folder: Path, properties: int = 40, uses: int = 1) -> Path:
     return folder / "doubling.urdf.xacro"
 
 
+def written(name: str, text: str) -> Callable[[Path], Path]:
+    """A maker of the xacro ``name`` holding ``text``."""
+    def make(folder: Path) -> Path:
+        (folder / name).write_text(text)
+        return folder / name
+
+    return make
+
+
 @pytest.mark.parametrize("make, limits, message", [
     (laughs, XacroLimits(elements=2_000), "expansion stopped past 2,000 elements (the size limit of a xacro expansion)"),
     (laughs, XacroLimits(seconds=0.3, elements=10**9), "expansion stopped after 0.3 s (the time limit"),
     (doubling, XacroLimits(characters=1_000_000), "an expression's value passes 200,000 characters"),
     (lambda folder: doubling(folder, 15, uses=10), XacroLimits(characters=1_000_000),
      "expansion stopped past 1,000,000 characters"),
-], ids=["macro-growth", "time", "doubling-string", "characters"])
+    (written("dollars.urdf.xacro", f'<robot name="r"><link name="b">{"$a" * 50_000}</link></robot>'), XacroLimits(),
+     "a text of 100,000 characters with 50,000 '$' (xacro would take a time growing as their product to read it)"),
+    (written("big.urdf.xacro", f'<robot name="r"><!-- {"x" * 300_000} --></robot>'), XacroLimits(characters=1_000_000),
+     "a file of more than 200,000 bytes (the size limit of one file"),
+], ids=["macro-growth", "time", "doubling-string", "characters", "lexer", "file"])
 def test_an_expansion_past_its_limits_stops_in_one_line(tmp_path, make, limits, message):
     """The campaign's macro growth and doubling string, with small limits (the defaults: the bad-input table):
-    stopped within a step of the limit (the last: 8 * 2^14 characters ten times, each under a value's limit,
-    together past the expansion's)."""
+    stopped within a step of the limit (characters: 8 * 2^14 ten times, each under a value's limit, together past
+    the expansion's); a text whose '$' signs xacro's lexer would take long over (its time grows as their number
+    times the text's length: 100 000 '$a' took 5.6 s there, 200 000 18 s), a file larger than a value may be."""
     path = make(tmp_path)
     start = time.monotonic()
     with pytest.raises(RobotDescriptionError) as error:

@@ -114,7 +114,7 @@ def _confined_open(roots: list[Path], refuse, budget: Budget):
                 "package_dirs"))
         if real.exists() and not real.is_file():
             refuse(RobotDescriptionError(f"xacro opens '{file}', which is not a regular file", "path"))
-        budget.count(characters=real.stat().st_size if real.exists() else 0)
+        budget.file(real.stat().st_size if real.exists() else 0)
         return open(real, *args, **kwargs)
 
     return confined

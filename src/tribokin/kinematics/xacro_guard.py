@@ -42,6 +42,8 @@ from typing import Callable, NoReturn
 INTEGER_BITS = 16_384
 #: ``round(x, n)``: the most digits ``n`` may ask for, either way.
 ROUND_DIGITS = 400
+#: The most characters xacro's lexer may copy for one text (its length times its ``$`` signs; some 0.3 s).
+LEXED_CHARACTERS = 2_000_000_000
 
 _MATH = ("pi", "e", "tau", "inf", "nan", "radians", "degrees", "sin", "cos", "tan", "asin", "acos", "atan", "atan2",
          "sinh", "cosh", "tanh", "asinh", "acosh", "atanh", "sqrt", "exp", "log", "log10", "log2", "pow", "floor",
@@ -115,6 +117,21 @@ class Budget:
         if size > self.limits.characters // 5:
             self.oversized()
         return size
+
+    def file(self, size: int) -> None:
+        """Count a file of ``size`` bytes; stop when it alone passes the limit of one value (a parser would hold the
+        expansion up that long)."""
+        if size > self.limits.characters // 5:
+            self.stop(f"a file of more than {self.limits.characters // 5:,} bytes (the size limit of one file in a "
+                      "xacro expansion)", True)
+        self.count(characters=size)
+
+    def text(self, text: str) -> None:
+        """Stop before xacro lexes ``text`` if it would take too long: its lexer copies the rest of the text at each
+        ``$``, a time that grows as the text's length times its ``$`` signs."""
+        if len(text) * text.count("$") > LEXED_CHARACTERS:
+            self.stop(f"a text of {len(text):,} characters with {text.count('$'):,} '$' (xacro would take a time "
+                      "growing as their product to read it)", True)
 
     def oversized(self) -> NoReturn:
         """Stop: a value passes the limit of one value."""
@@ -231,6 +248,8 @@ class Guard:
             return eval_all(node, macros, symbols)
 
         def counted_eval_text(text, symbols):
+            if isinstance(text, str):
+                budget.text(text)
             value = eval_text(text, symbols)
             budget.count(characters=len(value) if isinstance(value, str) else 0)
             return value
