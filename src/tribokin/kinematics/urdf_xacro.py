@@ -140,7 +140,7 @@ def _hooked_xacro(find, opener, guard: Guard):
         xacro.open = opener  # a module global: xacro's parse() and load_yaml() open files through it
         try:
             with contextlib.redirect_stderr(io.StringIO()), contextlib.redirect_stdout(io.StringIO()):
-                yield xacro
+                yield
         finally:
             del xacro.open
             (substitution_args._eval_find, substitution_args._eval_dict["find"], substitution_args._eval,
@@ -167,9 +167,8 @@ def _expand(path: Path, arguments: dict[str, str], package_dirs: list[Path], lim
     refuse = _refuser(refusals)
 
     def stop(what: str, limited: bool) -> NoReturn:
-        current = next((f for f in reversed(xacro.filestack or []) if f), None)
-        where = "" if current is None or Path(current).resolve() == path else f" (in {current})"
-        refuse((_Stopped if limited else RobotDescriptionError)(f"xacro '{path}'{where}: {what}", "path"))
+        refuse((_Stopped if limited else RobotDescriptionError)(f"xacro '{path}'{_where(xacro.filestack, path)}: "
+                                                                f"{what}", "path"))
 
     roots = list(dict.fromkeys([path.parent, *(Path(folder).resolve() for folder in package_dirs)]))
     recorded = _RecordedArguments(arguments)
@@ -190,6 +189,12 @@ def _expand(path: Path, arguments: dict[str, str], package_dirs: list[Path], lim
     return text, recorded.names
 
 
+def _where(filestack, path: Path) -> str:
+    """`` (in <file>)`` naming the file xacro is expanding (the last of its ``filestack``) when not ``path``."""
+    current = next((f for f in reversed(filestack or []) if f), None)
+    return "" if current is None or Path(current).resolve() == path else f" (in {current})"
+
+
 def _xacro_message(error: Exception, filestack, path: Path) -> RobotDescriptionError:
     """xacro's ``error`` as one error naming the xacro (and the file being expanded, when another), the key
     ``robot.xacro_args.<name>`` for an argument it lacks, else ``robot.urdf``."""
@@ -198,8 +203,7 @@ def _xacro_message(error: Exception, filestack, path: Path) -> RobotDescriptionE
     cause = getattr(error, "exc", None)
     text = f"{cause.strerror}: {cause.filename}" if isinstance(cause, OSError) else str(error) or type(error).__name__
     message = " ".join(text.split())
-    current = next((f for f in reversed(filestack or []) if f), None)
-    where = "" if current is None or Path(current).resolve() == path else f" (in {current})"
+    where = _where(filestack, path)
     if isinstance(cause, ArgException):
         name = str(cause)
         return RobotDescriptionError(f"xacro '{path}'{where}: {message}: set robot.xacro_args.{name} = \"...\"",
