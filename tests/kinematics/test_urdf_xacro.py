@@ -4,6 +4,7 @@ folders, files confined like meshes, expressions that would run code refused bef
 their limits, errors keyed by the argument at fault, and xacro's globals left as they were (bad input through the
 command line: tests/integration/test_bad_input.py)."""
 
+import glob
 import json
 import math
 import time
@@ -137,6 +138,28 @@ def test_a_file_outside_the_folders_is_refused_before_it_is_read(tmp_path, monke
     assert f"'{(tmp_path / 'outside' / 'evil').resolve()}" in error.value.message.replace(".xacro", "").replace(
         ".yaml", "")
     assert not [file for file in opened if str(tmp_path / "outside") in str(Path(file).resolve())]
+
+
+@pytest.mark.parametrize("pattern, listed", [("../parts/*.xacro", True), ("../../../outside/*.xacro", False),
+                                             ("../*/../../../outside/evil.xacro", False)],
+                         ids=["inside", "outside", "climbing"])
+def test_an_include_pattern_lists_only_the_folders(tmp_path, monkeypatch, pattern, listed):
+    """A wildcard include expands inside the folders; one whose folder lies outside, or that climbs out after a
+    wildcard, is refused before any folder is listed."""
+    path, dirs = one_joint(tmp_path, f'<xacro:include filename="{pattern}"/>')
+    (path.parent.parent / "parts").mkdir()
+    (path.parent.parent / "parts" / "a.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="from_a"/></robot>')
+    (tmp_path / "outside" / "evil.xacro").write_text(EMPTY)
+    patterns, real_glob = [], glob.glob
+    monkeypatch.setattr("glob.glob", lambda pattern, **kwargs: patterns.append(pattern) or real_glob(pattern))
+    if listed:
+        assert '<link name="from_a"/>' in expand_xacro(path, {}, dirs) and len(patterns) == 1
+        return
+    with pytest.raises(RobotDescriptionError) as error:
+        expand_xacro(path, {}, dirs)
+    assert error.value.argument == "package_dirs" and "lists folders outside the xacro's folder" in error.value.message
+    assert patterns == []
 
 
 def test_an_included_file_inside_the_folders_is_read(tmp_path):

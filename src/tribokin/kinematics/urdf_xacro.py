@@ -8,7 +8,7 @@ expanded with its arguments. While xacro expands it,
   that has one, as ``package://pkg/...`` mesh paths resolve; ROS's package index is never asked;
 - every file xacro opens (the xacro, its includes, YAML files of ``xacro.load_yaml``) must resolve (symlinks
   followed) inside the xacro's own folder or a package folder, and be a regular file; one outside is refused before
-  it is read, and its size counts towards the expansion's limit;
+  it is read, and its size counts towards the expansion's limit; an include's wildcards list only those folders;
 - every ``${...}`` and ``$(eval ...)`` expression is checked against an allow-list before it runs, and the whole
   expansion is held within a time and a size limit (:mod:`tribokin.kinematics.xacro_guard`: why that holds);
   ``$(env)`` is refused, ``$(optenv)`` gives its default;
@@ -21,12 +21,14 @@ holds a lock and puts back every global it touches, so other users of xacro in t
 from __future__ import annotations
 
 import contextlib
+import glob
 import io
 import math
 import threading
 import time
 from functools import partial
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Callable, NoReturn
 
 from tribokin.errors import RobotDescriptionError, closest_hint
@@ -120,23 +122,42 @@ def _confined_open(roots: list[Path], refuse, budget: Budget):
     return confined
 
 
+def _confined_glob(roots: list[Path], refuse) -> SimpleNamespace:
+    """``glob`` for xacro's includes (``filename="$(find pkg)/urdf/*.xacro"``): a pattern whose folder before its
+    first wildcard resolves outside every folder of ``roots``, or that climbs (``..``) after one, is refused before
+    any folder is listed."""
+
+    def confined(pattern: str) -> list[str]:
+        fixed = pattern[:min(pattern.find(c) for c in "*?[" if c in pattern)]
+        folder = Path(fixed if fixed.endswith("/") else Path(fixed).parent).resolve()
+        if not any(folder.is_relative_to(root) for root in roots) or ".." in Path(pattern[len(fixed):]).parts:
+            refuse(RobotDescriptionError(
+                f"xacro includes '{pattern}', which lists folders outside the xacro's folder and the package folders "
+                f"({', '.join(map(str, roots))}); move the files under one of them or list their folder in "
+                "robot.package_dirs", "package_dirs"))
+        return glob.glob(pattern)
+
+    return SimpleNamespace(glob=confined)
+
+
 @contextlib.contextmanager
-def _hooked_xacro(find, opener, guard: Guard):
-    """xacro with ``find`` and ``opener`` in place of its own, its expressions evaluated by ``guard`` and its
-    elements and texts counted, its messages kept from the terminal; every global touched is put back on leaving."""
+def _hooked_xacro(find, opener, lister, guard: Guard):
+    """xacro with ``find``, ``opener`` and ``lister`` (its ``glob``) in place of its own, its expressions evaluated
+    by ``guard`` and its elements and texts counted, its messages kept from the terminal; every global touched is put
+    back on leaving."""
     import xacro
     from xacro import substitution_args
 
     with _lock:
         saved = (substitution_args._eval_find, substitution_args._eval_dict["find"], substitution_args._eval,
                  substitution_args._eval_env, substitution_args._eval_optenv, xacro.safe_eval, xacro.eval_all,
-                 xacro.eval_text, xacro.replace_node, xacro.filestack, xacro.macrostack,
+                 xacro.eval_text, xacro.replace_node, xacro.glob, xacro.filestack, xacro.macrostack,
                  dict(xacro.substitution_args_context), len(xacro.all_includes))
         substitution_args._eval_find = substitution_args._eval_dict["find"] = find
         substitution_args._eval, xacro.safe_eval = guard.substitution_eval, guard.safe_eval
         substitution_args._eval_env, substitution_args._eval_optenv = guard.environment, guard.optional_environment
         xacro.eval_all, xacro.eval_text = guard.counted(xacro.eval_all, xacro.eval_text)
-        xacro.replace_node = replace_node
+        xacro.replace_node, xacro.glob = replace_node, lister
         xacro.open = opener  # a module global: xacro's parse() and load_yaml() open files through it
         try:
             with contextlib.redirect_stderr(io.StringIO()), contextlib.redirect_stdout(io.StringIO()):
@@ -145,10 +166,10 @@ def _hooked_xacro(find, opener, guard: Guard):
             del xacro.open
             (substitution_args._eval_find, substitution_args._eval_dict["find"], substitution_args._eval,
              substitution_args._eval_env, substitution_args._eval_optenv, xacro.safe_eval, xacro.eval_all,
-             xacro.eval_text, xacro.replace_node, xacro.filestack, xacro.macrostack) = saved[:11]
+             xacro.eval_text, xacro.replace_node, xacro.glob, xacro.filestack, xacro.macrostack) = saved[:12]
             xacro.substitution_args_context.clear()
-            xacro.substitution_args_context.update(saved[11])
-            del xacro.all_includes[saved[12]:]
+            xacro.substitution_args_context.update(saved[12])
+            del xacro.all_includes[saved[13]:]
 
 
 def _expand(path: Path, arguments: dict[str, str], package_dirs: list[Path], limits: XacroLimits, deadline: float
@@ -174,7 +195,8 @@ def _expand(path: Path, arguments: dict[str, str], package_dirs: list[Path], lim
     recorded = _RecordedArguments(arguments)
     budget = Budget(limits, stop, deadline)
     find = _package_finder(package_dirs, refuse)
-    with _hooked_xacro(find, _confined_open(roots, refuse, budget), Guard(xacro, budget, find)):
+    with _hooked_xacro(find, _confined_open(roots, refuse, budget), _confined_glob(roots, refuse),
+                       Guard(xacro, budget, find)):
         try:
             document = xacro.process_file(str(path), mappings=recorded)
             budget.tick()
