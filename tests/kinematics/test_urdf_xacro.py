@@ -367,3 +367,39 @@ def test_a_number_no_double_holds_is_blamed_on_its_argument():
     assert error.value.argument == "xacro_args.upper_arm_m"
     assert error.value.message == (f"xacro '{TWO_LINK}': argument upper_arm_m (5000 characters) reads as inf, not a "
                                    "finite number; give a value within +-1.8e308")
+
+
+#: Blocks (single and multiple), conditionals, a namespace include and comments before macro calls: what xacro's
+#: node replacement (done here in one pass) has to keep in order.
+BLOCKS = """<robot name="b" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:include filename="parts.xacro" ns="parts"/>
+  <xacro:macro name="wrap" params="n *first **rest">
+    <!-- the wrapper -->
+    <group n="${n}"><xacro:insert_block name="first"/><xacro:insert_block name="rest"/><tail/></group>
+  </xacro:macro>
+  <!-- before a call -->
+  <xacro:wrap n="${parts.q * 2}"><a/><rest><b/>text<c/></rest></xacro:wrap>
+  <xacro:if value="${parts.q > 1}"><kept/><also/></xacro:if>
+  <xacro:unless value="true"><dropped/></xacro:unless>
+  <xacro:wrap n="2"><d/><rest/></xacro:wrap>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("description", ["ur5e", "gen3", "two-link", "blocks"])
+def test_an_expansion_gives_the_bytes_xacro_gives(tmp_path, monkeypatch, description):
+    """The hooks change nothing of an expansion they allow: the same text as xacro's own (its find pointed at the
+    package folders), for the vendor descriptions, the shipped arm and xacro's block and conditional constructs."""
+    (tmp_path / "blocks.urdf.xacro").write_text(BLOCKS)
+    (tmp_path / "parts.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:property name="q" value="3"/></robot>')
+    path, arguments, folders = {
+        "ur5e": (VENDOR / "ur_description/urdf/ur.urdf.xacro", {"ur_type": "ur5e", "name": "ur"}, [VENDOR]),
+        "gen3": (VENDOR / "kortex_description/robots/gen3.xacro", {"dof": "7"}, [VENDOR]),
+        "two-link": (TWO_LINK, {"upper_arm_m": "0.6"}, PACKAGES),
+        "blocks": (tmp_path / "blocks.urdf.xacro", {}, [tmp_path])}[description]
+    text = expand_xacro(path, arguments, folders)
+    find = lambda package: str(next(folder / package for folder in folders if (folder / package).is_dir()))  # noqa: E731
+    monkeypatch.setattr(substitution_args, "_eval_find", find)
+    monkeypatch.setitem(substitution_args._eval_dict, "find", find)
+    assert text == xacro.process_file(str(path.resolve()), mappings=dict(arguments)).toxml()

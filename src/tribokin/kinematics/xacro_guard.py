@@ -303,7 +303,8 @@ class Guard:
                          dirname=lambda: args._eval_dirname(context["filename"]))
         code = self._checked(expression, lambda name: name in args._eval_dict and name not in ALLOWED_EVAL_NAMES,
                              "$(eval ...)")
-        helpers = {**self.helpers, _CALL: self._caller(self.functions | {id(f) for f in functions.values()})}
+        helpers = {**self.helpers,
+                   _CALL: self._caller(self.functions | {id(f) for f in functions.values() if callable(f)})}
         value = str(eval(code, helpers, args._DictWrapper(arguments, functions)))  # noqa: S307 - checked, guarded
         self.budget.count(characters=self.budget.value(value))
         return value
@@ -341,10 +342,10 @@ class Guard:
             members = self.members.get(id(value))
             if name in members if members is not None else self._defined(value, name):
                 return value[name]
-            self._refuse("an attribute that is neither an allowed function nor a property of the namespace is "
-                             "not allowed")
+            self._refuse("an attribute that is neither an allowed function nor a property of the namespace is not "
+                         "allowed")
         self._refuse(f"an attribute of a {type(value).__name__} is not allowed (only keys of YAML mappings and "
-                         "properties of namespaces)")
+                     "properties of namespaces)")
 
     def _container(self, value):
         if isinstance(value, self.xacro.Table):
