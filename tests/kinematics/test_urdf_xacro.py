@@ -361,12 +361,16 @@ def test_an_expansion_past_its_limits_stops_in_one_line(tmp_path, make, limits, 
     assert time.monotonic() - start < limits.seconds + 5
 
 
-def test_a_number_no_double_holds_is_blamed_on_its_argument():
+@pytest.mark.parametrize("value", ["5" * 5000, "-1e400"])
+def test_a_number_no_double_holds_is_blamed_on_its_argument(value):
+    """xacro reads it as a float, infinite, and the URDF parser then fails on robot.urdf; a value spelling inf is
+    the user's word and reaches that parser (it names robot.urdf)."""
     with pytest.raises(RobotDescriptionError) as error:
-        expand_xacro(TWO_LINK, {"upper_arm_m": "5" * 5000}, PACKAGES)
+        expand_xacro(TWO_LINK, {"upper_arm_m": value}, PACKAGES)
     assert error.value.argument == "xacro_args.upper_arm_m"
-    assert error.value.message == (f"xacro '{TWO_LINK}': argument upper_arm_m (5000 characters) reads as inf, not a "
-                                   "finite number; give a value within +-1.8e308")
+    assert error.value.message == (f"xacro '{TWO_LINK}': argument upper_arm_m ({len(value)} characters) reads as "
+                                   f"{float(value)}, not a finite number; give a value within +-1.8e308")
+    assert "length=\"inf\"" in expand_xacro(TWO_LINK, {"upper_arm_m": "inf"}, PACKAGES)
 
 
 #: Blocks (single and multiple), conditionals, a namespace include and comments before macro calls: what xacro's

@@ -271,12 +271,13 @@ def expand_xacro(path, xacro_args: dict[str, str] | None = None, package_dirs=()
 
 
 def _check_finite(value: str, path, name: str) -> None:
-    """Refuse an argument that reads as a number no double holds (xacro would write it as ``inf``)."""
+    """Refuse an argument written as a finite number that no double holds (xacro would write it as ``inf``); a
+    value spelling ``inf`` or ``nan`` is the user's word and passes."""
     try:
         number = float(value)
     except ValueError:
         return
-    if not math.isfinite(number):
+    if not math.isfinite(number) and value.strip().lstrip("+-").lower() not in ("inf", "infinity", "nan"):
         raise RobotDescriptionError(f"xacro '{path}': argument {name} ({len(value)} characters) reads as {number}, "
                                     "not a finite number; give a value within +-1.8e308", f"xacro_args.{name}")
 
