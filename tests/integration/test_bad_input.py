@@ -278,6 +278,75 @@ PRE_CHECKS = [
           id="map-start-q-wrong-length"),
 ]
 
+#: What a xacro attack may read: a file outside the package folders (the rows' stderr must not hold its text).
+XACRO_SECRET = "tribokin-secret\n"
+#: A summary.json naming the xacro of ``xacro_case`` (relative paths: from the case's folder, where it runs).
+XACRO_SUMMARY = ('{"study": {"robot_spec": {"urdf": "share/pkg/one.urdf.xacro", "name": null, "tool_frame": "tool", '
+                 '"package_dirs": ["share"], "payload_kg": 0.0}}, "poses": []}')
+
+
+def xacro_attack(payload: str, *, expected, id, key="urdf"):
+    """The xacro line ``payload`` through every command that expands xacro: ``run``, ``robots --frames``, ``view`` of a
+    folder whose summary.json names it, a scenario's robot, ``calibrate``; the key at fault is ``robot.<key>``. A
+    payload writes ``pwned`` in the case's folder, or reads ``secret.txt`` beside it, when it runs."""
+    files = {"share/pkg/one.urdf.xacro": ONE_JOINT_XACRO.format(include=payload), "secret.txt": XACRO_SECRET,
+             "secret.yaml": f"token: {XACRO_SECRET}"}
+    scenario = f'name = "c"\nrobot = {{ urdf = "share/pkg/one.urdf.xacro", package_dirs = ["share"], tool_frame = "tool" }}'
+    calibration = '\n[calibration]\nfit = ["stiffness"]\nnoise_floor_m = 1e-5\n'
+    return [
+        study(f'urdf = "{AXIS_URDF}"', XACRO_URDF, expected=(f"robot.{key}", *expected), id=f"{id}-run", files=files),
+        command(["robots", "--frames", "{tmp}/share/pkg/one.urdf.xacro"], expected=("command line: --frames", *expected),
+                id=f"{id}-robots-frames", files=files),
+        pytest.param({**files, "out/summary.json": XACRO_SUMMARY, "out/scene.npz": b""}, ["view", "{tmp}/out"],
+                     ("{tmp}/out/summary.json", f"robot.{key}", *expected), id=f"{id}-view"),
+        study('name = "ratio_b"', scenario, base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
+              expected=(f"scenarios[2].robot.{key}", *expected), id=f"{id}-scenario", files=files),
+        pytest.param({**files, "study.toml": _replace(STUDY, f'urdf = "{AXIS_URDF}"', XACRO_URDF) + calibration},
+                     ["calibrate", "{tmp}/study.toml", "--measurements", "{tmp}/m.csv", "--out", "{tmp}/fit", "--report",
+                      "none"], ("{tmp}/study.toml", f"robot.{key}", *expected), id=f"{id}-calibrate"),
+    ]
+
+
+def xacro_file_case(text: str, *, expected, id):
+    """A `tribokin run` case of the axis study on ``share/pkg/one.urdf.xacro`` holding ``text``."""
+    return study(f'urdf = "{AXIS_URDF}"', XACRO_URDF, expected=expected, id=id,
+                 files={"share/pkg/one.urdf.xacro": text})
+
+
+def _grown(lines: list[str]) -> str:
+    return "\n".join(['<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">', *lines, "</robot>"])
+
+
+# issue 35: a robot description runs no code, reads nothing outside, and its expansion is bounded
+XACRO_ATTACKS = [
+    *xacro_attack("<origin xyz=\"${[c for c in [xacro.load_yaml] if c.__globals__['os'].system('touch pwned') or True] "
+                  "and 0.5}\"/>", expected=("a list comprehension is not allowed in $",), id="xacro-comprehension"),
+    *xacro_attack("<link name=\"${(lambda f: f.__globals__['__builtins__']['open']('secret.txt').read())"
+                  "(xacro.load_yaml)}\"/>", expected=("lambda is not allowed in $",), id="xacro-lambda"),
+    *xacro_attack("<link name=\"${list(c.__globals__['os'].system('touch pwned') for c in [xacro.load_yaml])}\"/>",
+                  expected=("a generator expression is not allowed in $",), id="xacro-generator"),
+    *xacro_attack("<link name=\"${xacro.load_yaml.__globals__['__builtins__']['open']('secret.txt').read()}\"/>",
+                  expected=("an attribute whose name starts with '_' is not allowed in $",), id="xacro-attribute"),
+    *xacro_attack("<xacro:property name=\"p\" value=\"open('secret.txt').read()\"/><link name=\"$(eval ${p})\"/>",
+                  expected=("name 'open' is not defined",), id="xacro-eval-open"),
+    *xacro_attack("<link name=\"${xacro.load_yaml('../../secret.yaml')}\"/>", key="package_dirs",
+                  expected=("xacro opens '{tmp}/share/pkg/../../secret.yaml', which resolves to '{tmp}/secret.yaml', "
+                            "outside",), id="xacro-load-yaml-outside"),
+    xacro_file_case(_grown(['<xacro:macro name="m0"><link name="l"/></xacro:macro>',
+                            *(f'<xacro:macro name="m{k}"><xacro:m{k - 1}/><xacro:m{k - 1}/></xacro:macro>'
+                              for k in range(1, 27)), "<xacro:m26/>"]),
+                    expected=("robot.urdf", "expansion stopped past 20,000 elements (the size limit of a xacro "
+                              "expansion)"), id="xacro-macro-growth"),
+    xacro_file_case(_grown(['<xacro:property name="s0" value="abcdefgh"/>',
+                            *(f'<xacro:property name="s{k}" value="${{s{k - 1} + s{k - 1}}}"/>' for k in range(1, 40)),
+                            '<link name="${s39}"/>']),
+                    expected=("robot.urdf", "an expression's value passes 10,000,000 characters"),
+                    id="xacro-doubling-string"),
+    study('upper_arm_m = "0.5"', f'upper_arm_m = "{"5" * 5000}"', base=TWO_LINK,
+          expected=("robot.xacro_args.upper_arm_m", "argument upper_arm_m (5000 characters) reads as inf, not a finite "
+                    "number"), id="xacro-argument-5000-digits"),
+]
+
 CASES = [
     # -- study files: syntax, sections and keys
     study("[study]", "[study", expected=("not valid TOML",), id="toml-unclosed-table"),
@@ -410,6 +479,7 @@ CASES = [
     xacro_case('<link name="$(arg colour)"/>',
                expected=("robot.xacro_args.colour", "Undefined substitution argument colour"),
                id="xacro-undefined-argument"),
+    *XACRO_ATTACKS,  # issue 35: a robot description runs no code, reads nothing outside, its expansion bounded
     # -- poses, the ISO cube and maps that cannot be reached
     study("q = [0.25]", "q = [0.25, 0.1]", expected=("poses[0].q", "needs 1 values"), id="pose-q-wrong-length"),
     study("q = [0.25]", "q = [0.75]", expected=("poses[0].q", "outside its limits"), id="pose-unreachable"),
@@ -680,7 +750,7 @@ def _assert_refused(tmp: Path, before: dict, status: int, out: str, err: str, ex
     assert status == 2, (out, err)
     assert len(lines) == 1 and lines[0].startswith("tribokin: error: "), err
     assert "Traceback" not in err and out == ""
-    assert SECRET not in err  # no error quotes what a file holds
+    assert SECRET not in err and XACRO_SECRET.strip() not in err  # no error quotes what a file holds
     for text in expected:
         assert text.format(tmp=tmp) in lines[0], (text, lines[0])
     assert _tree(tmp) == before  # no output, temporary, chunk or lock file; nothing changed
