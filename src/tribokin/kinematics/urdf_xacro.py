@@ -31,6 +31,7 @@ from pathlib import Path
 from types import SimpleNamespace
 from typing import Callable, NoReturn
 
+from tribokin.confinement import SYSTEM_ROOTS
 from tribokin.errors import RobotDescriptionError, closest_hint
 from tribokin.kinematics.xacro_guard import Budget, Guard, XacroLimits, replace_node
 
@@ -250,9 +251,7 @@ def expand_xacro(path, xacro_args: dict[str, str] | None = None, package_dirs=()
             (an argument the xacro lacks, does not know, whose value is a number no double holds, or whose value
             makes the expansion fail) or ``"package_dirs"`` (a file outside the folders).
     """
-    real = Path(path).resolve()
-    if not real.is_file():
-        raise RobotDescriptionError(f"xacro file '{path}' not found", "path")
+    real = description_file(path, "xacro")
     arguments = dict(xacro_args or {})
     for name, value in arguments.items():
         _check_finite(value, path, name)
@@ -303,15 +302,41 @@ def _blamed(error: RobotDescriptionError, path: Path, arguments: dict[str, str],
     return error
 
 
-def urdf_text(path: Path, package_dirs: list[Path], xacro_args: dict[str, str] | None = None) -> bytes | str:
-    """The XML of the robot description ``path``: a URDF's bytes, or a xacro expanded (:func:`expand_xacro`).
+#: The largest URDF read [bytes] (a xacro's files are held to :class:`XacroLimits` instead).
+MAX_URDF_BYTES = XacroLimits().characters // 5
+
+
+def description_file(path, kind: str = "URDF") -> Path:
+    """``path`` resolved (symlinks followed): a regular file outside the kernel's pseudo-file systems.
 
     Raises:
-        RobotDescriptionError: ``xacro_args`` given for a file that is not a xacro, or as :func:`expand_xacro`.
+        RobotDescriptionError: (``"path"``) missing, under ``/proc``, ``/sys`` or ``/dev``, or not a regular file.
+    """
+    real = Path(path).resolve()
+    if any(real.is_relative_to(root) for root in SYSTEM_ROOTS):
+        raise RobotDescriptionError(f"'{path}' resolves to '{real}', a system file, not a robot description", "path")
+    if not real.exists():
+        raise RobotDescriptionError(f"{kind} file '{path}' not found", "path")
+    if not real.is_file():
+        raise RobotDescriptionError(f"'{path}' is not a regular file; name a URDF or xacro file", "path")
+    return real
+
+
+def urdf_text(path: Path, package_dirs: list[Path], xacro_args: dict[str, str] | None = None) -> bytes | str:
+    """The XML of the robot description ``path``: a URDF's bytes (at most :data:`MAX_URDF_BYTES`), or a xacro
+    expanded (:func:`expand_xacro`).
+
+    Raises:
+        RobotDescriptionError: ``path`` refused by :func:`description_file` or too large, ``xacro_args`` given for a
+            file that is not a xacro, or as :func:`expand_xacro`.
     """
     if is_xacro(path):
         return expand_xacro(path, xacro_args, package_dirs)
     if xacro_args:
         raise RobotDescriptionError(f"'{path}' is not a xacro file (its name does not end with {XACRO_SUFFIX}): "
                                     "it takes no arguments; remove robot.xacro_args", "xacro_args")
-    return path.read_bytes()
+    real = description_file(path)
+    if real.stat().st_size > MAX_URDF_BYTES:
+        raise RobotDescriptionError(f"URDF file '{path}' is larger than {MAX_URDF_BYTES:,} bytes, the largest read",
+                                    "path")
+    return real.read_bytes()
