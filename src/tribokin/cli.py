@@ -42,15 +42,15 @@ def _claimed(out, force: bool):
 
 
 @contextmanager
-def _option_named(argument: str, option: str):
-    """Within the block, an :class:`InputError` that names the library's ``argument`` (``meshes=False reads no
-    mesh``) names the command's ``option`` instead."""
+def _option_named(argument: str, instead: str):
+    """Within the block, an :class:`InputError` whose remedy is the library's ``argument`` (``meshes=False reads no
+    mesh``) gives the command's remedy ``instead`` (``--report none reads no mesh``)."""
     try:
         yield
     except InputError as error:
         if argument not in error.message:
             raise
-        raise InputError(error.message.replace(argument, option), error.source, error.key) from None
+        raise InputError(error.message.replace(argument, instead), error.source, error.key) from None
 
 
 #: Chunks finished after the warm-up before the progress bar shows a rate and an ETA.
@@ -251,8 +251,8 @@ def _view(args) -> None:
     from tribokin.viz.live import live_scene, stop_signals_interrupt
 
     try:
-        with stop_signals_interrupt(), _option_named(WITHOUT_MESHES, "a run with --report none reads no mesh, and "
-                                                     "draws no view"), \
+        with stop_signals_interrupt(), _option_named(WITHOUT_MESHES, "repair the file; a run with --report none "
+                                                     "reads no mesh"), \
                 live_scene(args.folder, args.meshes) as (server, info):
             notes = info.notes + ([info.robot.skeleton_text()] if info.robot.geometry == "skeleton" else [])
             for note in notes:

@@ -12,9 +12,8 @@ from tribokin.errors import InputError
 from tribokin.kinematics.robot import load_urdf
 from tribokin.run import run_study
 from tribokin.viz.colours import UNREACHABLE_RGB, ColourScale
-from tribokin.viz.scene import (
-    FIELD_OF_VIEW_DEG, FRAME_MARGIN, VIEW_ASPECT, VIEW_FROM, MapLayer, build_scene, chain_placements, choose_magnification,
-    framing)
+from tribokin.viz.scene import (FIELD_OF_VIEW_DEG, FRAME_MARGIN, VIEW_ASPECT, VIEW_FROM, MapLayer, build_scene,
+                                chain_placements, choose_magnification, framing)
 from tribokin.viz.scene_file import CycleCloud
 from tribokin.viz.static import static_visualizer
 from viz_fixtures import CUBE, UNIFORM_AXIS, grid_layers

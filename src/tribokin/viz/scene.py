@@ -273,8 +273,9 @@ def draw_skeleton(node, robot: Robot, q) -> None:
     for i, (start, end) in enumerate(zip(points[:-1], points[1:])):
         length = float(np.linalg.norm(end - start))
         if length > 1e-9:  # joints at one point (a wrist) have no link between them
-            node["links"][str(i)].set_object(mg.Cylinder(length, link_radius), mg.MeshLambertMaterial(color=LINK_COLOUR))
-            node["links"][str(i)].set_transform(_along(start, end))
+            link = node["links"][str(i)]
+            link.set_object(mg.Cylinder(length, link_radius), mg.MeshLambertMaterial(color=LINK_COLOUR))
+            link.set_transform(_along(start, end))
     for i, (origin, axis) in enumerate(zip(origins, axes)):
         node["joints"][str(i)].set_object(mg.Cylinder(joint_length, joint_radius),
                                           mg.MeshLambertMaterial(color=JOINT_COLOUR))
