@@ -358,7 +358,9 @@ def _set_camera(vis, points_m: np.ndarray) -> None:
 
 def build_scene(vis, robot: Robot, q, poses, map_layers: dict[str, MapLayer] | None = None,
                 cube: Cube | None = None, magnification: float | None = None, variant: str = "full") -> SceneInfo:
-    """Draw a study into the meshcat visualizer ``vis``.
+    """Draw a study into the meshcat visualizer ``vis``, framed: the drawing (``tribokin``) and meshcat's axes moved
+    to put the centre of the robot's chain and the results at the origin, the camera placed to see them all
+    (:func:`framing`).
 
     Args:
         vis: a ``meshcat.Visualizer`` (live, or static: :func:`tribokin.viz.static.static_visualizer`).
