@@ -20,8 +20,9 @@ KEY_DOCS = {
     "study.approach": "the approach directions of each pose: `unidirectional` (`+` for a `[[poses]]` pose; `+x`, "
                       "`+y`, `+z` for a cube pose), `bidirectional` (`+` and `-`; the six axis directions) or "
                       "`random` (`+` or `-` at random, one cloud)",
-    "study.engine": "`fast`: vectorised truncated product of exponentials, checked against exact FK per pose; "
-                    "`exact`: one Pinocchio forward-kinematics call per cycle",
+    "study.engine": "`fast`: vectorised truncated product of exponentials, exact FK wherever its error bound "
+                    "exceeds 0.1 nm ([engines](../concepts.md#forward-kinematics-and-the-engines)); `exact`: one "
+                    "Pinocchio forward-kinematics call per cycle",
     "study.data_dirs": "folders, relative to the study file, from which the files its friction laws name (`file`, "
                        "`log`, `surface`) may also be read (else only the study file's folder)",
     # [robot]
@@ -31,7 +32,8 @@ KEY_DOCS = {
     "robot.tool_frame": "the frame whose pose is measured; default: the end of the model's longest chain of joints "
                         "([the default tool frame](../your-robot.md#the-default-tool-frame))",
     "robot.package_dirs": "folders that `package://` meshes and `$(find pkg)` resolve against, and the only folders "
-                          "meshes and xacro files may lie in; default: the URDF's folder and its parent",
+                          "meshes and xacro files may lie in; every mesh must be found there unless `--report none`; "
+                          "default: the URDF's folder and its parent",
     "robot.payload_kg": "point mass at the tool frame (or tool point), for bearing loads from statics",
     "robot.tool_offset_m": "`[x, y, z]` of a tool point fixed to `tool_frame`, in that frame's axes; when set, the "
                            "frame `<tool_frame>_tool_point` is measured and carries the payload",
@@ -59,14 +61,16 @@ KEY_DOCS = {
     "joints.bearing_span_m": "span L between the joint's guide pads or bearings, for the tilting-moment part of the "
                              "load",
     # [[poses]]
-    "poses[].name": "pose name, which names files (`field_<pose>.png`); default `P1`, `P2`, …; at most 100 printable "
-                    "characters, no `/`, no leading `.`",
+    "poses[].name": "pose name, which names files (`field_<pose>.png`, folders of `samples.npz`); default `P1`, `P2`, "
+                    "…; at most 100 printable characters, no `/`, no leading `.`, no two differing only in case",
     "poses[].q": "commanded configuration, one value per joint of the tool's chain (a continuous joint's angle), "
                  "within the joint limits",
     "poses[].normal_force_N": "bearing load of every joint at this pose (overrides `joints.normal_force_N`)",
     "poses[].friction": "friction law of every joint at this pose (overrides `joints.friction`)",
-    "poses[].directions": "approach directions, each one unidirectional series: `+`, `-`, `+x`, `-y`, … or a world "
-                          "direction as three signed numbers (`+0.58+0.58+0.58`); default from `study.approach`",
+    "poses[].directions": "approach directions, each one unidirectional series of `cycles` cycles: `+`, `-` (every "
+                          "joint forwards or backwards), `+x`, `-y`, … or a world direction as three signed numbers "
+                          "(`+0.58+0.58+0.58`), the tool approaching along it with its orientation held; default "
+                          "from `study.approach`",
     # [iso_cube]
     "iso_cube.center_m": "centre of the ISO 9283 test cube, world frame (the section adds poses P1–P5); default: "
                          "the tool position of a well-conditioned posture",
