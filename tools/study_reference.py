@@ -54,10 +54,10 @@ SCENARIOS = """## `[[scenarios]]`
 
 A map's what-if variants, each with a `name` (letters, digits, `-`, `_`, `.`, at most 100 characters, no leading
 `.`; it names files, `map_<name>.csv`, `map_RP_l_<name>.png`, ..., and no two scenarios may write the same file:
-`b` and `ratio_b` both would write `map_RP_l_ratio_b.png`) and overrides of the `[study]`, `[robot]` and `[joints]` keys above, written as
-`section.key = value` (`joints.friction = { preset = "42CD4-treated" }`, `robot.name = "ur10"`), merged key by key
-and checked as those sections' keys are. The first scenario is the reference. See
-[scenarios](../maps.md#scenarios).
+`b` and `ratio_b` both would write `map_RP_l_ratio_b.png`) and overrides of the `[study]`, `[robot]` and `[joints]`
+keys above, written as `section.key = value` (`joints.friction = { preset = "42CD4-treated" }`,
+`robot.name = "ur10"`), merged key by key and checked as those sections' keys are. The first scenario is the
+reference. See [scenarios](../maps.md#scenarios).
 """
 
 
