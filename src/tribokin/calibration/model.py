@@ -1,6 +1,6 @@
 """The joint model's parameters, which of them a fit frees, and what they predict at one pose.
 
-Per joint i, cycle j and approach sign s_ij (DESIGN.md §2):
+Per joint i, cycle j and approach sign s_ij (docs/concepts.md, "The joint model"):
 ``dq_ij = offset_i + s_ij·(τ_ij/k_i + b_i/2) + noise_ij``, τ_ij the friction torque (force) with
 mean τ̄_i and standard deviation σ_τ,i at the pose. To first order the tool point moves by J·dq, and
 the instrument adds isotropic noise of standard deviation σ_n, so a unidirectional series has
