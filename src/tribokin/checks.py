@@ -79,6 +79,7 @@ def within(check, low: float, high: float, unit: str, why: str):
             raise InputError(f"must be between {low:g} and {high:g}{' ' + unit if unit else ''} (got "
                              f"{_shown(value)}): {why}", source, key)
         return value
+    bounded.low, bounded.high = low, high  # the range, for what must stay within it (a fit)
     return bounded
 
 

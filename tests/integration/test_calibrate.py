@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -238,3 +239,82 @@ def test_without_a_registration_the_frame_is_fitted_and_the_output_says_so(tmp_p
     for name in ("joints.shoulder_pan_joint.stiffness", "joints.shoulder_lift_joint.stiffness", "noise_floor_m"):
         assert unknown[name]["identifiable"]
         assert abs(unknown[name]["value"] - registered[name]["value"]) < 2 * registered[name]["std_error"]
+
+
+GANTRY = ROOT / "urdf" / "cartesian_xyz.urdf"
+#: The gantry's [joints] in each layout a study may give them (the same values): the calibrated study must parse,
+#: run and carry each fitted value's interval in a comment.
+JOINTS_LAYOUTS = {
+    "root-dotted-keys": ('joints.stiffness = 2.0e6   # N/m, a guess\n'
+                         'joints.friction_force_N = { law = "gaussian", mean = 20.0, std = 5.0 }\n'
+                         'joints.z.backlash = 1.0e-6\n', ""),
+    "root-inline-table": ('joints = { stiffness = 2.0e6, friction_force_N = { law = "gaussian", mean = 20.0, '
+                          'std = 5.0 }, z = { backlash = 1.0e-6 } }\n', ""),
+    "joint-tables-inline-and-dotted": ("", '[joints]\nstiffness = 2.0e6\nfriction_force_N = { law = "gaussian", '
+                                           'mean = 20.0, std = 5.0 }\nx = { stiffness = 1.5e6 }\ny.stiffness = 2.5e6'
+                                           '\n\n[joints.z]\nbacklash = 1.0e-6   # m\n'),
+    "joint-tables-out-of-order": ("", '[joints]\nstiffness = 2.0e6\nfriction_force_N = { law = "gaussian", '
+                                      'mean = 20.0, std = 5.0 }\n', '\n[joints.z]\nbacklash = 1.0e-6\n'),
+}
+#: The layouts tomlkit can edit in place (the others are written anew as tables, and the header says so).
+KEPT_LAYOUTS = ("joint-tables-out-of-order",)
+
+
+def gantry_study(folder, layout: str) -> Path:
+    """The gantry with [calibration] of its stiffness and the noise floor, its [joints] in ``layout``."""
+    root, tables, *after = JOINTS_LAYOUTS[layout]
+    path = folder / "study.toml"
+    path.write_text(f'{root}\n[study]\nname = "gantry"\ncycles = 8\n\n[robot]\nurdf = "{GANTRY}"\n'
+                    f'tool_frame = "tool"\n\n{tables}\n[calibration]\nfit = ["stiffness", "noise_floor"]\n'
+                    + "".join(after), encoding="utf-8")
+    return path
+
+
+def gantry_measurements(path) -> None:
+    """Three poses of the gantry, each approached from + and - 8 times: every joint's lost motion from a friction
+    force of 20 ± 5 N on stiffnesses 2e6, 1e6, 3e6 N/m, 1 µm of instrument noise (registered: commanded positions)."""
+    from tribokin.kinematics.robot import load_urdf
+
+    robot, rng = load_urdf(GANTRY, tool_frame="tool"), np.random.default_rng(35)
+    stiffness = np.array([2e6, 1e6, 3e6])
+    rows = []
+    for name, q in {"P1": [0.1, 0.2, 0.3], "P2": [0.3, 0.1, 0.2], "P3": [0.2, 0.3, 0.1]}.items():
+        commanded = robot.tool_placement(np.array(q)).translation
+        for direction, sign in (("+", 1.0), ("-", -1.0)):
+            for cycle in range(1, 9):
+                point = commanded + sign * rng.normal(20.0, 5.0, 3) / stiffness + rng.normal(0.0, 1e-6, 3)
+                rows.append({"pose": name, "cycle": cycle, "direction": direction,
+                             **{f"{a}_m": repr(float(v)) for a, v in zip("xyz", point)},
+                             **{f"c{a}_m": repr(float(v)) for a, v in zip("xyz", commanded)},
+                             **{f"q_{a}": v for a, v in zip("xyz", q)}})
+    write_rows(path, list(rows[0]), rows)
+
+
+@pytest.mark.parametrize("layout", JOINTS_LAYOUTS)
+def test_every_layout_of_joints_calibrates_and_the_calibrated_study_runs(layout, tmp_path):
+    gantry_measurements(tmp_path / "data.csv")
+    done = tribokin("calibrate", gantry_study(tmp_path, layout), "--measurements", tmp_path / "data.csv", "--out",
+                    tmp_path / "fit", "--report", "none")
+    assert done.returncode == 0, done.stderr
+    text = (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8")
+    found = parameters(tmp_path / "fit")
+    lines = {line.split(" = ")[1].split(" # ")[0]: line for line in text.splitlines() if "stiffness = " in line}
+    for joint in "xyz":
+        entry = found[f"joints.{joint}.stiffness"]
+        value = entry["value"] if entry["identifiable"] else entry["kept_value"]
+        comment = "fitted: 95 % interval [" if entry["identifiable"] else "not identifiable from the measurements"
+        assert comment in lines[repr(value)], (joint, text)  # the value's line carries its comment
+    assert found["joints.x.stiffness"]["identifiable"]
+    assert ("[joints] is written as tables below" in text) == (layout not in KEPT_LAYOUTS)
+    if layout in KEPT_LAYOUTS:
+        assert text.count("[joints.z]\nbacklash = 1.0e-6\n") == 1  # the user's own text, edited in place
+    done = tribokin("run", tmp_path / "fit" / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((tmp_path / "predicted" / "summary.json").read_text(encoding="utf-8"))
+    models = summary["study"]["joint_models"]
+    for joint in "xyz":
+        entry = found[f"joints.{joint}.stiffness"]
+        assert models[joint]["stiffness"] == (entry["value"] if entry["identifiable"] else entry["kept_value"])
+    assert models["z"]["backlash"] == 1e-6  # the study's other values kept
+    assert {law["quantity"] for law in summary["study"]["friction"].values()} == {"friction_force_N"}
+    assert [p["name"] for p in summary["poses"]] == ["P1", "P2", "P3"]
