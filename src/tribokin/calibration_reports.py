@@ -28,7 +28,8 @@ from tribokin.output.folder import atomic_folder, check_output_folder
 from tribokin.output.writers import write_rows
 from tribokin.provenance import software_versions
 from tribokin.run import run_study
-from tribokin.study.assembly import joint_models, load_robot
+from tribokin.simulation.pose_run import PoseRunner
+from tribokin.study.assembly import check_names, joint_models, load_robot, pose_tasks
 from tribokin.study.calibration_data import CalibrationInput, calibration_input, read_robot_measurements
 from tribokin.study.names import calibrated_pose_names, check_measured_pose_names, cloud_figure_file
 from tribokin.study.reading import parse_study_text, read_study_file
@@ -188,6 +189,16 @@ def _calibrated_study(study, study_path: Path, out: Path, header: list[str], val
     return text, calibrated
 
 
+def _check_runnable(calibrated, robot) -> None:
+    """The checks ``tribokin run`` makes of ``calibrated.toml``'s study before it samples (its joint models, names, and
+    every pose's loads within the joints' ranges), made before anything is written."""
+    runner = PoseRunner(calibrated, robot, joint_models(calibrated, robot))
+    tasks, _ = pose_tasks(calibrated, robot)
+    check_names(calibrated, tasks)
+    for task in tasks:
+        runner.normal_forces(task)
+
+
 def calibrate(study_path, measurements_path, out, force: bool = False, report: str = "full", seed: int = SEED,
               executor=None, progress=None) -> dict:
     """Fit the study's joint model to the measurements and write the folder ``out`` (module docstring).
@@ -230,11 +241,19 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     held_out = leave_one_pose_out(inputs.model, inputs.poses, seed=seed, frame=frame)
     values = _written_values(inputs, calibration, intervals)
     header = _header(study_path, measurements_path, calibration, _noise_text(calibration, intervals))
-    text, calibrated = _calibrated_study(study, study_path, out, header, values, inputs, names)
     workspace_map = None
-    if calibrated.map is not None:
-        only_map = replace(calibrated, poses=(), iso_cube=None, calibration=None)
-        workspace_map = run_study(only_map, executor=executor, progress=progress, meshes=False).map
+    try:
+        text, calibrated = _calibrated_study(study, study_path, out, header, values, inputs, names)
+        _check_runnable(calibrated, robot)
+        if calibrated.map is not None:
+            only_map = replace(calibrated, poses=(), iso_cube=None, calibration=None)
+            workspace_map = run_study(only_map, executor=executor, progress=progress, meshes=False).map
+    except InputError as error:
+        if error.source != str(out / "calibrated.toml"):
+            raise
+        raise InputError(f"the fitted values make a study that `tribokin run` refuses ({error.key}: {error.message}); "
+                         "nothing is written: fix the values the measurements cannot determine, or check the data",
+                         measurements_path, "calibration") from None
 
     summary = {
         "settings": {

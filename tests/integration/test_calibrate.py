@@ -318,3 +318,25 @@ def test_every_layout_of_joints_calibrates_and_the_calibrated_study_runs(layout,
     assert models["z"]["backlash"] == 1e-6  # the study's other values kept
     assert {law["quantity"] for law in summary["study"]["friction"].values()} == {"friction_force_N"}
     assert [p["name"] for p in summary["poses"]] == ["P1", "P2", "P3"]
+
+
+def test_fitted_values_run_would_refuse_are_one_line_naming_the_fit_and_nothing_is_written(tmp_path, monkeypatch,
+                                                                                           capsys):
+    """Should a fit (within the ranges) still give values `run` refuses (here a stiffness of 1 N/m forced in: the
+    gantry's x axis would then lose more than its travel), calibrate says so in one line naming the measurements
+    and what run would refuse, never the calibrated.toml it did not write."""
+    from tribokin import calibration_reports
+    from tribokin.cli import main
+    from tribokin.output.calibrated_study import WrittenValue
+
+    monkeypatch.setattr(calibration_reports, "_written_values",
+                        lambda *args: [WrittenValue("x", "stiffness", 1.0, "forced by the test")])
+    gantry_measurements(tmp_path / "data.csv")
+    status = main(["calibrate", str(gantry_study(tmp_path, "joint-tables-out-of-order")), "--measurements",
+                   str(tmp_path / "data.csv"), "--out", str(tmp_path / "fit"), "--report", "none"])
+    error = capsys.readouterr().err
+    assert status == 2 and len(error.strip().splitlines()) == 1, error
+    assert error.startswith(f"tribokin: error: {tmp_path / 'data.csv'}: calibration: the fitted values make a study "
+                            "that `tribokin run` refuses (joints.x.stiffness: ")
+    assert "lost motion up to" in error and "calibrated.toml" not in error
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["data.csv", "study.toml"]

@@ -23,9 +23,11 @@
   Intervals are Wald intervals in log space, ``exp(θ̂ ± 1.96·se)``: asymmetric in linear space;
   :func:`profile_interval` gives a parameter's profile-likelihood interval instead.
   A parameter that ends on a bound of the box is not at a maximum of the likelihood: it is named
-  not identifiable whatever its standard error. The box lies within the model's ranges (a study's: a backlash of
-  at most 0.1 rad, ...); a parameter held at an end of them is named so (``RANGE_HINT``), so that a fit never
-  gives a value its study would refuse, and never calls one it had to hold there determined.
+  not identifiable whatever its standard error. An optimum beyond the model's ranges (a study's: a backlash of
+  at most 0.1 rad, ...) is searched again with the start and the box within them (a fit within them is not
+  searched twice, and its numbers are those of a fit without ranges); a parameter held at an end of them is
+  named so (``RANGE_HINT``), so that a fit never gives a value its study would refuse, and never calls one it
+  had to hold there determined.
 - **Unknown frame** (``frame="unknown"``: the points are in a measuring frame whose rotation R
   relative to the Jacobians' world frame is unknown). R is a nuisance parameter maximised jointly
   with θ (:mod:`.frame`): the candidate rotations (:func:`~.frame.candidate_rotations`) are ranked
@@ -165,8 +167,7 @@ class Calibration:
 
 
 def starting_theta(model: JointModel, data: SeriesStack) -> np.ndarray:
-    """θ from the moments of the data (module docstring); nominal values where they say nothing; within the model's
-    ranges."""
+    """θ from the moments of the data (module docstring); nominal values where they say nothing."""
     free_k, free_b = np.array(model.fit_stiffness), np.array(model.fit_backlash)
     # Per series and joint (s·σ_τ)²·J_i J_iᵀ (m, nv, 3, 3): Σ's coefficient of 1/k_i².
     outer = np.einsum("mai,mbi,mi->miab", data.jacobian, data.jacobian, (data.signs * data.torque_std) ** 2)
@@ -204,7 +205,7 @@ def starting_theta(model: JointModel, data: SeriesStack) -> np.ndarray:
         theta[indices] = np.where(positive, np.clip(moment, nominal - LOG_SPAN, nominal + LOG_SPAN), nominal)
     if free_b.any():
         theta[n_k:n_k + int(free_b.sum())] = _backlash_start(model, model.unpack(theta)[0], data)
-    return np.clip(theta, *model.theta_range().T)
+    return theta
 
 
 def _backlash_start(model: JointModel, stiffness: np.ndarray, data: SeriesStack) -> np.ndarray:
@@ -287,10 +288,16 @@ def _unknown_frame_objective(model: JointModel, data: SeriesStack, reference: Ro
     return _negative(partial(unknown_frame_log_likelihood_and_gradient, model, data=data, reference=reference))
 
 
-def _log_box(model: JointModel, start: np.ndarray) -> np.ndarray:
-    """(p, 2) the optimiser's box in θ around ``start``, within the model's ranges (:meth:`JointModel.theta_range`)."""
-    low, high = model.theta_range().T
-    return np.stack([np.maximum(start - LOG_SPAN, low), np.minimum(start + LOG_SPAN, high)], axis=1)
+def _log_box(model: JointModel, start: np.ndarray, ranged: bool) -> np.ndarray:
+    """(p, 2) the optimiser's box in θ around ``start``; if ``ranged``, within the model's ranges
+    (:meth:`JointModel.theta_range`)."""
+    box = np.stack([start - LOG_SPAN, start + LOG_SPAN], axis=1)
+    return np.clip(box, *model.theta_range().T[:, :, None]) if ranged else box
+
+
+def _start(model: JointModel, theta: np.ndarray, ranged: bool) -> np.ndarray:
+    """A start ``theta``, within the model's ranges if ``ranged``."""
+    return np.clip(theta, *model.theta_range().T) if ranged else theta
 
 
 def _optimise(objective: Objective, start: np.ndarray, bounds: np.ndarray) -> OptimizeResult:
@@ -335,11 +342,12 @@ class _Optimum:
     rotation: np.ndarray | None
 
 
-def _fit_registered(model: JointModel, data: SeriesStack) -> _Optimum:
-    """Moment start, then the nominal model's when the optimiser does not converge (module docstring)."""
+def _fit_registered(model: JointModel, data: SeriesStack, ranged: bool) -> _Optimum:
+    """Moment start, then the nominal model's when the optimiser does not converge (module docstring); within the
+    model's ranges if ``ranged``."""
     objective = _registered_objective(model, data)
-    start = starting_theta(model, data)
-    bounds = _log_box(model, start)
+    start = _start(model, starting_theta(model, data), ranged)
+    bounds = _log_box(model, start, ranged)
     penalised = _penalised(objective, start)
     nominal = np.clip(model.theta(), bounds[:, 0], bounds[:, 1])
     best = _optimise(penalised, start, bounds)
@@ -362,12 +370,14 @@ def _frame_starts(model: JointModel, data: SeriesStack) -> list[tuple[Rotation, 
     return [starts[i][1:] for i in order]
 
 
-def _fit_unknown_frame(model: JointModel, data: SeriesStack) -> _Optimum:
+def _fit_unknown_frame(model: JointModel, data: SeriesStack, ranged: bool) -> _Optimum:
     """θ and the frame's rotation jointly from the most likely starts (``SAME_OPTIMUM``); the optimum
-    re-centred (δ = 0) before polishing; θ's profile information (:mod:`.frame`)."""
+    re-centred (δ = 0) before polishing; θ's profile information (:mod:`.frame`); within the model's ranges if
+    ``ranged``."""
     runs = []
     for reference, theta in _frame_starts(model, data):
-        bounds = np.vstack([_log_box(model, theta), ROTATION_BOX])
+        theta = _start(model, theta, ranged)
+        bounds = np.vstack([_log_box(model, theta, ranged), ROTATION_BOX])
         penalised = _penalised(_unknown_frame_objective(model, data, reference), theta)
         best = _optimise(penalised, np.append(theta, np.zeros(3)), bounds)
         runs.append((best, reference, bounds, theta))
@@ -478,7 +488,11 @@ def fit(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...] | Series
         raise ValueError("nothing to fit: free at least one parameter")
     if frame not in FRAMES:
         raise ValueError(f"frame must be one of {FRAMES}, not {frame!r}")
-    optimum = _fit_registered(model, data) if frame == "registered" else _fit_unknown_frame(model, data)
+    search = _fit_registered if frame == "registered" else _fit_unknown_frame
+    optimum = search(model, data, ranged=False)
+    low, high = model.theta_range().T
+    if np.any(optimum.theta < low) or np.any(optimum.theta > high):  # fitted again, within the ranges
+        optimum = search(model, data, ranged=True)
     return _calibration(model, data, optimum, max_relative_std_error)
 
 

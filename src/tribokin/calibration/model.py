@@ -171,9 +171,7 @@ class JointModel:
         backlash = np.broadcast_to(self.backlash, batch + self.backlash.shape).copy()
         backlash[..., free_b] = values[..., n_k:n_k + n_b]
         noise = values[..., -1] if self.fit_noise_floor else np.full(batch, self.noise_floor_m)
-        # exp(log(x)) may lie an ulp beyond a range's end x
-        return (np.clip(stiffness, *self.ranges.stiffness), np.clip(backlash, *self.ranges.backlash),
-                np.clip(noise, *self.ranges.noise_floor_m))
+        return stiffness, backlash, noise
 
     def predict(self, jacobian: np.ndarray, signs: np.ndarray, torque_mean: np.ndarray, torque_std: np.ndarray
                 ) -> tuple[np.ndarray, np.ndarray]:
@@ -193,6 +191,10 @@ class JointModel:
         return np.moveaxis(np.concatenate([stiff, d_log_backlash[..., free_b], *noise], axis=-1), -1, 0)
 
     def with_theta(self, theta: np.ndarray) -> JointModel:
-        """The model with the values of θ written in (a tied factor applied to the nominal stiffness)."""
+        """The model with the values of θ written in (a tied factor applied to the nominal stiffness), within its
+        ranges."""
         stiffness, backlash, noise = self.unpack(np.asarray(theta, dtype=float))
-        return replace(self, stiffness=stiffness, backlash=backlash, noise_floor_m=float(noise))
+        # exp(log(x)) may lie an ulp beyond a range's end x
+        return replace(self, stiffness=np.clip(stiffness, *self.ranges.stiffness),
+                       backlash=np.clip(backlash, *self.ranges.backlash),
+                       noise_floor_m=float(np.clip(noise, *self.ranges.noise_floor_m)))
