@@ -260,19 +260,20 @@ JOINTS_LAYOUTS = {
 KEPT_LAYOUTS = ("joint-tables-out-of-order",)
 
 
-def gantry_study(folder, layout: str) -> Path:
-    """The gantry with [calibration] of its stiffness and the noise floor, its [joints] in ``layout``."""
+def gantry_study(folder, layout: str, calibration: str = 'fit = ["stiffness", "noise_floor"]') -> Path:
+    """The gantry with ``calibration`` (default: of its stiffness and the noise floor), its [joints] in ``layout``."""
     root, tables, *after = JOINTS_LAYOUTS[layout]
     path = folder / "study.toml"
     path.write_text(f'{root}\n[study]\nname = "gantry"\ncycles = 8\n\n[robot]\nurdf = "{GANTRY}"\n'
-                    f'tool_frame = "tool"\n\n{tables}\n[calibration]\nfit = ["stiffness", "noise_floor"]\n'
-                    + "".join(after), encoding="utf-8")
+                    f'tool_frame = "tool"\n\n{tables}\n[calibration]\n{calibration}\n' + "".join(after),
+                    encoding="utf-8")
     return path
 
 
-def gantry_measurements(path) -> None:
+def gantry_measurements(path, backlash_m: float = 0.0, noise_m: float = 1e-6) -> None:
     """Three poses of the gantry, each approached from + and - 8 times: every joint's lost motion from a friction
-    force of 20 ± 5 N on stiffnesses 2e6, 1e6, 3e6 N/m, 1 µm of instrument noise (registered: commanded positions)."""
+    force of 20 ± 5 N on stiffnesses 2e6, 1e6, 3e6 N/m and half its ``backlash_m``, ``noise_m`` of instrument noise
+    (registered: commanded positions)."""
     from tribokin.kinematics.robot import load_urdf
 
     robot, rng = load_urdf(GANTRY, tool_frame="tool"), np.random.default_rng(35)
@@ -282,7 +283,8 @@ def gantry_measurements(path) -> None:
         commanded = robot.tool_placement(np.array(q)).translation
         for direction, sign in (("+", 1.0), ("-", -1.0)):
             for cycle in range(1, 9):
-                point = commanded + sign * rng.normal(20.0, 5.0, 3) / stiffness + rng.normal(0.0, 1e-6, 3)
+                lost = rng.normal(20.0, 5.0, 3) / stiffness + backlash_m / 2
+                point = commanded + sign * lost + rng.normal(0.0, noise_m, 3)
                 rows.append({"pose": name, "cycle": cycle, "direction": direction,
                              **{f"{a}_m": repr(float(v)) for a, v in zip("xyz", point)},
                              **{f"c{a}_m": repr(float(v)) for a, v in zip("xyz", commanded)},
@@ -340,3 +342,25 @@ def test_fitted_values_run_would_refuse_are_one_line_naming_the_fit_and_nothing_
                             "that `tribokin run` refuses (joints.x.stiffness: ")
     assert "lost motion up to" in error and "calibrated.toml" not in error
     assert sorted(p.name for p in tmp_path.iterdir()) == ["data.csv", "study.toml"]
+
+
+def test_a_fit_beyond_the_study_s_range_is_held_at_its_end_said_so_and_the_calibrated_study_runs(tmp_path):
+    """Barycentres 0.12 m apart between + and -: the backlash the data ask for (0.12 m) is beyond the 0.1 m a study
+    allows (main wrote 0.12, which run refuses). The fit holds it at 0.1, names it not identifiable there (never
+    determined), says so in calibration.json, on the console and in calibrated.toml, which runs."""
+    gantry_measurements(tmp_path / "data.csv", backlash_m=0.12, noise_m=1e-3)
+    study = gantry_study(tmp_path, "joint-tables-out-of-order", 'fit = ["backlash"]\nnoise_floor_m = 1e-3')
+    study.write_text(study.read_text(encoding="utf-8").replace("stiffness = 2.0e6", "stiffness = 2.0e6\nbacklash = 0.09"),
+                     encoding="utf-8")
+    done = tribokin("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
+                    "--report", "none")
+    assert done.returncode == 0, done.stderr
+    text = (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8")
+    for joint in "xyz":
+        entry = parameters(tmp_path / "fit")[f"joints.{joint}.backlash"]
+        assert not entry["identifiable"] and entry["value"] is None and "held at the end of the range" in entry["hint"]
+        assert entry["kept_value"] == pytest.approx(0.1, rel=1e-12) and entry["kept_value"] <= 0.1
+        assert f"backlash = {entry['kept_value']!r} # the fit's value" in text
+    assert done.stdout.count("held at the end of the range a study allows") == 3
+    done = tribokin("run", tmp_path / "fit" / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
+    assert done.returncode == 0, done.stderr
