@@ -251,9 +251,10 @@ candidate_count = within(positive_int, 1, 10 ** 4, "candidates (positions × yaw
 fraction = within(finite, 0.0, 1.0, "", "a fraction of the task's targets")
 
 
-def distinct(check, key=None, what: str = "given twice"):
+def distinct(check, key=None, what: str = ""):
     """A non-empty list whose elements pass ``check`` and are all different (a candidate named twice), compared by
-    ``key(element)`` when given (a yaw modulo 360°); ``what`` says what a repeat is (``{other}``: the earlier one)."""
+    ``key(element)`` when given (a yaw modulo 360°); ``what`` says what a repeat that is not the same value is
+    (``{other}``: the earlier one)."""
     def checked(value, source, name) -> list:
         if not isinstance(value, list) or not value:
             raise InputError(f"must be a non-empty list (got {value!r})", source, name)
@@ -261,9 +262,9 @@ def distinct(check, key=None, what: str = "given twice"):
         seen = [v if key is None else key(v) for v in values]
         twice = next((i for i, v in enumerate(seen) if v in seen[:i]), None)
         if twice is not None:
-            other = f"{name}[{seen.index(seen[twice])}]"
-            raise InputError(f"{value[twice]!r} is {what.format(other=other)}; give each once", source,
-                             f"{name}[{twice}]")
+            first = seen.index(seen[twice])
+            repeat = "given twice" if values[first] == values[twice] else what.format(other=f"{name}[{first}]")
+            raise InputError(f"{value[twice]!r} is {repeat}; give each once", source, f"{name}[{twice}]")
         return values
     return checked
 
