@@ -76,7 +76,8 @@ def _shown(value) -> str:
 def within(check, low: float, high: float, unit: str, why: str):
     """``check``, then a range: the value must lie in [low, high] [unit]; ``why`` (in the error) says what lies
     outside. Both ends may be whole numbers (a count) or floats. The range is kept on the check as ``bounds``
-    ``(low, high, unit, why)``, which the study-file reference (``tools/study_reference.py``) prints."""
+    ``(low, high, unit, why)``, which the study-file reference (``tools/study_reference.py``) prints and a fit stays
+    within."""
     def bounded(value, source, key):
         value = check(value, source, key)
         if not low <= value <= high:
