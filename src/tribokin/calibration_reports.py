@@ -20,9 +20,12 @@ import numpy as np
 
 from tribokin.calibration.data import PoseData
 from tribokin.calibration.cross_validation import (DRAWS, PosePrediction, PredictedFigure, leave_one_pose_out,
-                                                   predict_pose, predicted_clouds)
+                                                   predict_pose, predicted_clouds, prediction_bytes)
 from tribokin.calibration.fit import Calibration, ParameterEstimate, fit, profile_interval
+from tribokin.checks import seed_int
 from tribokin.errors import InputError
+from tribokin.maps.budget import check_parts
+from tribokin.measurement.contract import file_size
 from tribokin.output.calibrated_study import WrittenValue, calibrated_study_text
 from tribokin.output.folder import atomic_folder, check_output_folder
 from tribokin.output.writers import write_rows
@@ -180,6 +183,17 @@ def _calibrated_study(study, study_path: Path, out: Path, header: list[str], val
     return text, calibrated
 
 
+def check_memory(measurements_path, available: int | None = None) -> None:
+    """An :class:`InputError` naming the measurement file if calibrating with it needs more memory than is
+    ``available`` [bytes] (default: what the machine has), estimated from its size before it is read: its reading
+    and the predictions at a series as long as the file (a block of simulated tests,
+    :func:`~tribokin.calibration.cross_validation.prediction_bytes`); the fits hold a few numbers per series."""
+    size = file_size(measurements_path)
+    check_parts([(size.reading_bytes, f"reading its {size.lines:,} lines"),
+                 (prediction_bytes(size.lines), "the predictions' simulated tests")],
+                "calibrating with this file", "split it into several files", measurements_path, "rows", available)
+
+
 def calibrate(study_path, measurements_path, out, force: bool = False, report: str = "full", seed: int = SEED,
               executor=None, progress=None) -> dict:
     """Fit the study's joint model to the measurements and write the folder ``out`` (module docstring).
@@ -200,6 +214,8 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     from tribokin.viz.maps import save_map_figures
 
     out, study_path = Path(check_output_folder(out, force)), Path(study_path)
+    seed = seed_int(seed, "command line", "--seed")
+    check_memory(measurements_path)
     study = read_study_file(study_path)
     if study.calibration is None:
         raise InputError("no [calibration] section: add one naming what to fit (fit = [\"stiffness\", ...])",

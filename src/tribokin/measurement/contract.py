@@ -49,6 +49,10 @@ RANGES = {
 }
 
 DEFAULT_DIRECTION = "+"
+#: Bytes reading a measurement file holds, per byte of it (its text, its lines), per line and per cell (each a
+#: Python string in a list), and per row read into arrays: measured (``tracemalloc``: about 12 bytes per byte of
+#: a file of nine columns) and rounded up about twofold.
+READ_BYTES_PER_BYTE, READ_BYTES_PER_LINE, READ_BYTES_PER_CELL, KEPT_BYTES_PER_ROW = 4, 300, 150, 400
 #: Largest spread of one joint's coordinate between the rows of a pose: [rad], and [m] for prismatic joints.
 Q_SPREAD_LIMIT_RAD = 0.01
 Q_SPREAD_LIMIT_M = 1e-3
@@ -172,6 +176,37 @@ class Stream:
     lines: np.ndarray
     times_s: np.ndarray | None
     positions_m: np.ndarray
+
+
+@dataclass(frozen=True)
+class FileSize:
+    """What reading a measurement file takes, counted before it is read.
+
+    Attributes:
+        bytes: its size [bytes].
+        lines: its lines (every row at most one).
+        cells: its cells (commas and lines).
+    """
+
+    bytes: int
+    lines: int
+    cells: int
+
+    @property
+    def reading_bytes(self) -> int:
+        """Bytes reading it holds at once [bytes] (the constants above)."""
+        return (READ_BYTES_PER_BYTE * self.bytes + READ_BYTES_PER_LINE * self.lines + READ_BYTES_PER_CELL * self.cells
+                + KEPT_BYTES_PER_ROW * self.lines)
+
+
+def file_size(path) -> FileSize:
+    """Size, lines and cells of the file ``path``, counted in blocks of 1 MiB (nothing else is read); the file is
+    first resolved and checked as reading it checks it (:func:`~tribokin.confinement.regular_file`)."""
+    size = lines = commas = 0
+    with open(regular_file(path, path), "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            size, lines, commas = size + len(block), lines + block.count(b"\n"), commas + block.count(b",")
+    return FileSize(size, lines + 1, commas + lines + 1)
 
 
 class _Table:
