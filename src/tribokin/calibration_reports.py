@@ -24,14 +24,17 @@ from tribokin.calibration.cross_validation import (DRAWS, PosePrediction, Predic
 from tribokin.calibration.fit import Calibration, ParameterEstimate, fit, profile_interval
 from tribokin.checks import seed_int
 from tribokin.errors import InputError
+from tribokin.execution import local_workers
+from tribokin.maps import budget
 from tribokin.maps.budget import check_parts
+from tribokin.maps.schema import MapLayout
 from tribokin.measurement.contract import file_size
 from tribokin.output.calibrated_study import WrittenValue, calibrated_study_text
 from tribokin.output.folder import atomic_folder, check_output_folder
 from tribokin.output.writers import write_rows
 from tribokin.provenance import software_versions
 from tribokin.run import run_study
-from tribokin.study.assembly import joint_models, load_robot
+from tribokin.study.assembly import joint_models, load_robot, map_robots
 from tribokin.study.calibration_data import CalibrationInput, calibration_input, read_robot_measurements
 from tribokin.study.names import check_measured_pose_names, cloud_figure_file
 from tribokin.study.reading import parse_study_text, read_study_file
@@ -222,6 +225,10 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
                          study.source, "calibration")
     robot = load_robot(study, meshes=False)  # no robot drawn
     models = joint_models(study, robot)
+    only_map = replace(study, poses=(), iso_cube=None, calibration=None)
+    if study.map is not None:  # the calibrated study's map: its memory checked before the fit, as run checks it
+        budget.check_memory(only_map, robot.model.nv, [], local_workers(executor),
+                            layout=MapLayout.of(map_robots(only_map, robot), study.map.figure_set))
     measurements = read_robot_measurements(measurements_path, robot)
     check_measured_pose_names([pose.name for pose in measurements.poses], measurements_path, cloud_figure_file)
     inputs = calibration_input(study, robot, models, measurements)
@@ -240,8 +247,8 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     text, calibrated = _calibrated_study(study, study_path, out, header, values, inputs)
     workspace_map = None
     if calibrated.map is not None:
-        only_map = replace(calibrated, poses=(), iso_cube=None, calibration=None)
-        workspace_map = run_study(only_map, executor=executor, progress=progress, meshes=False).map
+        workspace_map = run_study(replace(calibrated, poses=(), iso_cube=None, calibration=None), executor=executor,
+                                  progress=progress, meshes=False).map
 
     summary = {
         "settings": {

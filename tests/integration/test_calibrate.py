@@ -238,3 +238,31 @@ def test_without_a_registration_the_frame_is_fitted_and_the_output_says_so(tmp_p
     for name in ("joints.shoulder_pan_joint.stiffness", "joints.shoulder_lift_joint.stiffness", "noise_floor_m"):
         assert unknown[name]["identifiable"]
         assert abs(unknown[name]["value"] - registered[name]["value"]) < 2 * registered[name]["std_error"]
+
+
+def test_a_measurement_file_beyond_the_memory_is_refused_before_anything_is_read(tmp_path, capsys, monkeypatch):
+    from tribokin import calibration_reports
+    from tribokin.cli import main
+    from tribokin.maps import budget
+
+    monkeypatch.setattr(budget, "available_bytes", lambda: 2 ** 20)  # a machine of little memory
+    monkeypatch.setattr(calibration_reports, "read_study_file", None)  # never reached
+    assert main(["calibrate", study_without_map(tmp_path), "--measurements", DATA, "--out", tmp_path / "fit"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"tribokin: error: {DATA}: rows: calibrating with this file needs")
+    assert "1 MiB is available" in err and not (tmp_path / "fit").exists()
+
+
+def test_a_map_beyond_the_memory_is_refused_before_the_fit(tmp_path, capsys, monkeypatch):
+    from tribokin import calibration_reports
+    from tribokin.cli import main
+    from tribokin.maps import budget
+
+    study = tmp_path / "study.toml"
+    study.write_text(STUDY.read_text(encoding="utf-8").replace("cycles = 30", "cycles = 100000000"), encoding="utf-8")
+    monkeypatch.setattr(budget, "available_bytes", lambda: 2 ** 30)
+    monkeypatch.setattr(calibration_reports, "fit", None)  # the fit is never reached
+    assert main(["calibrate", study, "--measurements", DATA, "--out", tmp_path / "fit"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"tribokin: error: {study}: study.cycles: this run needs about")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]
