@@ -9,9 +9,9 @@ parameters' uncertainty, and the fit names them), each giving the series' Σ and
 each draw one ISO test is simulated as Gaussian clouds of the measured number of cycles per
 direction, and its RP_l per direction (l̄ + 3·S_l) and vAP (largest distance between the
 directions' barycentres) computed. The 95 % prediction interval runs from the 2.5th to the 97.5th
-percentile of those figures (the tests drawn and measured in blocks of about ``PREDICTION_BLOCK_CYCLES`` cycles,
-the numbers of one draw of them all, so memory stays bounded): it holds both the parameters' uncertainty and the test-to-test spread
-of a figure computed from n cycles. The prediction is the expected figure of one test at the fitted
+percentile of those figures (the tests drawn and measured in blocks of about ``PREDICTION_BLOCK_CYCLES``
+cycles, the numbers of one draw of them all, so memory stays bounded): it holds both the parameters'
+uncertainty and the test-to-test spread of a figure computed from n cycles. The prediction is the expected figure of one test at the fitted
 values: the mean over ``draws`` tests simulated at θ̂ (a mean over the posterior draws would be
 dominated by the heavy tail of poorly determined parameters). Random numbers:
 ``numpy.random.default_rng([seed, pose index])`` in leave-one-pose-out.
@@ -27,6 +27,7 @@ from tribokin.calibration.data import PoseData
 from tribokin.calibration.fit import Calibration, fit
 from tribokin.calibration.model import JointModel, predict_series
 from tribokin.iso9283.metrics import largest_distance
+from tribokin.measurement.figures import at_once
 
 DRAWS = 2000
 SEED = 9283
@@ -69,15 +70,9 @@ class PosePrediction:
     vAP: PredictedFigure | None
 
 
-def prediction_block(cycles: int) -> int:
-    """Simulated tests of a series of ``cycles`` drawn and measured at once: about ``PREDICTION_BLOCK_CYCLES``
-    cycles, at least one test."""
-    return max(1, PREDICTION_BLOCK_CYCLES // max(1, cycles))
-
-
 def prediction_bytes(cycles: int, draws: int = DRAWS) -> int:
     """Bytes a prediction at a series of ``cycles`` holds at once (a block of simulated tests) [bytes]."""
-    return min(2 * draws, prediction_block(cycles)) * cycles * PREDICTION_BYTES_PER_CYCLE
+    return min(2 * draws, at_once(cycles, PREDICTION_BLOCK_CYCLES)) * cycles * PREDICTION_BYTES_PER_CYCLE
 
 
 def position_repeatability(points_m: np.ndarray) -> np.ndarray:
@@ -125,7 +120,7 @@ def predict_pose(calibration: Calibration, pose: PoseData, rng: np.random.Genera
     for d, series in enumerate(pose.series):
         cycles = len(series.points_m)
         simulated, centres = np.empty(tests), np.empty((tests, 3))
-        for start in range(0, tests, block := prediction_block(cycles)):
+        for start in range(0, tests, block := at_once(cycles, PREDICTION_BLOCK_CYCLES)):
             tested = slice(start, min(start + block, tests))
             cloud = shift[tested, d, None, :] + np.einsum(
                 "kab,knb->kna", factor[tested, d], rng.standard_normal((tested.stop - start, cycles, 3)))

@@ -122,23 +122,23 @@ def _um(value_m: float | None) -> float | None:
     return None if value_m is None else float(value_m * UM_PER_M)
 
 
-def bootstrap_block(cycles: int) -> int:
-    """Resamples of a series of ``cycles`` drawn and measured at once: about ``BOOTSTRAP_BLOCK_CYCLES`` cycles, at
-    least one resample."""
-    return max(1, BOOTSTRAP_BLOCK_CYCLES // max(1, cycles))
+def at_once(cycles: int, block_cycles: int) -> int:
+    """Resamples (or simulated tests) of ``cycles`` cycles each drawn and measured at once: about ``block_cycles``
+    cycles in all, at least one."""
+    return max(1, block_cycles // max(1, cycles))
 
 
 def bootstrap_bytes(cycles: int, resamples: int = BOOTSTRAP_RESAMPLES) -> int:
     """Bytes the bootstrap of a series of ``cycles`` holds at once (a block of resamples) [bytes]."""
-    return min(resamples, bootstrap_block(cycles)) * cycles * BOOTSTRAP_BYTES_PER_CYCLE
+    return min(resamples, at_once(cycles, BOOTSTRAP_BLOCK_CYCLES)) * cycles * BOOTSTRAP_BYTES_PER_CYCLE
 
 
 def rp_l_interval(positions_m: np.ndarray, resamples: int, rng: np.random.Generator) -> tuple[float, float]:
     """Percentile-bootstrap 95 % interval of RP_l [m] of (n, 3) positions: ``resamples`` draws of n
     cycles with replacement, 2.5th and 97.5th percentiles of their RP_l (drawn and measured in blocks of
-    :func:`bootstrap_block` resamples, the numbers of one draw of them all)."""
+    :func:`at_once` resamples, the numbers of one draw of them all)."""
     n = len(positions_m)
-    block = bootstrap_block(n)
+    block = at_once(n, BOOTSTRAP_BLOCK_CYCLES)
     rp_l = np.empty(resamples)
     for start in range(0, resamples, block):
         draws = rng.integers(0, n, size=(min(block, resamples - start), n))
