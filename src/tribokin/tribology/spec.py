@@ -27,6 +27,11 @@ from tribokin.tribology import laws
 from tribokin.tribology.laws import MU_MAX, MU_MIN, Constant, Empirical, FrictionLaw, Scaled
 from tribokin.tribology.presets import preset
 
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
 
 def _from_preset(spec: dict, base_dir: Path, roots: tuple[Path, ...]) -> FrictionLaw:
     _only_keys(spec, ("preset",))
