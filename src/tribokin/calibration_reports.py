@@ -218,7 +218,6 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
 
     out, study_path = Path(check_output_folder(out, force)), Path(study_path)
     seed = seed_int(seed, "command line", "--seed")
-    check_memory(measurements_path)
     study = read_study_file(study_path)
     if study.calibration is None:
         raise InputError("no [calibration] section: add one naming what to fit (fit = [\"stiffness\", ...])",
@@ -229,6 +228,7 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     if study.map is not None:  # the calibrated study's map: its memory checked before the fit, as run checks it
         budget.check_memory(only_map, robot.model.nv, [], local_workers(executor),
                             layout=MapLayout.of(map_robots(only_map, robot), study.map.figure_set))
+    check_memory(measurements_path)
     measurements = read_robot_measurements(measurements_path, robot)
     check_measured_pose_names([pose.name for pose in measurements.poses], measurements_path, cloud_figure_file)
     inputs = calibration_input(study, robot, models, measurements)

@@ -240,13 +240,13 @@ def test_without_a_registration_the_frame_is_fitted_and_the_output_says_so(tmp_p
         assert abs(unknown[name]["value"] - registered[name]["value"]) < 2 * registered[name]["std_error"]
 
 
-def test_a_measurement_file_beyond_the_memory_is_refused_before_anything_is_read(tmp_path, capsys, monkeypatch):
+def test_a_measurement_file_beyond_the_memory_is_refused_before_it_is_read(tmp_path, capsys, monkeypatch):
     from tribokin import calibration_reports
     from tribokin.cli import main
     from tribokin.maps import budget
 
     monkeypatch.setattr(budget, "available_bytes", lambda: 2 ** 20)  # a machine of little memory
-    monkeypatch.setattr(calibration_reports, "read_study_file", None)  # never reached
+    monkeypatch.setattr(calibration_reports, "read_robot_measurements", None)  # never reached
     assert main(["calibrate", study_without_map(tmp_path), "--measurements", DATA, "--out", tmp_path / "fit"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"tribokin: error: {DATA}: rows: calibrating with this file needs")
