@@ -11,9 +11,9 @@ direction, and its RP_l per direction (l̄ + 3·S_l) and vAP (largest distance b
 directions' barycentres) computed. The 95 % prediction interval runs from the 2.5th to the 97.5th
 percentile of those figures (the tests drawn and measured in blocks of about ``PREDICTION_BLOCK_CYCLES``
 cycles, the numbers of one draw of them all, so memory stays bounded): it holds both the parameters'
-uncertainty and the test-to-test spread of a figure computed from n cycles. The prediction is the expected figure of one test at the fitted
-values: the mean over ``draws`` tests simulated at θ̂ (a mean over the posterior draws would be
-dominated by the heavy tail of poorly determined parameters). Random numbers:
+uncertainty and the test-to-test spread of a figure computed from n cycles. The prediction is the
+expected figure of one test at the fitted values: the mean over ``draws`` tests simulated at θ̂ (a mean
+over the posterior draws would be dominated by the heavy tail of poorly determined parameters). Random numbers:
 ``numpy.random.default_rng([seed, pose index])`` in leave-one-pose-out.
 """
 
