@@ -754,11 +754,11 @@ def _same_point(cells: list[str]) -> list[str]:
 # issue 35: refusals that were tracebacks, each one line before any work
 ROBUSTNESS_CASES = [
     measurement("measure", tracker(TRACKER_ROWS[:3]).replace("P1,2,", f"P1,{LONG_CELL},", 1),
-                expected=("not a CSV file", "field limit (131072)"), id="measure-cell-beyond-the-csv-limit"),
+                expected=("line 3: not a CSV file", "field limit (131072)"), id="measure-cell-beyond-the-csv-limit"),
     measurement("fit-friction", GOOD_LOG.replace("\n8,", f"\n{LONG_CELL},"),
-                expected=("not a CSV file", "field limit (131072)"), id="log-cell-beyond-the-csv-limit"),
+                expected=("line 9: not a CSV file", "field limit (131072)"), id="log-cell-beyond-the-csv-limit"),
     calibration(tracker(TRACKER_ROWS).replace("P2,1,", f"P2,{LONG_CELL},", 1),
-                expected=("not a CSV file", "field limit (131072)"), id="calibrate-cell-beyond-the-csv-limit"),
+                expected=("line 92: not a CSV file", "field limit (131072)"), id="calibrate-cell-beyond-the-csv-limit"),
     measurement("measure", tracker(TRACKER_ROWS[:6]), "--seed", "-1", at_fault="command line",
                 expected=("--seed", ">= 0"), id="measure-seed-negative"),
     measurement("measure", tracker(TRACKER_ROWS[:6]), "--seed", "9" * 4000, at_fault="command line",

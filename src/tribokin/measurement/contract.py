@@ -27,6 +27,7 @@ import numpy as np
 from tribokin.checks import finite_cell
 from tribokin.confinement import regular_file
 from tribokin.errors import InputError, closest_hint
+from tribokin.tribology.columns import csv_refusal
 
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
 ANGLE_UNITS = {"deg": np.pi / 180, "rad": 1.0}
@@ -219,12 +220,13 @@ class _Table:
             text = real.read_text(encoding="utf-8-sig")  # a spreadsheet's byte-order mark is not a name
         except UnicodeDecodeError:
             raise InputError("not a text CSV file", self.path) from None
-        try:
-            records = [(number, [cell.strip() for cell in next(csv.reader([line]))])
-                       for number, line in enumerate(text.splitlines(), start=1)
-                       if line.strip() and not line.lstrip().startswith("#")]
-        except csv.Error as error:  # a cell beyond the csv module's field limit, a NUL
-            raise InputError(f"not a CSV file: {error}", self.path) from None
+        records = []
+        for number, line in enumerate(text.splitlines(), start=1):
+            if line.strip() and not line.lstrip().startswith("#"):
+                try:
+                    records.append((number, [cell.strip() for cell in next(csv.reader([line]))]))
+                except csv.Error as error:
+                    raise csv_refusal(error, self.path, number) from None
         if len(records) < 2:
             raise InputError("needs a header line and at least one data row", self.path)
         self.header_line, self.header = records[0]
