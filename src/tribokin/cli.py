@@ -378,8 +378,8 @@ def _calibrate(args) -> None:
 def build_parser() -> argparse.ArgumentParser:
     from tribokin import __version__
     from tribokin.measurement.figures import BOOTSTRAP_SEED
-    from tribokin.maps.table import TABLE_FORMATS
     from tribokin.measurement.segmentation import DWELL_MIN_DURATION_S, DWELL_RADIUS_M, MATCH_RADIUS_M
+    from tribokin.study.names import TABLE_FORMATS
 
     parser = _Parser(prog="tribokin", description="Friction-induced pose repeatability (ISO 9283) of robots.")
     parser.add_argument("--version", action="version", version=f"tribokin {__version__}")

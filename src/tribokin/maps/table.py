@@ -13,9 +13,6 @@ import numpy as np
 from tribokin.maps.schema import figure_index, table_figures
 from tribokin.study.names import map_table_file
 
-#: The formats a map's tables can be written in (``tribokin run --table-format``), the default first.
-TABLE_FORMATS = ("csv", "parquet")
-
 
 def reached_by_cells(workspace_map, scenario, targets: slice) -> np.ndarray:
     """The ``reached_by`` cells of ``scenario``'s table at ``targets``: ``both``, ``<scenario> only``,

@@ -20,7 +20,7 @@ from tribokin.errors import import_extra
 from tribokin.execution import local_pool, run_chunks
 from tribokin.maps.result import MapResult, ScenarioMap
 from tribokin.maps.streaming import blocks
-from tribokin.maps.table import TABLE_FORMATS, map_table_columns, map_table_name
+from tribokin.maps.table import map_table_columns, map_table_name
 from tribokin.output.folder import atomic_folder
 from tribokin.output.lock import claimed_folder
 from tribokin.output.placed_study import BEST_STUDY, best_study_text
@@ -28,6 +28,7 @@ from tribokin.output.views_process import ViewsProcess
 from tribokin.placement.result import PlacementResult
 from tribokin.run import StudyResult
 from tribokin.simulation.pose_result import pose_table_row
+from tribokin.study.names import TABLE_FORMATS
 
 
 def write_summary(result: StudyResult, folder: Path) -> None:

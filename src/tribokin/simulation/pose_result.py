@@ -100,7 +100,8 @@ class PoseResult:
     def to_pandas(self):
         """The pose's rows of ``poses.csv`` (one per approach direction, :meth:`direction_rows`) as a pandas DataFrame:
         the same columns and numbers (units in the names: ``RP_l_um``, ``q_<joint>``), NaN where the file's cell is
-        empty (pandas: ``pip install 'tribokin[data]'``)."""
+        empty; a pose's own friction law is its ``describe()`` dict, whose text the file holds (pandas:
+        ``pip install 'tribokin[data]'``)."""
         return pose_frame(self.direction_rows(), list(self.joint_names))
 
 

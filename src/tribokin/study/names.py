@@ -32,6 +32,11 @@ def cloud_figure_file(pose: str) -> str:
     return f"clouds_{pose}.png"
 
 
+#: The formats a map's tables can be written in (``tribokin run --table-format``), their files' extensions; the
+#: default first.
+TABLE_FORMATS = ("csv", "parquet")
+
+
 def map_table_file(scenario: str | None, extension: str = "csv") -> str:
     """``map.csv`` for the reference scenario (``None``), ``map_<scenario>.csv`` for the others (or ``.parquet``...:
     ``extension``)."""
