@@ -128,11 +128,13 @@ resolution = [7, 4]
 """)
     assert main(["run", str(path), "--out", str(tmp_path / "csv"), "--report", "none"]) == 0
     assert main(["run", str(path), "--out", str(tmp_path / "parquet"), "--report", "none", "--table-format",
-                 "parquet"]) == 0
+                 "parquet", "--workers", "2"]) == 0
     files = {folder: sorted(p.name for p in (tmp_path / folder).iterdir()) for folder in ("csv", "parquet")}
     assert files["parquet"] == [name.replace("map.csv", "map.parquet") for name in files["csv"]]
     frame = pq.read_table(tmp_path / "parquet" / "map.parquet")
     assert frame.column_names == list(csv_columns(tmp_path / "csv" / "map.csv"))
+    here = tables(run_study(path).map, tmp_path / "here", "parquet")  # one process, written by write_map_table
+    assert (tmp_path / "parquet" / "map.parquet").read_bytes() == here["map.parquet"]
 
 
 def test_parquet_without_pyarrow_is_refused_before_any_work(tmp_path, monkeypatch, capsys):
