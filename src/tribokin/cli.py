@@ -30,12 +30,10 @@ class _Parser(argparse.ArgumentParser):
 def _claimed(out, force: bool):
     """Check the output folder, hold its lock (``<out>.lock``) while the block runs, and first delete the
     temporary folders a killed run left beside it (or move back an output folder it had moved aside)."""
-    from tribokin.output.folder import check_output_folder, remove_leftovers
-    from tribokin.output.lock import output_lock
+    from tribokin.output.folder import check_output_folder
+    from tribokin.output.lock import claimed_folder
 
-    check_output_folder(out, force)
-    with output_lock(out):
-        restored = remove_leftovers(out)
+    with claimed_folder(out, force) as restored:
         if restored is not None:
             print(f"note: moved '{out}' back from '{restored}', where a killed --force run had left it")
             check_output_folder(out, force)
@@ -132,7 +130,12 @@ def map_progress(warm_up: int, compiling: bool = False):
 
 
 def _run(args) -> None:
+    from tribokin.errors import import_extra, located
     from tribokin.output.views_process import ViewsProcess
+
+    if args.table_format == "parquet":
+        with located("command line", "--table-format"):
+            import_extra("pyarrow.parquet", "--table-format parquet")
 
     views = ViewsProcess.start(args.study, args.cycles, args.seed, args.report)  # first: it imports meanwhile
     try:
@@ -149,7 +152,7 @@ def _run(args) -> None:
         files += ["poses.csv", "samples.npz", "field_*.png"]
     if result.map is not None:
         _print_map(result.map.summary())
-        files += ["map*.csv", "map_*.png"]
+        files += [f"map*.{args.table_format}", "map_*.png"]
     if result.placement is not None:
         _print_placement(result.placement.summary(), out)
         files += ["placement.csv", "placement.png", "best.toml"]
@@ -192,7 +195,8 @@ def _compute_and_write(args, executor, views=None):
                                resume=args.resume, progress=progress, meshes=args.report != "none",
                                meanwhile=None if views is not None else import_views)
         result.reproduce["command"] = ["tribokin", *args.argv]
-        out = write_results(result, args.out, args.force, report=args.report, executor=executor, views=views)
+        out = write_results(result, args.out, args.force, report=args.report, executor=executor, views=views,
+                            table_format=args.table_format)
     except InputError:
         if not resumed:
             discard(chunks)
@@ -399,6 +403,7 @@ def build_parser() -> argparse.ArgumentParser:
     from tribokin import __version__
     from tribokin.measurement.figures import BOOTSTRAP_SEED
     from tribokin.measurement.segmentation import DWELL_MIN_DURATION_S, DWELL_RADIUS_M, MATCH_RADIUS_M
+    from tribokin.study.names import TABLE_FORMATS
 
     parser = _Parser(prog="tribokin", description="Friction-induced pose repeatability (ISO 9283) of robots.")
     parser.add_argument("--version", action="version", version=f"tribokin {__version__}")
@@ -421,6 +426,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--resume", action="store_true",
                      help="finish an interrupted map or placement search: reuse the chunks (candidates) "
                           "saved in <out>.chunks/")
+    run.add_argument("--table-format", choices=TABLE_FORMATS, default=TABLE_FORMATS[0],
+                     help="the map's tables as CSV (map*.csv, default) or Parquet (map*.parquet; needs pyarrow: "
+                          "pip install 'tribokin[data]')")
     run.set_defaults(handler=_run)
 
     measure = commands.add_parser("measure", help="ISO 9283 figures of measured data (a laser tracker's CSV)")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import difflib
+import importlib
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -93,6 +94,35 @@ class JointRangeError(TribokinError, ValueError):
     def __init__(self, message: str, joint: str, part: str):
         self.joint, self.part = joint, part
         super().__init__(message)
+
+
+class MissingExtraError(TribokinError, ImportError):
+    """A library of an optional extra (``pip install 'tribokin[data]'``: pandas, xarray, pyarrow) that is not
+    installed.
+
+    Args:
+        message: the library, what needs it and the install command.
+        library: the missing library's module name (``"pandas"``, ``"xarray"``, ``"pyarrow"``).
+    """
+
+    def __init__(self, message: str, library: str):
+        self.library = library
+        super().__init__(message)
+
+
+#: The optional extra each library comes with (pyproject.toml's ``[project.optional-dependencies]``).
+EXTRAS = {"pandas": "data", "xarray": "data", "pyarrow": "data"}
+
+
+def import_extra(library: str, purpose: str):
+    """Import module ``library`` of an optional extra (:data:`EXTRAS`), for ``purpose`` (``"to_pandas()"``,
+    ``"--table-format parquet"``); a :class:`MissingExtraError` naming the install command if it is missing."""
+    package = library.partition(".")[0]
+    try:
+        return importlib.import_module(library)
+    except ImportError:
+        raise MissingExtraError(f"{purpose} needs {package}, which is not installed; install it with "
+                                f"pip install 'tribokin[{EXTRAS[package]}]'", package) from None
 
 
 @contextlib.contextmanager

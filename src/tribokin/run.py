@@ -21,7 +21,7 @@ from tribokin.maps.schema import MapLayout
 from tribokin.placement.result import PlacementResult
 from tribokin.placement.search import run_placement
 from tribokin.provenance import software_versions
-from tribokin.simulation.pose_result import PoseResult
+from tribokin.simulation.pose_result import PoseResult, pose_frame
 from tribokin.simulation.pose_run import PoseRunner
 from tribokin.study.assembly import MapRobots, check_names, joint_models, load_robot, map_robots, pose_tasks, \
     robot_spec
@@ -63,6 +63,26 @@ class StudyResult:
             return {}
         return {key: np.array([r[key] if r[key] is not None else np.nan for r in rows])
                 for key, value in rows[0].items() if value is None or isinstance(value, (int, float, str))}
+
+    def to_pandas(self):
+        """``poses.csv`` as a pandas DataFrame: one row per pose and approach direction, the same columns and numbers
+        (units in the names: ``RP_l_um``, ``AP_a_mdeg``, ``q_<joint>``), NaN where the file's cell is empty (pandas:
+        ``pip install 'tribokin[data]'``). The map's targets: ``result.map.to_pandas()``."""
+        return pose_frame([row for p in self.poses for row in p.direction_rows()], self.settings["joints"])
+
+    def write(self, folder, force: bool = False, *, report: str = "full", table_format: str = "csv",
+              executor: Executor | None = None) -> Path:
+        """Write the files ``tribokin run`` writes into ``folder``, the same bytes but for the command line that
+        ``summary.json`` records (``None`` here): all at once, refused (:class:`~tribokin.errors.InputError`) if it
+        exists, unless ``force``. ``report`` (``"full"``, ``"light"``, ``"none"``) and ``table_format`` (``"csv"``,
+        ``"parquet"``) as the command's options; ``executor``: local workers that format the map's tables.
+
+        Returns:
+            the folder written.
+        """
+        from tribokin.output.writers import write_claimed  # the writer takes this class: a method's import (layout)
+
+        return write_claimed(self, folder, force, report=report, table_format=table_format, executor=executor)
 
     def summary(self) -> dict:
         """The content of ``summary.json``."""

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tribokin.maps.expected import ANALYTIC, SAMPLED
+from tribokin.maps.frames import map_dataset, map_frame
 from tribokin.maps.grid import TargetGrid
 from tribokin.maps.rows import IK_ROUTES, unreachable_reasons
 from tribokin.maps.schema import figure_index, map_figures, robot_column, scenario_column
@@ -289,6 +290,18 @@ class MapResult:
                 "engine_max_deviation_nm": float(bound[0] * 1e9),
                 "engine_max_angle_deviation_nrad": float(bound[1] * 1e9),
                 "RP_l_band_max_mc_error": band_error}
+
+    def to_pandas(self):
+        """Every scenario's table (``map.csv``, ``map_<scenario>.csv``: the same columns and numbers, NaN where a cell
+        is empty) as one tidy pandas DataFrame with a ``scenario`` column (:func:`~tribokin.maps.frames.map_frame`;
+        pandas: ``pip install 'tribokin[data]'``). The whole map, in memory."""
+        return map_frame(self)
+
+    def to_xarray(self):
+        """The map as an xarray Dataset on the grid's axes, one variable per figure, a ``scenario`` dimension, the
+        IK's ``q`` per robot (:func:`~tribokin.maps.frames.map_dataset`; xarray: ``pip install 'tribokin[data]'``).
+        The whole map, in memory."""
+        return map_dataset(self)
 
     def first_reachable_q(self) -> np.ndarray | None:
         """The configuration of the first reachable target [m or rad], ``None`` if none is."""

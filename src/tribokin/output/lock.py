@@ -17,6 +17,7 @@ from pathlib import Path
 
 from tribokin.errors import InputError
 from tribokin.folders import DISK_FULL, disk_full
+from tribokin.output.folder import check_output_folder, remove_leftovers
 
 #: Descriptors of the lock files this process holds.
 _held: set[int] = set()
@@ -97,3 +98,13 @@ def output_lock(out):
             os.unlink(lock_path(out))  # still locked: no other run can have taken it meanwhile
         _held.discard(fd)
         os.close(fd)
+
+
+@contextmanager
+def claimed_folder(out, force: bool = False):
+    """Check output folder ``out`` (:func:`~tribokin.output.folder.check_output_folder`), hold its lock while the block
+    runs, and first delete the temporary folders a killed run left beside it; yields the folder from which an output
+    folder a killed ``--force`` run had moved aside was moved back (``None``: none was)."""
+    check_output_folder(out, force)
+    with output_lock(out):
+        yield remove_leftovers(out)

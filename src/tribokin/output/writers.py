@@ -16,16 +16,19 @@ from pathlib import Path
 import numpy as np
 import orjson
 
+from tribokin.errors import import_extra
 from tribokin.execution import local_pool, run_chunks
 from tribokin.maps.result import MapResult, ScenarioMap
-from tribokin.maps.schema import figure_index, table_figures
 from tribokin.maps.streaming import blocks
+from tribokin.maps.table import map_table_columns, map_table_name
 from tribokin.output.folder import atomic_folder
+from tribokin.output.lock import claimed_folder
 from tribokin.output.placed_study import BEST_STUDY, best_study_text
 from tribokin.output.views_process import ViewsProcess
 from tribokin.placement.result import PlacementResult
 from tribokin.run import StudyResult
-from tribokin.study.names import map_table_file
+from tribokin.simulation.pose_result import pose_table_row
+from tribokin.study.names import TABLE_FORMATS
 
 
 def write_summary(result: StudyResult, folder: Path) -> None:
@@ -33,34 +36,11 @@ def write_summary(result: StudyResult, folder: Path) -> None:
     (folder / "summary.json").write_text(json.dumps(result.summary(), indent=2) + "\n", encoding="utf-8")
 
 
-#: poses.csv columns of the vector figures that are not per joint or per base axis: key -> element names.
-POSE_VECTOR_COLUMNS = {"ellipsoid_semi_axes_um": ("ellipsoid_semi_axis_1_um", "ellipsoid_semi_axis_2_um",
-                                                  "ellipsoid_semi_axis_3_um"),
-                       "RP_l_95_um": ("RP_l_95_low_um", "RP_l_95_high_um")}
-
-
-def _pose_table_row(row: dict, joints: list[str]) -> dict:
-    """A flat poses.csv row: positions split into ``_x_m, _y_m, _z_m``, ``q`` into ``q_<joint>``, bearing
-    loads into ``normal_force_<joint>_N``, the other vectors as in ``POSE_VECTOR_COLUMNS``."""
-    flat = {}
-    for key, value in row.items():
-        if key == "q":
-            flat.update({f"q_{joint}": v for joint, v in zip(joints, value)})
-        elif key == "normal_forces_N":
-            flat.update({f"normal_force_{joint}_N": v for joint, v in zip(joints, value)})
-        elif key in POSE_VECTOR_COLUMNS:
-            flat.update(zip(POSE_VECTOR_COLUMNS[key], value or ("",) * len(POSE_VECTOR_COLUMNS[key])))
-        elif isinstance(value, list) and key.endswith("_m"):
-            flat.update({f"{key[:-2]}_{axis}_m": v for axis, v in zip("xyz", value)})
-        else:
-            flat[key] = "" if value is None else value
-    return flat
-
-
 def write_rows(rows: list[dict], joints: list[str], path: Path) -> None:
-    """A ``poses.csv``-shaped table at ``path``: report rows flattened as ``_pose_table_row`` does, the
+    """A ``poses.csv``-shaped table at ``path``: report rows flattened as :func:`~tribokin.simulation.pose_result.
+    pose_table_row` does, the
     columns in order of first appearance (used by ``run`` and ``measure``)."""
-    flat = [_pose_table_row(row, joints) for row in rows]
+    flat = [pose_table_row(row, joints) for row in rows]
     columns = list(dict.fromkeys(key for row in flat for key in row))
     with open(path, "w", newline="", encoding="utf-8") as handle:
         writer = csv.DictWriter(handle, fieldnames=columns)
@@ -143,35 +123,6 @@ def table_lines(columns: dict[str, np.ndarray], rows: int = 4096) -> Iterator[by
         yield b"\r\n".join(map(b",".join, zip(*pieces))) + b"\r\n"
 
 
-def reached_by_cells(workspace_map: MapResult, scenario: ScenarioMap, targets: slice) -> np.ndarray:
-    """The ``reached_by`` cells of ``scenario``'s table at ``targets``: ``both``, ``<scenario> only``,
-    ``<reference> only`` or ``neither`` (:meth:`~tribokin.maps.result.MapResult.reached_by`)."""
-    cells = np.array(["both", f"{scenario.name} only", f"{workspace_map.reference.name} only", "neither"], dtype=object)
-    return cells[workspace_map.reached_by(scenario, targets)]
-
-
-def map_table_columns(workspace_map: MapResult, scenario: ScenarioMap, targets: slice) -> dict[str, np.ndarray]:
-    """The columns of :func:`write_map_table` at ``targets``, by header."""
-    positions = workspace_map.read("position_m", targets)
-    figures = scenario.read("figures", targets)
-    columns = {"x_m": positions[:, 0], "y_m": positions[:, 1], "z_m": positions[:, 2],
-               "reachable": scenario.read_robot("reachable", targets)}
-    columns.update({name: scenario.dominant_joint_names(targets) if name == "dominant_joint"
-                    else figures[:, figure_index(name, scenario.figure_set)]
-                    for name in table_figures(scenario.figure_set)})
-    if scenario is not workspace_map.reference:
-        columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
-        columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario, targets)
-    if scenario.robot != workspace_map.reference.robot:
-        columns["reached_by"] = reached_by_cells(workspace_map, scenario, targets)
-    columns.update(workspace_map.grid.coordinates(np.arange(targets.start, targets.stop)))
-    q, forces = scenario.read_robot("q", targets), scenario.read("normal_forces_N", targets)
-    columns.update({f"q_{name}": q[:, i] for i, name in enumerate(scenario.joint_names)})
-    columns.update({f"normal_force_{name}_N": forces[:, i] for i, name in enumerate(scenario.joint_names)})
-    columns["reason"] = workspace_map.reasons(targets, scenario)
-    return columns
-
-
 #: Bytes a part file of a map table is copied into its table at a time.
 PART_COPY_BYTES = 1 << 20
 #: Targets of a map table read from the store at once (their columns and reasons in memory together), a block
@@ -190,17 +141,22 @@ def write_map_table_part(workspace_map: MapResult, scenario: ScenarioMap, target
 
 
 def write_map_tables(workspace_map: MapResult, tables: list[tuple[ScenarioMap, Path]],
-                     executor: Executor | None = None, meanwhile: Callable[[], None] | None = None) -> None:
-    """Each scenario's map as CSV (``tables``: scenario and path), one row per target in index order: position [m],
-    reachable (by its robot), the figures (µm, mdeg), ratio and difference of RP_l to the reference scenario (other
-    scenarios), who reaches the target (a scenario measured with another robot than the reference's), grid
-    coordinates, q_<joint> [m or rad], normal_force_<joint>_N [N] (its robot's joints), and the reason a target is
-    unreachable.
+                     executor: Executor | None = None, meanwhile: Callable[[], None] | None = None,
+                     table_format: str = "csv") -> None:
+    """Each scenario's map as CSV (``tables``: scenario and path), one row per target in index order, the columns of
+    :func:`~tribokin.maps.table.map_table_columns`; or, in ``table_format`` ``"parquet"``, as Parquet
+    (:func:`write_parquet_table`, here, after ``meanwhile()``).
 
     ``TABLE_TARGETS`` targets are read at a time. When ``executor`` is a pool of this machine's processes
     (:func:`~tribokin.execution.local_pool`: they read the map's store), its workers format the blocks, each into a
     part file beside its table (``.<table>.<block>.part``), which is appended to the table and deleted in order while
     ``meanwhile()`` runs here; else the blocks are formatted here (:func:`map_table_text`), after ``meanwhile()``."""
+    if table_format == "parquet":
+        if meanwhile is not None:
+            meanwhile()
+        for scenario, path in tables:
+            write_parquet_table(workspace_map, scenario, path)
+        return
     parts = list(workspace_map.blocks(TABLE_TARGETS))
     pool = local_pool(executor)
 
@@ -232,14 +188,37 @@ def write_map_tables(workspace_map: MapResult, tables: list[tuple[ScenarioMap, P
                     written[t] += 1
 
 
-def write_map_table(workspace_map: MapResult, scenario: ScenarioMap, path: Path) -> None:
-    """One scenario's map as CSV, written here (:func:`write_map_tables`)."""
-    write_map_tables(workspace_map, [(scenario, path)])
+def write_map_table(workspace_map: MapResult, scenario: ScenarioMap, path: Path, table_format: str = "csv") -> None:
+    """One scenario's map as CSV (or Parquet: ``table_format``), written here (:func:`write_map_tables`)."""
+    write_map_tables(workspace_map, [(scenario, path)], table_format=table_format)
 
 
-def map_table_name(workspace_map: MapResult, scenario: ScenarioMap) -> str:
-    """``map.csv`` for the reference scenario, ``map_<scenario>.csv`` for the others."""
-    return map_table_file(None if scenario is workspace_map.reference else scenario.name)
+#: Parquet's compression of a map table's columns (pyarrow's default, named here: the bytes depend on it).
+PARQUET_COMPRESSION = "snappy"
+
+
+def arrow_table(columns: dict[str, np.ndarray]):
+    """A ``pyarrow.Table`` of a map table's ``columns`` (:func:`~tribokin.maps.table.map_table_columns`): float64
+    (NaN as NaN, not null), bool, or string (the object columns)."""
+    pa = import_extra("pyarrow", "--table-format parquet")
+    return pa.table({name: pa.array(values, type=pa.string()) if values.dtype == object else pa.array(values)
+                     for name, values in columns.items()})
+
+
+def write_parquet_table(workspace_map: MapResult, scenario: ScenarioMap, path: Path) -> None:
+    """``scenario``'s map table as a Parquet file at ``path``: the columns of
+    :func:`~tribokin.maps.table.map_table_columns`, typed (:func:`arrow_table`), one row group per ``TABLE_TARGETS``
+    targets, ``PARQUET_COMPRESSION``; no time or host in it, so the same map gives the same bytes (with the same
+    pyarrow, whose version the file records)."""
+    parquet = import_extra("pyarrow.parquet", "--table-format parquet")
+    with ExitStack() as stack:
+        writer = None
+        for part in workspace_map.blocks(TABLE_TARGETS):
+            table = arrow_table(map_table_columns(workspace_map, scenario, part))
+            if writer is None:
+                writer = stack.enter_context(parquet.ParquetWriter(path, table.schema,
+                                                                   compression=PARQUET_COMPRESSION))
+            writer.write_table(table, row_group_size=TABLE_TARGETS)
 
 
 def write_placement(placement: PlacementResult, folder: Path, out: Path) -> None:
@@ -260,17 +239,22 @@ def import_views() -> None:
 
 
 def write_results(result: StudyResult, out, force: bool = False, report: str = "full", map_layers=None,
-                  cube=None, executor: Executor | None = None, views: ViewsProcess | None = None) -> Path:
-    """Write summary.json, the pose files (poses.csv, samples.npz), the map tables (map*.csv) or the placement's
-    files (placement.csv, best.toml) to ``out``, atomically, with the figures and, unless ``report`` is ``"none"``,
-    ``report.html`` and ``scene.npz``, as :func:`~tribokin.viz.contents.write_views` decides (``report``,
-    ``map_layers``, ``cube``: see there).
+                  cube=None, executor: Executor | None = None, views: ViewsProcess | None = None,
+                  table_format: str = "csv") -> Path:
+    """Write summary.json, the pose files (poses.csv, samples.npz), the map tables (map*.csv, or map*.parquet in
+    ``table_format`` ``"parquet"``) or the placement's files (placement.csv, best.toml) to ``out``, atomically, with
+    the figures and, unless ``report`` is ``"none"``, ``report.html`` and ``scene.npz``, as
+    :func:`~tribokin.viz.contents.write_views` decides (``report``, ``map_layers``, ``cube``: see there).
 
     The views are drawn by ``views`` (:class:`~tribokin.output.views_process.ViewsProcess`; closed here) while this
     process writes the rest, else here; the map's tables' blocks (:func:`write_map_tables`) and its statistics
     (:meth:`~tribokin.maps.result.MapResult.summarise_on`, sent on to ``views`` for the report) are computed on
     ``executor``'s local workers meanwhile (without them, by ``views``, or here).
     """
+    if table_format not in TABLE_FORMATS:
+        raise ValueError(f"table_format {table_format!r}: choose one of {', '.join(TABLE_FORMATS)}")
+    if table_format == "parquet" and result.map is not None:
+        import_extra("pyarrow.parquet", "--table-format parquet")  # before anything is written
     with atomic_folder(out, force) as folder:
         try:
             pool = local_pool(executor) if result.map is not None else None
@@ -292,8 +276,9 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
             if result.map is None:
                 the_rest()
             else:
-                write_map_tables(result.map, [(scenario, folder / map_table_name(result.map, scenario))
-                                              for scenario in result.map.scenarios.values()], executor, the_rest)
+                write_map_tables(result.map, [(scenario, folder / map_table_name(result.map, scenario, table_format))
+                                              for scenario in result.map.scenarios.values()], executor, the_rest,
+                                 table_format)
             if drawing:
                 drawn, summary = views.wait()
                 if not drawn:  # the views' process was lost, or declined: drawn here instead
@@ -305,6 +290,14 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
             if views is not None:
                 views.close()
     return Path(out)
+
+
+def write_claimed(result: StudyResult, out, force: bool = False, **options) -> Path:
+    """:func:`write_results` (``options``: its keywords) as ``tribokin run`` writes: ``out``'s lock held
+    (:func:`~tribokin.output.lock.claimed_folder`), the temporary folders a killed run left beside it deleted first
+    (:meth:`~tribokin.run.StudyResult.write`)."""
+    with claimed_folder(out, force):
+        return write_results(result, out, force, **options)
 
 
 def _write_views(result: StudyResult, folder: Path, report: str, map_layers, cube) -> None:

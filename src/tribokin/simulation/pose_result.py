@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tribokin.errors import import_extra
 from tribokin.iso9283.metrics import DirectionalMetrics
 from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
@@ -26,6 +27,7 @@ class PoseResult:
         normal_forces_N: (nv,) bearing loads [N].
         metrics: the ISO 9283 figures, per direction and across directions.
         extra: further figures of the pose. direction_extra: further figures per direction label.
+        joint_names: the active joints, in the order of ``q`` (names the columns of :meth:`to_pandas`).
     """
 
     name: str
@@ -43,6 +45,7 @@ class PoseResult:
     metrics: DirectionalMetrics
     extra: dict = field(default_factory=dict)
     direction_extra: dict[str, dict] = field(default_factory=dict)
+    joint_names: tuple[str, ...] = ()
 
     def samples(self) -> dict[str, np.ndarray]:
         """The arrays of one value (row) per cycle, by name: what ``samples.npz`` keeps of the pose."""
@@ -93,3 +96,43 @@ class PoseResult:
         directions = pose.pop("directions")
         del pose["name"], pose["cycles"]
         return [{"name": self.name, "direction": label, **figures, **pose} for label, figures in directions.items()]
+
+    def to_pandas(self):
+        """The pose's rows of ``poses.csv`` (one per approach direction, :meth:`direction_rows`) as a pandas DataFrame:
+        the same columns and numbers (units in the names: ``RP_l_um``, ``q_<joint>``), NaN where the file's cell is
+        empty; a pose's own friction law is its ``describe()`` dict, whose text the file holds (pandas:
+        ``pip install 'tribokin[data]'``)."""
+        return pose_frame(self.direction_rows(), list(self.joint_names))
+
+
+#: poses.csv columns of the vector figures that are not per joint or per base axis: key -> element names.
+POSE_VECTOR_COLUMNS = {"ellipsoid_semi_axes_um": ("ellipsoid_semi_axis_1_um", "ellipsoid_semi_axis_2_um",
+                                                  "ellipsoid_semi_axis_3_um"),
+                       "RP_l_95_um": ("RP_l_95_low_um", "RP_l_95_high_um")}
+
+
+def pose_table_row(row: dict, joints: list[str], missing="") -> dict:
+    """A flat poses.csv row of a report row (:meth:`PoseResult.direction_rows`): positions split into ``_x_m, _y_m,
+    _z_m``, ``q`` into ``q_<joint>``, bearing loads into ``normal_force_<joint>_N``, the other vectors as in
+    ``POSE_VECTOR_COLUMNS``; a figure there is none of is ``missing`` (poses.csv: an empty cell)."""
+    flat = {}
+    for key, value in row.items():
+        if key == "q":
+            flat.update({f"q_{joint}": v for joint, v in zip(joints, value)})
+        elif key == "normal_forces_N":
+            flat.update({f"normal_force_{joint}_N": v for joint, v in zip(joints, value)})
+        elif key in POSE_VECTOR_COLUMNS:
+            flat.update(zip(POSE_VECTOR_COLUMNS[key], value or (missing,) * len(POSE_VECTOR_COLUMNS[key])))
+        elif isinstance(value, list) and key.endswith("_m"):
+            flat.update({f"{key[:-2]}_{axis}_m": v for axis, v in zip("xyz", value)})
+        else:
+            flat[key] = missing if value is None else value
+    return flat
+
+
+def pose_frame(rows: list[dict], joints: list[str]):
+    """The rows of poses.csv (report rows, :func:`pose_table_row`) as a pandas DataFrame, its columns in the order of
+    their first appearance, an empty cell NaN."""
+    pandas = import_extra("pandas", "to_pandas()")
+    flat = [pose_table_row(row, joints, np.nan) for row in rows]
+    return pandas.DataFrame(flat, columns=list(dict.fromkeys(key for row in flat for key in row)))

@@ -32,9 +32,15 @@ def cloud_figure_file(pose: str) -> str:
     return f"clouds_{pose}.png"
 
 
-def map_table_file(scenario: str | None) -> str:
-    """``map.csv`` for the reference scenario (``None``), ``map_<scenario>.csv`` for the others."""
-    return "map.csv" if scenario is None else f"map_{scenario}.csv"
+#: The formats a map's tables can be written in (``tribokin run --table-format``), their files' extensions; the
+#: default first.
+TABLE_FORMATS = ("csv", "parquet")
+
+
+def map_table_file(scenario: str | None, extension: str = "csv") -> str:
+    """``map.csv`` for the reference scenario (``None``), ``map_<scenario>.csv`` for the others (or ``.parquet``...:
+    ``extension``)."""
+    return f"map.{extension}" if scenario is None else f"map_{scenario}.{extension}"
 
 
 def map_figure_file(kind: str, scenario: str) -> str:

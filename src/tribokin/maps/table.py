@@ -1,0 +1,53 @@
+"""A map's tables: one per scenario, one row per target, in index order; the columns ``map.csv`` has, by header.
+
+The writers (:mod:`tribokin.output.writers`: CSV or Parquet) and the conversions (:mod:`tribokin.maps.frames`:
+pandas, xarray) take their values from here, so they hold the same numbers. ``workspace_map`` is a
+:class:`~tribokin.maps.result.MapResult` and ``scenario`` one of its :class:`~tribokin.maps.result.ScenarioMap`
+(not imported: the result converts itself through this module).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tribokin.maps.schema import figure_index, table_figures
+from tribokin.study.names import map_table_file
+
+
+def reached_by_cells(workspace_map, scenario, targets: slice) -> np.ndarray:
+    """The ``reached_by`` cells of ``scenario``'s table at ``targets``: ``both``, ``<scenario> only``,
+    ``<reference> only`` or ``neither`` (:meth:`~tribokin.maps.result.MapResult.reached_by`)."""
+    cells = np.array(["both", f"{scenario.name} only", f"{workspace_map.reference.name} only", "neither"], dtype=object)
+    return cells[workspace_map.reached_by(scenario, targets)]
+
+
+def map_table_columns(workspace_map, scenario, targets: slice) -> dict[str, np.ndarray]:
+    """``scenario``'s table at ``targets``, by header: position [m], reachable (by its robot), the figures (µm, mdeg),
+    ratio and difference of RP_l to the reference scenario (other scenarios), who reaches the target (a scenario
+    measured with another robot than the reference's), grid coordinates, q_<joint> [m or rad],
+    normal_force_<joint>_N [N] (its robot's joints), and the reason a target is unreachable. Floats (NaN: no
+    value), booleans, or Python strings (object arrays)."""
+    positions = workspace_map.read("position_m", targets)
+    figures = scenario.read("figures", targets)
+    columns = {"x_m": positions[:, 0], "y_m": positions[:, 1], "z_m": positions[:, 2],
+               "reachable": scenario.read_robot("reachable", targets)}
+    columns.update({name: scenario.dominant_joint_names(targets) if name == "dominant_joint"
+                    else figures[:, figure_index(name, scenario.figure_set)]
+                    for name in table_figures(scenario.figure_set)})
+    if scenario is not workspace_map.reference:
+        columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
+        columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario, targets)
+    if scenario.robot != workspace_map.reference.robot:
+        columns["reached_by"] = reached_by_cells(workspace_map, scenario, targets)
+    columns.update(workspace_map.grid.coordinates(np.arange(targets.start, targets.stop)))
+    q, forces = scenario.read_robot("q", targets), scenario.read("normal_forces_N", targets)
+    columns.update({f"q_{name}": q[:, i] for i, name in enumerate(scenario.joint_names)})
+    columns.update({f"normal_force_{name}_N": forces[:, i] for i, name in enumerate(scenario.joint_names)})
+    columns["reason"] = workspace_map.reasons(targets, scenario)
+    return columns
+
+
+def map_table_name(workspace_map, scenario, table_format: str = "csv") -> str:
+    """``map.csv`` for the reference scenario, ``map_<scenario>.csv`` for the others (``.parquet`` in that
+    ``table_format``)."""
+    return map_table_file(None if scenario is workspace_map.reference else scenario.name, table_format)
