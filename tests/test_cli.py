@@ -31,6 +31,20 @@ def test_eta_counts_only_the_chunks_after_each_workers_first(monkeypatch):
     bar.close()
 
 
+def test_a_map_done_before_the_eta_has_its_samples_ends_on_its_whole_run_s_rate(monkeypatch):
+    now = [0.0]
+    monkeypatch.setattr(tqdm_std, "time", lambda: now[0])
+    bar = ProgressBar(total=300, warm_up=2, file=io.StringIO(), mininterval=0)
+    shown = []
+    for time_s in (4.0, 5.0, 6.0):  # three chunks: fewer than the warm-up and the ETA's samples
+        now[0] = time_s
+        bar.update(100)
+        shown.append(tqdm_std.tqdm.format_meter(**bar.format_dict))
+    assert "?it/s" in shown[0] and "?it/s" in shown[1]
+    assert "300/300 [00:06<00:00, 50.00it/s]" in shown[2]  # 300 targets in 6 s, not "?" to the end
+    bar.close()
+
+
 def test_map_progress_starts_the_bar_at_the_resumed_targets_and_moves_it_by_each_report(capsys):
     with map_progress(warm_up=1) as report:
         report(250, 1000)  # a resumed run: a quarter was done

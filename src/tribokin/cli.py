@@ -81,6 +81,9 @@ class ProgressBar(tqdm):
         if self.clock_start is not None and self.updates >= self.warm_up + self.samples:
             start_s, start_n = self.clock_start
             shown["rate"] = (self.n - start_n) / max(self._time() - start_s, 1e-9)
+        elif self.total is not None and self.n >= self.total and self.n > self.initial:
+            # done before the ETA's samples were in (a small map): the rate of the whole run, start-up included
+            shown["rate"] = (self.n - self.initial) / max(self._time() - self.start_t, 1e-9)
         return shown
 
 
