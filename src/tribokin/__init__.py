@@ -23,6 +23,7 @@ from tribokin.provenance import __version__
 
 if TYPE_CHECKING:
     from tribokin.kinematics.robot import Robot
+    from tribokin.maps.grid import GridError
     from tribokin.maps.result import MapResult
     from tribokin.maps.run import MapScenario, workspace_map
     from tribokin.simulation.joint_errors import JointErrorModel, joint_models
@@ -48,14 +49,14 @@ _LAZY = {"MapResult": "tribokin.maps.result", "StudyResult": "tribokin.run", "ru
          "FrictionLaw": "tribokin.tribology.laws", "Constant": "tribokin.tribology.laws",
          "Uniform": "tribokin.tribology.laws", "Gaussian": "tribokin.tribology.laws",
          "Lognormal": "tribokin.tribology.laws", "Empirical": "tribokin.tribology.laws",
-         "preset": "tribokin.tribology.presets"}
+         "preset": "tribokin.tribology.presets", "GridError": "tribokin.maps.grid"}
 
 __all__ = ["run_study", "load_study", "Study", "RobotSpec", "JointSpec", "PoseSpec", "IsoCubeSpec", "PlaneMap",
            "BoxMap", "JointMap", "ScenarioSpec", "StudyResult", "PoseResult", "MapResult", "Robot", "joint_models",
            "JointErrorModel", "TestSettings", "pose_test", "workspace_map", "MapScenario", "FrictionLaw", "Constant",
            "Uniform", "Gaussian", "Lognormal", "Empirical", "preset", "TribokinError", "InputError",
            "ConfigurationError", "RobotDescriptionError", "LawError", "JointRangeError", "SettingsError",
-           "JointModelError", "__version__"]
+           "JointModelError", "GridError", "__version__"]
 
 
 def __getattr__(name: str):

@@ -1,5 +1,6 @@
 """The library under `run_study`: a robot made in code from a `pin.Model`, its joint models, a pose's test and a map
-give, to the bit, what a study loading the same URDF by file gives; the library's errors name no file, the study's do."""
+give, to the bit, what a study loading the same URDF by file gives; the library's errors name no file, the study's
+do."""
 
 from __future__ import annotations
 
@@ -11,8 +12,9 @@ import pytest
 
 import tribokin
 from conftest import ROOT
+from tribokin.maps.grid import GridError
 from tribokin.maps.schema import MapLayout
-from tribokin.study.map_spec import BoxMap
+from tribokin.study.map_spec import BoxMap, PlaneMap
 
 URDF = ROOT / "urdf" / "cartesian_xyz.urdf"
 Q = [0.3, 0.2, 0.1]
@@ -156,3 +158,39 @@ def test_a_ur5_pose_from_example_robot_data_s_pin_model_equals_the_study_s_to_th
     for name in ("positions_m", "angles_rad", "dq", "mu", "approach", "normal_forces_N"):
         assert np.array_equal(getattr(pose, name), getattr(expected, name)), name
     assert pose.report_row() == expected.report_row()
+
+
+def test_scenarios_from_python_equal_the_study_s_to_the_bit():
+    mapping = study()
+    mapping["scenarios"] = [{"name": "raw"}, {"name": "stiff", "joints": {"stiffness": 1.0e8}, "study": {"seed": 8}}]
+    expected = tribokin.run_study(mapping, meshes=False).map
+    robot = library_robot()
+    stiff = tribokin.joint_models(robot, friction=tribokin.preset("42CD4-raw"), stiffness=1.0e8, bearing_span_m=0.2,
+                                  joints={"z": {"friction": tribokin.preset("42CD4-treated")}})
+    spec = BoxMap(min_m=(0.2, 0.0, 0.2), max_m=(0.8, 0.6, 0.7), resolution=(3, 3, 3))
+    scenarios = [tribokin.MapScenario("raw"), tribokin.MapScenario(
+        "stiff", joints=stiff, settings=tribokin.TestSettings(cycles=20, seed=8, payload_kg=5.0))]
+    result = tribokin.workspace_map(robot, library_joints(robot), spec, scenarios=scenarios, cycles=20, seed=7,
+                                    payload_kg=5.0)
+    for name in MapLayout.shared(3, 2, "expected").columns():
+        assert np.array_equal(result.read(name), expected.read(name), equal_nan=True), name
+    ratio = result.ratio_RP_l(result.scenarios["stiff"])
+    assert np.nanmax(np.abs(ratio - 0.2)) < 0.05  # five times stiffer, a fifth of the lost motion (other seed)
+
+
+def test_a_map_that_does_not_fit_the_robot_is_a_grid_error_in_code_and_located_in_a_study():
+    robot = library_robot()
+    plane = PlaneMap(origin_m=(0.5, 0.3, 0.4), axis_u=(1.0, 0.0, 0.0), axis_v=(0.0, 1.0, 0.0), extent_u_m=(-0.1, 0.1),
+                     extent_v_m=(-0.1, 0.1), resolution=(3, 3), rpy_deg=(0.0, 90.0, 0.0))
+    with pytest.raises(GridError) as library:
+        tribokin.workspace_map(robot, library_joints(robot), plane)
+    assert isinstance(library.value, tribokin.TribokinError) and library.value.key == "rpy_deg"
+    mapping = study()
+    mapping["map"] = {"kind": "plane", "origin_m": [0.5, 0.3, 0.4], "axis_u": [1.0, 0.0, 0.0],
+                      "axis_v": [0.0, 1.0, 0.0], "extent_u_m": [-0.1, 0.1], "extent_v_m": [-0.1, 0.1],
+                      "resolution": [3, 3], "rpy_deg": [0.0, 90.0, 0.0]}
+    with pytest.raises(tribokin.InputError) as located:
+        tribokin.run_study(mapping, meshes=False)
+    assert (located.value.source, located.value.key) == ("<mapping>", "map.rpy_deg")
+    assert library.value.message.startswith("cartesian_xyz cannot hold")  # the robot's label: its model's name
+    assert located.value.message == library.value.message.replace("cartesian_xyz", str(URDF), 1)

@@ -297,8 +297,8 @@ def plan_map(spec: MapSpec, robots: tuple[Robot, ...], runners: list[PoseRunner]
 
     Raises:
         GridError: a spec that does not fit a robot; its ``robot`` is that robot's number.
-        JointRangeError: (or what a runner's ``locate`` makes of it) a deviation beyond a joint's range at a row's start;
-            its ``scenario`` is the scenario's number.
+        JointRangeError: (or what a runner's ``locate`` makes of it) a deviation beyond a joint's range at a row's
+            start; its ``scenario`` is the scenario's number.
     """
     places = tuple(next(r for r, robot in enumerate(robots) if robot is runner.robot) for runner in runners)
     grids = []
@@ -423,8 +423,8 @@ def workspace_map(robot: Robot, joints: list[JointErrorModel], map_spec: MapSpec
         every target's figures per scenario, read from its store (a temporary one without ``checkpoint``).
 
     Raises:
-        GridError: a map that does not fit a robot. SettingsError, JointRangeError: a bad setting, a joint whose
-        deviation could exceed its range.
+        GridError: a map that does not fit a robot (its ``key``: the spec's field). SettingsError, JointRangeError: a
+        bad setting, a joint whose deviation could exceed its range.
     """
     settings = TestSettings(cycles, seed, approach, engine, payload_kg)
     scenarios = tuple(scenarios) or (MapScenario(name),)

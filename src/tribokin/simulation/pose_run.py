@@ -123,9 +123,9 @@ def joint_space_task(name: str, q: np.ndarray, normal_force_N: float | None = No
 def pose_task(robot: Robot, name: str, q, directions: tuple[str, ...] | None = None,
               normal_force_N: float | None = None, friction: FrictionLaw | None = None) -> PoseTask:
     """A pose to test at configuration ``q`` (nv,) [m or rad]: approached in joint space (:func:`joint_space_task`),
-    or along each of ``directions`` (labels such as ``"+x"``, ``"-z"``: :func:`~tribokin.iso9283.cube.label_approach_signs`),
-    each then tested whatever the approach mode; ``normal_force_N`` [N] and ``friction``, when given, every joint's at
-    this pose.
+    or along each of ``directions`` (labels such as ``"+x"``, ``"-z"``:
+    :func:`~tribokin.iso9283.cube.label_approach_signs`), each then tested whatever the approach mode; ``normal_force_N``
+    [N] and ``friction``, when given, every joint's at this pose.
 
     Raises:
         ConfigurationError: ``q`` of the wrong size, not finite or outside the joint limits.
