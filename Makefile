@@ -1,4 +1,4 @@
-# The two commands of the README: `make demo` and `make test`.
+# The two commands of the README: `make demo` and `make test`; `make docs` builds the docs site into site/.
 # Both build .venv from scratch on a machine with only Python >= 3.10 and make.
 PYTHON ?= python3
 VENV   ?= .venv
@@ -6,7 +6,7 @@ PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip --disable-pip-version-check -q
 DEMO_OUT ?= demo-output
 
-.PHONY: demo test clean
+.PHONY: demo test docs clean
 
 $(VENV)/.base: pyproject.toml
 	$(PYTHON) -c 'import sys; sys.exit("tribokin needs Python >= 3.10, found " + sys.version.split()[0]) if sys.version_info < (3, 10) else None'
@@ -16,6 +16,10 @@ $(VENV)/.base: pyproject.toml
 
 $(VENV)/.test: $(VENV)/.base
 	$(PIP) install -e '.[test]'
+	touch $@
+
+$(VENV)/.docs: $(VENV)/.base
+	$(PIP) install -e '.[docs]'
 	touch $@
 
 DEMO_STUDIES := paper-fig10-frictionless paper-fig11-constant paper-fig12-gaussian paper-fig13-uniform \
@@ -48,5 +52,11 @@ demo: $(VENV)/.base
 test: $(VENV)/.test
 	$(PY) -m pytest -q -n auto
 
+# The docs site (mkdocs.yml): the study-file reference regenerated first, then built in strict mode (a broken
+# link, a docstring mkdocstrings cannot read or a page missing from the nav fails the build).
+docs: $(VENV)/.docs
+	$(PY) tools/study_reference.py
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --site-dir site
+
 clean:
-	rm -rf $(VENV) $(DEMO_OUT)
+	rm -rf $(VENV) $(DEMO_OUT) site

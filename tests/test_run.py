@@ -1,4 +1,4 @@
-"""The prismatic axis end to end: physics against closed forms (DESIGN.md §2)."""
+"""The prismatic axis end to end: physics against closed forms (docs/concepts.md, "The joint model")."""
 
 import copy
 import math

@@ -28,10 +28,11 @@ from tribokin.output.folder import atomic_folder, check_output_folder
 from tribokin.output.writers import write_rows
 from tribokin.provenance import software_versions
 from tribokin.run import run_study
-from tribokin.study.assembly import joint_models, load_robot
+from tribokin.study.assembly import check_names, joint_models, load_robot, pose_tasks, study_runner
 from tribokin.study.calibration_data import CalibrationInput, calibration_input, read_robot_measurements
-from tribokin.study.names import check_measured_pose_names, cloud_figure_file
+from tribokin.study.names import calibrated_pose_names, check_measured_pose_names, cloud_figure_file
 from tribokin.study.reading import parse_study_text, read_study_file
+from tribokin.study.spec import ISO_CUBE_POSES
 from tribokin.units import UM_PER_M
 
 PARITY_FIGURE = "parity.png"
@@ -168,16 +169,33 @@ def _in_base_frame(pose: PoseData, calibration: Calibration) -> PoseData:
                                       for s in pose.series))
 
 
+def _written_pose_names(study, measured: list[str], source) -> dict[str, str]:
+    """The name ``calibrated.toml`` gives each measured pose, checked with the study's name rules before any fit
+    (:func:`~tribokin.study.names.calibrated_pose_names`)."""
+    own = [(f"poses[{i}].name", p.name) for i, p in enumerate(study.poses)]
+    cube = [("iso_cube", name) for name in ISO_CUBE_POSES] if study.iso_cube is not None else []
+    return dict(zip(measured, calibrated_pose_names(own + cube, measured, source)))
+
+
 def _calibrated_study(study, study_path: Path, out: Path, header: list[str], values: list[WrittenValue],
-                      inputs: CalibrationInput) -> tuple[str, object]:
+                      inputs: CalibrationInput, names: dict[str, str]) -> tuple[str, object]:
     """``calibrated.toml``'s text, and the study it parses into from ``out`` (checked runnable)."""
-    taken = {p.name for p in study.poses} | ({"P1", "P2", "P3", "P4", "P5"} if study.iso_cube is not None else set())
-    poses = [(pose.label if pose.label not in taken else f"measured-{pose.label}", q.tolist(),
-              [s.direction for s in pose.series]) for pose, q in zip(inputs.poses, inputs.configurations)]
+    poses = [(names[pose.label], q.tolist(), [s.direction for s in pose.series])
+             for pose, q in zip(inputs.poses, inputs.configurations)]
     text = calibrated_study_text(study_path.read_text(encoding="utf-8"), study_path.parent, out, header, values,
                                  poses)
     calibrated = parse_study_text(text, out / "calibrated.toml", out)
     return text, calibrated
+
+
+def _check_runnable(calibrated, robot) -> None:
+    """The checks ``tribokin run`` makes of ``calibrated.toml``'s study before it samples (its joint models, names, and
+    every pose's loads within the joints' ranges), made before anything is written."""
+    runner = study_runner(calibrated, robot, joint_models(calibrated, robot))
+    tasks, _ = pose_tasks(calibrated, robot)
+    check_names(calibrated, tasks)
+    for task in tasks:
+        runner.normal_forces(task)
 
 
 def calibrate(study_path, measurements_path, out, force: bool = False, report: str = "full", seed: int = SEED,
@@ -208,6 +226,7 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     models = joint_models(study, robot)
     measurements = read_robot_measurements(measurements_path, robot)
     check_measured_pose_names([pose.name for pose in measurements.poses], measurements_path, cloud_figure_file)
+    names = _written_pose_names(study, [pose.name for pose in measurements.poses], measurements_path)
     inputs = calibration_input(study, robot, models, measurements)
     if not inputs.model.names():
         raise InputError("nothing to fit for these joints", study.source, "calibration.joints")
@@ -221,11 +240,19 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     held_out = leave_one_pose_out(inputs.model, inputs.poses, seed=seed, frame=frame)
     values = _written_values(inputs, calibration, intervals)
     header = _header(study_path, measurements_path, calibration, _noise_text(calibration, intervals))
-    text, calibrated = _calibrated_study(study, study_path, out, header, values, inputs)
     workspace_map = None
-    if calibrated.map is not None:
-        only_map = replace(calibrated, poses=(), iso_cube=None, calibration=None)
-        workspace_map = run_study(only_map, executor=executor, progress=progress, meshes=False).map
+    try:
+        text, calibrated = _calibrated_study(study, study_path, out, header, values, inputs, names)
+        _check_runnable(calibrated, robot)
+        if calibrated.map is not None:
+            only_map = replace(calibrated, poses=(), iso_cube=None, calibration=None)
+            workspace_map = run_study(only_map, executor=executor, progress=progress, meshes=False).map
+    except InputError as error:
+        if error.source != str(out / "calibrated.toml"):
+            raise
+        raise InputError(f"the fitted values make a study that `tribokin run` refuses ({error.key}: {error.message}); "
+                         "nothing is written: fix the values the measurements cannot determine, or check the data",
+                         measurements_path, "calibration") from None
 
     summary = {
         "settings": {

@@ -63,6 +63,9 @@ def seed_int(value, source, key) -> int:
     return value
 
 
+seed_int.bounds = (0, SEED_MAX, "", "seeds are 64-bit numbers")
+
+
 def _shown(value) -> str:
     """A number for a message: ``1e+308``, ``12``, or ``a number of about 400 digits`` for a whole number too long."""
     if isinstance(value, int) and value.bit_length() > 60:
@@ -72,13 +75,16 @@ def _shown(value) -> str:
 
 def within(check, low: float, high: float, unit: str, why: str):
     """``check``, then a range: the value must lie in [low, high] [unit]; ``why`` (in the error) says what lies
-    outside. Both ends may be whole numbers (a count) or floats."""
+    outside. Both ends may be whole numbers (a count) or floats. The range is kept on the check as ``bounds``
+    ``(low, high, unit, why)``, which the study-file reference (``tools/study_reference.py``) prints and a fit stays
+    within."""
     def bounded(value, source, key):
         value = check(value, source, key)
         if not low <= value <= high:
             raise InputError(f"must be between {low:g} and {high:g}{' ' + unit if unit else ''} (got "
                              f"{_shown(value)}): {why}", source, key)
         return value
+    bounded.bounds = (low, high, unit, why)
     return bounded
 
 
@@ -112,6 +118,7 @@ def one_of(*choices):
             hint = closest_hint(str(value), list(choices))
             raise InputError(f"must be one of {', '.join(choices)} (got {value!r}){hint}", source, key)
         return value
+    check.choices = choices
     return check
 
 

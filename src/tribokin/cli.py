@@ -15,6 +15,7 @@ from pathlib import Path
 from tqdm import tqdm
 
 from tribokin.errors import InputError
+from tribokin.kinematics.urdf_meshes import WITHOUT_MESHES
 
 
 class _Parser(argparse.ArgumentParser):
@@ -38,6 +39,18 @@ def _claimed(out, force: bool):
             print(f"note: moved '{out}' back from '{restored}', where a killed --force run had left it")
             check_output_folder(out, force)
         yield
+
+
+@contextmanager
+def _option_named(argument: str, instead: str):
+    """Within the block, an :class:`InputError` whose remedy is the library's ``argument`` (``meshes=False reads no
+    mesh``) gives the command's remedy ``instead`` (``--report none reads no mesh``)."""
+    try:
+        yield
+    except InputError as error:
+        if argument not in error.message:
+            raise
+        raise InputError(error.message.replace(argument, instead), error.source, error.key) from None
 
 
 #: Chunks finished after the warm-up before the progress bar shows a rate and an ETA.
@@ -148,7 +161,13 @@ def _run(args) -> None:
 
         magnification = float(np.load(out / "scene.npz")["magnification"])
         size_mb = (out / "report.html").stat().st_size / 1e6
-        print(f"report: {out / 'report.html'} ({size_mb:.1f} MB, {args.report} meshes, clouds ×{magnification:g}); "
+        robot = f"{args.report} meshes"
+        if result.robot.read_geometry is None:
+            from tribokin.viz.scene import RobotDrawn
+
+            print(f"note: {RobotDrawn('skeleton', missing=result.robot.missing_meshes).skeleton_text()}")
+            robot = "robot drawn as a skeleton"
+        print(f"report: {out / 'report.html'} ({size_mb:.1f} MB, {robot}, clouds ×{magnification:g}); "
               f"live viewer: tribokin view {out}")
 
 
@@ -166,7 +185,8 @@ def _compute_and_write(args, executor, views=None):
     check_chunk_folder(chunks, args.resume)
     resumed = chunks.exists()
     try:
-        with map_progress(warm_up=args.workers, compiling=kernels_to_compile()) as progress:
+        with map_progress(warm_up=args.workers, compiling=kernels_to_compile()) as progress, \
+                _option_named(WITHOUT_MESHES, "--report none reads no mesh"):
             result = run_study(args.study, cycles=args.cycles, seed=args.seed, executor=executor, checkpoint=chunks,
                                resume=args.resume, progress=progress, meshes=args.report != "none",
                                meanwhile=None if views is not None else import_views)
@@ -231,8 +251,11 @@ def _view(args) -> None:
     from tribokin.viz.live import live_scene, stop_signals_interrupt
 
     try:
-        with stop_signals_interrupt(), live_scene(args.folder, args.meshes) as (server, info):
-            for note in info.notes:
+        with stop_signals_interrupt(), _option_named(WITHOUT_MESHES, "repair the file; a run with --report none "
+                                                     "reads no mesh"), \
+                live_scene(args.folder, args.meshes) as (server, info):
+            notes = info.notes + ([info.robot.skeleton_text()] if info.robot.geometry == "skeleton" else [])
+            for note in notes:
                 print(f"note: {note}")
             print(f"clouds magnified ×{info.magnification:g}")
             print(f"scene at {server.web_url} (meshcat-server pid {server.process.pid}; Ctrl-C to stop)", flush=True)

@@ -92,11 +92,12 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
 
     Args:
         study: the study; relative paths in a mapping resolve against the current folder.
-        cycles, seed: override the file's values.
+        cycles: overrides the file's ``study.cycles``.
+        seed: overrides the file's ``study.seed``.
         executor: where the map's chunks, or the placement's candidates, run (``None``: here; local processes or a dask
             cluster: :func:`~tribokin.execution.executor_for`).
-        checkpoint, resume: folder where the map's finished chunks (the placement's candidates) are saved, and
-            whether to reuse them.
+        checkpoint: folder where the map's finished chunks (the placement's candidates) are saved.
+        resume: reuse the chunks (candidates) already in ``checkpoint``.
         progress: called with the map's targets done and in all (:func:`~tribokin.maps.run.run_map`; a placement:
             the targets of the candidates done, :func:`~tribokin.placement.search.run_placement`).
         meshes: load the robot's meshes, to draw it in a report (every mesh of a URDF must then be found);

@@ -86,3 +86,28 @@ def test_backlash_absent_from_the_data_is_not_reported_as_known():
     calibration = fit(arm_model(), simulate(arm_kinematics(), np.random.default_rng(0), backlash=backlash))
     named = {p.name: p for p in calibration.parameters}["joints.j2.backlash"]
     assert not named.identifiable and "fix its value" in named.hint
+
+
+def test_a_fit_is_held_within_the_model_ranges_and_says_so_at_their_ends():
+    """Truth beyond the ranges (j1's stiffness 6e4 > 3e4, backlashes 1-3e-5 > 1e-5 rad): the fit holds those at the
+    range's end, names them not identifiable there (never determined), and the rest is fitted as before."""
+    from dataclasses import replace
+
+    from tribokin.calibration.fit import RANGE_HINT
+    from tribokin.calibration.model import ParameterRanges
+
+    poses = simulate(arm_kinematics(), np.random.default_rng(1))
+    model = replace(arm_model(), stiffness=np.full(6, 2e4), backlash=np.full(6, 5e-6),
+                    ranges=ParameterRanges(stiffness=(1e3, 3e4), backlash=(0.0, 1e-5)))
+    calibration = fit(model, poses)
+    named = {p.name: p for p in calibration.parameters}
+    assert np.all(calibration.model.stiffness <= 3e4) and np.all(calibration.model.backlash <= 1e-5)
+    held = named["joints.j1.stiffness"]
+    assert held.value == pytest.approx(3e4, rel=1e-12) and calibration.model.stiffness[0] == held.value
+    assert not held.identifiable and held.hint == RANGE_HINT
+    for joint in ("j1", "j2", "j3", "j4", "j5", "j6"):
+        backlash = named[f"joints.{joint}.backlash"]
+        assert backlash.identifiable or backlash.value < 1e-5 or backlash.hint == RANGE_HINT
+    free = named["joints.j4.stiffness"]  # truth 1.2e4, inside the range: determined as without it
+    unbounded = {p.name: p for p in fit(replace(model, ranges=ParameterRanges()), poses).parameters}
+    assert free.identifiable and free.value == pytest.approx(unbounded["joints.j4.stiffness"].value, rel=0.2)

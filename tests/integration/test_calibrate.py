@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -238,3 +239,128 @@ def test_without_a_registration_the_frame_is_fitted_and_the_output_says_so(tmp_p
     for name in ("joints.shoulder_pan_joint.stiffness", "joints.shoulder_lift_joint.stiffness", "noise_floor_m"):
         assert unknown[name]["identifiable"]
         assert abs(unknown[name]["value"] - registered[name]["value"]) < 2 * registered[name]["std_error"]
+
+
+GANTRY = ROOT / "urdf" / "cartesian_xyz.urdf"
+#: The gantry's [joints] in each layout a study may give them (the same values): the calibrated study must parse,
+#: run and carry each fitted value's interval in a comment.
+JOINTS_LAYOUTS = {
+    "root-dotted-keys": ('joints.stiffness = 2.0e6   # N/m, a guess\n'
+                         'joints.friction_force_N = { law = "gaussian", mean = 20.0, std = 5.0 }\n'
+                         'joints.z.backlash = 1.0e-6\n', ""),
+    "root-inline-table": ('joints = { stiffness = 2.0e6, friction_force_N = { law = "gaussian", mean = 20.0, '
+                          'std = 5.0 }, z = { backlash = 1.0e-6 } }\n', ""),
+    "joint-tables-inline-and-dotted": ("", '[joints]\nstiffness = 2.0e6\nfriction_force_N = { law = "gaussian", '
+                                           'mean = 20.0, std = 5.0 }\nx = { stiffness = 1.5e6 }\ny.stiffness = 2.5e6'
+                                           '\n\n[joints.z]\nbacklash = 1.0e-6   # m\n'),
+    "joint-tables-out-of-order": ("", '[joints]\nstiffness = 2.0e6\nfriction_force_N = { law = "gaussian", '
+                                      'mean = 20.0, std = 5.0 }\n', '\n[joints.z]\nbacklash = 1.0e-6\n'),
+}
+#: The layouts tomlkit can edit in place (the others are written anew as tables, and the header says so).
+KEPT_LAYOUTS = ("joint-tables-out-of-order",)
+
+
+def gantry_study(folder, layout: str, calibration: str = 'fit = ["stiffness", "noise_floor"]') -> Path:
+    """The gantry with ``calibration`` (default: of its stiffness and the noise floor), its [joints] in ``layout``."""
+    root, tables, *after = JOINTS_LAYOUTS[layout]
+    path = folder / "study.toml"
+    path.write_text(f'{root}\n[study]\nname = "gantry"\ncycles = 8\n\n[robot]\nurdf = "{GANTRY}"\n'
+                    f'tool_frame = "tool"\n\n{tables}\n[calibration]\n{calibration}\n' + "".join(after),
+                    encoding="utf-8")
+    return path
+
+
+def gantry_measurements(path, backlash_m: float = 0.0, noise_m: float = 1e-6) -> None:
+    """Three poses of the gantry, each approached from + and - 8 times: every joint's lost motion from a friction
+    force of 20 ± 5 N on stiffnesses 2e6, 1e6, 3e6 N/m and half its ``backlash_m``, ``noise_m`` of instrument noise
+    (registered: commanded positions)."""
+    from tribokin.kinematics.robot import load_urdf
+
+    robot, rng = load_urdf(GANTRY, tool_frame="tool"), np.random.default_rng(35)
+    stiffness = np.array([2e6, 1e6, 3e6])
+    rows = []
+    for name, q in {"P1": [0.1, 0.2, 0.3], "P2": [0.3, 0.1, 0.2], "P3": [0.2, 0.3, 0.1]}.items():
+        commanded = robot.tool_placement(np.array(q)).translation
+        for direction, sign in (("+", 1.0), ("-", -1.0)):
+            for cycle in range(1, 9):
+                lost = rng.normal(20.0, 5.0, 3) / stiffness + backlash_m / 2
+                point = commanded + sign * lost + rng.normal(0.0, noise_m, 3)
+                rows.append({"pose": name, "cycle": cycle, "direction": direction,
+                             **{f"{a}_m": repr(float(v)) for a, v in zip("xyz", point)},
+                             **{f"c{a}_m": repr(float(v)) for a, v in zip("xyz", commanded)},
+                             **{f"q_{a}": v for a, v in zip("xyz", q)}})
+    write_rows(path, list(rows[0]), rows)
+
+
+@pytest.mark.parametrize("layout", JOINTS_LAYOUTS)
+def test_every_layout_of_joints_calibrates_and_the_calibrated_study_runs(layout, tmp_path):
+    gantry_measurements(tmp_path / "data.csv")
+    done = tribokin("calibrate", gantry_study(tmp_path, layout), "--measurements", tmp_path / "data.csv", "--out",
+                    tmp_path / "fit", "--report", "none")
+    assert done.returncode == 0, done.stderr
+    text = (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8")
+    found = parameters(tmp_path / "fit")
+    lines = {line.split(" = ")[1].split(" # ")[0]: line for line in text.splitlines() if "stiffness = " in line}
+    for joint in "xyz":
+        entry = found[f"joints.{joint}.stiffness"]
+        value = entry["value"] if entry["identifiable"] else entry["kept_value"]
+        comment = "fitted: 95 % interval [" if entry["identifiable"] else "not identifiable from the measurements"
+        assert comment in lines[repr(value)], (joint, text)  # the value's line carries its comment
+    assert found["joints.x.stiffness"]["identifiable"]
+    assert ("[joints] is written as tables below" in text) == (layout not in KEPT_LAYOUTS)
+    if layout in KEPT_LAYOUTS:
+        assert text.count("[joints.z]\nbacklash = 1.0e-6\n") == 1  # the user's own text, edited in place
+    done = tribokin("run", tmp_path / "fit" / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((tmp_path / "predicted" / "summary.json").read_text(encoding="utf-8"))
+    models = summary["study"]["joint_models"]
+    for joint in "xyz":
+        entry = found[f"joints.{joint}.stiffness"]
+        assert models[joint]["stiffness"] == (entry["value"] if entry["identifiable"] else entry["kept_value"])
+    assert models["z"]["backlash"] == 1e-6  # the study's other values kept
+    assert {law["quantity"] for law in summary["study"]["friction"].values()} == {"friction_force_N"}
+    assert [p["name"] for p in summary["poses"]] == ["P1", "P2", "P3"]
+
+
+def test_fitted_values_run_would_refuse_are_one_line_naming_the_fit_and_nothing_is_written(tmp_path, monkeypatch,
+                                                                                           capsys):
+    """Should a fit (within the ranges) still give values `run` refuses (here a stiffness of 1 N/m forced in: the
+    gantry's x axis would then lose more than its travel), calibrate says so in one line naming the measurements
+    and what run would refuse, never the calibrated.toml it did not write."""
+    from tribokin import calibration_reports
+    from tribokin.cli import main
+    from tribokin.output.calibrated_study import WrittenValue
+
+    monkeypatch.setattr(calibration_reports, "_written_values",
+                        lambda *args: [WrittenValue("x", "stiffness", 1.0, "forced by the test")])
+    gantry_measurements(tmp_path / "data.csv")
+    status = main(["calibrate", str(gantry_study(tmp_path, "joint-tables-out-of-order")), "--measurements",
+                   str(tmp_path / "data.csv"), "--out", str(tmp_path / "fit"), "--report", "none"])
+    error = capsys.readouterr().err
+    assert status == 2 and len(error.strip().splitlines()) == 1, error
+    assert error.startswith(f"tribokin: error: {tmp_path / 'data.csv'}: calibration: the fitted values make a study "
+                            "that `tribokin run` refuses (joints.x.stiffness: ")
+    assert "lost motion up to" in error and "calibrated.toml" not in error
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["data.csv", "study.toml"]
+
+
+def test_a_fit_beyond_the_study_s_range_is_held_at_its_end_said_so_and_the_calibrated_study_runs(tmp_path):
+    """Barycentres 0.12 m apart between + and -: the backlash the data ask for (0.12 m) is beyond the 0.1 m a study
+    allows (main wrote 0.12, which run refuses). The fit holds it at 0.1, names it not identifiable there (never
+    determined), says so in calibration.json, on the console and in calibrated.toml, which runs."""
+    gantry_measurements(tmp_path / "data.csv", backlash_m=0.12, noise_m=1e-3)
+    study = gantry_study(tmp_path, "joint-tables-out-of-order", 'fit = ["backlash"]\nnoise_floor_m = 1e-3')
+    study.write_text(study.read_text(encoding="utf-8").replace("stiffness = 2.0e6", "stiffness = 2.0e6\nbacklash = 0.09"),
+                     encoding="utf-8")
+    done = tribokin("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
+                    "--report", "none")
+    assert done.returncode == 0, done.stderr
+    text = (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8")
+    for joint in "xyz":
+        entry = parameters(tmp_path / "fit")[f"joints.{joint}.backlash"]
+        assert not entry["identifiable"] and entry["value"] is None and "held at the end of the range" in entry["hint"]
+        assert entry["kept_value"] == pytest.approx(0.1, rel=1e-12) and entry["kept_value"] <= 0.1
+        assert f"backlash = {entry['kept_value']!r} # the fit's value" in text
+    assert done.stdout.count("held at the end of the range a study allows") == 3
+    done = tribokin("run", tmp_path / "fit" / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
+    assert done.returncode == 0, done.stderr

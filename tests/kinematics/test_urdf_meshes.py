@@ -3,20 +3,25 @@ reads any file (through the command line, and a map study watched for any openin
 test_bad_input.py)."""
 
 import os
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import meshcat
 import pinocchio as pin
 import pytest
+from meshcat.servers.tree import find_node
 
 from tribokin.cli import main
 from tribokin.errors import InputError, RobotDescriptionError
 from tribokin.kinematics.robot import load_urdf
-from tribokin.kinematics.urdf_meshes import resolve_mesh
+from tribokin.kinematics.urdf_meshes import confine_meshes, resolve_mesh
 from tribokin.output.writers import write_results
 from tribokin.run import run_study
 from tribokin.study.assembly import load_robot_spec
 from tribokin.study.spec import RobotSpec
+from tribokin.viz.scene import build_scene
+from tribokin.viz.scene_file import load_scene_inputs
+from tribokin.viz.static import static_visualizer
 
 TETRAHEDRON_STL = """solid t
 facet normal 0 0 -1
@@ -151,23 +156,31 @@ def test_default_package_folders_are_the_urdf_folder_and_its_parent(tmp_path):
         load_urdf(meshy_urdf(tmp_path / "t", "package://pkg/../../outside/evil.stl"), "tool")
 
 
-def test_a_missing_mesh_is_an_error_unless_the_meshes_are_not_needed(tmp_path):
+def test_a_missing_mesh_leaves_the_robot_without_geometry_and_names_it(tmp_path):
+    urdf = meshy_urdf(tmp_path, "package://pkg/meshes/none.stl", "package://pkg/meshes/gone.stl")
+    robot = load_urdf(urdf, "tool", [tmp_path / "share", tmp_path / "outside"])
+    assert robot.joint_names == ["x"] and robot.visual_model is None and robot.collision_model is None
+    assert robot.missing_meshes == ("pkg/meshes/none.stl", "pkg/meshes/gone.stl")  # relative to the package folder
+    assert load_urdf(urdf, "tool", [tmp_path / "share"], meshes=False).missing_meshes == robot.missing_meshes
+    assert load_urdf(meshy_urdf(tmp_path / "found", INSIDE), "tool").missing_meshes == ()
+
+
+def test_a_missing_mesh_named_by_its_path_is_named_within_its_package_folder(tmp_path):
+    urdf = meshy_urdf(tmp_path, INSIDE, "file://{tmp}/share/pkg/meshes/gone.stl")
+    robot = load_urdf(urdf, "tool", [tmp_path / "share"])
+    assert robot.missing_meshes == ("pkg/meshes/gone.stl",) and robot.visual_model is None
+
+
+def test_a_missing_example_robot_mesh_is_an_error_naming_it(tmp_path):
+    """example-robot-data's meshes are its own files: one missing is a broken installation, not a choice."""
     urdf = meshy_urdf(tmp_path, "package://pkg/meshes/none.stl")
     with pytest.raises(RobotDescriptionError) as error:
-        load_urdf(urdf, "tool", [tmp_path / "share", tmp_path / "outside"])
-    assert error.value.argument == "package_dirs" and error.value.message.startswith(
+        confine_meshes(ET.parse(urdf).getroot(), urdf, [tmp_path / "share", tmp_path / "outside"], required=True)
+    assert error.value.argument == "package_dirs" and error.value.message == (
         f"mesh 'package://pkg/meshes/none.stl' of {urdf} is not found in the package folders ({tmp_path / 'share'}, "
         f"{tmp_path / 'outside'}): no {tmp_path / 'share/pkg/meshes/none.stl'}, "
-        f"{tmp_path / 'outside/pkg/meshes/none.stl'}")
-    robot = load_urdf(urdf, "tool", [tmp_path / "share"], meshes=False)
-    assert robot.joint_names == ["x"] and robot.visual_model is None and robot.collision_model is None
-
-
-def test_a_missing_mesh_named_by_its_path_is_named_with_that_path(tmp_path):
-    urdf = meshy_urdf(tmp_path, INSIDE, "file://{tmp}/share/pkg/meshes/gone.stl")
-    with pytest.raises(RobotDescriptionError, match=f"gone.stl' of {urdf} is not found at "
-                                                    f"{tmp_path / 'share/pkg/meshes/gone.stl'};"):
-        load_urdf(urdf, "tool", [tmp_path / "share"])
+        f"{tmp_path / 'outside/pkg/meshes/none.stl'}; correct its path in the URDF or list the folder that holds it in "
+        "robot.package_dirs")
 
 
 def test_an_unreadable_mesh_is_an_error_naming_it_unless_the_meshes_are_not_needed(tmp_path):
@@ -178,8 +191,21 @@ def test_an_unreadable_mesh_is_an_error_naming_it_unless_the_meshes_are_not_need
         load_urdf(urdf, "tool", [tmp_path / "share"])
     assert error.value.argument == "path" and error.value.message.startswith(
         f"cannot read the meshes of URDF '{urdf}': Could not load resource {broken.resolve()}")
+    assert error.value.message.endswith(" (meshes=False reads no mesh)")  # the library's argument, not an option
     assert "\n" not in error.value.message and "assimp.cpp" not in error.value.message
     assert load_urdf(urdf, "tool", [tmp_path / "share"], meshes=False).joint_names == ["x"]
+
+
+def test_the_commands_name_their_option_for_an_unreadable_mesh(tmp_path, capsys, monkeypatch):
+    urdf = meshy_urdf(tmp_path, "package://pkg/meshes/broken.stl")
+    (tmp_path / "share/pkg/meshes/broken.stl").write_text("solid x\nendsolid x\n")
+    study = _meshy_study(tmp_path, urdf)
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", str(study), "--out", "out"]) == 2
+    error = capsys.readouterr().err
+    assert error.startswith(f"tribokin: error: {study}: robot.urdf: cannot read the meshes of URDF '{urdf}': ")
+    assert error.endswith(" (--report none reads no mesh)\n") and "meshes=False" not in error
+    assert main(["run", str(study), "--out", "out", "--report", "none"]) == 0
 
 
 def test_ros_package_path_is_never_searched(tmp_path, monkeypatch):
@@ -189,10 +215,8 @@ def test_ros_package_path_is_never_searched(tmp_path, monkeypatch):
     (tmp_path / "ros" / "pkg" / "meshes" / "elsewhere.stl").write_text(TETRAHEDRON_STL)
     monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "ros"))
     urdf = meshy_urdf(tmp_path, "package://pkg/meshes/elsewhere.stl")
-    with pytest.raises(RobotDescriptionError, match="elsewhere.stl' .* is not found in the package folders") as error:
-        load_urdf(urdf, "tool", [tmp_path / "share"])
-    assert str(tmp_path / "ros") not in error.value.message
-    assert load_urdf(urdf, "tool", [tmp_path / "share"], meshes=False).visual_model is None
+    robot = load_urdf(urdf, "tool", [tmp_path / "share"])
+    assert robot.missing_meshes == ("pkg/meshes/elsewhere.stl",) and robot.visual_model is None
 
 
 def _meshy_study(tmp_path, urdf: Path) -> Path:
@@ -204,22 +228,26 @@ def _meshy_study(tmp_path, urdf: Path) -> Path:
     return study
 
 
-def test_a_misspelt_mesh_folder_stops_a_run_with_a_report_not_one_without(tmp_path, capsys, monkeypatch):
-    """Before, Pinocchio printed an untagged line, the run ended with status 0 and the report said "robot meshes:
-    full" while drawing no robot."""
+def test_a_misspelt_mesh_folder_draws_a_skeleton_and_says_so(tmp_path, capsys, monkeypatch):
+    """Before, a run with a report (--report full or light) was refused: only --report none ran, with no report
+    and no scene for `tribokin view`."""
     urdf = meshy_urdf(tmp_path, "package://pkg/mehses/inside.stl")
     study = _meshy_study(tmp_path, urdf)
     monkeypatch.chdir(tmp_path)
-    assert main(["run", str(study), "--out", "out"]) == 2
-    captured = capsys.readouterr()
-    assert captured.out == "" and captured.err == (
-        f"tribokin: error: {study}: robot.package_dirs: mesh 'package://pkg/mehses/inside.stl' of {urdf} is not found "
-        f"in the package folders ({tmp_path / 'share'}): no {tmp_path / 'share/pkg/mehses/inside.stl'}; correct its "
-        "path in the URDF or list the folder that holds it in robot.package_dirs (a run with --report none needs no "
-        "meshes)\n")
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["outside", "share", "study.toml"]  # no output, no lock
-    assert main(["run", str(study), "--out", "out", "--report", "none"]) == 0
-    assert (tmp_path / "out" / "summary.json").is_file() and not (tmp_path / "out" / "report.html").exists()
+    assert main(["run", str(study), "--out", "out", "--report", "light"]) == 0
+    said = ("robot drawn as a skeleton (links as segments, joints as cylinders on their axes): its meshes were not "
+            "found in its package folders (pkg/mehses/inside.stl)")
+    assert f"note: {said}\n" in capsys.readouterr().out
+    page = (tmp_path / "out" / "report.html").read_text()
+    assert f"<p>R{said[1:]}.</p>" in page and TETRAHEDRON_STL.splitlines()[1] not in page
+    assert (tmp_path / "out" / "scene.npz").is_file()
+    inputs = load_scene_inputs(tmp_path / "out")  # what `tribokin view` draws
+    vis = static_visualizer()
+    info = build_scene(vis, inputs.robot, inputs.q, inputs.poses, inputs.map_layers, inputs.cube,
+                       inputs.magnification)
+    assert info.robot.geometry == "skeleton" and info.robot.missing == ("pkg/mehses/inside.stl",)
+    robot = find_node(vis.window.tree, ["meshcat", "tribokin", "robot"])
+    assert sorted(robot) == ["joints", "links"] and list(robot["joints"]) == ["0"]  # no mesh: a joint and links
 
 
 @pytest.mark.parametrize("report, drawn", [

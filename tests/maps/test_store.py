@@ -4,14 +4,18 @@ import errno
 import gc
 import os
 import shutil
+import signal
+import subprocess
+import sys
 import tempfile
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from conftest import killed_after
 from tribokin import InputError
-from tribokin.maps.store import ChunkStore, discard, temporary_store
+from tribokin.maps.store import ChunkStore, discard, remove_stale_stores, temporary_store
 
 COLUMNS = {"q": ((2,), "f8"), "reachable": ((), "?")}
 
@@ -139,3 +143,56 @@ def test_a_temporary_store_lives_under_tmpdir_and_is_deleted_with_the_store(tmp_
     del store
     gc.collect()
     assert list(tmp_path.iterdir()) == []
+
+
+#: A map run (``run_study``, no checkpoint: a temporary store) that prints its store's folder once its first chunk is
+#: saved, then waits there: killed, it leaves that folder behind.
+MID_MAP = """
+import sys, time
+from tribokin.maps import store
+from tribokin.run import run_study
+saved = store.ChunkStore.save
+def save(self, *args):
+    saved(self, *args)
+    print(self.folder.parent, flush=True)
+    time.sleep(600)
+store.ChunkStore.save = save
+run_study(sys.argv[1], meshes=False)
+"""
+
+
+def test_the_next_temporary_store_removes_a_killed_run_s_and_never_a_live_one(tmp_path, monkeypatch):
+    """Two map runs stopped mid-map, one SIGKILLed: the next temporary store removes the killed run's folder, keeps
+    the live run's (locked by it, its process id inside), a folder without an owner file and a symbolic link."""
+    from conftest import GANTRY_MAP_TOML
+
+    temporary = tmp_path / "tmp"
+    (temporary / "tribokin-map-older").mkdir(parents=True)  # no owner file: an earlier tribokin's, or being made
+    (tmp_path / "elsewhere").mkdir()
+    (tmp_path / "elsewhere" / "owner.lock").write_text("1\n")
+    (temporary / "tribokin-map-link").symlink_to(tmp_path / "elsewhere")
+    study = tmp_path / "map.toml"
+    study.write_text(GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 5").replace("[25, 40]", "[3, 2]"))
+    runs = [subprocess.Popen([sys.executable, "-c", MID_MAP, str(study)], stdout=subprocess.PIPE, text=True,
+                             env={**os.environ, "TMPDIR": str(temporary)}) for _ in range(2)]
+    try:
+        killed, live = (Path(run.stdout.readline().strip()) for run in runs)
+        assert killed.parent == temporary and live.parent == temporary
+        runs[0].send_signal(signal.SIGKILL)
+        runs[0].wait()
+        assert (killed / "store" / "manifest.json").is_file()  # left behind
+        monkeypatch.setattr(tempfile, "tempdir", str(temporary))
+        store = temporary_store("key", {"q": ((2,), "f8")}, 3)
+        assert not killed.exists()
+        assert (live / "store" / "manifest.json").is_file() and (live / "owner.lock").read_text() == f"{runs[1].pid}\n"
+        assert sorted(p.name for p in temporary.iterdir()) == sorted(
+            ["tribokin-map-older", "tribokin-map-link", live.name, store.folder.parent.name])
+        assert (tmp_path / "elsewhere" / "owner.lock").is_file()
+        runs[1].send_signal(signal.SIGKILL)
+        runs[1].wait()
+        assert remove_stale_stores(temporary) == [live]  # not this process's own store
+        assert store.folder.is_dir()
+    finally:
+        for run in runs:
+            run.kill()
+            run.wait()

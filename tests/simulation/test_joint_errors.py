@@ -126,8 +126,9 @@ def test_torque_laws_of_the_same_numbers_but_different_kinds_are_drawn_each_from
 
 
 def test_a_gaussian_friction_force_gives_the_closed_form_repeatability():
-    """RP_l = (sqrt(2/pi) + 3 sqrt(1 - 2/pi)) sigma / k = 2.607 sigma / k (DESIGN.md §2); over n = 100000 cycles
-    the estimate's standard deviation is about 2.1 sigma / k / sqrt(n) = 0.26 %, so 1 % is four of them."""
+    """RP_l = (sqrt(2/pi) + 3 sqrt(1 - 2/pi)) sigma / k = 2.607 sigma / k (docs/concepts.md, "The joint model");
+    over n = 100000 cycles the estimate's standard deviation is about 2.1 sigma / k / sqrt(n) = 0.26 %, so 1 % is
+    four of them."""
     sigma = 1.5
     study = force_study({"law": "gaussian", "mean": 20.0, "std": sigma})  # truncation at 13 std: negligible
     study["study"]["cycles"] = 100_000

@@ -43,6 +43,14 @@ def test_report_has_colour_bar_tables_and_figures(written):
     assert f"×{magnification:g}" in page
 
 
+def test_the_legend_and_the_iso_table_follow_the_scene_before_the_inputs(written):
+    """Read without scrolling far: the colour bars and the ISO table come right after the 3-D view."""
+    page = (written[0] / "report.html").read_text(encoding="utf-8")
+    order = [page.index(part) for part in ('<iframe title="3-D scene"', "<h2>RP_l maps</h2>",
+                                           "<h2>ISO 9283 figures per pose</h2>", "<h2>Inputs</h2>", "<h2>Figures</h2>")]
+    assert order == sorted(order)
+
+
 def test_two_identical_runs_write_the_same_bytes_report_included(written, tmp_path):
     out, _ = written
     write_results(run_study(copy.deepcopy(UNIFORM_AXIS)), tmp_path / "again", map_layers=grid_layers(), cube=CUBE)

@@ -7,10 +7,13 @@ import pytest
 import umsgpack
 from meshcat.servers.tree import find_node
 
+from conftest import AXIS_URDF
 from tribokin.errors import InputError
+from tribokin.kinematics.robot import load_urdf
 from tribokin.run import run_study
 from tribokin.viz.colours import UNREACHABLE_RGB, ColourScale
-from tribokin.viz.scene import MapLayer, build_scene, choose_magnification
+from tribokin.viz.scene import (FIELD_OF_VIEW_DEG, FRAME_MARGIN, VIEW_ASPECT, VIEW_FROM, MapLayer, build_scene,
+                                chain_placements, choose_magnification, framing)
 from tribokin.viz.scene_file import CycleCloud
 from tribokin.viz.static import static_visualizer
 from viz_fixtures import CUBE, UNIFORM_AXIS, grid_layers
@@ -184,3 +187,68 @@ def test_scene_info_says_what_it_drew_of_the_robot_and_what_meshcat_could_not(dr
     assert (info.robot.shapes, info.robot.not_drawn) == (["box"], [first])
     assert info.notes == [f"{result.robot.label}: 1 visual geometry objects not drawn (meshcat cannot load them): "
                           f"{first}"]
+
+
+def test_framing_centres_the_box_and_fits_its_corners_tightly_in_the_view():
+    """An independent check of the camera's place: every corner of the grown box within the field of view (its
+    angle off the view's axis, up and sideways), and one of them on its edge."""
+    low, high = np.array([-0.4, 1.0, 0.0]), np.array([1.6, 2.0, 0.5])
+    points = np.vstack([low, high, (low + high) / 2])
+    centre, eye = framing(points)
+    np.testing.assert_allclose(centre, [0.6, 1.5, 0.25], rtol=0, atol=1e-15)
+    np.testing.assert_allclose((eye - centre) / np.linalg.norm(eye - centre), VIEW_FROM, rtol=0, atol=1e-15)
+    half = (high - low) / 2 + FRAME_MARGIN * np.linalg.norm(high - low)
+    corners = centre + half * np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    forward = -VIEW_FROM
+    right = np.cross(forward, [0, 0, 1]) / np.linalg.norm(np.cross(forward, [0, 0, 1]))
+    up = np.cross(right, forward)
+    seen = corners - eye
+    vertical = np.degrees(np.arctan(np.abs(seen @ up) / (seen @ forward)))
+    sideways = np.degrees(np.arctan(np.abs(seen @ right) / (seen @ forward)))
+    half_height = FIELD_OF_VIEW_DEG / 2
+    half_width = np.degrees(np.arctan(VIEW_ASPECT * np.tan(np.radians(half_height))))
+    assert vertical.max() <= half_height + 1e-9 and sideways.max() <= half_width + 1e-9
+    assert max(vertical.max() - half_height, sideways.max() - half_width) == pytest.approx(0, abs=1e-9)  # tight
+    centre_2, eye_2 = framing(2 * points)  # twice the box: twice as far
+    np.testing.assert_allclose(eye_2 - centre_2, 2 * (eye - centre), rtol=1e-12)
+
+
+def test_the_camera_looks_at_the_centre_of_the_robot_and_results(drawn):
+    """meshcat's camera looks at the origin: the drawing is moved there, the camera placed in its turned frame."""
+    vis, _, result = drawn
+    points = np.vstack([chain_placements(result.robot, result.poses[0].q)[0], result.poses[0].positions_m,
+                        *[layer.points_m for layer in grid_layers().values()], CUBE.corners_m()])
+    centre, eye = framing(points)
+    moved = unpack(node(vis, "tribokin").transform)["matrix"]
+    np.testing.assert_allclose(np.asarray(moved).reshape(4, 4).T, np.block([[np.eye(3), -centre[:, None]],
+                                                                            [np.zeros((1, 3)), 1]]), atol=1e-7)
+    camera = find_node(vis.window.tree, ["Cameras", "default", "rotated", "<object>"])
+    position = next(unpack(p)["value"] for p in camera.properties if unpack(p)["property"] == "position")
+    x, y, z = eye - centre
+    np.testing.assert_allclose(position, [x, z, -y])
+
+
+def test_a_robot_without_geometry_is_drawn_as_its_skeleton(drawn):
+    _, _, result = drawn
+    robot = load_urdf(AXIS_URDF, "tool", meshes=False)
+    q = result.poses[0].q
+    points, origins, axes = chain_placements(robot, q)  # a prismatic joint's frame moves with it
+    np.testing.assert_allclose(points, [[0, 0, 0], [q[0], 0, 0], robot.tool_placement(q).translation], atol=1e-15)
+    np.testing.assert_allclose(points[-1], [q[0] + 0.5, 0, 0], atol=1e-15)  # the segment's end
+    np.testing.assert_allclose(origins, points[1:2], atol=0)
+    np.testing.assert_allclose(axes, [[1, 0, 0]])
+    vis = static_visualizer()
+    info = build_scene(vis, robot, q, result.poses)
+    assert (info.robot.geometry, info.robot.missing, info.notes) == ("skeleton", (), [])
+    assert info.robot.skeleton_text().endswith(": it was loaded without its meshes")
+    skeleton = node(vis, "tribokin/robot")
+    assert sorted(skeleton) == ["joints", "links"] and list(skeleton["links"]) == ["0", "1"]
+    for i, length in enumerate([q[0], 0.5]):  # the slide's travel, the segment
+        link = np.asarray(unpack(skeleton["links"][str(i)].transform)["matrix"]).reshape(4, 4).T
+        np.testing.assert_allclose(link[:3, 1], [1, 0, 0], atol=1e-15)  # a cylinder's axis is its y axis
+        np.testing.assert_allclose(link[:3, 3], points[i:i + 2].mean(axis=0), atol=1e-15)
+        cylinder = unpack(skeleton["links"][str(i)].object)["object"]["geometries"][0]
+        assert cylinder["type"] == "CylinderGeometry" and cylinder["height"] == pytest.approx(length)
+    joint = np.asarray(unpack(skeleton["joints"]["0"].transform)["matrix"]).reshape(4, 4).T
+    np.testing.assert_allclose(joint[:3, :3] @ [0, 1, 0], [1, 0, 0], atol=1e-15)
+    np.testing.assert_allclose(joint[:3, 3], origins[0], atol=1e-15)

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import AXIS_STUDY_TOML, GANTRY_MAP_TOML
+from conftest import AXIS_STUDY_TOML, AXIS_URDF, GANTRY_MAP_TOML
 from tribokin.cli import main
 from tribokin.errors import InputError
 from tribokin.output.writers import write_results
@@ -44,8 +44,9 @@ def folders(tmp_path_factory) -> dict[str, Path]:
     return {kind: root / kind for kind in STUDY_TEXTS}
 
 
-def read_line_matching(stream, pattern: str) -> re.Match:
-    seen = []
+def read_line_matching(stream, pattern: str, seen: list[str] | None = None) -> re.Match:
+    """The first line of ``stream`` matching ``pattern``; the lines read are appended to ``seen``."""
+    seen = [] if seen is None else seen
     for line in stream:
         seen.append(line)
         match = re.search(pattern, line)
@@ -55,8 +56,9 @@ def read_line_matching(stream, pattern: str) -> re.Match:
 
 
 @contextlib.contextmanager
-def running_view(folder):
-    """Start `tribokin view folder`; yield the viewer process, the URL and the server pid it printed."""
+def running_view(folder, printed: list[str] | None = None):
+    """Start `tribokin view folder`; yield the viewer process, the URL and the server pid it printed (its lines up to
+    then appended to ``printed``)."""
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
     # Ctrl-C as in a terminal: a shell's background job inherits SIGINT ignored, and so would the viewer
     viewer = subprocess.Popen([sys.executable, "-u", "-m", "tribokin", "view", str(folder)], stdout=subprocess.PIPE,
@@ -64,7 +66,8 @@ def running_view(folder):
                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     server_pid = None
     try:
-        match = read_line_matching(viewer.stdout, r"scene at (http://127\.0\.0\.1:\d+/static/) \(\S+ pid (\d+)")
+        match = read_line_matching(viewer.stdout, r"scene at (http://127\.0\.0\.1:\d+/static/) \(\S+ pid (\d+)",
+                                   printed)
         server_pid = int(match.group(2))
         yield viewer, match.group(1), server_pid
     finally:
@@ -136,6 +139,24 @@ def test_view_serves_the_scene_and_stops_on_ctrl_c(tmp_path):
         viewer.send_signal(signal.SIGINT)
         assert viewer.wait(timeout=20) == 0, viewer.stderr.read()
     assert not Path(f"/proc/{server_pid}").exists()  # the server was stopped and reaped
+    assert_stopped(server_pid, url)
+
+
+def test_view_draws_the_skeleton_of_a_robot_whose_meshes_are_missing(tmp_path):
+    """Before, `tribokin run` refused such a robot unless --report none, which writes no scene: nothing to view."""
+    urdf = tmp_path / "share" / "pkg" / "axis.urdf"
+    urdf.parent.mkdir(parents=True)
+    urdf.write_text(AXIS_URDF.read_text().replace('<box size="0.70 0.12 0.05"/>',
+                                                  '<mesh filename="package://pkg/meshes/slide.stl"/>'))
+    study = copy.deepcopy(UNIFORM_AXIS)
+    study["robot"]["urdf"] = str(urdf)
+    write_results(run_study(study), tmp_path / "out", report="light")
+    printed = []
+    with running_view(tmp_path / "out", printed) as (viewer, url, server_pid):
+        viewer.send_signal(signal.SIGINT)
+        assert viewer.wait(timeout=20) == 0, viewer.stderr.read()
+    assert ("note: robot drawn as a skeleton (links as segments, joints as cylinders on their axes): its meshes were "
+            "not found in its package folders (pkg/meshes/slide.stl)\n") in printed
     assert_stopped(server_pid, url)
 
 

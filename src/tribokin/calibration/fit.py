@@ -23,7 +23,11 @@
   Intervals are Wald intervals in log space, ``exp(θ̂ ± 1.96·se)``: asymmetric in linear space;
   :func:`profile_interval` gives a parameter's profile-likelihood interval instead.
   A parameter that ends on a bound of the box is not at a maximum of the likelihood: it is named
-  not identifiable whatever its standard error.
+  not identifiable whatever its standard error. An optimum beyond the model's ranges (a study's: a backlash of
+  at most 0.1 rad, ...) is searched again with the start and the box within them (a fit within them is not
+  searched twice, and its numbers are those of a fit without ranges); a parameter held at an end of them is
+  named so (``RANGE_HINT``), so that a fit never gives a value its study would refuse, and never calls one it
+  had to hold there determined.
 - **Unknown frame** (``frame="unknown"``: the points are in a measuring frame whose rotation R
   relative to the Jacobians' world frame is unknown). R is a nuisance parameter maximised jointly
   with θ (:mod:`.frame`): the candidate rotations (:func:`~.frame.candidate_rotations`) are ranked
@@ -66,6 +70,9 @@ BACKLASH_FLOOR = 1e-2
 LOST_MOTION_HINT = ("the barycentres see only the sum of the joint's mean lost motion τ̄/k and half its backlash, "
                     "and the spreads do not determine its stiffness: fix the backlash or the stiffness, or measure "
                     "more poses")
+#: Why a parameter held at an end of its range (:class:`~.model.ParameterRanges`) is not known.
+RANGE_HINT = ("held at the end of the range a study allows: the measurements ask for a value beyond it, which a study "
+              "would refuse; check the data, their units and the model, or fix its value")
 #: Standard deviation [natural log] of the weak prior about the moment start (module docstring).
 PRIOR_LOG_STD = LOG_SPAN
 #: Backlash starting value at most this multiple of the largest τ̄/k (or the study's value, if larger): a joint
@@ -281,9 +288,16 @@ def _unknown_frame_objective(model: JointModel, data: SeriesStack, reference: Ro
     return _negative(partial(unknown_frame_log_likelihood_and_gradient, model, data=data, reference=reference))
 
 
-def _log_box(start: np.ndarray) -> np.ndarray:
-    """(p, 2) the optimiser's box in θ around ``start``."""
-    return np.stack([start - LOG_SPAN, start + LOG_SPAN], axis=1)
+def _log_box(model: JointModel, start: np.ndarray, ranged: bool) -> np.ndarray:
+    """(p, 2) the optimiser's box in θ around ``start``; if ``ranged``, within the model's ranges
+    (:meth:`JointModel.theta_range`)."""
+    box = np.stack([start - LOG_SPAN, start + LOG_SPAN], axis=1)
+    return np.clip(box, *model.theta_range().T[:, :, None]) if ranged else box
+
+
+def _start(model: JointModel, theta: np.ndarray, ranged: bool) -> np.ndarray:
+    """A start ``theta``, within the model's ranges if ``ranged``."""
+    return np.clip(theta, *model.theta_range().T) if ranged else theta
 
 
 def _optimise(objective: Objective, start: np.ndarray, bounds: np.ndarray) -> OptimizeResult:
@@ -328,11 +342,12 @@ class _Optimum:
     rotation: np.ndarray | None
 
 
-def _fit_registered(model: JointModel, data: SeriesStack) -> _Optimum:
-    """Moment start, then the nominal model's when the optimiser does not converge (module docstring)."""
+def _fit_registered(model: JointModel, data: SeriesStack, ranged: bool) -> _Optimum:
+    """Moment start, then the nominal model's when the optimiser does not converge (module docstring); within the
+    model's ranges if ``ranged``."""
     objective = _registered_objective(model, data)
-    start = starting_theta(model, data)
-    bounds = _log_box(start)
+    start = _start(model, starting_theta(model, data), ranged)
+    bounds = _log_box(model, start, ranged)
     penalised = _penalised(objective, start)
     nominal = np.clip(model.theta(), bounds[:, 0], bounds[:, 1])
     best = _optimise(penalised, start, bounds)
@@ -355,12 +370,14 @@ def _frame_starts(model: JointModel, data: SeriesStack) -> list[tuple[Rotation, 
     return [starts[i][1:] for i in order]
 
 
-def _fit_unknown_frame(model: JointModel, data: SeriesStack) -> _Optimum:
+def _fit_unknown_frame(model: JointModel, data: SeriesStack, ranged: bool) -> _Optimum:
     """θ and the frame's rotation jointly from the most likely starts (``SAME_OPTIMUM``); the optimum
-    re-centred (δ = 0) before polishing; θ's profile information (:mod:`.frame`)."""
+    re-centred (δ = 0) before polishing; θ's profile information (:mod:`.frame`); within the model's ranges if
+    ``ranged``."""
     runs = []
     for reference, theta in _frame_starts(model, data):
-        bounds = np.vstack([_log_box(theta), ROTATION_BOX])
+        theta = _start(model, theta, ranged)
+        bounds = np.vstack([_log_box(model, theta, ranged), ROTATION_BOX])
         penalised = _penalised(_unknown_frame_objective(model, data, reference), theta)
         best = _optimise(penalised, np.append(theta, np.zeros(3)), bounds)
         runs.append((best, reference, bounds, theta))
@@ -389,6 +406,8 @@ def _spread_std_errors(model: JointModel, theta: np.ndarray, data: SeriesStack) 
     n_stiffness = len(derivatives)
     if model.fit_noise_floor:
         derivatives.append(np.broadcast_to(2 * noise ** 2 * np.eye(3), covariance.shape))
+    if not derivatives:  # backlashes alone: the spreads say nothing of them
+        return np.full(len(theta), np.inf)
     inverse = np.linalg.inv(covariance)
     scaled = [inverse @ d for d in derivatives]
     dof = (data.cycles - 1).astype(float)
@@ -427,15 +446,17 @@ def _calibration(model: JointModel, data: SeriesStack, optimum: _Optimum, max_re
     theta, bounds = optimum.theta, optimum.bounds
     found = analyse(optimum.information, max_relative_std_error)
     invisible = _invisible_joints(data)
+    at_range = _on_bound(theta, model.theta_range())
     identifiable = found.identifiable & ~_on_bound(theta, bounds)
     confounded = _lost_motion_confounded(model, theta, data, identifiable, max_relative_std_error)
     identifiable &= ~confounded
-    estimates = []
+    estimates, values = [], model.value_range()
     for i, (name, unit, joints) in enumerate(zip(model.names(), model.units(), _parameter_joints(model))):
-        value, se = float(np.exp(theta[i])), float(found.std_error[i])
+        value, se = float(np.clip(np.exp(theta[i]), *values[i])), float(found.std_error[i])
         known = np.isfinite(se)
         unseen = bool(len(joints)) and bool(invisible[joints].all())
-        why = "" if identifiable[i] else LOST_MOTION_HINT if confounded[i] and not unseen else hint(name, unseen)
+        why = "" if identifiable[i] else RANGE_HINT if at_range[i] else LOST_MOTION_HINT if confounded[i] and \
+            not unseen else hint(name, unseen)
         estimates.append(ParameterEstimate(
             name=name, unit=unit, value=value, std_error=value * se if known else None,
             ci95=(value * float(np.exp(-Z95 * se)), value * float(np.exp(Z95 * se))) if known else None,
@@ -467,7 +488,11 @@ def fit(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...] | Series
         raise ValueError("nothing to fit: free at least one parameter")
     if frame not in FRAMES:
         raise ValueError(f"frame must be one of {FRAMES}, not {frame!r}")
-    optimum = _fit_registered(model, data) if frame == "registered" else _fit_unknown_frame(model, data)
+    search = _fit_registered if frame == "registered" else _fit_unknown_frame
+    optimum = search(model, data, ranged=False)
+    low, high = model.theta_range().T
+    if np.any(optimum.theta < low) or np.any(optimum.theta > high):  # fitted again, within the ranges
+        optimum = search(model, data, ranged=True)
     return _calibration(model, data, optimum, max_relative_std_error)
 
 

@@ -1,6 +1,6 @@
 """The joint model's parameters, which of them a fit frees, and what they predict at one pose.
 
-Per joint i, cycle j and approach sign s_ij (DESIGN.md §2):
+Per joint i, cycle j and approach sign s_ij (docs/concepts.md, "The joint model"):
 ``dq_ij = offset_i + s_ij·(τ_ij/k_i + b_i/2) + noise_ij``, τ_ij the friction torque (force) with
 mean τ̄_i and standard deviation σ_τ,i at the pose. To first order the tool point moves by J·dq, and
 the instrument adds isotropic noise of standard deviation σ_n, so a unidirectional series has
@@ -11,12 +11,14 @@ the instrument adds isotropic noise of standard deviation σ_n, so a unidirectio
 
 Free parameters are fitted on a log scale (they are positive): θ = log of each free stiffness (or of
 one common factor of the fitted joints' stiffnesses under ``tie = "all"``), of each free backlash,
-and of the noise floor, in that order.
+and of the noise floor, in that order. A fit holds each within the :class:`ParameterRanges` of the model (a study's
+ranges), so that what it finds is a value the study accepts.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+import math
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -50,6 +52,16 @@ def predict_series(stiffness: np.ndarray, backlash: np.ndarray, noise_floor_m: n
     return covariance, shift
 
 
+@dataclass(frozen=True)
+class ParameterRanges:
+    """The lowest and highest values a fit may give: a joint's stiffness [N·m/rad | N/m], its backlash [rad | m] and
+    the noise floor [m] (a study's ranges; unbounded by default)."""
+
+    stiffness: tuple[float, float] = (0.0, math.inf)
+    backlash: tuple[float, float] = (0.0, math.inf)
+    noise_floor_m: tuple[float, float] = (0.0, math.inf)
+
+
 @dataclass(frozen=True, eq=False)
 class JointModel:
     """Joint stiffness, backlash and instrument noise, and which of them are free.
@@ -69,6 +81,7 @@ class JointModel:
             the joints whose stiffness is free).
         prismatic: (nv,) True for a prismatic joint (units only).
         joint_noise: (nv,) known joint noise σ_q [rad | m], or None.
+        ranges: the values the free parameters may take (:meth:`value_range`).
     """
 
     joint_names: tuple[str, ...]
@@ -81,6 +94,7 @@ class JointModel:
     tie: str = "none"
     prismatic: tuple[bool, ...] | None = None
     joint_noise: np.ndarray | None = None
+    ranges: ParameterRanges = field(default_factory=ParameterRanges)
 
     def __post_init__(self) -> None:
         nv = len(self.joint_names)
@@ -123,6 +137,24 @@ class JointModel:
         noise = [np.log(self.noise_floor_m)] if self.fit_noise_floor else []
         return np.concatenate([stiff, back, noise])
 
+    def value_range(self) -> np.ndarray:
+        """(p, 2) the lowest and highest value of each free parameter, in θ's order, that :attr:`ranges` allow (a tied
+        factor's: the factor that keeps every free joint's stiffness within them)."""
+        free_k = np.array(self.fit_stiffness)
+        if self.tied:
+            low, high = self.ranges.stiffness
+            stiff = [(float(np.max(low / self.stiffness[free_k])), float(np.min(high / self.stiffness[free_k])))]
+        else:
+            stiff = [self.ranges.stiffness] * int(free_k.sum())
+        back = [self.ranges.backlash] * int(np.sum(self.fit_backlash))
+        noise = [self.ranges.noise_floor_m] if self.fit_noise_floor else []
+        return np.array(stiff + back + noise, dtype=float).reshape(-1, 2)
+
+    def theta_range(self) -> np.ndarray:
+        """(p, 2) :meth:`value_range` in θ (natural log; -inf for a range from 0)."""
+        with np.errstate(divide="ignore"):
+            return np.log(self.value_range())
+
     def unpack(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Stiffness (..., nv), backlash (..., nv) and noise floor (...) of θ of shape (p, ...)."""
         theta = np.asarray(theta, dtype=float)
@@ -159,6 +191,10 @@ class JointModel:
         return np.moveaxis(np.concatenate([stiff, d_log_backlash[..., free_b], *noise], axis=-1), -1, 0)
 
     def with_theta(self, theta: np.ndarray) -> JointModel:
-        """The model with the values of θ written in (a tied factor applied to the nominal stiffness)."""
+        """The model with the values of θ written in (a tied factor applied to the nominal stiffness), within its
+        ranges."""
         stiffness, backlash, noise = self.unpack(np.asarray(theta, dtype=float))
-        return replace(self, stiffness=stiffness, backlash=backlash, noise_floor_m=float(noise))
+        # exp(log(x)) may lie an ulp beyond a range's end x
+        return replace(self, stiffness=np.clip(stiffness, *self.ranges.stiffness),
+                       backlash=np.clip(backlash, *self.ranges.backlash),
+                       noise_floor_m=float(np.clip(noise, *self.ranges.noise_floor_m)))

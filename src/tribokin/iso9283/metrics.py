@@ -190,7 +190,9 @@ def directional_metrics(positions: np.ndarray, angles: np.ndarray, commanded_pos
     """ISO 9283 metrics of n cycles at one pose, per approach direction and across them.
 
     Args:
-        positions, angles, commanded_position: as for :func:`pose_metrics`.
+        positions: (n, 3) reached tool positions [m].
+        angles: (n, 3) orientation deviations a, b, c from the commanded orientation [rad].
+        commanded_position: (3,) [m].
         approach: (n,) index into ``labels`` of each cycle's approach direction.
         labels: name of each approach direction (``"+x"``...).
     """

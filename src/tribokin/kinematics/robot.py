@@ -39,7 +39,7 @@ import pinocchio as pin
 
 from tribokin.errors import ConfigurationError, RobotDescriptionError, closest_hint
 from tribokin.kinematics.tool_frames import ToolFrames, default_tool_frame, tool_frames
-from tribokin.kinematics.urdf_meshes import confine_meshes
+from tribokin.kinematics.urdf_meshes import WITHOUT_MESHES, confine_meshes
 from tribokin.kinematics.urdf_xacro import urdf_text
 
 #: example-robot-data names tested with tribokin (any fixed-base arm it ships should load).
@@ -101,6 +101,9 @@ class Robot:
             the reduced model; ``None``: none. :attr:`visual_model` and :attr:`collision_model` call it once each, when
             first asked for (an example-robot-data robot's meshes are read only then: its visual meshes take a
             third of a second).
+        missing_meshes: the meshes its description names that were not found, by their path in their package folder
+            (:func:`~tribokin.kinematics.urdf_meshes.confine_meshes`); the robot then has no geometry (``read_geometry``
+            is ``None``) and the views draw it as a skeleton.
         joint_is_prismatic: (nv,) True for prismatic joints (deviations in [m]), False for revolute ([rad]).
         continuous: (nv,) True for continuous joints (revolute, no limits; two values in Pinocchio's configuration).
         motion_axes: (nv, 3) unit motion axis of each joint in its own frame (linear or angular).
@@ -116,6 +119,7 @@ class Robot:
     label: str
     reference_q: np.ndarray
     read_geometry: Callable[[pin.GeometryType], pin.GeometryModel] | None = None
+    missing_meshes: tuple[str, ...] = ()
     origin: dict | None = None
 
     def __post_init__(self):
@@ -141,9 +145,10 @@ class Robot:
             self.origin = model_origin(self.model, self.tool_frame, self.label)
 
     def __reduce__(self):
-        """Pickled as its kinematics (model, tool frame, label, reference posture, origin), without its geometry: what
-        a map's workers measure with."""
-        return Robot, (self.model, self.tool_frame, self.label, self.reference_q, None, self.origin)
+        """Pickled as its kinematics (model, tool frame, label, reference posture, missing meshes, origin), without
+        its geometry: what a map's workers measure with."""
+        return Robot, (self.model, self.tool_frame, self.label, self.reference_q, None, self.missing_meshes,
+                       self.origin)
 
     @classmethod
     def from_pinocchio(cls, model: pin.Model, tool_frame: str | None = None,
@@ -359,7 +364,8 @@ def _joint_value(joint, q) -> float:
 
 def reduce_to_chain(model: pin.Model, reference_q: np.ndarray, tool_frame: str | None = None,
                     read_geometry: Callable[[pin.GeometryType], pin.GeometryModel | None] | None = None,
-                    label: str = "robot", offset: pin.SE3 | None = None, base: pin.SE3 | None = None) -> Robot:
+                    label: str = "robot", offset: pin.SE3 | None = None, base: pin.SE3 | None = None,
+                    missing_meshes: tuple[str, ...] = ()) -> Robot:
     """The robot of a whole Pinocchio model: the step every loader ends with (a URDF, example-robot-data,
     :meth:`Robot.from_pinocchio`).
 
@@ -378,6 +384,7 @@ def reduce_to_chain(model: pin.Model, reference_q: np.ndarray, tool_frame: str |
         label: the robot's name in reports and messages.
         offset, base: placements (:func:`rigid_placement`) of the tool point in ``tool_frame`` and of the base in
             the world; ``None``: none.
+        missing_meshes: the meshes its description names that were not found (:attr:`Robot.missing_meshes`).
 
     Raises:
         RobotDescriptionError: an unknown tool frame, no default one, a joint moving the tool that is not 1-DoF or
@@ -416,7 +423,8 @@ def reduce_to_chain(model: pin.Model, reference_q: np.ndarray, tool_frame: str |
             geometry = pin.buildReducedModel(full, [geometry], locked, reference_q)[1][0]
         return geometry if base is None else _placed_geometry(geometry, base)
 
-    robot = Robot(model, tool_frame, label, kept_q, None if read_geometry is None else reduced_geometry)
+    robot = Robot(model, tool_frame, label, kept_q, None if read_geometry is None else reduced_geometry,
+                  missing_meshes)
     for name, low, high in zip(robot.joint_names, robot.lower_limits, robot.upper_limits):
         if not high > low:
             raise RobotDescriptionError(f"joint '{name}' moves the tool, but its limits [{low:g}, {high:g}] leave it "
@@ -451,28 +459,31 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
             meshes may be read from (default: the URDF's folder and its parent).
         tool_offset: placement of the tool point in ``tool_frame`` (translation [m], rotation;
             :func:`rigid_placement`), which becomes the robot's tool frame; ``None``: the tool frame itself.
-        meshes: load the visual and collision meshes (to draw the robot); every mesh must then be found.
-            ``False``: kinematics only (no geometry models), a missing mesh is no error.
+        meshes: load the visual and collision meshes (to draw the robot); if one is not found, none is loaded
+            (:attr:`Robot.missing_meshes` names them: the views draw a skeleton). ``False``: kinematics only (no
+            geometry models), no mesh read.
         xacro_args: arguments of a ``.xacro`` file by name (:func:`tribokin.kinematics.urdf_xacro.expand_xacro`).
         base: the base's placement in the world (:func:`rigid_placement`); ``None``: the world is the base frame.
 
     Raises:
         RobotDescriptionError: a missing or malformed URDF (or xacro), a mesh outside ``package_dirs``
             (:func:`tribokin.kinematics.urdf_meshes.confine_meshes`, before Pinocchio reads any file), with
-            ``meshes`` a mesh not found or not readable, an unknown tool frame, a joint moving the tool that is
+            ``meshes`` a mesh that is not readable, an unknown tool frame, a joint moving the tool that is
             not 1-DoF, no default tool frame (a floating base whose longest chains are separate limbs).
     """
-    model, read_geometry, reference_q = _read_urdf(path, package_dirs, meshes, xacro_args)
-    robot = reduce_to_chain(model, reference_q, tool_frame, read_geometry, str(path), tool_offset, base)
+    model, read_geometry, reference_q, missing = _read_urdf(path, package_dirs, meshes, xacro_args)
+    robot = reduce_to_chain(model, reference_q, tool_frame, read_geometry, str(path), tool_offset, base, missing)
     robot.origin = model_origin(robot.model, robot.tool_frame, robot.label, model, "urdf")
     return robot
 
 
 def _read_urdf(path, package_dirs=(), meshes: bool = True, xacro_args: dict[str, str] | None = None
-               ) -> tuple[pin.Model, Callable[[pin.GeometryType], pin.GeometryModel] | None, np.ndarray]:
+               ) -> tuple[pin.Model, Callable[[pin.GeometryType], pin.GeometryModel] | None, np.ndarray,
+                          tuple[str, ...]]:
     """The whole model of the URDF (or xacro) at ``path`` (:func:`load_urdf`), its geometry models by kind (read now,
-    so that a mesh that cannot be read is an error before any work; ``None`` without ``meshes``) and its reference
-    posture: each 1-DoF joint at mid-range, the rest neutral."""
+    so that a mesh that cannot be read is an error before any work; ``None`` without ``meshes``, or when a mesh is
+    not found), its reference posture (each 1-DoF joint at mid-range, the rest neutral) and the meshes not found
+    (:func:`~tribokin.kinematics.urdf_meshes.confine_meshes`)."""
     path = Path(path)
     if not path.is_file():
         raise RobotDescriptionError(f"URDF file '{path}' not found", "path")
@@ -481,7 +492,7 @@ def _read_urdf(path, package_dirs=(), meshes: bool = True, xacro_args: dict[str,
         urdf = ET.fromstring(urdf_text(path, dirs, xacro_args))
     except ET.ParseError as error:
         raise RobotDescriptionError(f"cannot read URDF '{path}': {error}", "path") from None
-    confine_meshes(urdf, path, dirs, required=meshes)
+    missing = confine_meshes(urdf, path, dirs)
     text = ET.tostring(urdf, encoding="unicode")
     try:
         model = _quiet(pin.buildModelFromXML, text)
@@ -489,14 +500,14 @@ def _read_urdf(path, package_dirs=(), meshes: bool = True, xacro_args: dict[str,
         first = str(error).strip().splitlines()[0] if str(error).strip() else "unreadable"
         raise RobotDescriptionError(f"cannot read URDF '{path}': {first}", "path") from None
     geometries = None
-    if meshes:
+    if meshes and not missing:
         try:
             geometries = {kind: _quiet(pin.buildGeomFromUrdfString, model, text, kind, None, list(map(str, dirs)))
                           for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION)}
         except (RuntimeError, ValueError) as error:
-            raise RobotDescriptionError(f"cannot read the meshes of URDF '{path}': {_loader_message(error)}",
-                                        "path") from None
-    return model, None if geometries is None else geometries.__getitem__, reference_posture(model)
+            raise RobotDescriptionError(f"cannot read the meshes of URDF '{path}': {_loader_message(error)} "
+                                        f"({WITHOUT_MESHES})", "path") from None
+    return model, None if geometries is None else geometries.__getitem__, reference_posture(model), missing
 
 
 def reference_posture(model: pin.Model) -> np.ndarray:

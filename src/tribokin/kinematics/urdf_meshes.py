@@ -8,8 +8,9 @@ followed). A mesh outside every package folder is refused, whether its file
 exists or not, and so is a Collada (``.dae``) mesh whose images (textures, which
 the viewers read and embed) lie outside; the others are rewritten to their real
 paths, so Pinocchio opens exactly the files checked and searches no other folder
-(not even ``ROS_PACKAGE_PATH``). When the meshes are to be drawn (``required``), one that is not a
-file is an error naming it, the URDF and where it was looked for.
+(not even ``ROS_PACKAGE_PATH``). A mesh that is not a file inside them is returned, named by its path in its package
+folder (the loaders then read no geometry, and the views draw the robot as a skeleton), or, where every mesh must
+be found (``required``: example-robot-data's own files), an error naming it, the URDF and where it was looked for.
 """
 
 from __future__ import annotations
@@ -22,6 +23,9 @@ from tribokin.errors import RobotDescriptionError
 
 #: URI schemes Pinocchio resolves against its package folders.
 PACKAGE_SCHEMES = ("package", "model")
+#: What the error of a mesh that cannot be read says to do: load the robot without meshes (:func:`~tribokin.kinematics.
+#: robot.load_urdf`'s argument; a command names its own option instead).
+WITHOUT_MESHES = "meshes=False reads no mesh"
 
 
 def mesh_candidates(reference: str, package_dirs: list[Path]) -> list[Path] | None:
@@ -71,7 +75,7 @@ def collada_images(mesh: Path) -> list[Path]:
 
 
 def confine_meshes(urdf: ET.Element, urdf_path: Path, package_dirs: list[Path],
-                   allowed_dirs: list[Path] | None = None, required: bool = False) -> None:
+                   allowed_dirs: list[Path] | None = None, required: bool = False) -> tuple[str, ...]:
     """Point every ``<mesh filename=...>`` of ``urdf`` (in place) at the real path of its file, after
     checking that file, and the images of a Collada mesh, lie inside ``allowed_dirs`` (default:
     ``package_dirs``).
@@ -79,15 +83,19 @@ def confine_meshes(urdf: ET.Element, urdf_path: Path, package_dirs: list[Path],
     Args:
         urdf: the root element of the URDF at ``urdf_path``.
         package_dirs: the folders Pinocchio searches, in order.
-        required: every mesh must be a file (the meshes are to be drawn); else one that is missing is left to
-            Pinocchio, which reads nothing there.
+        required: every mesh must be a file; else one that is missing is returned (and left to Pinocchio, which
+            reads nothing there).
+
+    Returns:
+        the meshes that are not files, each once, in the URDF's order, by their path relative to the allowed folder
+        they were looked for in (``pkg/meshes/base.stl`` for ``package://pkg/meshes/base.stl``).
 
     Raises:
         RobotDescriptionError: naming the first mesh (or image) that resolves outside ``allowed_dirs``, else, when
             ``required``, the first mesh that is not a file, the URDF and where it was looked for.
     """
     roots = [Path(folder).resolve() for folder in (package_dirs if allowed_dirs is None else allowed_dirs)]
-    missing = []
+    missing = {}
     for element in urdf.iter("mesh"):
         reference = element.get("filename")
         mesh = None if reference is None else resolve_mesh(reference, package_dirs)
@@ -99,10 +107,12 @@ def confine_meshes(urdf: ET.Element, urdf_path: Path, package_dirs: list[Path],
                                             f"folders ({', '.join(map(str, roots))}); move it under one of them or "
                                             "list its folder in robot.package_dirs", "package_dirs")
         if not mesh.is_file():
-            missing.append(reference)
+            root = next(root for root in roots if mesh.is_relative_to(root))
+            missing.setdefault(str(mesh.relative_to(root)), reference)
         element.set("filename", str(mesh))
     if required and missing:
-        raise missing_mesh_error(missing, urdf_path, package_dirs)
+        raise missing_mesh_error(list(missing.values()), urdf_path, package_dirs)
+    return tuple(missing)
 
 
 def missing_mesh_error(missing: list[str], urdf_path: Path, package_dirs: list[Path]) -> RobotDescriptionError:
@@ -113,5 +123,10 @@ def missing_mesh_error(missing: list[str], urdf_path: Path, package_dirs: list[P
              f"({', '.join(map(str, package_dirs))}): no {', '.join(map(str, searched))}")
     others = f" (and {len(missing) - 1} other meshes)" if len(missing) > 1 else ""
     return RobotDescriptionError(f"mesh '{reference}' of {urdf_path} is not found {where}{others}; correct its path "
-                                 "in the URDF or list the folder that holds it in robot.package_dirs (a run with "
-                                 "--report none needs no meshes)", "package_dirs")
+                                 "in the URDF or list the folder that holds it in robot.package_dirs", "package_dirs")
+
+
+def missing_meshes_text(missing: tuple[str, ...]) -> str:
+    """``missing`` (:func:`confine_meshes`'s) in a few words: the first, and how many others."""
+    others = len(missing) - 1
+    return missing[0] + (f" and {others} other{'s' if others > 1 else ''}" if others else "")

@@ -7,6 +7,12 @@ this one), and records of later steps
 (``<name>.npz``, each written under a temporary name and renamed, so complete or absent). A run
 killed at any point leaves only finished work marked, which ``--resume`` keeps.
 
+A temporary store (a map's without ``--resume``: a placement's candidates, a calibration's map) lives in
+``$TMPDIR/tribokin-map-XXXX``, deleted with its store object; its run holds an ``flock`` on the folder's
+``owner.lock`` (its process id inside) while it lives, which the system releases when the run ends however it ends.
+A run killed before deleting its folder leaves it unlocked, and the next temporary store removes it
+(:func:`remove_stale_stores`); another live run's store stays locked, and is never touched.
+
 Columns are read through a memory map opened for each read and closed after it, so reading a
 large map never holds more of it in memory than the block asked for; a few scattered targets (hole filling's
 neighbours) are read with one ``pread`` each. Each column file's header is parsed once.
@@ -14,11 +20,13 @@ neighbours) are read with one ``pread`` each. Each column file's header is parse
 
 from __future__ import annotations
 
+import fcntl
 import hashlib
 import json
 import math
 import os
 import shutil
+import stat
 import tempfile
 import weakref
 from contextlib import contextmanager
@@ -31,6 +39,10 @@ from tribokin.errors import InputError
 from tribokin.folders import DISK_FULL, disk_full, remove, temporary_sibling, temporary_siblings
 from tribokin.units import gib
 
+#: Temporary stores' folders under ``$TMPDIR``: this prefix, then random characters.
+TEMPORARY_PREFIX = "tribokin-map-"
+#: The file of a temporary store's folder its run holds locked while it lives.
+OWNER_FILE = "owner.lock"
 #: Rows of a column file a scattered read maps at once.
 READ_ROWS = 1 << 16
 #: Scattered reads of at most this many targets read each with ``pread`` instead of a memory map.
@@ -257,9 +269,60 @@ class ChunkStore:
             return {key: saved[key] for key in saved.files}
 
 
+def _hold(folder: Path) -> int:
+    """A descriptor of ``folder``'s :data:`OWNER_FILE`, locked by this process (its id written in): made under another
+    name, locked, then renamed, so that a sweep never finds it unlocked while this process lives."""
+    making = folder / f".{OWNER_FILE}.new"
+    descriptor = os.open(making, os.O_RDWR | os.O_CREAT | os.O_EXCL | os.O_CLOEXEC, 0o600)
+    fcntl.flock(descriptor, fcntl.LOCK_EX)
+    os.write(descriptor, f"{os.getpid()}\n".encode())
+    os.rename(making, folder / OWNER_FILE)
+    return descriptor
+
+
+def _release(folder: Path, descriptor: int) -> None:
+    shutil.rmtree(folder, True)
+    os.close(descriptor)
+
+
+def remove_stale_stores(parent=None) -> list[Path]:
+    """Delete the temporary stores killed runs left under ``parent`` (default ``$TMPDIR``): the folders
+    ``tribokin-map-*`` of this user whose :data:`OWNER_FILE` no process holds locked. Symbolic links, other users'
+    folders and folders without that file (being made, or left by an earlier tribokin) are left alone.
+
+    Returns:
+        the folders removed.
+    """
+    removed = []
+    for folder in sorted(Path(parent or tempfile.gettempdir()).glob(f"{TEMPORARY_PREFIX}*")):
+        try:
+            info = os.lstat(folder)
+            if not stat.S_ISDIR(info.st_mode) or info.st_uid != os.getuid():
+                continue
+            descriptor = os.open(folder / OWNER_FILE, os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC)
+        except OSError:
+            continue
+        try:
+            fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:  # its run lives
+            os.close(descriptor)
+            continue
+        shutil.rmtree(folder, True)
+        os.close(descriptor)
+        removed.append(folder)
+    return removed
+
+
 def temporary_store(key: str, columns: dict[str, tuple[tuple, str]], size: int) -> ChunkStore:
-    """A :class:`ChunkStore` in a new temporary folder (under ``$TMPDIR``), deleted with the store object."""
-    folder = Path(tempfile.mkdtemp(prefix="tribokin-map-"))
-    store = ChunkStore(folder / "store", key, columns, size)
-    weakref.finalize(store, shutil.rmtree, folder, True)
+    """A :class:`ChunkStore` in a new temporary folder (under ``$TMPDIR``), held by this process and deleted with the
+    store object; the stores killed runs left there are removed first (:func:`remove_stale_stores`)."""
+    remove_stale_stores()
+    folder = Path(tempfile.mkdtemp(prefix=TEMPORARY_PREFIX))
+    descriptor = _hold(folder)
+    try:
+        store = ChunkStore(folder / "store", key, columns, size)
+    except BaseException:
+        _release(folder, descriptor)
+        raise
+    weakref.finalize(store, _release, folder, descriptor)
     return store

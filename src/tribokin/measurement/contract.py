@@ -49,6 +49,8 @@ RANGES = {
 }
 
 DEFAULT_DIRECTION = "+"
+#: Largest cycle number: a study's largest ``cycles`` (and whole numbers as floats are exact up to 2**53).
+MAX_CYCLE = 10 ** 15
 #: Largest spread of one joint's coordinate between the rows of a pose: [rad], and [m] for prismatic joints.
 Q_SPREAD_LIMIT_RAD = 0.01
 Q_SPREAD_LIMIT_M = 1e-3
@@ -219,6 +221,16 @@ class _Table:
             cells.append(cell)
         return cells
 
+    def labels(self, name: str) -> list[str]:
+        """The cells of column ``name`` (:meth:`texts`), refusing characters that are not printable (NUL, escape,
+        tab...): labels are written into tables and figures' titles, and shown on terminals."""
+        cells = self.texts(name)
+        for number, cell in zip(self.lines, cells):
+            if not cell.isprintable():
+                raise InputError(f"line {number} holds {cell[:40]!r}, with a character that is not printable (such as "
+                                 "NUL, escape or a tab); write the label in printable characters", self.path, name)
+        return cells
+
     def numbers(self, name: str, factor: float = 1.0, bounds: str | None = None) -> np.ndarray:
         """Column ``name`` as finite floats times ``factor``, within ``RANGES[bounds]`` (in SI) if given."""
         column = self.header.index(name) + 1
@@ -286,14 +298,15 @@ def read_measurements(path, prismatic: Collection[str] = (), continuous: Collect
                              " or x_mm, ...)", table.path, name)
     cycles = table.numbers("cycle")
     for number, cycle in zip(table.lines, cycles):
-        if cycle < 1 or cycle != int(cycle):
-            raise InputError(f"line {number} holds {cycle:g}; cycles are whole numbers from 1", table.path, "cycle")
+        if cycle < 1 or cycle != int(cycle) or cycle > MAX_CYCLE:
+            raise InputError(f"line {number} holds {cycle:g}; cycles are whole numbers from 1 to {MAX_CYCLE:g} (1e15 "
+                             "cycles at one a second would take 30 million years)", table.path, "cycle")
     positions, _ = table.triple("position", required=True)
     joints = tuple(name[2:] for name in table.header if name.startswith("q_"))
     rows = Rows(
         lines=table.lines,
-        poses=tuple(table.texts("pose")),
-        directions=tuple(table.texts("direction")) if "direction" in table.header
+        poses=tuple(table.labels("pose")),
+        directions=tuple(table.labels("direction")) if "direction" in table.header
         else (DEFAULT_DIRECTION,) * len(table.lines),
         cycles=cycles.astype(int),
         positions_m=positions,

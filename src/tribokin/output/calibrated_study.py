@@ -4,7 +4,10 @@ The study's own text is kept (its comments and layout, through ``tomlkit``), wit
 
 - a header of comment lines saying where the values come from;
 - each fitted value set in its joint's table (``[joints.<joint>]``, made when missing), with a comment
-  giving its interval; a value the data cannot determine is left as the study gives it, and a comment says so;
+  giving its interval; a value the data cannot determine is left as the study gives it, and a comment says so.
+  Where the study's ``[joints]`` cannot carry a comment on each value (given as root-level dotted keys
+  ``joints.stiffness = ...``, a root inline table ``joints = { ... }``, or a joint's inline table), ``[joints]`` is
+  written anew as tables (its values kept, its comments not) and the header says so;
 - ``[[poses]]`` for the measured poses (their configurations and approach directions), so that ``run`` predicts
   there too, approached as they were measured;
 - relative paths (``robot.urdf``, ``robot.package_dirs``, law files ``file``, ``log``, ``surface``,
@@ -16,11 +19,19 @@ The study's own text is kept (its comments and layout, through ``tomlkit``), wit
 from __future__ import annotations
 
 import os
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import tomlkit
 from tomlkit.items import AoT, Table
+
+from tribokin.study.spec import JOINT_KEYS
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
 
 #: Keys of friction-law tables that name files.
 LAW_FILE_KEYS = ("file", "log", "surface")
@@ -99,13 +110,18 @@ def calibrated_study_text(study_text: str, source_dir: Path, out: Path, header: 
         poses: (name, configuration, approach directions) of the poses to append as ``[[poses]]``.
     """
     document = moved_study_document(study_text, source_dir, out)
-    joints = document["joints"]
+    expected = document.unwrap()
     for value in values:
-        if value.joint not in joints:
-            joints.add(value.joint, tomlkit.table())
-        item = tomlkit.item(value.value)
-        item.comment(value.comment)
-        joints[value.joint][value.key] = item
+        expected["joints"].setdefault(value.joint, {})[value.key] = value.value
+    try:
+        _set_values(document["joints"], values)
+        rewritten = not _carried(tomlkit.dumps(document), expected, values)
+    except (AttributeError, KeyError, TypeError, ValueError):  # tomlkit cannot edit this layout in place
+        rewritten = True
+    if rewritten:
+        document = moved_study_document(study_text, source_dir, out)
+        _set_values(_joints_as_tables(document), values)
+        header = [*header, REWRITTEN]
     if poses:
         entries = document["poses"] if "poses" in document else tomlkit.aot()
         for name, q, directions in poses:
@@ -118,6 +134,55 @@ def calibrated_study_text(study_text: str, source_dir: Path, out: Path, header: 
             entries.append(entry)
         document["poses"] = entries
     return with_header(document, header)
+
+
+#: The header's line when ``[joints]`` is written anew.
+REWRITTEN = ("[joints] is written as tables below (the study gave it as dotted keys or inline tables, which cannot "
+             "carry a comment on each value): its values are the study's, its comments are not kept.")
+
+
+def _set_values(joints, values: list[WrittenValue]) -> None:
+    """Set each of ``values`` in its joint's table of ``joints``, with its comment."""
+    for value in values:
+        if value.joint not in joints:
+            joints[value.joint] = tomlkit.table()
+        item = tomlkit.item(value.value)
+        item.comment(value.comment)
+        joints[value.joint][value.key] = item
+
+
+def _carried(text: str, expected: dict, values: list[WrittenValue]) -> bool:
+    """Whether ``text`` parses into ``expected`` (a key tomlkit put in the wrong table would not) with the comment of
+    each of ``values`` written (an inline table drops it)."""
+    return tomllib.loads(text) == expected and all(f"# {v.comment}" in text for v in values)
+
+
+def _inline(value):
+    """A law table (``{ law = ... }``) as an inline table; any other value as it is."""
+    if not isinstance(value, dict):
+        return value
+    table = tomlkit.inline_table()
+    table.update(value)
+    return table
+
+
+def _joints_as_tables(document: tomlkit.TOMLDocument) -> Table:
+    """``document``'s ``[joints]`` (in whatever layout) replaced by a ``[joints]`` table of its shared keys and a
+    ``[joints.<joint>]`` table per joint (:data:`REWRITTEN`), put last; returned."""
+    plain = document["joints"].unwrap()
+    del document["joints"]
+    joints = tomlkit.table()
+    per_joint = {key: value for key, value in plain.items() if key not in JOINT_KEYS and isinstance(value, dict)}
+    for key, value in plain.items():
+        if key not in per_joint:
+            joints[key] = _inline(value)
+    for joint, entries in per_joint.items():
+        table = tomlkit.table()
+        for key, value in entries.items():
+            table[key] = _inline(value)
+        joints[joint] = table
+    document["joints"] = joints
+    return document["joints"]
 
 
 def moved_study_document(study_text: str, source_dir: Path, out: Path) -> tomlkit.TOMLDocument:

@@ -1,4 +1,4 @@
-"""Per-joint error model: the joint's lost motion in each cycle (DESIGN.md §2).
+"""Per-joint error model: the joint's lost motion in each cycle (docs/concepts.md, "The joint model").
 
 For joint i and cycle j::
 

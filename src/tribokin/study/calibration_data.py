@@ -27,7 +27,7 @@ import numpy as np
 import pinocchio as pin
 
 from tribokin.calibration.data import PoseData, SeriesData
-from tribokin.calibration.model import JointModel
+from tribokin.calibration.model import JointModel, ParameterRanges
 from tribokin.errors import InputError, located
 from tribokin.iso9283.cube import label_approach_signs
 from tribokin.kinematics.ik import solve_ik_with_restarts
@@ -38,8 +38,12 @@ from tribokin.measurement.registration import Registration, register_measurement
 from tribokin.simulation.joint_errors import JointErrorModel, friction_torque_moments
 from tribokin.streams import posture_search
 from tribokin.study.assembly import study_runner
-from tribokin.study.spec import Study
+from tribokin.study.spec import Study, backlash, instrument_noise, stiffness
 
+#: The ranges of a study's keys (joints.stiffness, joints.backlash, calibration.noise_floor_m): a fitted value
+#: ``calibrated.toml`` writes stays within them.
+STUDY_RANGES = ParameterRanges(stiffness=stiffness.bounds[:2], backlash=backlash.bounds[:2],
+                               noise_floor_m=instrument_noise.bounds[:2])
 #: Largest distance [m] between a pose's commanded position and the tool point at the configuration IK found.
 IK_TOLERANCE_M = 1e-6
 
@@ -85,8 +89,9 @@ def read_robot_measurements(path, robot: Robot) -> Measurements:
 
 
 def calibration_model(study: Study, robot: Robot, models: list[JointErrorModel]) -> JointModel:
-    """The study's stiffness, backlash and joint noise per joint, the ``[calibration]`` noise floor, and which of
-    them are free (``calibration.fit`` for ``calibration.joints``, ``calibration.tie``)."""
+    """The study's stiffness, backlash and joint noise per joint, the ``[calibration]`` noise floor, which of
+    them are free (``calibration.fit`` for ``calibration.joints``, ``calibration.tie``), and the study's ranges
+    (:data:`STUDY_RANGES`), within which the fit holds them."""
     spec = study.calibration
     names = robot.joint_names
     chosen = names if spec.joints == "all" else spec.joints
@@ -103,7 +108,7 @@ def calibration_model(study: Study, robot: Robot, models: list[JointErrorModel])
         fit_stiffness=free if "stiffness" in spec.fit else (False,) * len(names),
         fit_backlash=free if "backlash" in spec.fit else (False,) * len(names),
         fit_noise_floor="noise_floor" in spec.fit, tie=spec.tie, prismatic=tuple(robot.joint_is_prismatic),
-        joint_noise=noise if noise.any() else None)
+        joint_noise=noise if noise.any() else None, ranges=STUDY_RANGES)
 
 
 def _configuration_from_rows(robot: Robot, measurements: Measurements, pose: Pose) -> np.ndarray:

@@ -98,3 +98,28 @@ def check_measured_pose_names(names: list[str], source, file_name: Callable[[str
     for name in names:
         check_file_name_part(name, source, "pose")
     check_files_apart([(f"pose '{name}'", file_name(name)) for name in names], source)
+
+
+def calibrated_pose_names(study_poses: list[tuple[str, str]], measured: list[str], source) -> list[str]:
+    """The names ``calibrated.toml`` gives the measured poses beside the study's own (``(key, name)``: its
+    ``[[poses]]``, then its ISO cube's): each its own name, or ``measured-<name>`` where the study holds that name.
+    Refused in one line naming the measurement file's ``pose`` (before any fit) where that name breaks the study's
+    own rules (:func:`check_file_name_part`), is the study's too, or writes a study pose's file (case aside)."""
+    taken = {name for _, name in study_poses}
+    written = []
+    for name in measured:
+        new = f"measured-{name}" if name in taken else name
+        key = f"pose '{name}'"
+        if new != name:
+            if new in taken:
+                raise InputError(f"the study holds '{name}' and '{new}' already, so calibrated.toml cannot name this "
+                                 "measured pose either way; rename it in the measurement file", source, key)
+            try:
+                check_file_name_part(new, source, key)
+            except InputError as error:
+                raise InputError(f"the study holds '{name}' too, so calibrated.toml would name this measured pose "
+                                 f"{error.message}", source, key) from None
+        written.append((key, new))
+    files = [(f"the study's {key}", pose_figure_file(name)) for key, name in study_poses]
+    check_files_apart(files + [(key, pose_figure_file(new)) for key, new in written], source)
+    return [new for _, new in written]

@@ -160,6 +160,8 @@ ROBOT_KEYS = {
     "base_rpy_deg": (angles3, None),
 }
 
+#: The names of the ISO cube's poses (:func:`~tribokin.iso9283.metrics.cube_test_positions`).
+ISO_CUBE_POSES = ("P1", "P2", "P3", "P4", "P5")
 ISO_CUBE_KEYS = {
     "center_m": (position3, None),
     "side_m": (side, None),
@@ -250,15 +252,20 @@ candidate_count = within(positive_int, 1, 10 ** 4, "candidates (positions × yaw
 fraction = within(finite, 0.0, 1.0, "", "a fraction of the task's targets")
 
 
-def distinct(check):
-    """A non-empty list whose elements pass ``check`` and are all different (a candidate named twice)."""
-    def checked(value, source, key) -> list:
+def distinct(check, key=None, what: str = ""):
+    """A non-empty list whose elements pass ``check`` and are all different (a candidate named twice), compared by
+    ``key(element)`` when given (a yaw modulo 360°); ``what`` says what a repeat that is not the same value is
+    (``{other}``: the earlier one)."""
+    def checked(value, source, name) -> list:
         if not isinstance(value, list) or not value:
-            raise InputError(f"must be a non-empty list (got {value!r})", source, key)
-        values = [check(v, source, f"{key}[{i}]") for i, v in enumerate(value)]
-        twice = next((i for i, v in enumerate(values) if v in values[:i]), None)
+            raise InputError(f"must be a non-empty list (got {value!r})", source, name)
+        values = [check(v, source, f"{name}[{i}]") for i, v in enumerate(value)]
+        seen = [v if key is None else key(v) for v in values]
+        twice = next((i for i, v in enumerate(seen) if v in seen[:i]), None)
         if twice is not None:
-            raise InputError(f"{value[twice]!r} is given twice; give each once", source, f"{key}[{twice}]")
+            first = seen.index(seen[twice])
+            repeat = "given twice" if values[first] == values[twice] else what.format(other=f"{name}[{first}]")
+            raise InputError(f"{value[twice]!r} is {repeat}; give each once", source, f"{name}[{twice}]")
         return values
     return checked
 
@@ -268,7 +275,8 @@ PLACEMENT_KEYS = {
     "base_xyz_m_min": (position3, None),
     "base_xyz_m_max": (position3, None),
     "resolution": (count_list, None),
-    "yaw_deg": (distinct(angle_deg), [0.0]),
+    "yaw_deg": (distinct(angle_deg, key=lambda yaw: yaw % 360.0, what="the same yaw as {other} (modulo 360°)"),
+                [0.0]),
     "objective": (one_of(*OBJECTIVES), "p95"),
     "min_reachable": (fraction, 1.0),
 }
@@ -543,7 +551,7 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         checked = check_table(table(pose, source, f"poses[{i}]"), POSE_KEYS, source, f"poses[{i}]")
         poses.append(PoseSpec(checked["name"] or f"P{i + 1}", _frozen(checked["q"]), checked["normal_force_N"],
                               checked["friction"], _frozen(checked["directions"])))
-    names = [p.name for p in poses] + (["P1", "P2", "P3", "P4", "P5"] if iso_cube is not None else [])
+    names = [p.name for p in poses] + (list(ISO_CUBE_POSES) if iso_cube is not None else [])
     duplicate = next((n for n in names if names.count(n) > 1), None)
     if duplicate:
         raise InputError(f"pose name '{duplicate}' is used twice; names must be unique", source, "poses.name")
@@ -577,6 +585,9 @@ def check_map(mapping: dict, source) -> MapSpec:
         raise InputError(f"missing: this key is required ({', '.join(MAP_KINDS)})", source, "map.kind")
     kind = one_of(*MAP_KINDS)(mapping["kind"], source, "map.kind")
     spec = check_table(mapping, {**MAP_COMMON_KEYS, **MAP_KINDS[kind]}, source, "map")
+    if spec["directional"] and spec["statistic"] == "one-test":
+        raise InputError("a one-test map has no directional figures (vAP_p and RP_l_multi are expected figures): "
+                         "remove map.directional, or set map.statistic = \"expected\"", source, "map.directional")
     if kind == "plane":
         _check_counts(spec["resolution"], 2, "[nu, nv]", source)
         dot = sum(a * b for a, b in zip(spec["axis_u"], spec["axis_v"]))

@@ -37,7 +37,7 @@ ISO_COLUMNS = (("name", "pose"), ("direction", "direction"), ("cycles", "cycles"
 
 STYLE = """
 body { font-family: sans-serif; margin: 1.5em; color: #222; max-width: 1200px; }
-iframe { width: 100%; height: 640px; border: 1px solid #bbb; }
+iframe { width: 100%; height: 560px; border: 1px solid #bbb; }
 table { border-collapse: collapse; margin: 0.5em 0 1.5em; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
 th:first-child, td:first-child { text-align: left; }
@@ -294,7 +294,10 @@ def embedded_figures(folder: Path, names: list[str]) -> str:
 
 def robot_geometry(drawn: RobotDrawn | None, variant: str) -> str:
     """What the scene drew of the robot: how many meshes of which geometry set (and primitive shapes), the mesh
-    files listed below a toggle."""
+    files listed below a toggle; or its skeleton, and why."""
+    if drawn is not None and drawn.geometry == "skeleton":
+        text = drawn.skeleton_text()
+        return f"<p>{html.escape(text[:1].upper() + text[1:])}.</p>"
     if drawn is None or not drawn.meshes + drawn.shapes:
         geometry = "visual" if variant == "full" else "collision"
         return f"<p>Robot not drawn: no {geometry} geometry (--report {variant}).</p>"
@@ -334,10 +337,10 @@ def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: d
 {robot_geometry(info.robot, variant)}
 <iframe title="3-D scene" srcdoc="{srcdoc}"></iframe>
 {notes}
-{placement_section(result)}
-{inputs_section(result, prismatic)}
 {maps}
 {poses}
+{placement_section(result)}
+{inputs_section(result, prismatic)}
 <h2>Figures</h2>{embedded_figures(folder, figures)}
 </body></html>
 """

@@ -2,13 +2,18 @@
 
 Scene paths (each a toggle in meshcat's GUI):
 
-- ``tribokin/robot``            the robot's meshes at the chosen configuration;
+- ``tribokin/robot``            the robot's meshes at the chosen configuration, or, where its meshes were not found,
+  its skeleton: links as segments, joints as cylinders on their axes (:func:`draw_skeleton`);
 - ``tribokin/maps/<label>``     one point cloud per map layer (scenario), coloured by RP_l;
 - ``tribokin/cube``             the ISO 9283 test cube and its points P1–P5;
 - ``tribokin/poses/<pose>``     the cycle cloud, its 3-sigma covariance ellipsoid and a label.
 
 Cycle deviations are micrometres: they are drawn around their barycenter,
 magnified by a factor written on screen (``clouds ×20000``; not drawn without poses).
+
+The view opens framed on what is drawn (:func:`framing`): meshcat's camera always looks at, and turns about, the
+origin, so everything under ``tribokin`` (and meshcat's axes) is moved to put the centre of the robot's and the
+results' bounding box there, and the camera is placed to see all of it.
 """
 
 from __future__ import annotations
@@ -20,10 +25,12 @@ from dataclasses import dataclass, field
 
 import meshcat.geometry as mg
 import numpy as np
+import pinocchio as pin
 
 from tribokin.errors import InputError
 from tribokin.iso9283.metrics import barycenter, position_repeatability
 from tribokin.kinematics.robot import Robot
+from tribokin.kinematics.urdf_meshes import missing_meshes_text
 from tribokin.units import UM_PER_M
 from tribokin.viz.colours import ColourScale
 
@@ -32,6 +39,20 @@ CLOUD_SCREEN_SIZE_M = 0.03
 VARIANTS = ("full", "light")
 CLOUD_RGB = (0.85, 0.10, 0.35)
 CUBE_COLOUR = 0x1D3557
+LINK_COLOUR = 0x6C757D
+JOINT_COLOUR = 0xE07A1F
+#: a skeleton's link radius, joint radius and joint length, as fractions of the largest extent of its chain.
+SKELETON_SIZES = (0.012, 0.03, 0.09)
+#: the direction the camera looks from, in the world frame (z up): in front, to the right, above.
+VIEW_FROM = np.array([1.8, -1.2, 1.5]) / np.linalg.norm([1.8, -1.2, 1.5])
+#: the vertical field of view of meshcat's camera [deg].
+FIELD_OF_VIEW_DEG = 75.0
+#: the width of the view framed, as a multiple of its height (the report's scene is 1.8 times as wide as high).
+VIEW_ASPECT = 1.5
+#: the framed box grows by this fraction of its diagonal on every side (the robot's meshes reach past its frames).
+FRAME_MARGIN = 0.05
+#: the smallest half side [m] of the framed box (a single point, a robot folded on itself).
+FRAME_MIN_RADIUS_M = 0.1
 
 
 @dataclass
@@ -96,16 +117,25 @@ class RobotDrawn:
     """The robot's geometry :func:`draw_robot` drew.
 
     Attributes:
-        geometry: the geometry set, ``"visual"`` (variant ``"full"``) or ``"collision"`` (``"light"``).
+        geometry: the geometry set, ``"visual"`` (variant ``"full"``) or ``"collision"`` (``"light"``), or
+            ``"skeleton"`` (the robot has no geometry: :func:`draw_skeleton`).
         meshes: the mesh file of each mesh object drawn, in the model's order (a file drawn twice is named twice).
         shapes: the kind of each primitive shape drawn (``"box"``, ``"cylinder"``, ...).
         not_drawn: names of the geometry objects meshcat could not draw.
+        missing: a skeleton's: the meshes not found (:attr:`~tribokin.kinematics.robot.Robot.missing_meshes`).
     """
 
     geometry: str
     meshes: list[str] = field(default_factory=list)
     shapes: list[str] = field(default_factory=list)
     not_drawn: list[str] = field(default_factory=list)
+    missing: tuple[str, ...] = ()
+
+    def skeleton_text(self) -> str:
+        """Why and how a skeleton is drawn, in a sentence (without its full stop)."""
+        why = (f"its meshes were not found in its package folders ({missing_meshes_text(self.missing)})"
+               if self.missing else "it was loaded without its meshes")
+        return f"robot drawn as a skeleton (links as segments, joints as cylinders on their axes): {why}"
 
 
 @dataclass
@@ -177,13 +207,15 @@ def robot_geometry(robot: Robot, variant: str):
 def draw_robot(vis, robot: Robot, q, variant: str) -> tuple[list[str], RobotDrawn | None]:
     """The robot at ``q`` under ``vis["tribokin/robot"]``; returns notes (e.g. no geometry) and what it drew.
 
-    ``"full"`` draws the visual meshes, ``"light"`` the (much smaller) collision meshes (:func:`robot_geometry`).
+    ``"full"`` draws the visual meshes, ``"light"`` the (much smaller) collision meshes (:func:`robot_geometry`); a
+    robot without geometry (its meshes not found, or not loaded) is drawn as a skeleton (:func:`draw_skeleton`).
     """
     from pinocchio.visualize import MeshcatVisualizer
 
     kind, geometry = robot_geometry(robot, variant)
     if geometry is None:
-        return [f"no {kind} geometry for {robot.label}: robot not drawn"], None
+        draw_skeleton(vis["tribokin/robot"], robot, q)
+        return [], RobotDrawn("skeleton", missing=robot.missing_meshes)
     viewer = MeshcatVisualizer(robot.model, None, geometry)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")  # recorded, not shown: pinocchio warns that a custom window has no image
@@ -202,6 +234,52 @@ def draw_robot(vis, robot: Robot, q, variant: str) -> tuple[list[str], RobotDraw
     notes = [f"{robot.label}: {len(drawn.not_drawn)} {kind} geometry objects not drawn (meshcat cannot load them): "
              f"{', '.join(drawn.not_drawn)}"] if drawn.not_drawn else []
     return notes, drawn
+
+
+def chain_placements(robot: Robot, q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where ``robot``'s chain is at ``q`` [m or rad], in the world frame: (nv + 2, 3) the points its links join
+    [m] (its base: the root link's frame; each joint's origin, in chain order; the tool frame's origin), and per
+    joint (nv, 3) its origin [m] and (nv, 3) its unit motion axis."""
+    model, data = robot.model, robot.model.createData()
+    pin.framesForwardKinematics(model, data, robot.configuration(q))
+    bodies = [i for i, frame in enumerate(model.frames) if frame.parentJoint == 0 and frame.type == pin.FrameType.BODY]
+    base = data.oMf[bodies[0]].translation if bodies else np.zeros(3)
+    origins = np.array([data.oMi[j].translation for j in range(1, model.njoints)])
+    axes = np.array([data.oMi[j].rotation @ axis for j, axis in zip(range(1, model.njoints), robot.motion_axes)])
+    points = np.vstack([base, origins, data.oMf[robot.tool_frame_id].translation])
+    return points, origins, axes
+
+
+def _along(start, end) -> np.ndarray:
+    """The 4 x 4 transform that puts a meshcat cylinder (centred, along its y axis) from ``start`` to ``end``."""
+    start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
+    direction = (end - start) / np.linalg.norm(end - start)
+    helper = np.eye(3)[np.argmin(np.abs(direction))]  # the base axis least along it
+    x = np.cross(direction, helper)
+    x /= np.linalg.norm(x)
+    transform = np.eye(4)
+    transform[:3, :3] = np.column_stack([x, direction, np.cross(x, direction)])
+    transform[:3, 3] = (start + end) / 2
+    return transform
+
+
+def draw_skeleton(node, robot: Robot, q) -> None:
+    """``robot``'s kinematic chain at ``q`` under ``node``: each link a thin cylinder ``links/<i>`` between the points
+    it joins, each joint a short, wider cylinder ``joints/<i>`` on its axis (:func:`chain_placements`), sized by the
+    chain's largest extent (``SKELETON_SIZES``)."""
+    points, origins, axes = chain_placements(robot, q)
+    size = max(float(np.ptp(points, axis=0).max()), 0.1)
+    link_radius, joint_radius, joint_length = (fraction * size for fraction in SKELETON_SIZES)
+    for i, (start, end) in enumerate(zip(points[:-1], points[1:])):
+        length = float(np.linalg.norm(end - start))
+        if length > 1e-9:  # joints at one point (a wrist) have no link between them
+            link = node["links"][str(i)]
+            link.set_object(mg.Cylinder(length, link_radius), mg.MeshLambertMaterial(color=LINK_COLOUR))
+            link.set_transform(_along(start, end))
+    for i, (origin, axis) in enumerate(zip(origins, axes)):
+        node["joints"][str(i)].set_object(mg.Cylinder(joint_length, joint_radius),
+                                          mg.MeshLambertMaterial(color=JOINT_COLOUR))
+        node["joints"][str(i)].set_transform(_along(origin - axis * joint_length / 2, origin + axis * joint_length / 2))
 
 
 def draw_maps(vis, layers: dict[str, MapLayer], scales: dict[str, ColourScale]) -> None:
@@ -244,10 +322,35 @@ def draw_pose(vis, pose, magnification: float) -> None:
     draw_text(node["label"], f"{pose.name}: RP_l {rp_l_um:.2f} µm", centre + [0, 0, max(radii.max(), 0.02) + 0.04])
 
 
+def framing(points_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Where the camera looks and stands to see every one of ``points_m`` (k, 3) [m] (world frame): the centre of
+    their bounding box (grown by ``FRAME_MARGIN`` of its diagonal on every side, to at least ``FRAME_MIN_RADIUS_M``
+    from its centre), and the point in direction ``VIEW_FROM`` of it nearest to it from which each corner of that box
+    lies within the view (``FIELD_OF_VIEW_DEG`` high, ``VIEW_ASPECT`` times as wide)."""
+    low, high = points_m.min(axis=0), points_m.max(axis=0)
+    centre = (low + high) / 2
+    half = np.maximum((high - low) / 2 + FRAME_MARGIN * float(np.linalg.norm(high - low)), FRAME_MIN_RADIUS_M)
+    corners = half * np.array([[(i >> k & 1) * 2 - 1 for k in range(3)] for i in range(8)])
+    right = np.cross(VIEW_FROM, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, VIEW_FROM)
+    tangent = math.tan(math.radians(FIELD_OF_VIEW_DEG / 2))
+    towards = corners @ VIEW_FROM  # each corner's distance from the centre towards the camera
+    distance = max(np.max(towards + np.abs(corners @ up) / tangent),
+                   np.max(towards + np.abs(corners @ right) / (VIEW_ASPECT * tangent)))
+    return centre, centre + float(distance) * VIEW_FROM
+
+
 def _set_camera(vis, points_m: np.ndarray) -> None:
-    """Look at the base from a three-quarter view that frames ``points_m``, on a plain grey background."""
-    reach = max(float(np.linalg.norm(points_m, axis=1).max()) if len(points_m) else 0.0, 0.5)
-    vis["/Cameras/default/rotated/<object>"].set_property("position", [1.8 * reach, 1.5 * reach, 1.2 * reach])
+    """Frame ``points_m`` (:func:`framing`): move the drawing and meshcat's axes by minus the centre (meshcat's camera
+    looks at the origin), place the camera, on a plain grey background."""
+    centre, eye = framing(points_m)
+    moved = np.eye(4)
+    moved[:3, 3] = -centre
+    vis["tribokin"].set_transform(moved)
+    vis["/Axes"].set_transform(moved)
+    x, y, z = eye - centre  # the camera's frame is the world's turned by 90 degrees about x (y up)
+    vis["/Cameras/default/rotated/<object>"].set_property("position", [float(x), float(z), float(-y)])
     vis["/Background"].set_property("top_color", [0.98, 0.98, 0.98])
     vis["/Background"].set_property("bottom_color", [0.80, 0.80, 0.80])
     vis["/Grid"].set_property("visible", False)
@@ -255,7 +358,9 @@ def _set_camera(vis, points_m: np.ndarray) -> None:
 
 def build_scene(vis, robot: Robot, q, poses, map_layers: dict[str, MapLayer] | None = None,
                 cube: Cube | None = None, magnification: float | None = None, variant: str = "full") -> SceneInfo:
-    """Draw a study into the meshcat visualizer ``vis``.
+    """Draw a study into the meshcat visualizer ``vis``, framed: the drawing (``tribokin``) and meshcat's axes moved
+    to put the centre of the robot's chain and the results at the origin, the camera placed to see them all
+    (:func:`framing`).
 
     Args:
         vis: a ``meshcat.Visualizer`` (live, or static: :func:`tribokin.viz.static.static_visualizer`).
@@ -287,7 +392,8 @@ def build_scene(vis, robot: Robot, q, poses, map_layers: dict[str, MapLayer] | N
     tool = robot.tool_placement(q).translation
     if poses:
         draw_text(vis["tribokin/magnification"], f"clouds ×{magnification:g}", tool + [0, 0, 0.25], height_m=0.3)
-    extent = [tool[None]] + [p.positions_m for p in poses] + [layer.points_m for layer in layers.values()]
+    extent = [chain_placements(robot, q)[0]] + [p.positions_m for p in poses] + [layer.points_m for layer in
+                                                                                 layers.values()]
     if cube is not None:
         extent.append(cube.corners_m())
     _set_camera(vis, np.vstack(extent))

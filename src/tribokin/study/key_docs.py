@@ -1,0 +1,122 @@
+"""One line per study-file key: what it means, beside the schema's own check and default in :mod:`~tribokin.study.spec`.
+
+``tools/study_reference.py`` writes the docs' study-file reference (``docs/reference/study-file.md``) from the
+schema's tables (each key's default, and the range, unit and reason its check holds) and these lines;
+``tests/tools/test_study_reference.py`` fails when a key of the schema has no line here, a line names no key, or the
+committed page is not what the script writes. Keys are written as in error messages: ``section.key``,
+``poses[].key`` for a pose's.
+"""
+
+from __future__ import annotations
+
+#: Study-file key -> its meaning, one line (Markdown). Units, defaults and ranges come from the schema.
+KEY_DOCS = {
+    # [study]
+    "study.name": "name used in reports and figure titles (shown as written: `$` is no math); default: the file's "
+                  "name; at most 100 printable characters, no `/`",
+    "study.cycles": "cycles per pose and approach direction (ISO 9283 uses 30); `--cycles` overrides it",
+    "study.seed": "random seed; pose *i* draws from the stream (seed, *i*) and map target *i* from (seed, *i*, 2), so "
+                  "results do not depend on the other poses or targets; `--seed` overrides it",
+    "study.approach": "the approach directions of each pose: `unidirectional` (`+` for a `[[poses]]` pose; `+x`, "
+                      "`+y`, `+z` for a cube pose), `bidirectional` (`+` and `-`; the six axis directions) or "
+                      "`random` (`+` or `-` at random, one cloud)",
+    "study.engine": "`fast`: vectorised truncated product of exponentials, exact FK wherever its error bound "
+                    "exceeds 0.1 nm ([engines](../concepts.md#forward-kinematics-and-the-engines)); `exact`: one "
+                    "Pinocchio forward-kinematics call per cycle",
+    "study.data_dirs": "folders, relative to the study file, from which the files its friction laws name (`file`, "
+                       "`log`, `surface`) may also be read (else only the study file's folder)",
+    # [robot]
+    "robot.urdf": "URDF file, relative to the study file (give this or `robot.name`); one ending `.xacro` is "
+                  "expanded by xacro first, under the checks of the [security model](../security.md)",
+    "robot.name": "a robot of example-robot-data, e.g. `\"ur5\"` (`tribokin robots` lists them)",
+    "robot.tool_frame": "the frame whose pose is measured; default: the end of the model's longest chain of joints "
+                        "([the default tool frame](../your-robot.md#the-default-tool-frame))",
+    "robot.package_dirs": "folders that `package://` meshes and `$(find pkg)` resolve against, and the only folders "
+                          "meshes and xacro files may lie in; every mesh must be found there unless `--report none`; "
+                          "default: the URDF's folder and its parent",
+    "robot.payload_kg": "point mass at the tool frame (or tool point), for bearing loads from statics",
+    "robot.tool_offset_m": "`[x, y, z]` of a tool point fixed to `tool_frame`, in that frame's axes; when set, the "
+                           "frame `<tool_frame>_tool_point` is measured and carries the payload",
+    "robot.tool_offset_rpy_deg": "the tool point's orientation in `tool_frame` (roll, pitch, yaw; R = R_z R_y R_x); "
+                                 "it turns the measured orientation, not the position; default 0, 0, 0",
+    "robot.xacro_args": "the xacro's arguments, `{ name = \"value\" }`, each a string as `name:=value` on xacro's "
+                        "command line; only with a `.xacro` `robot.urdf`, each one it declares",
+    "robot.base_xyz_m": "where the robot's base sits in the world frame; default: the origin",
+    "robot.base_rpy_deg": "the base's orientation in the world (roll, pitch, yaw about the world's x, y, z); gravity "
+                          "stays along the world's −z; default 0, 0, 0",
+    # [joints] and [joints.<joint>]
+    "joints.friction": "law of the friction coefficient μ (a preset, a law, a law file, a tribometer log or a "
+                       "surface: [friction laws](../study-files.md#friction-laws)); lost motion μ·N·r/k",
+    "joints.friction_torque_Nm": "instead of `friction`, for revolute joints: a law of the friction torque τ itself; "
+                                 "lost motion τ/k",
+    "joints.friction_force_N": "instead of `friction`, for prismatic joints: a law of the friction force itself; lost "
+                               "motion force/k",
+    "joints.normal_force_N": "load N carried by the joint's slide or bearing; default: computed at each pose from "
+                             "statics ([bearing loads](../concepts.md#bearing-loads))",
+    "joints.stiffness": "transmission stiffness k, N/m (prismatic) or N·m/rad (revolute); required for every joint",
+    "joints.friction_radius_m": "effective friction radius r of a revolute joint (prismatic joints use r = 1)",
+    "joints.backlash": "total backlash (m or rad); each approach stops half of it short",
+    "joints.offset": "ε_t, the transmission's constant displacement (m or rad): it moves AP, not RP",
+    "joints.noise_std": "standard deviation of extra Gaussian noise per cycle (m or rad)",
+    "joints.bearing_span_m": "span L between the joint's guide pads or bearings, for the tilting-moment part of the "
+                             "load",
+    # [[poses]]
+    "poses[].name": "pose name, which names files (`field_<pose>.png`, folders of `samples.npz`); default `P1`, `P2`, "
+                    "…; at most 100 printable characters, no `/`, no leading `.`, no two differing only in case",
+    "poses[].q": "commanded configuration, one value per joint of the tool's chain (a continuous joint's angle), "
+                 "within the joint limits",
+    "poses[].normal_force_N": "bearing load of every joint at this pose (overrides `joints.normal_force_N`)",
+    "poses[].friction": "friction law of every joint at this pose (overrides `joints.friction`)",
+    "poses[].directions": "approach directions, each one unidirectional series of `cycles` cycles: `+`, `-` (every "
+                          "joint forwards or backwards), `+x`, `-y`, … or a world direction as three signed numbers "
+                          "(`+0.58+0.58+0.58`), the tool approaching along it with its orientation held; default "
+                          "from `study.approach`",
+    # [iso_cube]
+    "iso_cube.center_m": "centre of the ISO 9283 test cube, world frame (the section adds poses P1–P5); default: "
+                         "the tool position of a well-conditioned posture",
+    "iso_cube.side_m": "cube side, edges parallel to the world axes; default: the largest of 0.4, 0.3, 0.2, 0.1, "
+                       "0.05 m that fits",
+    "iso_cube.rpy_deg": "tool orientation held at P1–P5 (roll, pitch, yaw about the world's x, y, z); default: the "
+                        "tool's at the start posture",
+    # [map]
+    "map.kind": "the grid of targets: `plane`, `box` (tool positions) or `joint` (joint values)",
+    "map.start_q": "start posture of the IK (plane, box) or posture of the joints not swept (joint); default: the "
+                   "most manipulable of the reference posture and 256 seeded random postures",
+    "map.chunk_rows": "grid rows per chunk of work; default: the rows split evenly into chunks of about 131 072 "
+                      "targets, at least 4; changes how work is split and saved, never the numbers",
+    "map.statistic": "`expected`: each figure's mean over ISO tests of `cycles` cycles; `one-test`: one simulated "
+                     "test per target",
+    "map.directional": "an expected map's vAP_p and RP_l_multi too (they cost most of its time)",
+    "map.origin_m": "a point of the plane, world frame",
+    "map.axis_u": "unit vector along the plane; targets are `origin + u·axis_u + v·axis_v`",
+    "map.axis_v": "unit vector along the plane, perpendicular to `axis_u`",
+    "map.extent_u_m": "`[low, high]` of u along `axis_u` from the origin",
+    "map.extent_v_m": "`[low, high]` of v along `axis_v` from the origin",
+    "map.resolution": "targets along each axis, end points included: `[nu, nv]` (plane), `[nx, ny, nz]` (box)",
+    "map.rpy_deg": "tool orientation held at every target (not for robots that cannot hold it); default: the tool's "
+                   "at the start posture",
+    "map.min_m": "one corner of the box of targets, world frame, edges along the world axes",
+    "map.max_m": "the opposite corner of the box of targets",
+    "map.joints": "1 to 3 joint names swept by a joint-space map",
+    "map.ranges": "`[[low, high], ...]`, one per swept joint, within its limits",
+    "map.counts": "values per swept joint, end points included",
+    # [calibration]
+    "calibration.fit": "what `tribokin calibrate` fits: any of `stiffness`, `backlash`, `noise_floor`",
+    "calibration.joints": "`\"all\"` or the joints whose parameters are fitted",
+    "calibration.tie": "`none`: one stiffness per fitted joint; `all`: one common stiffness factor for them",
+    "calibration.noise_floor_m": "the instrument's noise: its value when `noise_floor` is not fitted (then required)",
+    "calibration.tool_rpy_deg": "tool orientation held by the IK of commanded positions when the measurement file "
+                                "has no `q_` columns (else position only)",
+    # [placement]
+    "placement.candidates": "base positions to try, `[[x, y, z], ...]` in the world frame, each once (give these or "
+                            "the box of the next three keys)",
+    "placement.base_xyz_m_min": "one corner of a box of base positions, world frame",
+    "placement.base_xyz_m_max": "the opposite corner of the box of base positions",
+    "placement.resolution": "positions along x, y, z of the box `[nx, ny, nz]`, end points included",
+    "placement.yaw_deg": "turns about the world's vertical tried at every position, each added to "
+                         "`robot.base_rpy_deg`'s yaw",
+    "placement.objective": "the statistic of the expected RP_l over the targets a candidate reaches that ranks it: "
+                           "`p95`, `max`, `mean`",
+    "placement.min_reachable": "share of the task's targets a candidate must reach; one reaching fewer ranks after "
+                               "every one that does",
+}
