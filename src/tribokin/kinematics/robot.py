@@ -159,11 +159,14 @@ class Robot:
 
         Args:
             model: the whole model (a fixed base; a free flyer is locked at ``reference_q``).
-            tool_frame, tool_offset, base: as for :func:`load_urdf`.
-            visual_model, collision_model: its geometry models, to draw it (``None``: not drawn).
+            tool_frame: the frame whose pose is measured (``None``: the end of the longest chain).
+            visual_model: its visual geometry model, to draw it (``None``: none).
+            collision_model: its collision geometry model (``None``: none).
             reference_q: (nq,) Pinocchio's configuration of the whole model, at which the joints off the tool's
                 chain are locked and from which the robot's reference posture is taken (``None``: each 1-DoF joint
                 at mid-range, the rest neutral, as for a URDF: :func:`reference_posture`).
+            tool_offset: the tool point's placement in ``tool_frame`` (:func:`rigid_placement`; ``None``: none).
+            base: the base's placement in the world (:func:`rigid_placement`; ``None``: the world is the base frame).
 
         Returns:
             the robot; its :attr:`origin` records the model's name, sizes, joints and a hash of its kinematics
@@ -382,8 +385,8 @@ def reduce_to_chain(model: pin.Model, reference_q: np.ndarray, tool_frame: str |
             for none of that kind), which the robot reduces and places the same way when first asked for; ``None``:
             no geometry.
         label: the robot's name in reports and messages.
-        offset, base: placements (:func:`rigid_placement`) of the tool point in ``tool_frame`` and of the base in
-            the world; ``None``: none.
+        offset: the tool point's placement in ``tool_frame`` (:func:`rigid_placement`; ``None``: none).
+        base: the base's placement in the world (:func:`rigid_placement`; ``None``: the world is the base frame).
         missing_meshes: the meshes its description names that were not found (:attr:`Robot.missing_meshes`).
 
     Raises:

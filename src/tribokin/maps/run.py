@@ -45,8 +45,8 @@ from tribokin.study.spec import Study
 
 @dataclass(frozen=True)
 class MapJob:
-    """What a chunk needs besides its rows: the map's spec, each scenario's settings, joint models and how its
-    errors are located, the map's robots and grids.
+    """What a chunk needs besides its rows: each scenario's settings, joint models and how its errors are located,
+    the map's robots and grids.
 
     ``token`` names the job, so each process builds the runners once per job. ``setups``: each scenario's
     :class:`~tribokin.maps.expected.ExpectedSetup` (``None`` for a one-test map). ``robots``: each robot the scenarios
@@ -55,7 +55,6 @@ class MapJob:
     """
 
     token: str
-    spec: MapSpec
     settings: tuple[TestSettings, ...]
     models: tuple[tuple[JointErrorModel, ...], ...]
     locators: tuple[Callable | None, ...]
@@ -362,7 +361,7 @@ def measure_map(prepared: PreparedMap, executor: Executor | None = None, checkpo
     runners = prepared.runners
     grid = prepared.grids[0]
     chunks = chunk_rows(prepared.spec, grid.row_count)
-    job = MapJob(uuid.uuid4().hex, prepared.spec, tuple(TestSettings.of(r.settings) for r in runners),
+    job = MapJob(uuid.uuid4().hex, tuple(TestSettings.of(r.settings) for r in runners),
                  tuple(tuple(r.models) for r in runners), tuple(r.locate for r in runners),
                  expected_setups(prepared.spec, runners), prepared.robots, prepared.grids, prepared.layout)
     store = open_store(prepared, job, chunks, checkpoint, resume)
@@ -413,18 +412,25 @@ def workspace_map(robot: Robot, joints: list[JointErrorModel], map_spec: MapSpec
         map_spec: the map: :class:`~tribokin.study.map_spec.PlaneMap`, ``BoxMap`` or ``JointMap``.
         scenarios: what-if variants measured instead of the robot itself (:class:`MapScenario`), the first the
             reference; ``()``: the robot alone, a scenario called ``name``.
-        cycles, seed, approach, engine, payload_kg: the tests' settings
-            (:class:`~tribokin.simulation.pose_run.TestSettings`), each scenario's unless it sets its own.
+        name: the map's one scenario's name, without ``scenarios``.
+        cycles: cycles of each test (:class:`~tribokin.simulation.pose_run.TestSettings`), each scenario's unless
+            it sets its own settings.
+        seed: the random streams' seed.
+        approach: ``"unidirectional"``, ``"bidirectional"`` or ``"random"``.
+        engine: ``"fast"`` or ``"exact"``.
+        payload_kg: the payload at the tool point [kg].
         executor: where chunks run (:func:`~tribokin.execution.executor_for`; ``None``: here).
-        checkpoint, resume: folder where finished chunks are kept, and whether to reuse them.
+        checkpoint: folder where finished chunks are kept (``None``: a temporary one).
+        resume: reuse the chunks an interrupted run saved in ``checkpoint``.
         progress: called ``progress(done_targets, total_targets)`` as chunks finish.
 
     Returns:
         every target's figures per scenario, read from its store (a temporary one without ``checkpoint``).
 
     Raises:
-        GridError: a map that does not fit a robot (its ``key``: the spec's field). SettingsError, JointRangeError: a
-        bad setting, a joint whose deviation could exceed its range.
+        GridError: a map that does not fit a robot (its ``key``: the spec's field).
+        SettingsError: a bad setting.
+        JointRangeError: a joint whose deviation could exceed its range.
     """
     settings = TestSettings(cycles, seed, approach, engine, payload_kg)
     scenarios = tuple(scenarios) or (MapScenario(name),)

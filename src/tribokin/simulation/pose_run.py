@@ -294,17 +294,23 @@ def pose_test(robot: Robot, joints: list[JointErrorModel], q, *, name: str = "po
         joints: one error model per joint (:func:`~tribokin.simulation.joint_errors.joint_models`).
         q: (nv,) the commanded configuration [m or rad].
         name: the pose's name.
-        directions, normal_force_N, friction: the pose's approach directions and its every joint's load [N] and
-            friction law, when given (:func:`pose_task`).
-        cycles, seed, approach, engine, payload_kg: the test's settings (:class:`TestSettings`).
+        directions: the pose's approach directions (``"+x"``...; ``None``: joint space; :func:`pose_task`).
+        normal_force_N: every joint's bearing load at this pose [N] (``None``: the joint models', else statics).
+        friction: every joint's friction law at this pose (``None``: the joint models').
+        cycles: cycles of each approach direction's test (:class:`TestSettings`).
+        seed: the random streams' seed.
+        approach: ``"unidirectional"``, ``"bidirectional"`` or ``"random"``.
+        engine: ``"fast"`` or ``"exact"``.
+        payload_kg: the payload at the tool point [kg].
         index: the pose's number in a study (its random streams: a study's pose ``index`` gives the same figures).
 
     Returns:
         its samples and ISO 9283 figures per approach direction (µm, mdeg in :meth:`PoseResult.report_row`).
 
     Raises:
-        ConfigurationError: a bad ``q``. SettingsError: a bad setting. JointRangeError: a joint whose deviation could
-        exceed its range.
+        ConfigurationError: a bad ``q``.
+        SettingsError: a bad setting.
+        JointRangeError: a joint whose deviation could exceed its range.
     """
     runner = PoseRunner(TestSettings(cycles, seed, approach, engine, payload_kg), robot, joints)
     return run_poses(runner, [pose_task(robot, name, q, directions, normal_force_N, friction)], index)[0]
