@@ -56,3 +56,63 @@ assert not kernels_to_compile()
                                  "assert not kernels_to_compile()"], env={**environment, compiled.VARIABLE: "numpy"},
                                 capture_output=True, text=True)
     assert numpy_path.returncode == 0, numpy_path.stderr
+
+
+#: In a fresh process: a kernel module imported and its cache's index read (as a run's start does), then its kernel
+#: called twice, its result against NumPy's; the CacheWarnings it gave printed, one per line.
+CACHE_SCRIPT = """
+import warnings
+import numpy as np
+from tribokin.compiled import CacheWarning, cache_is_empty
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    import tribokin.maps.expected_kernels as kernels
+    from tribokin.maps.expected_kernels import covariances
+    cache_is_empty([kernels])
+    jacobian, variance = np.arange(24.0).reshape(1, 6, 4), np.array([[1.0, 2.0, 3.0, 4.0]])
+    for _ in range(2):
+        found = covariances(jacobian, variance, 0)
+        expected = np.einsum("kin,kn,kjn->kij", jacobian[:, :3], variance, jacobian[:, :3])
+        assert np.allclose(found, expected, rtol=1e-14), (found, expected)
+for warning in caught:
+    assert issubclass(warning.category, CacheWarning), warning
+    print(warning.message)
+"""
+
+
+def _cache_run(tmp_path, prelude: str = "") -> list[str]:
+    environment = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"), "PYTHONPATH": str(ROOT / "src"),
+                   compiled.VARIABLE: "compiled"}
+    done = subprocess.run([sys.executable, "-c", prelude + CACHE_SCRIPT], env=environment, capture_output=True,
+                          text=True)
+    assert done.returncode == 0, done.stderr
+    return done.stdout.splitlines()
+
+
+def test_a_corrupted_cache_compiles_in_memory_and_says_so_once(tmp_path):
+    assert _cache_run(tmp_path) == []  # compiled and cached
+    indexes = list((tmp_path / "cache").rglob("*.nbi"))
+    assert indexes
+    for index in indexes:  # garbage where numba's pickled index was
+        index.write_bytes(b"\x80\x04garbage" + bytes(range(256)))
+    notes = _cache_run(tmp_path)
+    assert len(notes) == 1 and "cannot be used" in notes[0] and "cannot be read" in notes[0], notes
+
+
+def test_a_cache_no_folder_of_which_is_writable_compiles_in_memory_and_says_so_once(tmp_path):
+    """Every location numba tries (NUMBA_CACHE_DIR, __pycache__ beside the source, the user's) refused as an
+    unwritable folder refuses it (as root every folder is writable, so the refusal is simulated)."""
+    refuse = ("import numba.core.caching as caching\n"
+              "def refuse(locator):\n"
+              "    raise PermissionError(13, 'Permission denied', locator.get_cache_path())\n"
+              "caching._CacheLocator.ensure_cache_path = refuse\n")
+    notes = _cache_run(tmp_path, refuse)
+    assert len(notes) == 1 and "no folder it can write" in notes[0], notes
+    assert not (tmp_path / "cache").exists()
+
+
+def test_the_command_prints_the_cache_warning_as_one_note(capsys):
+    from tribokin.cli import _show_warning
+
+    _show_warning(compiled.CacheWarning("numba's cache cannot be used"), compiled.CacheWarning, "kernels.py", 1)
+    assert capsys.readouterr().err == "tribokin: note: numba's cache cannot be used\n"

@@ -20,15 +20,21 @@ import numpy as np
 
 from tribokin.calibration.data import PoseData
 from tribokin.calibration.cross_validation import (DRAWS, PosePrediction, PredictedFigure, leave_one_pose_out,
-                                                   predict_pose, predicted_clouds)
+                                                   predict_pose, predicted_clouds, prediction_bytes)
 from tribokin.calibration.fit import Calibration, ParameterEstimate, fit, profile_interval
+from tribokin.checks import seed_int
 from tribokin.errors import InputError
+from tribokin.execution import local_workers
+from tribokin.maps import budget
+from tribokin.maps.budget import check_parts
+from tribokin.maps.schema import MapLayout
+from tribokin.measurement.contract import file_size
 from tribokin.output.calibrated_study import WrittenValue, calibrated_study_text
 from tribokin.output.folder import atomic_folder, check_output_folder
 from tribokin.output.writers import write_rows
 from tribokin.provenance import software_versions
 from tribokin.run import run_study
-from tribokin.study.assembly import check_names, joint_models, load_robot, pose_tasks, study_runner
+from tribokin.study.assembly import check_names, joint_models, load_robot, map_robots, pose_tasks, study_runner
 from tribokin.study.calibration_data import CalibrationInput, calibration_input, read_robot_measurements
 from tribokin.study.names import calibrated_pose_names, check_measured_pose_names, cloud_figure_file
 from tribokin.study.reading import parse_study_text, read_study_file
@@ -198,6 +204,17 @@ def _check_runnable(calibrated, robot) -> None:
         runner.normal_forces(task)
 
 
+def check_memory(measurements_path, available: int | None = None) -> None:
+    """An :class:`InputError` naming the measurement file if calibrating with it needs more memory than is
+    ``available`` [bytes] (default: what the machine has), estimated from its size before it is read: its reading
+    and the predictions at a series as long as the file (a block of simulated tests,
+    :func:`~tribokin.calibration.cross_validation.prediction_bytes`); the fits hold a few numbers per series."""
+    size = file_size(measurements_path)
+    check_parts([(size.reading_bytes, f"reading its {size.lines:,} lines"),
+                 (prediction_bytes(size.lines), "the predictions' simulated tests")],
+                "calibrating with this file", "split it into several files", measurements_path, "rows", available)
+
+
 def calibrate(study_path, measurements_path, out, force: bool = False, report: str = "full", seed: int = SEED,
               executor=None, progress=None) -> dict:
     """Fit the study's joint model to the measurements and write the folder ``out`` (module docstring).
@@ -218,12 +235,18 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     from tribokin.viz.maps import save_map_figures
 
     out, study_path = Path(check_output_folder(out, force)), Path(study_path)
+    seed = seed_int(seed, "command line", "--seed")
     study = read_study_file(study_path)
     if study.calibration is None:
         raise InputError("no [calibration] section: add one naming what to fit (fit = [\"stiffness\", ...])",
                          study.source, "calibration")
     robot = load_robot(study, meshes=False)  # no robot drawn
     models = joint_models(study, robot)
+    only_map = replace(study, poses=(), iso_cube=None, calibration=None)
+    if study.map is not None:  # the calibrated study's map: its memory checked before the fit, as run checks it
+        budget.check_memory(only_map, robot.model.nv, [], local_workers(executor),
+                            layout=MapLayout.of(map_robots(only_map, robot), study.map.figure_set))
+    check_memory(measurements_path)
     measurements = read_robot_measurements(measurements_path, robot)
     check_measured_pose_names([pose.name for pose in measurements.poses], measurements_path, cloud_figure_file)
     names = _written_pose_names(study, [pose.name for pose in measurements.poses], measurements_path)

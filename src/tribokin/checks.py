@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+import sys
 
 from tribokin.errors import InputError, closest_hint
 
@@ -150,3 +151,51 @@ def distinct_strings(value, source, key, needed: str) -> list[str]:
         if name in names[:i]:
             raise InputError(f"'{name}' is named twice; name it once", source, f"{key}[{i}]")
     return names
+
+
+def toml_mapping(text: str, source) -> dict:
+    """The mapping of TOML ``text`` read from ``source``; text that is not TOML, or nests arrays and inline tables
+    deeper than the parser can follow (it recurses once per level), is an :class:`InputError` naming the line."""
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
+    try:
+        return tomllib.loads(text)
+    except ValueError as error:  # also a number of more than 4300 digits
+        raise InputError(f"not valid TOML: {error}", source) from None
+    except RecursionError:
+        raise nested_too_deep(text, source) from None
+
+
+def nested_too_deep(text: str, source) -> InputError:
+    """The error of TOML ``text`` whose arrays or inline tables nest deeper than a TOML reader follows, naming the
+    line of the deepest."""
+    depth, line = _deepest(text)
+    return InputError(f"not valid TOML here: arrays or inline tables nested {depth} deep, deeper than a TOML reader "
+                      "follows; no study value nests more than a few levels", source, f"line {line}")
+
+
+def _deepest(text: str) -> tuple[int, int]:
+    """The deepest nesting of brackets and braces in TOML ``text`` outside strings and comments, and its line."""
+    depth = deepest = 0
+    line = where = 1
+    quote = None
+    escaped = False
+    for char in text:
+        if char == "\n":
+            line, quote = line + 1, None if quote == "#" else quote
+        elif escaped:
+            escaped = False
+        elif quote is not None:
+            escaped = char == "\\" and quote == '"'
+            quote = None if char == quote else quote
+        elif char in "\"'#":
+            quote = char
+        elif char in "[{":
+            depth += 1
+            if depth > deepest:
+                deepest, where = depth, line
+        elif char in "]}":
+            depth -= 1
+    return deepest, where

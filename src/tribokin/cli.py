@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import gc
 import sys
+import warnings
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -498,9 +499,21 @@ def entry() -> int:
     return status
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None, shown=warnings.showwarning):
+    """A :class:`~tribokin.compiled.CacheWarning` as one line, ``tribokin: note: ...``; other warnings as Python
+    shows them."""
+    from tribokin.compiled import CacheWarning
+
+    if issubclass(category, CacheWarning):
+        print(f"tribokin: note: {message}", file=sys.stderr if file is None else file)
+    else:
+        shown(message, category, filename, lineno, file, line)
+
+
 def main(argv=None) -> int:
     """Entry point of the ``tribokin`` command; returns the exit status (2 for a bare ``tribokin``, which
     prints the help: a command is missing, a usage error as for argparse)."""
+    warnings.showwarning = _show_warning
     try:
         argv = sys.argv[1:] if argv is None else [str(arg) for arg in argv]
         parser = build_parser()

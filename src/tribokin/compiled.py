@@ -7,12 +7,18 @@ tests follow it. The two paths' kernels agree to rounding (about 1e-12 relative)
 solve may end elsewhere within its tolerance, or where rounding decides (an IK crossing a singular configuration or
 running into a joint limit) on another solution: ``summary.json`` records which path a run took
 (:func:`kernels_used`).
+
+Kernels are declared with :func:`kernel` (``numba.njit(nogil=True)``) and kept in numba's cache (``NUMBA_CACHE_DIR``,
+else ``__pycache__`` beside the source, else the user's cache folder). A cache that cannot be used (no location
+writable, or an index or data file that cannot be read back: a corrupted or truncated file) does not stop a run:
+the kernels are compiled in memory for the process, and it warns once (:class:`CacheWarning`).
 """
 
 from __future__ import annotations
 
 import importlib.util
 import os
+import warnings
 from functools import lru_cache
 
 from tribokin.errors import InputError
@@ -20,6 +26,57 @@ from tribokin.errors import InputError
 #: The environment variable that chooses the path, and its values.
 VARIABLE = "TRIBOKIN_KERNELS"
 COMPILED, NUMPY = "compiled", "numpy"
+
+
+class CacheWarning(UserWarning):
+    """numba's cache of tribokin's kernels cannot be used: they are compiled in memory (module docstring)."""
+
+
+#: The reason numba's cache could not be used, once warned of (a process, and the workers it forks, warn once).
+_WARNED: list[str] = []
+
+
+def _warn_once(reason: str) -> None:
+    if not _WARNED:
+        _WARNED.append(reason)
+        warnings.warn(f"numba's cache of tribokin's kernels cannot be used ({reason}): they are compiled in memory "
+                      "for this run, which takes longer (set NUMBA_CACHE_DIR to a writable folder, or delete the "
+                      "cache's files)", CacheWarning, stacklevel=3)
+
+
+@lru_cache(maxsize=1)
+def _cache_class():
+    """numba's ``FunctionCache``, with a file that cannot be read or written taken as a miss (module docstring)."""
+    from numba.core.caching import FunctionCache
+
+    class Cache(FunctionCache):
+        def load_overload(self, sig, target_context):
+            try:
+                return super().load_overload(sig, target_context)
+            except Exception as error:  # noqa: BLE001 - whatever unpickling a damaged file raises
+                _warn_once(f"{self.cache_path} holds a file that cannot be read: {type(error).__name__}")
+                return None
+
+        def save_overload(self, sig, data):
+            try:
+                super().save_overload(sig, data)
+            except Exception as error:  # noqa: BLE001 - a damaged index read back, a full or read-only disk
+                _warn_once(f"{self.cache_path} cannot be written: {type(error).__name__}")
+
+    return Cache
+
+
+def kernel(function):
+    """``function`` compiled by numba (``njit(nogil=True)``) on first call, kept in numba's cache when it can be
+    (module docstring)."""
+    from numba import njit
+
+    dispatcher = njit(nogil=True)(function)
+    try:
+        dispatcher._cache = _cache_class()(function)  # what njit(cache=True) sets, through this cache
+    except RuntimeError as error:  # numba: no locator available, no cache folder writable
+        _warn_once(f"no folder it can write: {error}")
+    return dispatcher
 
 
 @lru_cache(maxsize=1)
@@ -61,4 +118,13 @@ def cache_is_empty(modules) -> bool:
 
     caches = [cache for module in modules for value in vars(module).values()
               if isinstance(cache := getattr(value, "_cache", None), FunctionCache)]  # a dispatcher's, cache=True
-    return bool(caches) and not any(cache._cache_file._load_index() for cache in caches)  # {} when none is fresh
+    return bool(caches) and not any(_holds(cache) for cache in caches)
+
+
+def _holds(cache) -> bool:
+    """Whether a numba cache's index holds code fresh for its function's source (not when it cannot be read)."""
+    try:
+        return bool(cache._cache_file._load_index())  # {} when none is fresh
+    except Exception as error:  # noqa: BLE001 - whatever unpickling a damaged file raises
+        _warn_once(f"{cache.cache_path} holds a file that cannot be read: {type(error).__name__}")
+        return False

@@ -14,11 +14,12 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
-from tribokin.checks import positive
-from tribokin.measurement.contract import Measurements, read_measurements, read_stream
+from tribokin.checks import positive, seed_int
+from tribokin.maps.budget import check_parts
+from tribokin.measurement.contract import Measurements, file_size, read_measurements, read_stream
 from tribokin.measurement.drift import pose_drift
-from tribokin.measurement.figures import BOOTSTRAP_RESAMPLES, BOOTSTRAP_SEED, PoseFigures, measurement_figures, \
-    pose_clouds
+from tribokin.measurement.figures import BOOTSTRAP_RESAMPLES, BOOTSTRAP_SEED, PoseFigures, bootstrap_bytes, \
+    measurement_figures, pose_clouds
 from tribokin.measurement.noise import Flag, NoiseFloor, flag_figures, noise_floor
 from tribokin.measurement.registration import UNAVAILABLE, Registration, register_measurements
 from tribokin.measurement.segmentation import (DWELL_MIN_DURATION_S, DWELL_RADIUS_M, MATCH_RADIUS_M, Dwell,
@@ -30,6 +31,9 @@ from tribokin.study.names import check_measured_pose_names, pose_figure_file
 from tribokin.units import UM_PER_M
 
 DRIFT_FIGURE = "drift.png"
+#: Bytes per row of a measurement file while its figures are drawn (the field's points, the drift plot's), measured
+#: (``tracemalloc``) and rounded up about twofold.
+DRAWN_BYTES_PER_ROW = 200
 #: Report-row keys that belong to the pose (across its directions), not to one direction.
 POSE_KEYS = ("vAP_p_um", "RP_l_all_directions_um", "commanded_spread_um", "commanded_corrected", "registered")
 
@@ -141,6 +145,19 @@ def read_input(path, segmenting: Segmenting | None) -> tuple[Measurements, dict 
                           "unmatched": [_dwell_summary(d) for d in dwells if d.pose is None]}
 
 
+def check_memory(path, noise_path=None, available: int | None = None) -> None:
+    """An :class:`InputError` naming the file if measuring it needs more memory than is ``available`` [bytes]
+    (default: what the machine has), estimated from its size before it is read: its reading, the bootstrap of a
+    series as long as the file (a block of resamples, :func:`~tribokin.measurement.figures.bootstrap_bytes`) and
+    the figures drawn."""
+    size = file_size(path)
+    floor = 0 if noise_path is None else file_size(noise_path).reading_bytes
+    check_parts([(size.reading_bytes + floor, f"reading its {size.lines:,} lines"),
+                 (bootstrap_bytes(size.lines), "the bootstrap intervals of RP_l"),
+                 (DRAWN_BYTES_PER_ROW * size.lines, "its figures")],
+                "measuring this file", "split it into several files", path, "rows", available)
+
+
 def measure(path, out, force: bool = False, seed: int = BOOTSTRAP_SEED, segmenting: Segmenting | None = None,
             noise_path=None, report: str = "full") -> dict:
     """ISO 9283 figures of a measurement file written to the folder ``out`` (module docstring).
@@ -159,7 +176,9 @@ def measure(path, out, force: bool = False, seed: int = BOOTSTRAP_SEED, segmenti
     from tribokin.viz.measured import save_drift, save_measured_field, write_measurement_report
 
     check_output_folder(out, force)
+    seed = seed_int(seed, "command line", "--seed")
     segmenting = None if segmenting is None else segmenting.checked()
+    check_memory(path, noise_path)
     measurements, segmentation = read_input(path, segmenting)
     floor = None if noise_path is None else noise_floor(read_stream(noise_path, require_time=False))
     check_measured_pose_names([pose.name for pose in measurements.poses], path, pose_figure_file)

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from calibration_fixtures import arm_kinematics, arm_model, simulate
 
+from tribokin.calibration import cross_validation
 from tribokin.calibration.cross_validation import leave_one_pose_out, position_repeatability, predict_pose
 from tribokin.calibration.data import PoseData, SeriesData
 from tribokin.calibration.fit import fit
@@ -63,3 +64,14 @@ def test_a_one_cycle_series_has_no_predicted_rp_but_counts_in_vap():
     assert prediction.RP_l[2] is None and prediction.RP_l[0] is not None
     centres = np.array([first.points_m.mean(axis=0), second.points_m.mean(axis=0), third.points_m[0]])
     assert prediction.vAP.measured_m == pytest.approx(np.linalg.norm(centres[:, None] - centres[None], axis=-1).max())
+
+
+def test_predictions_drawn_in_blocks_are_those_of_one_draw(monkeypatch):
+    """Tests simulated one at a time, a few at a time, or all at once: the same normal draws in the same order."""
+    poses = simulate(arm_kinematics(), np.random.default_rng(8))
+    calibration = fit(arm_model(fit_backlash=(False,) * 6), poses)
+    predictions = []
+    for block_cycles in (1, 1000, 10 ** 9):
+        monkeypatch.setattr(cross_validation, "PREDICTION_BLOCK_CYCLES", block_cycles)
+        predictions.append(predict_pose(calibration, poses[0], np.random.default_rng(5), draws=300))
+    assert predictions[0] == predictions[1] == predictions[2]

@@ -794,6 +794,63 @@ CASES = [
                 expected=("--radius-range-m[1]", "far below a metre"), id="surface-radius-range-1e300"),
 ]
 
+#: The UR5 calibration study without its map, and its measurements' header and data lines (issue 35).
+CALIBRATE_STUDY = (ROOT / "studies" / "ur5-calibrate.toml").read_text(encoding="utf-8").split("\n# The calibrated")[0]
+_TRACKER = [line for line in (ROOT / "studies" / "data" / "ur5-tracker.csv").read_text(encoding="utf-8").splitlines()
+            if not line.startswith("#")]
+TRACKER_HEADER, TRACKER_ROWS = _TRACKER[0], _TRACKER[1:]
+#: A cell past the CSV reader's limit of 131 072 characters.
+LONG_CELL = "1" * 131_073
+#: Arrays nested 10 000 deep: deeper than a TOML reader recurses.
+DEEP_ARRAY = "x = " + "[" * 10_000 + "]" * 10_000 + "\n"
+
+
+def tracker(rows, edit=None) -> str:
+    """The UR5 tracker file with ``rows`` (its data lines), each through ``edit(cells)`` if given."""
+    lines = [",".join(edit(row.split(","))) if edit else row for row in rows]
+    return "\n".join([TRACKER_HEADER, *lines]) + "\n"
+
+
+def calibration(measurements: str, *options, expected, id, at_fault="{tmp}/in.csv", study=CALIBRATE_STUDY):
+    """A `tribokin calibrate` case of ``study`` with the measurement file ``in.csv``."""
+    return pytest.param({"study.toml": study, "in.csv": measurements},
+                        ["calibrate", "{tmp}/study.toml", "--measurements", "{tmp}/in.csv", "--out", "{tmp}/out",
+                         "--report", "none", *options], (at_fault, *expected), id=id)
+
+
+def _same_point(cells: list[str]) -> list[str]:
+    """A row of P1 '+x' moved onto the first row's point (its cycle kept)."""
+    first = TRACKER_ROWS[0].split(",")
+    return cells[:3] + first[3:6] + cells[6:] if cells[:3:2] == ["P1", "+x"] else cells
+
+
+# issue 35: refusals that were tracebacks, each one line before any work
+ROBUSTNESS_CASES = [
+    measurement("measure", tracker(TRACKER_ROWS[:3]).replace("P1,2,", f"P1,{LONG_CELL},", 1),
+                expected=("line 3: not a CSV file", "field limit (131072)"), id="measure-cell-beyond-the-csv-limit"),
+    measurement("fit-friction", GOOD_LOG.replace("\n8,", f"\n{LONG_CELL},"),
+                expected=("line 9: not a CSV file", "field limit (131072)"), id="log-cell-beyond-the-csv-limit"),
+    calibration(tracker(TRACKER_ROWS).replace("P2,1,", f"P2,{LONG_CELL},", 1),
+                expected=("line 92: not a CSV file", "field limit (131072)"), id="calibrate-cell-beyond-the-csv-limit"),
+    measurement("measure", tracker(TRACKER_ROWS[:6]), "--seed", "-1", at_fault="command line",
+                expected=("--seed", ">= 0"), id="measure-seed-negative"),
+    measurement("measure", tracker(TRACKER_ROWS[:6]), "--seed", "9" * 4000, at_fault="command line",
+                expected=("--seed", "2**64 - 1"), id="measure-seed-4000-digits"),
+    calibration(tracker(TRACKER_ROWS), "--seed", "-1", at_fault="command line", expected=("--seed", ">= 0"),
+                id="calibrate-seed-negative"),
+    calibration(tracker(TRACKER_ROWS), "--seed", str(2 ** 64), at_fault="command line",
+                expected=("--seed", "2**64 - 1"), id="calibrate-seed-beyond-64-bits"),
+    calibration(tracker([row for row in TRACKER_ROWS if row.startswith("P1,")]),
+                expected=("pose", "measures 1 pose", "two or more"), id="calibrate-one-pose"),
+    calibration(tracker(TRACKER_ROWS, _same_point), expected=("x_m", "pose P1 '+x'", "all at the same point"),
+                id="calibrate-series-without-spread"),
+    study("[[poses]]", DEEP_ARRAY + "[[poses]]", expected=("line", "nested 10000 deep"), id="toml-nested-10000-deep"),
+    calibration(tracker(TRACKER_ROWS), study=DEEP_ARRAY + CALIBRATE_STUDY, at_fault="{tmp}/study.toml",
+                expected=("line 1", "nested 10000 deep"), id="calibrate-toml-nested-10000-deep"),
+    study('{ preset = "42CD4-raw" }', '{ file = "law.toml" }', files={"law.toml": DEEP_ARRAY},
+          at_fault="law.toml", expected=("line 1", "nested 10000 deep"), id="law-file-nested-10000-deep"),
+]
+
 
 def _create(tmp: Path, files: dict) -> None:
     for name, content in files.items():
@@ -814,7 +871,7 @@ def _tree(folder: Path) -> dict[str, bytes | str | None]:
 
 
 def test_bad_input_table_is_large_and_unambiguous():
-    ids = [case.id for case in CASES]
+    ids = [case.id for case in CASES + ROBUSTNESS_CASES]
     assert len(ids) >= 40 and len(set(ids)) == len(ids)
 
 
@@ -839,7 +896,7 @@ def _run_refused(tmp: Path, capsys, monkeypatch, files, argv, expected) -> None:
     _assert_refused(tmp, before, status, captured.out, captured.err, expected)
 
 
-@pytest.mark.parametrize("files, argv, expected", CASES)
+@pytest.mark.parametrize("files, argv, expected", CASES + ROBUSTNESS_CASES)
 def test_bad_input_is_one_line_exit_2_nothing_written(tmp_path, capsys, monkeypatch, files, argv, expected):
     _run_refused(tmp_path, capsys, monkeypatch, files, argv, expected)
 

@@ -364,3 +364,31 @@ def test_a_fit_beyond_the_study_s_range_is_held_at_its_end_said_so_and_the_calib
     assert done.stdout.count("held at the end of the range a study allows") == 3
     done = tribokin("run", tmp_path / "fit" / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
     assert done.returncode == 0, done.stderr
+
+
+def test_a_measurement_file_beyond_the_memory_is_refused_before_it_is_read(tmp_path, capsys, monkeypatch):
+    from tribokin import calibration_reports
+    from tribokin.cli import main
+    from tribokin.maps import budget
+
+    monkeypatch.setattr(budget, "available_bytes", lambda: 2 ** 20)  # a machine of little memory
+    monkeypatch.setattr(calibration_reports, "read_robot_measurements", None)  # never reached
+    assert main(["calibrate", study_without_map(tmp_path), "--measurements", DATA, "--out", tmp_path / "fit"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"tribokin: error: {DATA}: rows: calibrating with this file needs")
+    assert "1 MiB is available" in err and not (tmp_path / "fit").exists()
+
+
+def test_a_map_beyond_the_memory_is_refused_before_the_fit(tmp_path, capsys, monkeypatch):
+    from tribokin import calibration_reports
+    from tribokin.cli import main
+    from tribokin.maps import budget
+
+    study = tmp_path / "study.toml"
+    study.write_text(STUDY.read_text(encoding="utf-8").replace("cycles = 30", "cycles = 100000000"), encoding="utf-8")
+    monkeypatch.setattr(budget, "available_bytes", lambda: 2 ** 30)
+    monkeypatch.setattr(calibration_reports, "fit", None)  # the fit is never reached
+    assert main(["calibrate", study, "--measurements", DATA, "--out", tmp_path / "fit"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"tribokin: error: {study}: study.cycles: this run needs about")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]

@@ -4,12 +4,17 @@ from __future__ import annotations
 
 import csv
 import json
+import tracemalloc
 
 import numpy as np
 import pytest
 
 from integration.test_cli import tribokin
+from tribokin import measurement_reports
 from tribokin.cli import main
+from tribokin.maps import budget
+from tribokin.measurement.contract import file_size
+from tribokin.measurement.figures import bootstrap_bytes
 
 CENTRE_MM = np.array([500.0, 200.0, 300.0])
 #: Commanded 10 µm below the measured barycentre of P1 "+" along x.
@@ -220,3 +225,38 @@ def test_segment_options_are_checked(tmp_path, capsys, options, key):
     assert main(["measure", stream_file(tmp_path), "--out", tmp_path / "out", *options]) == 2
     assert f"command line: {key}: " in capsys.readouterr().err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["stream.csv"]
+
+
+def _long_series(folder, cycles: int):
+    """One pose, one direction, ``cycles`` cycles about CENTRE_MM (scatter of 5 µm)."""
+    points = CENTRE_MM + np.random.default_rng(2).normal(scale=5e-3, size=(cycles, 3))
+    lines = ["pose,cycle,x_mm,y_mm,z_mm"] + [f"P1,{i + 1},{x!r},{y!r},{z!r}" for i, (x, y, z) in
+                                            enumerate(points.tolist())]
+    path = folder / "long.csv"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def test_a_file_beyond_the_memory_is_refused_before_it_is_read(tmp_path, capsys, monkeypatch):
+    path = _long_series(tmp_path, 1000)
+    size = file_size(path)
+    monkeypatch.setattr(budget, "available_bytes", lambda: size.reading_bytes // 2)  # a machine of little memory
+    monkeypatch.setattr(measurement_reports, "read_measurements", None)  # never reached
+    assert main(["measure", path, "--out", tmp_path / "out"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"tribokin: error: {path}: rows: measuring this file needs about")
+    assert "of memory (mostly" in err and "is available: split it into several files" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["long.csv"]
+
+
+def test_measuring_takes_no_more_memory_than_the_estimate(tmp_path):
+    """A series of 5 000 cycles: what measure allocates (tracemalloc, NumPy's arrays included) stays within the
+    estimate it checks, which is below the 2000 resamples' positions held at once before (240 MB)."""
+    path = _long_series(tmp_path, 5_000)
+    tracemalloc.start()
+    measurement_reports.measure(path, tmp_path / "out", report="none")
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    size = file_size(path)
+    estimate = size.reading_bytes + bootstrap_bytes(size.lines) + measurement_reports.DRAWN_BYTES_PER_ROW * size.lines
+    assert peak <= estimate < 2000 * 5_000 * 24

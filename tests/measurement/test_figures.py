@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
+import tracemalloc
+
 import numpy as np
 import pytest
 from measurement_fixtures import write_csv
 
+from tribokin.iso9283.metrics import position_repeatability
+from tribokin.measurement import figures
+
 from tribokin.measurement.contract import read_measurements
-from tribokin.measurement.figures import measurement_figures, pose_figures, rp_l_interval
+from tribokin.measurement.figures import bootstrap_bytes, measurement_figures, pose_figures, rp_l_interval
 from tribokin.measurement.registration import register_measurements
 
 UM = 1e-6
@@ -123,3 +128,30 @@ def test_retaught_commanded_positions_are_removed_only_under_a_registration(tmp_
     assert not raw.commanded_corrected and raw.commanded_spread_m == pytest.approx(2e-4)
     assert raw.directions[0].RP_l_m > 50e-6  # the 0.2 mm of re-teaching left in
     assert raw.report_rows()[0]["commanded_spread_um"] == pytest.approx(200)
+
+
+def _interval_of_one_draw(positions: np.ndarray, resamples: int, seed) -> tuple[float, float]:
+    """The bootstrap interval as one draw of every resample at once (as before it was streamed)."""
+    draws = np.random.default_rng(seed).integers(0, len(positions), size=(resamples, len(positions)))
+    low, high = np.percentile(position_repeatability(positions[draws])[0], [2.5, 97.5])
+    return float(low), float(high)
+
+
+@pytest.mark.parametrize("block_cycles", [1, 999, 2 ** 19])
+def test_streamed_bootstrap_gives_the_bytes_of_one_draw(monkeypatch, block_cycles):
+    """Blocks of one resample, of a few, and all at once: the same indices in the same order, the same RP_l."""
+    positions = np.random.default_rng(3).normal(scale=5e-6, size=(333, 3)) + [0.5, 0.2, 0.3]
+    monkeypatch.setattr(figures, "BOOTSTRAP_BLOCK_CYCLES", block_cycles)
+    streamed = rp_l_interval(positions, 2000, np.random.default_rng([9283, 0, 1]))
+    assert np.array(streamed).tobytes() == np.array(_interval_of_one_draw(positions, 2000, [9283, 0, 1])).tobytes()
+
+
+def test_bootstrap_of_a_long_series_holds_one_block_not_every_resample():
+    """10^6 cycles: one resample at a time (about 100 MiB) where every resample at once held 40 × 24 MB."""
+    cycles, resamples = 10 ** 6, 40
+    positions = np.random.default_rng(4).normal(scale=5e-6, size=(cycles, 3))
+    tracemalloc.start()
+    rp_l_interval(positions, resamples, np.random.default_rng(1))
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert peak <= bootstrap_bytes(cycles, resamples) < resamples * cycles * 24 / 4

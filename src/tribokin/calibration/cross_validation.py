@@ -9,10 +9,11 @@ parameters' uncertainty, and the fit names them), each giving the series' Σ and
 each draw one ISO test is simulated as Gaussian clouds of the measured number of cycles per
 direction, and its RP_l per direction (l̄ + 3·S_l) and vAP (largest distance between the
 directions' barycentres) computed. The 95 % prediction interval runs from the 2.5th to the 97.5th
-percentile of those figures: it holds both the parameters' uncertainty and the test-to-test spread
-of a figure computed from n cycles. The prediction is the expected figure of one test at the fitted
-values: the mean over ``draws`` tests simulated at θ̂ (a mean over the posterior draws would be
-dominated by the heavy tail of poorly determined parameters). Random numbers:
+percentile of those figures (the tests drawn and measured in blocks of about ``PREDICTION_BLOCK_CYCLES``
+cycles, the numbers of one draw of them all, so memory stays bounded): it holds both the parameters'
+uncertainty and the test-to-test spread of a figure computed from n cycles. The prediction is the
+expected figure of one test at the fitted values: the mean over ``draws`` tests simulated at θ̂ (a mean
+over the posterior draws would be dominated by the heavy tail of poorly determined parameters). Random numbers:
 ``numpy.random.default_rng([seed, pose index])`` in leave-one-pose-out.
 """
 
@@ -26,9 +27,15 @@ from tribokin.calibration.data import PoseData
 from tribokin.calibration.fit import Calibration, fit
 from tribokin.calibration.model import JointModel, predict_series
 from tribokin.iso9283.metrics import largest_distance
+from tribokin.measurement.figures import at_once
 
 DRAWS = 2000
 SEED = 9283
+#: Cycles of a prediction's simulated tests drawn and measured at once (a few tens of MiB).
+PREDICTION_BLOCK_CYCLES = 2 ** 18
+#: Bytes per simulated cycle of a block: its normal draws (24), the cloud (24), its offsets (24), distances (8),
+#: rounded up for NumPy's temporaries.
+PREDICTION_BYTES_PER_CYCLE = 128
 
 
 @dataclass(frozen=True)
@@ -61,6 +68,11 @@ class PosePrediction:
     directions: tuple[str, ...]
     RP_l: tuple[PredictedFigure | None, ...]
     vAP: PredictedFigure | None
+
+
+def prediction_bytes(cycles: int, draws: int = DRAWS) -> int:
+    """Bytes a prediction at a series of ``cycles`` holds at once (a block of simulated tests) [bytes]."""
+    return min(2 * draws, at_once(cycles, PREDICTION_BLOCK_CYCLES)) * cycles * PREDICTION_BYTES_PER_CYCLE
 
 
 def position_repeatability(points_m: np.ndarray) -> np.ndarray:
@@ -106,11 +118,17 @@ def predict_pose(calibration: Calibration, pose: PoseData, rng: np.random.Genera
     factor = np.linalg.cholesky(covariance)
     rp_l, barycentres = [], []
     for d, series in enumerate(pose.series):
-        cloud = shift[:, d, None, :] + np.einsum("kab,knb->kna", factor[:, d],
-                                                 rng.standard_normal((tests, len(series.points_m), 3)))
-        rp_l.append(_summary(position_repeatability(np.asarray(series.points_m)), position_repeatability(cloud))
-                    if len(series.points_m) > 1 else None)
-        barycentres.append(cloud.mean(axis=1))
+        cycles = len(series.points_m)
+        simulated, centres = np.empty(tests), np.empty((tests, 3))
+        for start in range(0, tests, block := at_once(cycles, PREDICTION_BLOCK_CYCLES)):
+            tested = slice(start, min(start + block, tests))
+            cloud = shift[tested, d, None, :] + np.einsum(
+                "kab,knb->kna", factor[tested, d], rng.standard_normal((tested.stop - start, cycles, 3)))
+            if cycles > 1:
+                simulated[tested] = position_repeatability(cloud)
+            centres[tested] = cloud.mean(axis=1)
+        rp_l.append(_summary(position_repeatability(np.asarray(series.points_m)), simulated) if cycles > 1 else None)
+        barycentres.append(centres)
     vap = None
     if len(pose.series) > 1:
         measured = np.array([np.mean(s.points_m, axis=0) for s in pose.series])

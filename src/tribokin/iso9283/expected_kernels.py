@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from tribokin.compiled import kernel
 
 #: Relative error the duplication stops at (Carlson 1995: the truncated series' error is below it).
 _TOLERANCE = 1e-17
@@ -26,7 +26,7 @@ _TINY = float(np.finfo(np.float64).tiny)
 _SWEEPS = 50
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _carlson(u, rd):
     """Carlson's R_F(u_0, u_1, u_2), and into ``rd`` (3,) R_D with u_i last, of positive ``u`` (3,), by duplication
     (Carlson 1995). The four share one sequence of duplicated arguments (R_F and R_D are means of the same
@@ -72,7 +72,7 @@ def _carlson(u, rd):
     return (1 - e2 / 10 + e3 / 14 + e2 * e2 / 24 - 3 * e2 * e3 / 44) / math.sqrt(am[0])
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _unit_moments(u, mean_norm):
     """E|w|^k, k = 1..4, of w ~ N(0, diag(u)) for positive ``u`` (3,), as ``iso9283.expected._unit_moments``: R_G from
     R_F and the R_D whose last argument is the middle one (no cancellation), ∂R_G/∂u_i = R_F/4 - u_i R_D_i/12."""
@@ -95,7 +95,7 @@ def _unit_moments(u, mean_norm):
     return m1, m2, m3, m4
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _rp_l_from_moments(m1, m2, m3, m4, n):
     """(E[RP_l], its standard deviation) from one cycle's four moments, as ``iso9283.expected.rp_l_from_moments``."""
     variance = np.maximum(m2 - m1 ** 2, 0.0)
@@ -111,7 +111,7 @@ def _rp_l_from_moments(m1, m2, m3, m4, n):
     return mean, math.sqrt(np.maximum(spread, 0.0))
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def expected_rp_l(lam, cycles, floor, mean_norm):
     """(E[RP_l], one test's standard deviation) (k,) each [m] of tests of ``cycles`` cycles with Gaussian deviations of
     covariance eigenvalues ``lam`` (k, 3) [m²], those below ``floor`` of the largest raised to it, as
@@ -133,7 +133,7 @@ def expected_rp_l(lam, cycles, floor, mean_norm):
     return mean, spread
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _jacobi(matrix, values, vectors):
     """Eigenvalues into ``values`` (3,) ascending, and unit eigenvectors into the columns of ``vectors`` (3, 3), of the
     symmetric ``matrix`` (3, 3; its upper triangle read, left unchanged) by cyclic Jacobi rotations (Numerical Recipes'
@@ -190,7 +190,7 @@ def _jacobi(matrix, values, vectors):
                     vectors[row, j], vectors[row, j + 1] = vectors[row, j + 1], vectors[row, j]
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def eigenvalues(matrices):
     """(k, 3) ascending eigenvalues of symmetric (k, 3, 3) ``matrices`` (:func:`_jacobi`)."""
     out = np.empty((matrices.shape[0], 3))
@@ -200,7 +200,7 @@ def eigenvalues(matrices):
     return out
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def expected_norm(centre, covariance, ratio, times, weights, step):
     """E|c + w| (k,) [m] for w ~ N(0, S), centres c (k, 3) [m] and covariances S (k, 3, 3) [m²], as
     ``iso9283.expected.expected_norm``: on c and S scaled by a power of two to order one; where tr S < ``ratio`` |c|²

@@ -18,10 +18,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from tribokin.compiled import kernel
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def placements_at(q, terms, out):
     """The tool frame's placements at one configuration ``q`` (n,) [m or rad] into ``out`` (n + 1, 4, 4): in the
     world (index 0) and in each joint's frame after its motion (index ``i + 1``), homogeneous [m]."""
@@ -45,7 +45,7 @@ def placements_at(q, terms, out):
             out[link, row, 3] += a3
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def local_jacobian_at(placements, terms, out):
     """The tool Jacobian in the tool frame (Pinocchio's ``LOCAL``: rows linear [m/unit], angular [rad/unit]) into
     ``out`` (6, n), from one configuration's :func:`placements_at` ``placements`` (n + 1, 4, 4)."""
@@ -63,7 +63,7 @@ def local_jacobian_at(placements, terms, out):
                                    + in_joint[2, row] * turn_axes[joint, 2])
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def tool_in_joint(q, terms):
     """(k, n + 1, 4, 4) :func:`placements_at` of each configuration of ``q`` (k, n) [m or rad]."""
     out = np.empty((q.shape[0], q.shape[1] + 1, 4, 4))
@@ -72,7 +72,7 @@ def tool_in_joint(q, terms):
     return out
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def tool_jacobians(placements, terms):
     """(k, 6, n) :func:`local_jacobian_at` of each configuration's ``placements`` (k, n + 1, 4, 4)."""
     out = np.empty((placements.shape[0], 6, placements.shape[1] - 1))
@@ -81,7 +81,7 @@ def tool_jacobians(placements, terms):
     return out
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def world_jacobians(placements, terms):
     """(k, 6, n) the tool Jacobians of :func:`tool_jacobians` in world axes (``LOCAL_WORLD_ALIGNED``)."""
     out = tool_jacobians(placements, terms)
@@ -98,7 +98,7 @@ def world_jacobians(placements, terms):
     return out
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def joints_in_world(placements):
     """(k, n, 4, 4) each joint frame's placement in the world after its motion (``data.oMi``): the tool's in the
     world times the inverse of the tool's in the joint, from ``placements`` (k, n + 1, 4, 4)."""

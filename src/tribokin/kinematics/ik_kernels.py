@@ -13,13 +13,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from tribokin.compiled import kernel
 
 from tribokin.kinematics.chain_kernels import local_jacobian_at, placements_at
 from tribokin.kinematics.se3_log_kernels import jlog6, log6
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _clipped(value, lower, upper):
     """``value`` within [``lower``, ``upper``] (NaN stays NaN, as NumPy's ``minimum(maximum(...))``)."""
     if value < lower:
@@ -27,7 +27,7 @@ def _clipped(value, lower, upper):
     return upper if value > upper else value
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _solve_spd(system, size, right, out):
     """``out[:size]`` = the solution of ``system[:size, :size] x = right[:size]`` (symmetric positive definite:
     Cholesky, ``system``'s lower triangle overwritten by its factor)."""
@@ -49,7 +49,7 @@ def _solve_spd(system, size, right, out):
         out[i] = value / system[i, i]
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def solve(q_start, goals, rotation, terms, lower, upper, position_tol, angle_tol, position_only, iterations, damping,
           patience):
     """Damped-least-squares IK of k targets, each to its end: the tool frame at ``goals`` (k, 3) [m] turned by

@@ -11,10 +11,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from tribokin.compiled import kernel
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def chain_loads(placements, weights, centres, axes, prismatic, span):
     """(k, n) bearing loads N [N] at k configurations of a serial chain of n joints, from their placements
     (k, n + 1, 4, 4) (:meth:`~tribokin.kinematics.chain.SerialChain.tool_in_joint`: the tool's in the world, then in
@@ -69,7 +69,7 @@ def chain_loads(placements, weights, centres, axes, prismatic, span):
     return out
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _support_load(force, moment, axis, prismatic, span):
     """A joint's load N [N] from its wrench in its frame: ``|F_a| + |R+| + |R-|`` (revolute), ``|R+| + |R-| +
     2 |M_a| / L`` (prismatic), ``R± = F_r / 2 ± (M_t × a) / L``."""
@@ -91,7 +91,7 @@ def _support_load(force, moment, axis, prismatic, span):
     return load + _norm(along_force * axis[0], along_force * axis[1], along_force * axis[2])
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _norm(x, y, z):
     """|(x, y, z)|, its squares summed in order as NumPy's norm."""
     return math.sqrt(x * x + y * y + z * z)

@@ -16,18 +16,18 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from tribokin.compiled import kernel
 
 from tribokin.kinematics.se3_log import EPSILON, PRECISION_2, PRECISION_3
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _angle_over_sin(angle, squared):
     """θ / sin θ of angle ``angle`` [rad], below ``PRECISION_2`` its series in ``squared`` (sin² θ)."""
     return angle / math.sin(angle) if angle >= PRECISION_2 else 1.0 + squared / 6.0 + squared * squared * 3.0 / 40.0
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def log3_pinocchio(rotation, out):
     """Pinocchio's ``log3`` of ``rotation`` (3, 3) into ``out`` (3,) [rad], every branch (Pinocchio 4.1's
     ``log3_impl``)."""
@@ -76,7 +76,7 @@ def log3_pinocchio(rotation, out):
         out[axis] = angle * (out[axis] / norm)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def log6(rotation, translation, out):
     """The logarithm of the rigid motion ``rotation`` (3, 3), ``translation`` (3,) [m] into ``out`` (6,) (linear [m],
     angular [rad]); returns the angle of its rotation [rad] (as :func:`tribokin.kinematics.se3_log.log6` does)."""
@@ -112,7 +112,7 @@ def log6(rotation, translation, out):
     return angle
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def jlog6(rotation_vector, angle, translation, out):
     """The Jacobian of :func:`log6` into ``out`` (6, 6) at the rigid motion of rotation vector ``rotation_vector``
     (3,) [rad] and angle ``angle`` [rad] (as :func:`log6` gives them) and translation ``translation`` (3,) [m]."""

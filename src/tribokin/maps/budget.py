@@ -139,13 +139,23 @@ def check_memory(study: Study, nv: int, directions: list[int], workers: int = 1,
     :func:`available_bytes` (no check when unknown); ``layout``: the map store's (:func:`map_layout`).
     """
     parts = estimate(study, nv, directions, workers, layout)
-    needed = sum(size for size, _, _ in parts)
-    available = available_bytes() if available is None else available
-    if available is None or needed <= available:
-        return
-    size, key, what = max(parts)
+    _, key, _ = max(parts)
     source = study.source
     if key == "study.cycles" and cycles_set_by is not None:
         source, key = cycles_set_by
-    raise InputError(f"this run needs about {gib(needed)} of memory (mostly {gib(size)} for {what}), and "
-                     f"{gib(available)} is available: lower {key}, or split the study into several", source, key)
+    check_parts([(size, what) for size, _, what in parts], "this run", f"lower {key}, or split the study into several",
+                source, key, available)
+
+
+def check_parts(parts: list[tuple[float, str]], task: str, advice: str, source, key: str | None,
+                available: int | None = None) -> None:
+    """An :class:`InputError` naming ``source`` and ``key`` if ``task`` (``"this run"``) needs more memory than is
+    ``available`` [bytes] (default :func:`available_bytes`; no check when unknown): ``parts`` are ``(bytes, what)``,
+    ``advice`` says what to do."""
+    needed = sum(size for size, _ in parts)
+    available = available_bytes() if available is None else available
+    if available is None or needed <= available:
+        return
+    size, what = max(parts)
+    raise InputError(f"{task} needs about {gib(needed)} of memory (mostly {gib(size)} for {what}), and "
+                     f"{gib(available)} is available: {advice}", source, key)

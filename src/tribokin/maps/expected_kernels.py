@@ -8,10 +8,10 @@ Imported only on the compiled path (:func:`tribokin.compiled.use_compiled`).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from tribokin.compiled import kernel
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def covariances(jacobian, variance, first):
     """(k, 3, 3) Σ_n J[i, n] var[n] J[j, n] over rows i, j = ``first`` to ``first + 2`` of the Jacobians (k, 6, nv)
     and the joint deviations' variances (k, nv), in einsum's order ((J_in var_n) J_jn, summed over n)."""

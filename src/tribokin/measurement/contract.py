@@ -27,6 +27,7 @@ import numpy as np
 from tribokin.checks import finite_cell
 from tribokin.confinement import regular_file
 from tribokin.errors import InputError, closest_hint
+from tribokin.tribology.columns import csv_refusal
 
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
 ANGLE_UNITS = {"deg": np.pi / 180, "rad": 1.0}
@@ -51,6 +52,10 @@ RANGES = {
 DEFAULT_DIRECTION = "+"
 #: Largest cycle number: a study's largest ``cycles`` (and whole numbers as floats are exact up to 2**53).
 MAX_CYCLE = 10 ** 15
+#: Bytes reading a measurement file holds, per byte of it (its text, its lines), per line and per cell (each a
+#: Python string in a list), and per row read into arrays: measured (``tracemalloc``: about 12 bytes per byte of
+#: a file of nine columns) and rounded up about twofold.
+READ_BYTES_PER_BYTE, READ_BYTES_PER_LINE, READ_BYTES_PER_CELL, KEPT_BYTES_PER_ROW = 4, 300, 150, 400
 #: Largest spread of one joint's coordinate between the rows of a pose: [rad], and [m] for prismatic joints.
 Q_SPREAD_LIMIT_RAD = 0.01
 Q_SPREAD_LIMIT_M = 1e-3
@@ -176,6 +181,37 @@ class Stream:
     positions_m: np.ndarray
 
 
+@dataclass(frozen=True)
+class FileSize:
+    """What reading a measurement file takes, counted before it is read.
+
+    Attributes:
+        bytes: its size [bytes].
+        lines: its lines (every row at most one).
+        cells: its cells (commas and lines).
+    """
+
+    bytes: int
+    lines: int
+    cells: int
+
+    @property
+    def reading_bytes(self) -> int:
+        """Bytes reading it holds at once [bytes] (the constants above)."""
+        return (READ_BYTES_PER_BYTE * self.bytes + READ_BYTES_PER_LINE * self.lines + READ_BYTES_PER_CELL * self.cells
+                + KEPT_BYTES_PER_ROW * self.lines)
+
+
+def file_size(path) -> FileSize:
+    """Size, lines and cells of the file ``path``, counted in blocks of 1 MiB (nothing else is read); the file is
+    first resolved and checked as reading it checks it (:func:`~tribokin.confinement.regular_file`)."""
+    size = lines = commas = 0
+    with open(regular_file(path, path), "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            size, lines, commas = size + len(block), lines + block.count(b"\n"), commas + block.count(b",")
+    return FileSize(size, lines + 1, commas + lines + 1)
+
+
 class _Table:
     """Header and data rows of a CSV file, with errors naming the file, column and line."""
 
@@ -186,12 +222,13 @@ class _Table:
             text = real.read_text(encoding="utf-8-sig")  # a spreadsheet's byte-order mark is not a name
         except UnicodeDecodeError:
             raise InputError("not a text CSV file", self.path) from None
-        try:
-            records = [(number, [cell.strip() for cell in next(csv.reader([line]))])
-                       for number, line in enumerate(text.splitlines(), start=1)
-                       if line.strip() and not line.lstrip().startswith("#")]
-        except csv.Error as error:  # a cell beyond the csv module's field limit, a NUL
-            raise InputError(f"not a CSV file: {error}", self.path) from None
+        records = []
+        for number, line in enumerate(text.splitlines(), start=1):
+            if line.strip() and not line.lstrip().startswith("#"):
+                try:
+                    records.append((number, [cell.strip() for cell in next(csv.reader([line]))]))
+                except csv.Error as error:
+                    raise csv_refusal(error, self.path, number) from None
         if len(records) < 2:
             raise InputError("needs a header line and at least one data row", self.path)
         self.header_line, self.header = records[0]

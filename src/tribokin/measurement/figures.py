@@ -18,7 +18,10 @@ AP_p = |mean_j (x'_j - c_bar)| = |mean_j (x_j - c_j)| over the series either way
 Bootstrap interval of RP_l: percentile bootstrap over cycles: ``resamples`` draws
 of n cycles with replacement from the series' n, from
 ``numpy.random.default_rng([seed, pose index, series index])`` (same numbers every run);
-the interval runs from the 2.5th to the 97.5th percentile of their RP_l.
+the interval runs from the 2.5th to the 97.5th percentile of their RP_l. The draws are made and measured in
+blocks of resamples of about ``BOOTSTRAP_BLOCK_CYCLES`` cycles in all (at least one resample), in the order of one
+draw of them all, so a series of any length takes a bounded memory (:func:`bootstrap_bytes`) and the same
+numbers as one draw.
 """
 
 from __future__ import annotations
@@ -36,6 +39,11 @@ from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 BOOTSTRAP_RESAMPLES = 2000
 BOOTSTRAP_SEED = 9283
+#: Cycles of the bootstrap's resamples drawn and measured at once (a few tens of MiB).
+BOOTSTRAP_BLOCK_CYCLES = 2 ** 19
+#: Bytes per cycle of a block of resamples: its index (8), its positions (24), their offsets (24), distances (8),
+#: rounded up for NumPy's temporaries.
+BOOTSTRAP_BYTES_PER_CYCLE = 128
 
 
 @dataclass(frozen=True)
@@ -114,11 +122,27 @@ def _um(value_m: float | None) -> float | None:
     return None if value_m is None else float(value_m * UM_PER_M)
 
 
+def at_once(cycles: int, block_cycles: int) -> int:
+    """Resamples (or simulated tests) of ``cycles`` cycles each drawn and measured at once: about ``block_cycles``
+    cycles in all, at least one."""
+    return max(1, block_cycles // max(1, cycles))
+
+
+def bootstrap_bytes(cycles: int, resamples: int = BOOTSTRAP_RESAMPLES) -> int:
+    """Bytes the bootstrap of a series of ``cycles`` holds at once (a block of resamples) [bytes]."""
+    return min(resamples, at_once(cycles, BOOTSTRAP_BLOCK_CYCLES)) * cycles * BOOTSTRAP_BYTES_PER_CYCLE
+
+
 def rp_l_interval(positions_m: np.ndarray, resamples: int, rng: np.random.Generator) -> tuple[float, float]:
     """Percentile-bootstrap 95 % interval of RP_l [m] of (n, 3) positions: ``resamples`` draws of n
-    cycles with replacement, 2.5th and 97.5th percentiles of their RP_l."""
-    draws = rng.integers(0, len(positions_m), size=(resamples, len(positions_m)))
-    rp_l, _ = position_repeatability(positions_m[draws])
+    cycles with replacement, 2.5th and 97.5th percentiles of their RP_l (drawn and measured in blocks of
+    :func:`at_once` resamples, the numbers of one draw of them all)."""
+    n = len(positions_m)
+    block = at_once(n, BOOTSTRAP_BLOCK_CYCLES)
+    rp_l = np.empty(resamples)
+    for start in range(0, resamples, block):
+        draws = rng.integers(0, n, size=(min(block, resamples - start), n))
+        rp_l[start:start + len(draws)], _ = position_repeatability(positions_m[draws])
     low, high = np.percentile(rp_l, [2.5, 97.5])
     return float(low), float(high)
 

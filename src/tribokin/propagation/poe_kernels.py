@@ -11,10 +11,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from tribokin.compiled import kernel
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def order_bounds(twists, dq, orders, exp_coefficients, log_coefficients, exp_radius, log_radius):
     """The bounds on the position [m] and the angle [rad] (k, ``orders``) each after orders 1 to ``orders``, of twists
     (k, 6, nv) and deviations (k, n, nv) [m or rad], as ``poe._order_bounds``: with s, b, w the largest over the
@@ -52,7 +52,7 @@ def order_bounds(twists, dq, orders, exp_coefficients, log_coefficients, exp_rad
     return position, angle
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _tails(coefficients, radius, logarithm, s, first, terms, out):
     """``out[o]`` = Σ_{m >= first + o} c_m s^m, for each o < len(out), as ``poe._series_tail``: up to s = ``radius``
     term by term from the smallest, up to the first term below half the one before and 2^-60 of the tail's first

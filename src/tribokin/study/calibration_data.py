@@ -156,6 +156,11 @@ def configurations(study: Study, robot: Robot, measurements: Measurements) -> tu
     return np.array([_configuration_by_ik(study, robot, measurements, pose) for pose in measurements.poses]), how
 
 
+def _position_column(measurements: Measurements) -> str:
+    """The measured position's first column in the file (``x_m`` or ``x_mm``)."""
+    return next((name for name in measurements.columns if name.startswith("x_")), "x_m")
+
+
 def calibration_input(study: Study, robot: Robot, models: list[JointErrorModel],
                       measurements: Measurements) -> CalibrationInput:
     """The calibration's data and model (module docstring); errors name the file and key at fault."""
@@ -174,10 +179,19 @@ def calibration_input(study: Study, robot: Robot, models: list[JointErrorModel],
                 left_out.append(LeftOut(pose.name, measured.direction, len(measured.cycles),
                                         "its direction label names no approach (+x, -y, ..., +0.58+0.58+0.58, + or -)"))
                 continue
+            if len(points) > 1 and not np.ptp(measured.positions_m, axis=0).any():
+                raise InputError(f"pose {pose.name} '{measured.direction}': its {len(points)} cycles are all at the "
+                                 "same point, which leaves the fit nothing to measure the joints' spread by; an "
+                                 "instrument reads repeated positions with some spread: check the file (copied "
+                                 "rows?)", measurements.source, _position_column(measurements))
             series.append(SeriesData(measured.direction, signs, np.asarray(points)))
         if series:
             poses.append(PoseData(pose.name, robot.tool_jacobian(q)[:3], torque_mean, torque_std, tuple(series)))
             kept.append(q)
+    if len(poses) < 2:
+        raise InputError(f"measures {len(poses)} pose{'' if len(poses) == 1 else 's'} with a known approach "
+                         "direction; a calibration needs two or more (each pose's figures are predicted from a fit "
+                         "to the others): measure more poses", measurements.source, "pose")
     if not any(len(s.points_m) > 1 for p in poses for s in p.series):
         raise InputError("no series of two or more cycles has a known approach direction; label directions +x, -y, "
                          "..., +0.58+0.58+0.58, + or -", measurements.source, "direction")

@@ -3,19 +3,13 @@
 from __future__ import annotations
 
 import hashlib
-import sys
 from dataclasses import replace
 from pathlib import Path
 
-from tribokin.checks import seed_int
+from tribokin.checks import seed_int, toml_mapping
 from tribokin.confinement import regular_file
 from tribokin.errors import InputError
 from tribokin.study.spec import Study, cycle_count, parse_study
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
 
 
 def read_study_file(path) -> Study:
@@ -32,11 +26,7 @@ def read_study_file(path) -> Study:
 
 def parse_study_text(text: str, source, base_dir: Path) -> Study:
     """Validate a study's TOML ``text`` (from ``source``, its relative paths resolving against ``base_dir``)."""
-    try:
-        mapping = tomllib.loads(text)
-    except ValueError as error:  # also a number of more than 4300 digits
-        raise InputError(f"not valid TOML: {error}", source) from None
-    return parse_study(mapping, str(source), Path(base_dir))
+    return parse_study(toml_mapping(text, source), str(source), Path(base_dir))
 
 
 def load_study(study, cycles: int | None = None, seed: int | None = None) -> Study:

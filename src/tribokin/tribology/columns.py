@@ -19,12 +19,22 @@ from tribokin.confinement import regular_file
 from tribokin.errors import InputError
 
 
-def _records(handle) -> Iterator[tuple[int, list[str]]]:
-    """(line number, cells) of each CSV record of ``handle`` that is neither a comment nor blank."""
+def csv_refusal(error: csv.Error, path, line: int) -> InputError:
+    """A line of the CSV file ``path`` the reader refuses (a cell beyond its field limit, a NUL) as one line naming
+    the line, never quoting it."""
+    return InputError(f"not a CSV file: {error}", path, f"line {line}")
+
+
+def _records(handle, path) -> Iterator[tuple[int, list[str]]]:
+    """(line number, cells) of each CSV record of ``handle`` (the file ``path``) that is neither a comment nor
+    blank."""
     reader = csv.reader("\n" if line.lstrip().startswith("#") else line for line in handle)
-    for row in reader:
-        if any(cell.strip() for cell in row):
-            yield reader.line_num, row
+    try:
+        for row in reader:
+            if any(cell.strip() for cell in row):
+                yield reader.line_num, row
+    except csv.Error as error:
+        raise csv_refusal(error, path, reader.line_num) from None
 
 
 def read_columns(path, layouts: tuple[tuple[str, ...], ...], min_rows: int,
@@ -48,11 +58,9 @@ def read_columns(path, layouts: tuple[tuple[str, ...], ...], min_rows: int,
     real = regular_file(path, path)
     try:
         with open(real, newline="", encoding="utf-8") as handle:
-            records = list(_records(handle))
+            records = list(_records(handle, path))
     except UnicodeDecodeError:
         raise InputError("not a text CSV file", path) from None
-    except csv.Error as error:  # a cell beyond the csv module's field limit, a NUL
-        raise InputError(f"not a CSV file: {error}", path) from None
     header = [name.strip() for name in records[0][1]] if records else []
     layout = next((names for names in layouts if all(name in header for name in names)), None)
     if layout is None:

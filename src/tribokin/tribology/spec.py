@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tribokin.checks import finite, seed_int, whole_number, within
+from tribokin.checks import finite, nested_too_deep, seed_int, whole_number, within
 from tribokin.confinement import confined_file
 from tribokin.errors import InputError, LawError, closest_hint
 from tribokin.tribology import laws
@@ -56,13 +56,16 @@ def _from_file(spec: dict, base_dir: Path, roots: tuple[Path, ...]) -> FrictionL
     path = base_dir / str(spec["file"])
     real = confined_file(path, roots, None, "file", "not found; write it with `tribokin fit-friction`")
     try:
-        mapping = tomllib.loads(real.read_text(encoding="utf-8"))
+        text = real.read_text(encoding="utf-8")
+        mapping = tomllib.loads(text)
     except UnicodeDecodeError as error:
         raise InputError(f"not valid TOML: not UTF-8 text (at byte {error.start})", path) from None
     except ValueError as error:  # also a number of more than 4300 digits
         where = re.search(r"\(at (line \d+, column \d+|end of document)\)", str(error))  # tomllib quotes keys: not them
         raise InputError(f"not valid TOML{' at ' + where.group(1) if where else ''}: expected a law file as "
                          "`tribokin fit-friction` writes it (law = \"...\" and its parameters)", path) from None
+    except RecursionError:
+        raise nested_too_deep(text, path) from None
     if "file" in mapping:  # one level only: a law file naming itself, or a ring of them, would never end
         raise InputError("a law file holds the law itself (law = ..., preset = ..., log = ...), not another law "
                          "file; point the study at the file this key names directly", path, "file")
