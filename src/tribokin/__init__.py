@@ -5,7 +5,10 @@ Pinocchio forward kinematics -> ISO 9283 figures, at any pose of any robot.
 
 What users touch: :func:`run_study` and :func:`load_study`, the :class:`Study` they read, the results
 (:class:`StudyResult`, :class:`PoseResult`, :class:`MapResult`) and the errors, all subclasses of
-:class:`TribokinError`. The errors and ``__version__`` load with the package; the rest on first use (PEP 562), so
+:class:`TribokinError`; without a study file, the library under it: a :class:`Robot` (``Robot.from_pinocchio``,
+``from_urdf``, ``from_example_robot_data``), its :func:`joint_models` and friction laws (:class:`Gaussian`...,
+:func:`preset`), a pose's ISO test (:func:`pose_test`) and a workspace map (:func:`workspace_map`, its
+:class:`MapScenario`). The errors and ``__version__`` load with the package; the rest on first use (PEP 562), so
 ``tribokin --version`` and a refused command line do not import the physics chain.
 """
 
@@ -14,12 +17,19 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING
 
-from tribokin.errors import (ConfigurationError, InputError, JointRangeError, LawError, RobotDescriptionError,
-                             TribokinError)
+from tribokin.errors import (ConfigurationError, InputError, JointModelError, JointRangeError, LawError,
+                             RobotDescriptionError, SettingsError, TribokinError)
 from tribokin.provenance import __version__
 
 if TYPE_CHECKING:
+    from tribokin.kinematics.robot import Robot
+    from tribokin.maps.grid import GridError
     from tribokin.maps.result import MapResult
+    from tribokin.maps.run import MapScenario, workspace_map
+    from tribokin.simulation.joint_errors import JointErrorModel, joint_models
+    from tribokin.simulation.pose_run import TestSettings, pose_test
+    from tribokin.tribology.laws import Constant, Empirical, FrictionLaw, Gaussian, Lognormal, Uniform
+    from tribokin.tribology.presets import preset
     from tribokin.run import StudyResult, run_study
     from tribokin.simulation.pose_result import PoseResult
     from tribokin.study.map_spec import BoxMap, JointMap, PlaneMap
@@ -32,11 +42,21 @@ _LAZY = {"MapResult": "tribokin.maps.result", "StudyResult": "tribokin.run", "ru
          "JointMap": "tribokin.study.map_spec", "PlaneMap": "tribokin.study.map_spec",
          "load_study": "tribokin.study.reading", "IsoCubeSpec": "tribokin.study.spec",
          "JointSpec": "tribokin.study.spec", "PoseSpec": "tribokin.study.spec", "RobotSpec": "tribokin.study.spec",
-         "ScenarioSpec": "tribokin.study.spec", "Study": "tribokin.study.spec"}
+         "ScenarioSpec": "tribokin.study.spec", "Study": "tribokin.study.spec",
+         "Robot": "tribokin.kinematics.robot", "MapScenario": "tribokin.maps.run", "workspace_map": "tribokin.maps.run",
+         "JointErrorModel": "tribokin.simulation.joint_errors", "joint_models": "tribokin.simulation.joint_errors",
+         "TestSettings": "tribokin.simulation.pose_run", "pose_test": "tribokin.simulation.pose_run",
+         "FrictionLaw": "tribokin.tribology.laws", "Constant": "tribokin.tribology.laws",
+         "Uniform": "tribokin.tribology.laws", "Gaussian": "tribokin.tribology.laws",
+         "Lognormal": "tribokin.tribology.laws", "Empirical": "tribokin.tribology.laws",
+         "preset": "tribokin.tribology.presets", "GridError": "tribokin.maps.grid"}
 
 __all__ = ["run_study", "load_study", "Study", "RobotSpec", "JointSpec", "PoseSpec", "IsoCubeSpec", "PlaneMap",
-           "BoxMap", "JointMap", "ScenarioSpec", "StudyResult", "PoseResult", "MapResult", "TribokinError",
-           "InputError", "ConfigurationError", "RobotDescriptionError", "LawError", "JointRangeError", "__version__"]
+           "BoxMap", "JointMap", "ScenarioSpec", "StudyResult", "PoseResult", "MapResult", "Robot", "joint_models",
+           "JointErrorModel", "TestSettings", "pose_test", "workspace_map", "MapScenario", "FrictionLaw", "Constant",
+           "Uniform", "Gaussian", "Lognormal", "Empirical", "preset", "TribokinError", "InputError",
+           "ConfigurationError", "RobotDescriptionError", "LawError", "JointRangeError", "SettingsError",
+           "JointModelError", "GridError", "__version__"]
 
 
 def __getattr__(name: str):

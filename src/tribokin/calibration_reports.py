@@ -34,8 +34,7 @@ from tribokin.output.folder import atomic_folder, check_output_folder
 from tribokin.output.writers import write_rows
 from tribokin.provenance import software_versions
 from tribokin.run import run_study
-from tribokin.simulation.pose_run import PoseRunner
-from tribokin.study.assembly import check_names, joint_models, load_robot, map_robots, pose_tasks
+from tribokin.study.assembly import check_names, joint_models, load_robot, map_robots, pose_tasks, study_runner
 from tribokin.study.calibration_data import CalibrationInput, calibration_input, read_robot_measurements
 from tribokin.study.names import calibrated_pose_names, check_measured_pose_names, cloud_figure_file
 from tribokin.study.reading import parse_study_text, read_study_file
@@ -198,7 +197,7 @@ def _calibrated_study(study, study_path: Path, out: Path, header: list[str], val
 def _check_runnable(calibrated, robot) -> None:
     """The checks ``tribokin run`` makes of ``calibrated.toml``'s study before it samples (its joint models, names, and
     every pose's loads within the joints' ranges), made before anything is written."""
-    runner = PoseRunner(calibrated, robot, joint_models(calibrated, robot))
+    runner = study_runner(calibrated, robot, joint_models(calibrated, robot))
     tasks, _ = pose_tasks(calibrated, robot)
     check_names(calibrated, tasks)
     for task in tasks:

@@ -26,6 +26,18 @@ class TribokinError(Exception):
         self.message = message
         super().__init__(message)
 
+    def __reduce__(self):
+        """Pickled with its attributes (a map's worker raises it in another process), whatever its arguments."""
+        return _restored, (type(self), self.args, self.__dict__)
+
+
+def _restored(cls: type, args: tuple, state: dict) -> TribokinError:
+    """The error ``cls`` with ``args`` and attributes ``state``, its ``__init__`` not called (unpickling)."""
+    error = cls.__new__(cls)
+    error.args = args
+    error.__dict__.update(state)
+    return error
+
 
 class InputError(TribokinError, ValueError):
     """Bad input: a file, a key in it, and what to fix.
@@ -53,19 +65,24 @@ class ConfigurationError(TribokinError, ValueError):
     """A joint configuration of the wrong size, not finite, or outside the joint limits."""
 
 
-class RobotDescriptionError(TribokinError, ValueError):
-    """A robot that cannot be loaded: an unknown name, a missing or malformed URDF, a mesh outside the package
-    folders, an unknown tool frame, a joint tribokin cannot model.
+class ArgumentError(TribokinError, ValueError):
+    """A bad argument of a library function, named by ``argument``.
 
     Args:
         message: what is wrong and what to do about it.
-        argument: the loader's argument at fault (``"name"``, ``"path"``, ``"tool_frame"``, ``"package_dirs"``),
-            or ``None`` for the robot as a whole.
+        argument: the argument at fault, or ``None`` for no one argument.
     """
 
     def __init__(self, message: str, argument: str | None = None):
         self.argument = argument
         super().__init__(message)
+
+
+class RobotDescriptionError(ArgumentError):
+    """A robot that cannot be loaded: an unknown name, a missing or malformed URDF, a mesh outside the package
+    folders, an unknown tool frame, a joint tribokin cannot model; ``argument``: the loader's argument at fault
+    (``"name"``, ``"path"``, ``"tool_frame"``, ``"package_dirs"``, ``"reference_q"``), or ``None`` for the robot as a
+    whole."""
 
 
 class LawError(TribokinError, ValueError):
@@ -92,6 +109,26 @@ class JointRangeError(TribokinError, ValueError):
     """
 
     def __init__(self, message: str, joint: str, part: str):
+        self.joint, self.part = joint, part
+        super().__init__(message)
+
+
+class SettingsError(ArgumentError):
+    """A test's or a map's setting out of its range (cycles, seed, approach, engine, payload, approach directions);
+    ``argument``: the setting at fault (``"cycles"``...)."""
+
+
+class JointModelError(TribokinError, ValueError):
+    """A joint error model that cannot be made: an unknown joint, a missing or bad stiffness or friction.
+
+    Args:
+        message: what is wrong and what to do about it.
+        joint: the joint's name (``None``: every joint's shared value).
+        part: the value at fault, named as the joint error model's field (``"stiffness"``, ``"friction"``...), or
+            ``None`` for the joint itself (unknown).
+    """
+
+    def __init__(self, message: str, joint: str | None, part: str | None):
         self.joint, self.part = joint, part
         super().__init__(message)
 

@@ -22,9 +22,9 @@ from tribokin.placement.result import PlacementResult
 from tribokin.placement.search import run_placement
 from tribokin.provenance import software_versions
 from tribokin.simulation.pose_result import PoseResult, pose_frame
-from tribokin.simulation.pose_run import PoseRunner
+from tribokin.simulation.pose_run import run_poses
 from tribokin.study.assembly import MapRobots, check_names, joint_models, load_robot, map_robots, pose_tasks, \
-    robot_spec
+    robot_spec, study_runner
 from tribokin.study.reading import load_study
 from tribokin.study.spec import ScenarioSpec
 
@@ -148,10 +148,7 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None or study.placement else checkpoint,
                layout)
     prepared_map = None if robots is None else prepare_map(study, robots)  # the map's keys checked at any base
-    runner = PoseRunner(study, robot, models)
-    for task in tasks:  # every pose's loads, checked before any is sampled
-        runner.normal_forces(task)
-    poses = [runner.run(task, index) for index, task in enumerate(tasks)]
+    poses = run_poses(study_runner(study, robot, models), tasks)
     workspace_map = placement = None
     if study.placement is not None:
         placement = run_placement(study, executor, checkpoint, resume, progress)

@@ -42,7 +42,7 @@ def runner_for(robot_name: str, law: str) -> PoseRunner:
 
 
 def expected_at(runner: PoseRunner, q: np.ndarray) -> dict:
-    table = ShapeTable.simulate(CYCLES, expected_stream(runner.study.seed, "table"))
+    table = ShapeTable.simulate(CYCLES, expected_stream(runner.settings.seed, "table"))
     twists, translations = tool_frames(runner.robot, q[None])
     out = expected_targets(runner, ExpectedSetup.build(runner, table, "directional"), q[None],
                            runner.normal_forces_at(q[None]), twists, translations)
@@ -139,7 +139,7 @@ def expected_block(runner: PoseRunner, qs: np.ndarray, figure_set: str = "direct
     from tribokin.maps.expected import shape_table
     from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES
 
-    study = runner.study
+    study = runner.settings
     table = None if study.cycles >= ASYMPTOTIC_CYCLES else shape_table(study.cycles, study.seed)
     forces = runner.normal_forces_at(qs)
     out = expected_targets(runner, ExpectedSetup.build(runner, table, figure_set), qs, forces,
@@ -156,7 +156,7 @@ def test_the_compiled_expected_figures_agree_with_numpy(robot_name, law, cycles,
     roundings whichever the path), the band's Monte Carlo error also to 1e-11 (a difference of two sampled distances
     over a third: 1e-14 m of a few micrometres), the same methods, fallbacks and dominant joints."""
     runner = runner_for(robot_name, law)
-    runner.study = dataclasses.replace(runner.study, cycles=cycles)
+    runner.settings = dataclasses.replace(runner.settings, cycles=cycles)
     qs = targets_near(robot_name, 40)
     monkeypatch.setenv("TRIBOKIN_KERNELS", "numpy")
     reference = expected_block(runner, qs)
@@ -179,7 +179,7 @@ def test_a_targets_expected_figures_do_not_depend_on_the_others_in_its_block(ker
     """The same 24 UR5 targets measured in one block and in two blocks, the second half first: the same figures
     (the same bytes on the compiled path, whose kernels take one target at a time)."""
     runner = runner_for("ur5", "gaussian")
-    runner.study = dataclasses.replace(runner.study, cycles=1000)
+    runner.settings = dataclasses.replace(runner.settings, cycles=1000)
     qs = targets_near("ur5", 24)
     whole = expected_block(runner, qs)
     halves = [expected_block(runner, qs[12:]), expected_block(runner, qs[:12])]

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import hashlib
 import io
 import math
 import warnings
@@ -57,6 +58,35 @@ def wrap_angles(angles):
     return angles - 2 * math.pi * np.round(np.asarray(angles) / (2 * math.pi))
 
 
+def kinematics_sha256(model: pin.Model) -> str:
+    """A hash of ``model``'s kinematic parameters: its joints' kinds, placements and limits, its frames' names,
+    parents and placements, and the inertias the bearing loads are computed from (bytes of float64 arrays)."""
+    digest = hashlib.sha256()
+    for joint, name, placement, inertia in zip(model.joints, model.names, model.jointPlacements, model.inertias):
+        digest.update(f"{name}:{joint.shortname()}:{joint.nq}:{joint.nv};".encode())
+        digest.update(np.ascontiguousarray(placement.homogeneous, dtype=float).tobytes())
+        digest.update(np.array([inertia.mass, *inertia.lever, *np.asarray(inertia.inertia).ravel()]).tobytes())
+    digest.update(np.array(model.parents, dtype=np.int64).tobytes())
+    for limits in (model.lowerPositionLimit, model.upperPositionLimit):
+        digest.update(np.ascontiguousarray(limits, dtype=float).tobytes())
+    for frame in model.frames:
+        digest.update(f"{frame.name}:{frame.parentJoint};".encode())
+        digest.update(np.ascontiguousarray(frame.placement.homogeneous, dtype=float).tobytes())
+    return digest.hexdigest()
+
+
+def model_origin(model: pin.Model, tool_frame: str, label: str, whole: pin.Model | None = None,
+                 source: str = "pinocchio model") -> dict:
+    """Where a robot came from, as ``summary.json`` records a robot a study did not load (``robot_spec``): its
+    ``source`` (``"pinocchio model"``, ``"urdf"``, ``"example-robot-data"``), ``name`` (the model's name, the URDF's
+    path or the robot's name), the whole model's ``nq`` and ``nv`` (``whole``, else ``model``), the ``tool_frame``, the
+    active ``joints`` and ``kinematics_sha256`` (:func:`kinematics_sha256`) of the reduced model. A robot a study loads
+    records its ``[robot]`` table instead."""
+    whole = model if whole is None else whole
+    return {"source": source, "name": label, "nq": whole.nq, "nv": whole.nv, "tool_frame": tool_frame,
+            "joints": list(model.names)[1:], "kinematics_sha256": kinematics_sha256(model)}
+
+
 @dataclass
 class Robot:
     """A Pinocchio model reduced to the chain that moves ``tool_frame``.
@@ -77,6 +107,11 @@ class Robot:
         joint_is_prismatic: (nv,) True for prismatic joints (deviations in [m]), False for revolute ([rad]).
         continuous: (nv,) True for continuous joints (revolute, no limits; two values in Pinocchio's configuration).
         motion_axes: (nv, 3) unit motion axis of each joint in its own frame (linear or angular).
+        origin: where it came from, as ``summary.json`` records it (``robot_spec``): a study's ``[robot]`` table
+            for a robot a study loads, else :func:`model_origin`'s (``source = "pinocchio model"``).
+
+    Construct it with :meth:`from_pinocchio`, :meth:`from_urdf` or :meth:`from_example_robot_data`. Pickled, it
+    keeps its kinematics only (:meth:`__reduce__`).
     """
 
     model: pin.Model
@@ -85,6 +120,7 @@ class Robot:
     reference_q: np.ndarray
     read_geometry: Callable[[pin.GeometryType], pin.GeometryModel] | None = None
     missing_meshes: tuple[str, ...] = ()
+    origin: dict | None = None
 
     def __post_init__(self):
         self._geometries = {}
@@ -105,6 +141,67 @@ class Robot:
         self._upper = np.where(self.continuous, np.inf, np.asarray(self.model.upperPositionLimit)[q_index])
         self._drawn = (np.where(self.continuous, -math.pi, self._lower),
                        np.where(self.continuous, math.pi, self._upper))
+        if self.origin is None:
+            self.origin = model_origin(self.model, self.tool_frame, self.label)
+
+    def __reduce__(self):
+        """Pickled as its kinematics (model, tool frame, label, reference posture, missing meshes, origin), without
+        its geometry: what a map's workers measure with."""
+        return Robot, (self.model, self.tool_frame, self.label, self.reference_q, None, self.missing_meshes,
+                       self.origin)
+
+    @classmethod
+    def from_pinocchio(cls, model: pin.Model, tool_frame: str | None = None,
+                       visual_model: pin.GeometryModel | None = None, collision_model: pin.GeometryModel | None = None,
+                       reference_q=None, tool_offset: pin.SE3 | None = None, base: pin.SE3 | None = None) -> Robot:
+        """A robot of any Pinocchio model (``pin.buildModelFromUrdf``, ``robot_descriptions``' loaders...), reduced to
+        the tool's chain as a URDF is (:func:`reduce_to_chain`); ``model`` itself is left as it is.
+
+        Args:
+            model: the whole model (a fixed base; a free flyer is locked at ``reference_q``).
+            tool_frame: the frame whose pose is measured (``None``: the end of the longest chain).
+            visual_model: its visual geometry model, to draw it (``None``: none).
+            collision_model: its collision geometry model (``None``: none).
+            reference_q: (nq,) Pinocchio's configuration of the whole model, at which the joints off the tool's
+                chain are locked and from which the robot's reference posture is taken (``None``: each 1-DoF joint
+                at mid-range, the rest neutral, as for a URDF: :func:`reference_posture`).
+            tool_offset: the tool point's placement in ``tool_frame`` (:func:`rigid_placement`; ``None``: none).
+            base: the base's placement in the world (:func:`rigid_placement`; ``None``: the world is the base frame).
+
+        Returns:
+            the robot; its :attr:`origin` records the model's name, sizes, joints and a hash of its kinematics
+            (:func:`model_origin`), as ``summary.json`` can.
+
+        Raises:
+            RobotDescriptionError: ``reference_q`` of the wrong size or not finite, an unknown tool frame, a joint
+                moving the tool that is not 1-DoF or has no travel.
+        """
+        model = pin.Model(model)
+        if reference_q is None:
+            reference_q = reference_posture(model)
+        else:
+            reference_q = np.array(reference_q, dtype=float)
+            if reference_q.shape != (model.nq,) or not np.all(np.isfinite(reference_q)):
+                raise RobotDescriptionError(f"reference_q must be {model.nq} finite numbers, the model's configuration "
+                                            f"(nq = {model.nq}); got shape {reference_q.shape}", "reference_q")
+        geometries = {pin.GeometryType.VISUAL: visual_model, pin.GeometryType.COLLISION: collision_model}
+        read_geometry = None if visual_model is None and collision_model is None else geometries.__getitem__
+        robot = reduce_to_chain(model, reference_q, tool_frame, read_geometry, model.name or "pinocchio model",
+                                tool_offset, base)
+        robot.origin = model_origin(robot.model, robot.tool_frame, robot.label, model)
+        return robot
+
+    @classmethod
+    def from_urdf(cls, path, tool_frame: str | None = None, package_dirs=(), xacro_args: dict[str, str] | None = None,
+                  meshes: bool = True, tool_offset: pin.SE3 | None = None, base: pin.SE3 | None = None) -> Robot:
+        """A robot of a URDF (or xacro) file: :func:`load_urdf`."""
+        return load_urdf(path, tool_frame, package_dirs, tool_offset, meshes, xacro_args, base)
+
+    @classmethod
+    def from_example_robot_data(cls, name: str, tool_frame: str | None = None, tool_offset: pin.SE3 | None = None,
+                                base: pin.SE3 | None = None) -> Robot:
+        """A robot example-robot-data ships, by name (``"ur5"``): :func:`load_example_robot`."""
+        return load_example_robot(name, tool_frame, tool_offset, base)
 
     def geometry_model(self, kind: pin.GeometryType) -> pin.GeometryModel | None:
         """The geometry model of ``kind`` (``pin.GeometryType.VISUAL`` or ``COLLISION``), read when first asked for;
@@ -268,14 +365,34 @@ def _joint_value(joint, q) -> float:
     return math.atan2(q[joint.idx_q + 1], q[joint.idx_q]) if joint.nq == 2 else float(q[joint.idx_q])
 
 
-def _reduce_to_chain(model, read_geometry, reference_q, tool_frame, label, offset=None, base=None,
-                     missing_meshes: tuple[str, ...] = ()) -> Robot:
-    """Lock every joint that does not move ``tool_frame`` (default: :func:`~.tool_frames.default_tool_frame`); check the
-    rest are 1-DoF with some travel; bring the reference posture within their limits (:func:`_within_limits`); add the
-    tool point at ``offset`` (:func:`rigid_placement`) in ``tool_frame``, if given; put the base at ``base`` in the
-    world (:func:`_place_base`), if given. ``read_geometry(kind)``: the whole model's geometry model of a
-    ``pin.GeometryType`` (``None``: none), which the robot reduces and places the same way when first asked for;
-    ``missing_meshes``: :attr:`Robot.missing_meshes`."""
+def reduce_to_chain(model: pin.Model, reference_q: np.ndarray, tool_frame: str | None = None,
+                    read_geometry: Callable[[pin.GeometryType], pin.GeometryModel | None] | None = None,
+                    label: str = "robot", offset: pin.SE3 | None = None, base: pin.SE3 | None = None,
+                    missing_meshes: tuple[str, ...] = ()) -> Robot:
+    """The robot of a whole Pinocchio model: the step every loader ends with (a URDF, example-robot-data,
+    :meth:`Robot.from_pinocchio`).
+
+    Locks every joint that does not move ``tool_frame``, and a free flyer, at ``reference_q``; checks the rest are 1-DoF
+    with some travel; brings the reference posture within their limits (:func:`_within_limits`); adds the tool point
+    at ``offset`` in ``tool_frame``, if given; puts the base at ``base`` in the world (:func:`_place_base`), if given.
+    ``model`` is changed (a frame named as a joint renamed ``<name>_link``): pass a copy to keep it.
+
+    Args:
+        model: the whole model.
+        reference_q: (nq,) Pinocchio's configuration of the whole model (:func:`reference_posture` for a URDF's).
+        tool_frame: the frame whose pose is measured (``None``: :func:`~.tool_frames.default_tool_frame`).
+        read_geometry: ``read_geometry(kind)``, the whole model's geometry model of a ``pin.GeometryType`` (``None``
+            for none of that kind), which the robot reduces and places the same way when first asked for; ``None``:
+            no geometry.
+        label: the robot's name in reports and messages.
+        offset: the tool point's placement in ``tool_frame`` (:func:`rigid_placement`; ``None``: none).
+        base: the base's placement in the world (:func:`rigid_placement`; ``None``: the world is the base frame).
+        missing_meshes: the meshes its description names that were not found (:attr:`Robot.missing_meshes`).
+
+    Raises:
+        RobotDescriptionError: an unknown tool frame, no default one, a joint moving the tool that is not 1-DoF or
+            has no travel.
+    """
     _make_frame_names_unique(model)
     frames = [f.name for f in model.frames]
     if tool_frame is None:
@@ -301,8 +418,10 @@ def _reduce_to_chain(model, read_geometry, reference_q, tool_frame, label, offse
     if base is not None:
         _place_base(model, base)
 
-    def reduced_geometry(kind: pin.GeometryType) -> pin.GeometryModel:
+    def reduced_geometry(kind: pin.GeometryType) -> pin.GeometryModel | None:
         geometry = read_geometry(kind)
+        if geometry is None:
+            return None
         if locked:
             geometry = pin.buildReducedModel(full, [geometry], locked, reference_q)[1][0]
         return geometry if base is None else _placed_geometry(geometry, base)
@@ -356,7 +475,9 @@ def load_urdf(path, tool_frame: str | None = None, package_dirs=(), tool_offset:
             not 1-DoF, no default tool frame (a floating base whose longest chains are separate limbs).
     """
     model, read_geometry, reference_q, missing = _read_urdf(path, package_dirs, meshes, xacro_args)
-    return _reduce_to_chain(model, read_geometry, reference_q, tool_frame, str(path), tool_offset, base, missing)
+    robot = reduce_to_chain(model, reference_q, tool_frame, read_geometry, str(path), tool_offset, base, missing)
+    robot.origin = model_origin(robot.model, robot.tool_frame, robot.label, model, "urdf")
+    return robot
 
 
 def _read_urdf(path, package_dirs=(), meshes: bool = True, xacro_args: dict[str, str] | None = None
@@ -389,12 +510,18 @@ def _read_urdf(path, package_dirs=(), meshes: bool = True, xacro_args: dict[str,
         except (RuntimeError, ValueError) as error:
             raise RobotDescriptionError(f"cannot read the meshes of URDF '{path}': {_loader_message(error)} "
                                         f"({WITHOUT_MESHES})", "path") from None
+    return model, None if geometries is None else geometries.__getitem__, reference_posture(model), missing
+
+
+def reference_posture(model: pin.Model) -> np.ndarray:
+    """(nq,) a URDF's reference posture: each 1-DoF joint at mid-range (finite limits less than 1000 apart), the
+    rest (a continuous joint's cosine and sine, a free flyer) neutral."""
     mid_range = pin.neutral(model)
-    for joint in model.joints[1:]:  # a 1-DoF joint's mid-range; the rest (a continuous joint's cosine and sine) neutral
+    for joint in model.joints[1:]:
         low, high = model.lowerPositionLimit[joint.idx_q], model.upperPositionLimit[joint.idx_q]
         if joint.nq == 1 and np.isfinite(low) and np.isfinite(high) and high - low < 1e3:
             mid_range[joint.idx_q] = (low + high) / 2
-    return model, None if geometries is None else geometries.__getitem__, mid_range, missing
+    return mid_range
 
 
 def load_example_robot(name: str, tool_frame: str | None = None, tool_offset: pin.SE3 | None = None,
@@ -403,7 +530,9 @@ def load_example_robot(name: str, tool_frame: str | None = None, tool_offset: pi
     ``base`` as for :func:`load_urdf`."""
     _check_robot_name(name)
     model, read_geometry, reference_q = _example_robot(name)
-    return _reduce_to_chain(pin.Model(model), read_geometry, reference_q.copy(), tool_frame, name, tool_offset, base)
+    robot = reduce_to_chain(pin.Model(model), reference_q.copy(), tool_frame, read_geometry, name, tool_offset, base)
+    robot.origin = model_origin(robot.model, robot.tool_frame, robot.label, model, "example-robot-data")
+    return robot
 
 
 def _check_robot_name(name: str) -> None:

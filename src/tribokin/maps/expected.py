@@ -198,8 +198,8 @@ class ExpectedSetup:
 
     @classmethod
     def build(cls, runner: PoseRunner, table: ShapeTable | None, figure_set: str) -> ExpectedSetup:
-        signs = test_signs(runner, sampled_shape(SAMPLED_CYCLES, runner.study.cycles))
-        return cls(runner.study.cycles, JointMoments.of(runner.models), table, figure_set, signs.mean(axis=(0, 1)))
+        signs = test_signs(runner, sampled_shape(SAMPLED_CYCLES, runner.settings.cycles))
+        return cls(runner.settings.cycles, JointMoments.of(runner.models), table, figure_set, signs.mean(axis=(0, 1)))
 
 
 def tests_for(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> int:
@@ -212,7 +212,7 @@ def common_numbers(runner: PoseRunner, signs: np.ndarray, tests: int, purpose: s
     per cycle [s ⊙ μ, s, z], the joints' signs ``signs`` (1 or tests, cycles, nv), the laws' draws μ and standard normal
     noise z (:func:`~tribokin.streams.expected_stream` of ``purpose``). A target's deviations from E[dq] are these
     times its :func:`responses`' rows, less E[dq] - offset."""
-    rng = expected_stream(runner.study.seed, purpose)
+    rng = expected_stream(runner.settings.seed, purpose)
     cycles, nv = signs.shape[1], len(runner.models)
     mu = np.stack([m.friction.rvs(size=(tests, cycles), random_state=rng) for m in runner.models], axis=-1)
     noise = rng.standard_normal((tests, cycles, nv))
@@ -274,7 +274,7 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     lever = friction_loads(models, forces) * friction_lever(models, robot.joint_is_prismatic)
     columns = {figure.name: k for k, figure in enumerate(map_figures(setup.figure_set))}
     figures = np.full((len(qs), len(columns)), np.nan)
-    unidirectional = runner.study.approach == "unidirectional"
+    unidirectional = runner.settings.approach == "unidirectional"
     model = linear_model(robot, moments, qs, lever, np.broadcast_to(setup.mean_signs, lever.shape),
                          mixed=not unidirectional)
     analytic = model.met & moments.gaussian & unidirectional
@@ -316,8 +316,8 @@ def test_signs(runner: PoseRunner, shape: tuple[int, int]) -> np.ndarray:
     """Joint signs (1 or tests, cycles, nv) of sampled tests of ``shape`` (tests, cycles) under the study's ``approach``
     mode (:func:`~tribokin.simulation.joint_errors.approach_signs` with every joint forwards, then backwards): the
     same for every test unless the directions are drawn at random."""
-    nv, mode = len(runner.models), runner.study.approach
-    rng = expected_stream(runner.study.seed, "signs")
+    nv, mode = len(runner.models), runner.settings.approach
+    rng = expected_stream(runner.settings.seed, "signs")
     directions = np.vstack([np.ones(nv), -np.ones(nv)])
     if mode != "random":
         return approach_signs(mode, shape[1], directions, rng)[0][None]
@@ -468,7 +468,7 @@ def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.nd
     vap = np.take_along_axis(expected, order[:, [0]], axis=1)[:, 0]
     close = np.flatnonzero(first - second <= TAIL_STDS * width)
     if len(close):
-        z = expected_stream(runner.study.seed, "vap").standard_normal((VAP_DRAWS, len(directions), 3))
+        z = expected_stream(runner.settings.seed, "vap").standard_normal((VAP_DRAWS, len(directions), 3))
         z = np.ascontiguousarray(z.transpose(1, 2, 0))  # (3 directions, 3, draws): each direction's draws by coordinate
         lam, vectors = np.linalg.eigh(noise[close])  # a root of each (close, 3 directions, 3, 3), singular ones too
         roots = vectors * np.sqrt(np.maximum(lam, 0.0))[..., None, :]
@@ -485,7 +485,7 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, lever: np.n
     """RP_l_multi [µm] (k,), the bound [m, rad] (k, 2) of its first-order model and its fallbacks (k,)."""
     n, moments = setup.cycles, setup.moments
     shape = sampled_shape(MULTI_CYCLES, n, MIN_MULTI_TESTS)
-    rng = expected_stream(runner.study.seed, "multi signs")
+    rng = expected_stream(runner.settings.seed, "multi signs")
     signs = rng.integers(0, 2, size=(*shape, len(runner.models))) * 2.0 - 1.0
     numbers = common_numbers(runner, signs, shape[0], "multi")
     model = linear_model(runner.robot, moments, qs, lever, np.zeros_like(lever), mixed=True)

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from tribokin.errors import ConfigurationError, closest_hint
+from tribokin.errors import ConfigurationError, TribokinError, closest_hint
 from tribokin.iso9283.cube import candidate_postures, holds_orientation
 from tribokin.kinematics.reach import ReachSphere, last_joint_sphere, reach_sphere
 from tribokin.kinematics.robot import Robot
@@ -23,7 +23,7 @@ from tribokin.study.map_spec import JointMap, MapSpec, PlaneMap
 GRID_DECIMALS = 12
 
 
-class GridError(ValueError):
+class GridError(TribokinError, ValueError):
     """A map spec that does not fit the robot; ``key`` names the spec's field at fault (``"rpy_deg"``,
     ``"joints[0]"``), for a study to name its file and key."""
 

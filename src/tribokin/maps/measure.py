@@ -24,7 +24,7 @@ def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twi
     :func:`~tribokin.propagation.exact.tool_frames`. Targets go through in blocks of even sizes, of at most about
     ``TARGET_BLOCK_SAMPLES`` cycles: few enough for the arrays to stay small, enough to share the
     per-call costs."""
-    study = runner.study
+    study = runner.settings
     task = joint_space_task("map target", np.zeros(qs.shape[1]))  # the draws use its approach directions only
     forces = runner.normal_forces_at(qs)
     figures = np.empty((len(qs), len(map_figures("one-test"))))
@@ -43,7 +43,7 @@ def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twi
 
 def block_figures(runner: PoseRunner, qs: np.ndarray, dq: np.ndarray, twists: np.ndarray, translations: np.ndarray):
     """One-test figures (targets, 7) and dominant joint (targets,) of deviations ``dq`` (targets, n, nv)."""
-    positions, angles = tool_deviations_at_poses(runner.robot, qs, dq, runner.study.engine, twists, translations)
+    positions, angles = tool_deviations_at_poses(runner.robot, qs, dq, runner.settings.engine, twists, translations)
     shares = variance_contributions(twists[:, :3], dq)
     dominant = np.where(np.isnan(shares).all(axis=1), -1, np.argmax(np.nan_to_num(shares, nan=-1.0), axis=1))
     spread = position_spread(positions)

@@ -17,12 +17,12 @@ import threading
 import uuid
 from collections.abc import Callable
 from concurrent.futures import Executor
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
 from tribokin.compiled import kernels_used
-from tribokin.errors import InputError
+from tribokin.errors import InputError, TribokinError
 from tribokin.execution import local_pool, run_chunks
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
@@ -36,26 +36,30 @@ from tribokin.maps.rows import FROM_NEIGHBOUR, fill_from_neighbours, first_tries
 from tribokin.maps.schema import MapLayout, robot_column, scenario_column
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.propagation.exact import tool_frames
-from tribokin.simulation.pose_run import PoseRunner
-from tribokin.study.assembly import MapRobots, joint_models, load_robot_spec
-from tribokin.study.spec import RobotSpec, Study
+from tribokin.simulation.joint_errors import JointErrorModel
+from tribokin.simulation.pose_run import PoseRunner, TestSettings
+from tribokin.study.assembly import MapRobots, joint_models, study_runner
+from tribokin.study.map_spec import MapSpec
+from tribokin.study.spec import Study
 
 
 @dataclass(frozen=True)
 class MapJob:
-    """What a chunk needs besides its rows: the study (``[map]``), each scenario's study, the map's robots and grids.
+    """What a chunk needs besides its rows: each scenario's settings, joint models and how its errors are located,
+    the map's robots and grids.
 
-    ``token`` names the job, so each process builds the robots and runners once per job. ``setups``: each
-    scenario's :class:`~tribokin.maps.expected.ExpectedSetup` (``None`` for a one-test map). ``robots``: the kinematic
-    spec of each robot the scenarios measure with (:class:`~tribokin.study.assembly.MapRobots`), ``grids`` its grid of
-    the map's targets, ``layout`` the store's (each scenario's robot).
+    ``token`` names the job, so each process builds the runners once per job. ``setups``: each scenario's
+    :class:`~tribokin.maps.expected.ExpectedSetup` (``None`` for a one-test map). ``robots``: each robot the scenarios
+    measure with (pickled as its kinematics: :meth:`~tribokin.kinematics.robot.Robot.__reduce__`), ``grids`` its grid
+    of the map's targets, ``layout`` the store's (each scenario's robot).
     """
 
     token: str
-    study: Study
-    scenarios: tuple[Study, ...]
+    settings: tuple[TestSettings, ...]
+    models: tuple[tuple[JointErrorModel, ...], ...]
+    locators: tuple[Callable | None, ...]
     setups: tuple[ExpectedSetup | None, ...]
-    robots: tuple[RobotSpec, ...]
+    robots: tuple[Robot, ...]
     grids: tuple[TargetGrid, ...]
     layout: MapLayout
 
@@ -69,9 +73,9 @@ def _job_context(job: MapJob) -> tuple[list[Robot], list[PoseRunner]]:
     """(robots, runners) of ``job``, built once per thread."""
     cache = getattr(_local, "cache", None)
     if cache is None or cache[0] != job.token:
-        robots = [load_robot_spec(spec, job.study.source, meshes=False) for spec in job.robots]  # nothing drawn here
-        runners = [PoseRunner(s, robots[r], joint_models(s, robots[r]))
-                   for s, r in zip(job.scenarios, job.layout.places)]
+        robots = list(job.robots)
+        runners = [PoseRunner(settings, robots[r], models, locate) for settings, models, locate, r
+                   in zip(job.settings, job.models, job.locators, job.layout.places)]
         _local.cache = (job.token, robots, runners)
     return _local.cache[1:]
 
@@ -210,32 +214,31 @@ def fill_holes(job: MapJob, robots: list[Robot], runners: list[PoseRunner], stor
             store.write(indices, filled)
 
 
-def expected_setups(study: Study, runners: list[PoseRunner]) -> tuple[ExpectedSetup | None, ...]:
+def expected_setups(spec: MapSpec, runners: list[PoseRunner]) -> tuple[ExpectedSetup | None, ...]:
     """Each scenario's :class:`~tribokin.maps.expected.ExpectedSetup` (a shape table per cycles and seed), or
     ``None`` each for a one-test map."""
-    if study.map.statistic != "expected":
+    if spec.statistic != "expected":
         return (None,) * len(runners)
     tables = {}
     for runner in runners:
-        key = runner.study.cycles, runner.study.seed
+        key = runner.settings.cycles, runner.settings.seed
         if key not in tables:
             tables[key] = None if key[0] >= ASYMPTOTIC_CYCLES else shape_table(*key)
-    return tuple(ExpectedSetup.build(r, tables[r.study.cycles, r.study.seed], study.map.figure_set) for r in runners)
+    return tuple(ExpectedSetup.build(r, tables[r.settings.cycles, r.settings.seed], spec.figure_set) for r in runners)
 
 
-def chunk_rows(study: Study, row_count: int) -> list[list[int]]:
+def chunk_rows(spec: MapSpec, row_count: int) -> list[list[int]]:
     """The grid rows of each chunk (:attr:`~tribokin.study.map_spec.MapSpec.rows_per_chunk`)."""
-    size = study.map.rows_per_chunk
+    size = spec.rows_per_chunk
     return [list(range(start, min(start + size, row_count))) for start in range(0, row_count, size)]
 
 
-def open_store(study: Study, job: MapJob, chunks: list[list[int]], size: int, checkpoint, resume: bool) -> ChunkStore:
-    """The map's store: in ``checkpoint`` (kept, for ``--resume``), else in a new temporary folder that
-    is deleted with the store."""
-    settings = {"study": study.mapping, "source": study.source, "chunks": chunks,
-                "scenarios": [[s.cycles, s.seed] for s in job.scenarios],
-                "robots": [spec.as_settings() for spec in job.robots], "kernels": kernels_used()}
-    columns = job.layout.columns()
+def open_store(prepared: PreparedMap, job: MapJob, chunks: list[list[int]], checkpoint, resume: bool) -> ChunkStore:
+    """The map's store: in ``checkpoint`` (kept, for ``--resume``, recognised by the map's ``identity``), else in a
+    new temporary folder that is deleted with the store."""
+    settings = {**prepared.identity, "chunks": chunks, "scenarios": [[s.cycles, s.seed] for s in job.settings],
+                "kernels": kernels_used()}
+    columns, size = job.layout.columns(), prepared.grids[0].size
     if checkpoint is not None:
         return ChunkStore(checkpoint, fingerprint(settings), columns, size, resume)
     return temporary_store(fingerprint(settings), columns, size)
@@ -251,56 +254,101 @@ def chunk_order(count: int) -> list[int]:
 
 
 @dataclass(frozen=True)
-class PreparedMap:
-    """A map checked and ready to run (:func:`prepare_map`): ``robots`` (the study's first) and their kinematic
-    ``specs`` (:class:`~tribokin.study.assembly.MapRobots`), ``grids`` each robot's grid of the map's targets,
-    ``row_starts`` where each robot's grid rows start (rows, nv; :func:`~tribokin.maps.rows.solve_row_starts`),
-    ``runners`` one per scenario (the study itself without scenarios), ``layout`` the store's (each scenario's
-    robot)."""
+class MapScenario:
+    """A what-if variant of a workspace map: what it changes of the map's own robot, joint models and settings
+    (``None``: the map's). Scenarios with the same robot object share its IK.
 
+    Attributes:
+        name: its name (the figures' and files' names).
+        robot: another robot, or the same one with another base or tool (:class:`~tribokin.kinematics.robot.Robot`).
+        joints: one error model per joint of its robot (:func:`~tribokin.simulation.joint_errors.joint_models`).
+        settings: its cycles, seed, approach, engine, payload (:class:`~tribokin.simulation.pose_run.TestSettings`).
+    """
+
+    name: str
+    robot: Robot | None = None
+    joints: tuple[JointErrorModel, ...] | None = None
+    settings: TestSettings | None = None
+
+
+@dataclass(frozen=True)
+class PreparedMap:
+    """A map checked and ready to run (:func:`plan_map`): its ``spec``, each scenario's ``names``, ``robots`` (the
+    reference scenario's first), ``grids`` each robot's grid of the map's targets, ``row_starts`` where each robot's
+    grid rows start (rows, nv; :func:`~tribokin.maps.rows.solve_row_starts`), ``runners`` one per scenario, ``layout``
+    the store's (each scenario's robot), ``identity`` what a checkpoint of it is recognised by (``--resume``)."""
+
+    spec: MapSpec
+    names: tuple[str, ...]
     robots: tuple[Robot, ...]
-    specs: tuple[RobotSpec, ...]
     grids: tuple[TargetGrid, ...]
     row_starts: tuple[np.ndarray, ...]
     runners: list[PoseRunner]
     layout: MapLayout
+    identity: dict
+
+
+def plan_map(spec: MapSpec, robots: tuple[Robot, ...], runners: list[PoseRunner], names: tuple[str, ...],
+             identity: dict) -> PreparedMap:
+    """The grids of ``spec``, one per robot of ``robots`` (the first's held orientation the others hold), and where
+    each robot's grid rows start, checked before any work: the map's joints, ranges, start posture and orientation for
+    each robot, and each scenario's loads at each row's start (``runners``: one per scenario, of one of ``robots``).
+
+    Raises:
+        GridError: a spec that does not fit a robot; its ``robot`` is that robot's number.
+        JointRangeError: (or what a runner's ``locate`` makes of it) a deviation beyond a joint's range at a row's
+            start; its ``scenario`` is the scenario's number.
+    """
+    places = tuple(next(r for r, robot in enumerate(robots) if robot is runner.robot) for runner in runners)
+    grids = []
+    for r, robot in enumerate(robots):
+        try:
+            grids.append(make_grid(robot, spec, grids[0] if grids else None))
+        except GridError as error:
+            error.robot = r
+            raise
+    starts = tuple(solve_row_starts(robot, grid) for robot, grid in zip(robots, grids))
+    for i, (runner, r) in enumerate(zip(runners, places)):
+        try:
+            runner.normal_forces_at(starts[r])  # the loads at each row's start, checked before any chunk runs
+        except TribokinError as error:
+            error.scenario = i
+            raise
+    return PreparedMap(spec, tuple(names), tuple(robots), tuple(grids), starts, list(runners),
+                       MapLayout(tuple(robot.model.nv for robot in robots), places, spec.figure_set), identity)
 
 
 def prepare_map(study: Study, robots: MapRobots) -> PreparedMap:
-    """The grids of the study's ``[map]``, one per robot its scenarios measure with (``robots``: the study's first,
-    whose held orientation the others hold), a runner per scenario and where each robot's grid rows start,
-    checked before any work: the map's joints, ranges, start posture and orientation for each robot, each scenario's
-    joints and friction laws, and its loads at each row's start."""
+    """:func:`plan_map` of the study's ``[map]`` and its scenarios' robots (``robots``: the study's first), a runner per
+    scenario (the study itself without scenarios), its errors naming the study's file and key."""
     scenarios = tuple(s.study for s in study.scenarios) or (study,)
-    grids = []
-    for r, robot in enumerate(robots.robots):
-        try:
-            grids.append(make_grid(robot, study.map, grids[0] if grids else None))
-        except GridError as error:
-            prefix = f"scenarios[{robots.places.index(r)}]." if r else ""  # the first scenario measured with it
-            raise InputError(str(error), study.source, f"{prefix}map.{error.key}") from None
-    starts = tuple(solve_row_starts(robot, grid) for robot, grid in zip(robots.robots, grids))
     runners = []
     for i, (scenario, r) in enumerate(zip(scenarios, robots.places)):
         robot = robots.robots[r]
         try:
-            runners.append(PoseRunner(scenario, robot, joint_models(scenario, robot)))
-            runners[-1].normal_forces_at(starts[r])  # the loads at each row's start, checked before any chunk runs
+            runners.append(study_runner(scenario, robot, joint_models(scenario, robot)))
         except InputError as error:
             key = error.key if not study.scenarios else f"scenarios[{i}].{error.key}"
             raise InputError(error.message, error.source, key) from None
-    return PreparedMap(robots.robots, robots.specs, tuple(grids), starts, runners,
-                       MapLayout.of(robots, study.map.figure_set))
+    identity = {"study": study.mapping, "source": study.source, "robots": [spec.as_settings() for spec in robots.specs]}
+    try:
+        return plan_map(study.map, robots.robots, runners, tuple(s.name for s in study.scenarios) or (study.name,),
+                        identity)
+    except GridError as error:
+        prefix = f"scenarios[{robots.places.index(error.robot)}]." if error.robot else ""  # the first measured with it
+        raise InputError(str(error), study.source, f"{prefix}map.{error.key}") from None
+    except InputError as error:
+        key = error.key if not study.scenarios else f"scenarios[{error.scenario}].{error.key}"
+        raise InputError(error.message, error.source, key) from None
 
 
-def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = None, checkpoint=None,
-            resume: bool = False, progress: Callable[[int, int], None] | None = None,
-            meanwhile: Callable[[], None] | None = None) -> MapResult:
-    """Measure the study's ``[map]`` for each scenario.
+def measure_map(prepared: PreparedMap, executor: Executor | None = None, checkpoint=None, resume: bool = False,
+                progress: Callable[[int, int], None] | None = None,
+                meanwhile: Callable[[], None] | None = None) -> MapResult:
+    """Measure a prepared map (:func:`plan_map`) for each of its scenarios.
 
     Args:
-        study: a study with a ``map`` (its ``scenarios``, if any, are measured instead of it).
-        prepared: its robots, grids, where its rows start and runners (:func:`prepare_map`).
+        prepared: its robots, grids, where its rows start and runners.
         executor: where chunks run (:func:`~tribokin.execution.executor_for`; ``None``: here).
         checkpoint: folder where the results are kept as chunks finish (``None``: a temporary folder,
             deleted with the result).
@@ -310,16 +358,16 @@ def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = Non
         meanwhile: called once, here, after the chunks are handed to ``executor`` and before their results are
             read: while its workers compute, this process has the time (with no executor, before the chunks run).
     """
-    studies = tuple(runner.study for runner in prepared.runners)
-    names = [s.name for s in study.scenarios] or [study.name]
+    runners = prepared.runners
     grid = prepared.grids[0]
-    chunks = chunk_rows(study, grid.row_count)
-    job = MapJob(uuid.uuid4().hex, study, studies, expected_setups(study, prepared.runners), prepared.specs,
-                 prepared.grids, prepared.layout)
-    store = open_store(study, job, chunks, grid.size, checkpoint, resume)
+    chunks = chunk_rows(prepared.spec, grid.row_count)
+    job = MapJob(uuid.uuid4().hex, tuple(TestSettings.of(r.settings) for r in runners),
+                 tuple(tuple(r.models) for r in runners), tuple(r.locate for r in runners),
+                 expected_setups(prepared.spec, runners), prepared.robots, prepared.grids, prepared.layout)
+    store = open_store(prepared, job, chunks, checkpoint, resume)
     finished = set(store.finished())
     robots = list(prepared.robots)
-    _local.cache = (job.token, robots, prepared.runners)  # chunks run in this thread need not rebuild them
+    _local.cache = (job.token, robots, runners)  # chunks run in this thread need not rebuild them
     writer = store if local_pool(executor) is not None else None  # a local worker saves its chunk in the store
     todo = {k: (job, k, chunks[k], tuple(starts[chunks[k]] for starts in prepared.row_starts), writer)
             for k in chunk_order(len(chunks)) if k not in finished}
@@ -337,7 +385,64 @@ def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = Non
                 report(done_targets, grid.size)
     finally:
         _local.cache = None
-    fill_holes(job, robots, prepared.runners, store, executor)
-    maps = {name: ScenarioMap(name, s.cycles, i, robots[r].joint_names, store, study.map.figure_set, r)
-            for i, (name, s, r) in enumerate(zip(names, studies, prepared.layout.places))}
+    fill_holes(job, robots, runners, store, executor)
+    maps = {name: ScenarioMap(name, settings.cycles, i, robots[r].joint_names, store, prepared.spec.figure_set, r)
+            for i, (name, settings, r) in enumerate(zip(prepared.names, job.settings, prepared.layout.places))}
     return MapResult(prepared.grids, robots[0].joint_names, store, maps)
+
+
+def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = None, checkpoint=None,
+            resume: bool = False, progress: Callable[[int, int], None] | None = None,
+            meanwhile: Callable[[], None] | None = None) -> MapResult:
+    """Measure the study's ``[map]`` for each scenario (:func:`measure_map`; ``study``: a study with a ``map``, its
+    ``scenarios``, if any, measured instead of it)."""
+    return measure_map(prepared, executor, checkpoint, resume, progress, meanwhile)
+
+
+def workspace_map(robot: Robot, joints: list[JointErrorModel], map_spec: MapSpec, *,
+                  scenarios: tuple[MapScenario, ...] = (), name: str = "map", cycles: int = 30, seed: int = 0,
+                  approach: str = "unidirectional", engine: str = "fast", payload_kg: float = 0.0,
+                  executor: Executor | None = None, checkpoint=None, resume: bool = False,
+                  progress: Callable[[int, int], None] | None = None) -> MapResult:
+    """The ISO 9283 figures at every target of a workspace map, for the robot or each of its ``scenarios``.
+
+    Args:
+        robot: the robot (:class:`~tribokin.kinematics.robot.Robot`).
+        joints: one error model per joint (:func:`~tribokin.simulation.joint_errors.joint_models`).
+        map_spec: the map: :class:`~tribokin.study.map_spec.PlaneMap`, ``BoxMap`` or ``JointMap``.
+        scenarios: what-if variants measured instead of the robot itself (:class:`MapScenario`), the first the
+            reference; ``()``: the robot alone, a scenario called ``name``.
+        name: the map's one scenario's name, without ``scenarios``.
+        cycles: cycles of each test (:class:`~tribokin.simulation.pose_run.TestSettings`), each scenario's unless
+            it sets its own settings.
+        seed: the random streams' seed.
+        approach: ``"unidirectional"``, ``"bidirectional"`` or ``"random"``.
+        engine: ``"fast"`` or ``"exact"``.
+        payload_kg: the payload at the tool point [kg].
+        executor: where chunks run (:func:`~tribokin.execution.executor_for`; ``None``: here).
+        checkpoint: folder where finished chunks are kept (``None``: a temporary one).
+        resume: reuse the chunks an interrupted run saved in ``checkpoint``.
+        progress: called ``progress(done_targets, total_targets)`` as chunks finish.
+
+    Returns:
+        every target's figures per scenario, read from its store (a temporary one without ``checkpoint``).
+
+    Raises:
+        GridError: a map that does not fit a robot (its ``key``: the spec's field).
+        SettingsError: a bad setting.
+        JointRangeError: a joint whose deviation could exceed its range.
+    """
+    settings = TestSettings(cycles, seed, approach, engine, payload_kg)
+    scenarios = tuple(scenarios) or (MapScenario(name),)
+    robots = [robot]
+    for scenario in scenarios:
+        if scenario.robot is not None and all(scenario.robot is not known for known in robots):
+            robots.append(scenario.robot)
+    runners = [PoseRunner(s.settings or settings, s.robot or robot, joints if s.joints is None else s.joints)
+               for s in scenarios]
+    identity = {"map": repr(map_spec), "robots": [r.origin for r in robots],
+                "joints": [[{f.name: m.friction.describe() if f.name == "friction" else getattr(m, f.name)
+                             for f in fields(m)} for m in runner.models] for runner in runners],
+                "settings": [repr(runner.settings) for runner in runners]}
+    return measure_map(plan_map(map_spec, tuple(robots), runners, tuple(s.name for s in scenarios), identity),
+                       executor, checkpoint, resume, progress)

@@ -13,11 +13,13 @@ when the spring force equals friction, in the direction of travel s_ij.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, fields
 
 import numpy as np
 
-from tribokin.errors import JointRangeError
+from tribokin.errors import JointModelError, JointRangeError, closest_hint
+from tribokin.kinematics.robot import Robot
 from tribokin.tribology.laws import FrictionLaw
 
 APPROACH_MODES = ("unidirectional", "bidirectional", "random")
@@ -48,11 +50,72 @@ class JointErrorModel:
     noise_std: float = 0.0
     bearing_span_m: float = 0.1
 
+    def __post_init__(self):
+        if not isinstance(self.friction, FrictionLaw):
+            raise JointModelError(f"friction must be a friction law (tribokin.tribology.laws: Constant, Gaussian...; "
+                                  f"got {type(self.friction).__name__})", None, "friction")
+        for name, low, strict in (("stiffness", 0.0, True), ("normal_force_N", 0.0, False),
+                                  ("friction_radius_m", 0.0, True), ("backlash", 0.0, False),
+                                  ("offset", -math.inf, False), ("noise_std", 0.0, False),
+                                  ("bearing_span_m", 0.0, True)):
+            value = getattr(self, name)
+            if value is None and name == "normal_force_N":
+                continue
+            number = isinstance(value, (int, float, np.number)) and not isinstance(value, bool)
+            if not number or not math.isfinite(value) or value < low or (strict and value == low):
+                bound = "" if low == -math.inf else f" {'>' if strict else '>='} {low:g}"
+                raise JointModelError(f"{name} must be a finite number{bound} (got {value!r})", None, name)
+
     @property
     def friction_is_torque(self) -> bool:
         """``friction`` is a law of the friction torque or force itself, not of mu: lost motion = its value / k,
         with no load or radius."""
         return self.friction.quantity != "mu"
+
+
+def joint_models(robot: Robot, *, friction: FrictionLaw | None = None, stiffness: float | None = None,
+                 joints: Mapping[str, Mapping] | None = None, **shared) -> list[JointErrorModel]:
+    """One error model per joint of ``robot``, in its joint order: the values every joint shares, each joint's own
+    (``joints``) over them. What a study's ``[joints]`` gives, in code
+    (:func:`tribokin.study.assembly.joint_models` reads a study's tables into this).
+
+    Args:
+        robot: the robot.
+        friction: every joint's friction law: of mu [-] (:mod:`tribokin.tribology.laws`, ``preset(...)``), or of the
+            friction torque [N·m] (force [N], prismatic) itself (a law whose ``quantity`` says so).
+        stiffness: every joint's transmission stiffness [N·m/rad] (revolute) or [N/m] (prismatic).
+        joints: per joint name, its own values (any field of :class:`JointErrorModel`), e.g.
+            ``{"shoulder_pan_joint": {"stiffness": 2e5}}``.
+        **shared: any other field of :class:`JointErrorModel`, shared by every joint: ``normal_force_N`` [N] (``None``:
+            from statics), ``friction_radius_m`` [m], ``backlash``, ``offset``, ``noise_std`` [m or rad],
+            ``bearing_span_m`` [m].
+
+    Raises:
+        JointModelError: an unknown joint or field, a joint without a stiffness or friction, a value out of range;
+            naming the joint and the field.
+    """
+    valid = [f.name for f in fields(JointErrorModel)]
+    names = robot.joint_names
+    for joint, values in (("every joint", shared), *(joints or {}).items()):
+        if joint != "every joint" and joint not in names:
+            raise JointModelError(f"unknown joint '{joint}'{closest_hint(joint, names)}; joints of {robot.label}: "
+                                  f"{', '.join(names)}", joint, None)
+        for key in values:
+            if key not in valid:
+                raise JointModelError(f"unknown joint model value '{key}' ({joint}){closest_hint(key, valid)}; "
+                                      f"valid: {', '.join(valid)}", None if joint == "every joint" else joint, key)
+    models = []
+    for name in names:
+        values = {"friction": friction, "stiffness": stiffness, **shared, **(joints or {}).get(name, {})}
+        for part in ("stiffness", "friction"):
+            if values[part] is None:
+                raise JointModelError(f"joint '{name}' has no {part}: give {part}= (every joint's) or its own in "
+                                      f"joints['{name}']", name, part)
+        try:
+            models.append(JointErrorModel(**values))
+        except JointModelError as error:
+            raise JointModelError(f"joint '{name}': {error.message}", name, error.part) from None
+    return models
 
 
 def friction_lever(models: list[JointErrorModel], prismatic: np.ndarray) -> np.ndarray:

@@ -2,19 +2,22 @@
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Protocol
 
 import numpy as np
 
-from tribokin.errors import located
+from tribokin.errors import JointRangeError, SettingsError, TribokinError
+from tribokin.iso9283.cube import label_approach_signs
 from tribokin.iso9283.metrics import covariance_semi_axes, directional_metrics, position_repeatability, \
     variance_contributions
 from tribokin.kinematics.loads import BearingLoads
 from tribokin.kinematics.robot import Robot
 from tribokin.propagation.exact import engine_bound, tool_deviations
-from tribokin.simulation.joint_errors import JointErrorModel, approach_signs, check_travel, joint_travel, \
-    sample_joint_deviations
+from tribokin.simulation.joint_errors import APPROACH_MODES, JointErrorModel, approach_signs, check_travel, \
+    joint_travel, sample_joint_deviations
 from tribokin.simulation.pose_result import PoseResult
 from tribokin.streams import pose_stream, replicate_stream
 from tribokin.tribology.laws import FrictionLaw
@@ -27,17 +30,60 @@ REPLICATE_SAMPLES = 200_000
 
 
 class RunSettings(Protocol):
-    """What a :class:`PoseRunner` reads of a study (a :class:`tribokin.study.spec.Study` has it)."""
+    """What a :class:`PoseRunner` reads of its settings: a :class:`TestSettings` (a
+    :class:`tribokin.study.spec.Study` has them too)."""
 
     cycles: int
     seed: int
     approach: str
     engine: str
     payload_kg: float  # the robot's payload [kg]
-    source: str  # the study file (named by a refusal)
 
-    def joint_key(self, name: str, part: str) -> str:
-        """The study key that sets ``part`` (``"stiffness"``...) of joint ``name`` (named by a refusal)."""
+
+#: The propagation engines (:func:`~tribokin.propagation.exact.tool_deviations`).
+ENGINES = ("fast", "exact")
+
+
+@dataclass(frozen=True)
+class TestSettings:
+    """How a pose's ISO 9283 test is run, a study's ``[study]`` values as a plain spec.
+
+    Attributes:
+        cycles: cycles n of each approach direction's test (at least 2: ISO's S_l divides by n - 1).
+        seed: the random streams' seed (0 to 2**64 - 1).
+        approach: ``"unidirectional"`` (ISO's), ``"bidirectional"`` or ``"random"`` (:data:`APPROACH_MODES`).
+        engine: ``"fast"`` (the product of exponentials with its bound, falling back to the exact one) or
+            ``"exact"`` (Pinocchio's forward kinematics) (:data:`ENGINES`).
+        payload_kg: the payload at the tool point [kg], for the bearing loads from statics.
+
+    Raises:
+        SettingsError: a value outside its range, naming it.
+    """
+
+    __test__ = False  # not a pytest test class, whatever its name
+
+    cycles: int = 30
+    seed: int = 0
+    approach: str = "unidirectional"
+    engine: str = "fast"
+    payload_kg: float = 0.0
+
+    def __post_init__(self):
+        whole = isinstance(self.cycles, (int, np.integer)) and not isinstance(self.cycles, bool)
+        if not whole or self.cycles < 2:
+            raise SettingsError(f"cycles must be a whole number >= 2 (got {self.cycles!r})", "cycles")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, (int, np.integer)) or not 0 <= self.seed < 2 ** 64:
+            raise SettingsError(f"seed must be a whole number from 0 to 2**64 - 1 (got {self.seed!r})", "seed")
+        for name, valid in (("approach", APPROACH_MODES), ("engine", ENGINES)):
+            if getattr(self, name) not in valid:
+                raise SettingsError(f"{name} must be one of {', '.join(valid)} (got {getattr(self, name)!r})", name)
+        if not (isinstance(self.payload_kg, (int, float)) and math.isfinite(self.payload_kg) and self.payload_kg >= 0):
+            raise SettingsError(f"payload_kg must be a finite number >= 0 (got {self.payload_kg!r})", "payload_kg")
+
+    @classmethod
+    def of(cls, settings: RunSettings) -> TestSettings:
+        """The settings of anything that has them (a :class:`tribokin.study.spec.Study`)."""
+        return cls(settings.cycles, settings.seed, settings.approach, settings.engine, settings.payload_kg)
 
 
 #: Approach directions of a joint-space pose: every joint travelling +, then every joint travelling -.
@@ -74,15 +120,47 @@ def joint_space_task(name: str, q: np.ndarray, normal_force_N: float | None = No
                     normal_force_N=normal_force_N, friction=friction)
 
 
-class PoseRunner:
-    """Runs poses of one study: samples the cycles, propagates them, measures them."""
+def pose_task(robot: Robot, name: str, q, directions: tuple[str, ...] | None = None,
+              normal_force_N: float | None = None, friction: FrictionLaw | None = None) -> PoseTask:
+    """A pose to test at configuration ``q`` (nv,) [m or rad]: approached in joint space (:func:`joint_space_task`),
+    or along each of ``directions`` (labels such as ``"+x"``, ``"-z"``:
+    :func:`~tribokin.iso9283.cube.label_approach_signs`), each then tested whatever the approach mode; ``normal_force_N``
+    [N] and ``friction``, when given, every joint's at this pose.
 
-    def __init__(self, study: RunSettings, robot: Robot, models: list[JointErrorModel]):
-        self.study, self.robot, self.models = study, robot, models
+    Raises:
+        ConfigurationError: ``q`` of the wrong size, not finite or outside the joint limits.
+        SettingsError: a direction that names no approach.
+    """
+    q = robot.check_configuration(q)
+    task = joint_space_task(name, q, normal_force_N, friction)
+    if directions is not None:
+        signs = [label_approach_signs(robot, q, label) for label in directions]
+        if any(sign is None for sign in signs):
+            raise SettingsError(f"unknown approach direction {directions[signs.index(None)]!r}: +x, -y, ..., "
+                                "+0.58+0.58+0.58, + or -", "directions")
+        signs = np.array(signs)
+        task = replace(task, directions=signs, labels=tuple(directions), every_direction=True)
+    return task
+
+
+class PoseRunner:
+    """Runs poses of one robot and its joint models: samples the cycles, propagates them, measures them.
+
+    Args:
+        settings: cycles, seed, approach, engine and payload (a :class:`TestSettings`, or a study).
+        robot: the robot.
+        models: one error model per active joint, in the robot's joint order.
+        locate: what a :class:`~tribokin.errors.JointRangeError` becomes (a study's: an error naming its file and
+            key); ``None``: raised as it is. Picklable, when a map's job carries it to its workers.
+    """
+
+    def __init__(self, settings: RunSettings, robot: Robot, models: list[JointErrorModel],
+                 locate: Callable[[TribokinError], TribokinError] | None = None):
+        self.settings, self.robot, self.models, self.locate = settings, robot, list(models), locate
         self.offsets = np.array([m.offset for m in models])
         self.loads = None
         if any(m.normal_force_N is None for m in models):
-            self.loads = BearingLoads(robot, study.payload_kg, [m.bearing_span_m for m in models])
+            self.loads = BearingLoads(robot, settings.payload_kg, [m.bearing_span_m for m in models])
         self.travel = joint_travel(robot.lower_limits, robot.upper_limits, robot.joint_is_prismatic)
 
     def normal_forces(self, task: PoseTask) -> np.ndarray:
@@ -112,11 +190,15 @@ class PoseRunner:
 
     def check_travel(self, forces_N: np.ndarray, models: list[JointErrorModel]) -> None:
         """Refuse loads ``forces_N`` (..., nv) [N] under which a joint's deviation could exceed its range."""
-        with located(self.study.source, lambda error: self.study.joint_key(error.joint, error.part)):
+        try:
             check_travel(models, self.robot.joint_is_prismatic, forces_N, self.travel, self.robot.joint_names)
+        except JointRangeError as error:
+            if self.locate is None:
+                raise
+            raise self.locate(error) from None
 
     def models_at(self, task: PoseTask) -> list[JointErrorModel]:
-        """The joint error models at a pose: the study's, with the pose's friction law if it has one."""
+        """The joint error models at a pose: the runner's, with the pose's friction law if it has one."""
         return self.models if task.friction is None else [replace(m, friction=task.friction) for m in self.models]
 
     def draw(self, task: PoseTask, forces_N, cycles: int, mode: str, rng):
@@ -127,22 +209,22 @@ class PoseRunner:
 
     def approach_sequence(self, task: PoseTask, rng) -> tuple[np.ndarray, np.ndarray]:
         """The joints' signs of travel (n, nv) and the approach index (n,) of every cycle at a pose:
-        ``study.cycles`` from each direction, one series after another (unidirectional) or in turn
+        ``settings.cycles`` from each direction, one series after another (unidirectional) or in turn
         (bidirectional); or as many cycles in all, each from a direction drawn at random (random)."""
-        mode, count, cycles = self.study.approach, len(task.directions), self.study.cycles
+        mode, count, cycles = self.settings.approach, len(task.directions), self.settings.cycles
         if mode == "unidirectional":
             group = np.repeat(np.arange(count), cycles)
             return task.directions[group].astype(float), group
         return approach_signs(mode, count * cycles, task.directions, rng)
 
     def measure(self, task: PoseTask, rng: np.random.Generator) -> PoseResult:
-        """Sample the cycles of every approach direction the study's ``approach`` mode tests at ``task`` from
+        """Sample the cycles of every approach direction the ``approach`` mode tests at ``task`` from
         ``rng`` and take their ISO 9283 figures."""
-        task = task.tested(self.study.approach)
+        task = task.tested(self.settings.approach)
         forces = self.normal_forces(task)
         signs, group = self.approach_sequence(task, rng)
         dq, mu = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces, signs, rng)
-        positions, angles = tool_deviations(self.robot, task.q, dq, self.study.engine)
+        positions, angles = tool_deviations(self.robot, task.q, dq, self.settings.engine)
         commanded = self.robot.tool_placement(task.q)
         metrics = directional_metrics(positions, angles, commanded.translation, group, task.labels)
         reference = self.robot.tool_placement(task.q + self.offsets)
@@ -152,11 +234,11 @@ class PoseRunner:
 
     def run(self, task: PoseTask, index: int) -> PoseResult:
         """Measure pose ``index`` (ISO 9283 per approach direction and across them, and beyond)."""
-        result = self.measure(task, pose_stream(self.study.seed, index))
+        result = self.measure(task, pose_stream(self.settings.seed, index))
         if task.friction is not None:
             result.extra["friction"] = task.friction.describe()
         result.direction_extra = self.beyond_iso(task, result.normal_forces_N, result, index)
-        if self.study.engine == "fast":  # the bound of the engine used, over every cycle it computed
+        if self.settings.engine == "fast":  # the bound of the engine used, over every cycle it computed
             used = engine_bound(self.robot, task.q, result.dq)
             result.extra["engine_used"] = used.engine if used.engine == "exact" else f"fast, order {used.order}"
             result.extra["engine_max_deviation_nm"] = used.position_m * 1e9
@@ -167,14 +249,14 @@ class PoseRunner:
         """Per approach direction with ISO figures: joint shares of the position variance, 1-sigma
         ellipsoid semi-axes [µm], 95 % interval of RP_l [µm].
 
-        The interval comes from replicate tests of ``study.cycles`` cycles each from that direction
+        The interval comes from replicate tests of ``settings.cycles`` cycles each from that direction
         (fresh random streams), propagated to first order through the position Jacobian: how much
         a test of this length can vary.
         """
         jacobian = self.robot.tool_jacobian(task.q)[:3]
-        cycles = self.study.cycles
+        cycles = self.settings.cycles
         replicates = int(np.clip(REPLICATE_SAMPLES // cycles, 20, RP_REPLICATES))
-        rng = replicate_stream(self.study.seed, index)
+        rng = replicate_stream(self.settings.seed, index)
         figures = {}
         for label in result.metrics.directions:
             mine = result.approach == result.directions.index(label)
@@ -191,3 +273,44 @@ class PoseRunner:
             extra["RP_l_95_um"] = (np.percentile(rp, [2.5, 97.5]) * UM_PER_M).tolist()
             figures[label] = extra
         return figures
+
+
+def run_poses(runner: PoseRunner, tasks: list[PoseTask], first: int = 0) -> list[PoseResult]:
+    """Every task's :meth:`PoseRunner.run`, the loads of all of them checked before any is sampled; task ``k`` is pose
+    number ``first + k``, whose random streams it draws from."""
+    for task in tasks:
+        runner.normal_forces(task)
+    return [runner.run(task, first + k) for k, task in enumerate(tasks)]
+
+
+def pose_test(robot: Robot, joints: list[JointErrorModel], q, *, name: str = "pose",
+              directions: tuple[str, ...] | None = None, normal_force_N: float | None = None,
+              friction: FrictionLaw | None = None, cycles: int = 30, seed: int = 0, approach: str = "unidirectional",
+              engine: str = "fast", payload_kg: float = 0.0, index: int = 0) -> PoseResult:
+    """A pose's ISO 9283 test: the cycles of each approach direction sampled, propagated to the tool and measured.
+
+    Args:
+        robot: the robot (:class:`~tribokin.kinematics.robot.Robot`).
+        joints: one error model per joint (:func:`~tribokin.simulation.joint_errors.joint_models`).
+        q: (nv,) the commanded configuration [m or rad].
+        name: the pose's name.
+        directions: the pose's approach directions (``"+x"``...; ``None``: joint space; :func:`pose_task`).
+        normal_force_N: every joint's bearing load at this pose [N] (``None``: the joint models', else statics).
+        friction: every joint's friction law at this pose (``None``: the joint models').
+        cycles: cycles of each approach direction's test (:class:`TestSettings`).
+        seed: the random streams' seed.
+        approach: ``"unidirectional"``, ``"bidirectional"`` or ``"random"``.
+        engine: ``"fast"`` or ``"exact"``.
+        payload_kg: the payload at the tool point [kg].
+        index: the pose's number in a study (its random streams: a study's pose ``index`` gives the same figures).
+
+    Returns:
+        its samples and ISO 9283 figures per approach direction (µm, mdeg in :meth:`PoseResult.report_row`).
+
+    Raises:
+        ConfigurationError: a bad ``q``.
+        SettingsError: a bad setting.
+        JointRangeError: a joint whose deviation could exceed its range.
+    """
+    runner = PoseRunner(TestSettings(cycles, seed, approach, engine, payload_kg), robot, joints)
+    return run_poses(runner, [pose_task(robot, name, q, directions, normal_force_N, friction)], index)[0]

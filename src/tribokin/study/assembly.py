@@ -4,13 +4,12 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, replace
 
-import numpy as np
-
 from tribokin.errors import InputError, closest_hint, located
-from tribokin.iso9283.cube import APPROACH_DIRECTIONS, UnreachableCube, label_approach_signs, place_cube
+from tribokin.iso9283.cube import APPROACH_DIRECTIONS, UnreachableCube, place_cube
 from tribokin.kinematics.robot import Robot, load_example_robot, load_urdf, rigid_placement
 from tribokin.simulation.joint_errors import JointErrorModel
-from tribokin.simulation.pose_run import PoseTask, joint_space_task
+from tribokin.simulation.joint_errors import joint_models as joint_error_models
+from tribokin.simulation.pose_run import PoseRunner, PoseTask, TestSettings, pose_task
 from tribokin.study.names import check_file_name_part, check_files_apart, check_name, pose_figure_file, scenario_files
 from tribokin.study.spec import FRICTION_KEYS, FRICTION_SCALE, RobotSpec, Study
 from tribokin.tribology.spec import law_from_spec, scaled_law_from_spec
@@ -35,8 +34,12 @@ def load_robot_spec(spec: RobotSpec, source=None, meshes: bool = True) -> Robot:
     base = rigid_placement(spec.base_xyz_m, spec.base_rpy_deg)
     with located(source, lambda error: ROBOT_KEYS.get(error.argument, f"robot.{error.argument}")):
         if spec.name is not None:
-            return load_example_robot(spec.name, spec.tool_frame, offset, base)
-        return load_urdf(spec.urdf, spec.tool_frame, list(spec.package_dirs), offset, meshes, spec.xacro_args, base)
+            robot = load_example_robot(spec.name, spec.tool_frame, offset, base)
+        else:
+            robot = load_urdf(spec.urdf, spec.tool_frame, list(spec.package_dirs), offset, meshes, spec.xacro_args,
+                              base)
+    robot.origin = spec.as_settings()
+    return robot
 
 
 def load_robot(study: Study, meshes: bool = True) -> Robot:
@@ -77,14 +80,15 @@ def map_robots(study: Study, robot: Robot) -> MapRobots:
 
 
 def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
-    """One error model per active joint: the ``[joints]`` defaults with ``[joints.<name>]`` overrides; a joint's
-    friction is the one its override gives (any of ``FRICTION_KEYS``), else the defaults'."""
+    """One error model per active joint (:func:`tribokin.simulation.joint_errors.joint_models`): the ``[joints]``
+    defaults with ``[joints.<name>]`` overrides; a joint's friction is the one its override gives (any of
+    ``FRICTION_KEYS``), else the defaults'."""
     names = robot.joint_names
     for joint in study.joint_overrides:
         if joint not in names:
             raise InputError(f"unknown joint '{joint}'{closest_hint(joint, names)}; joints of {robot.label}: "
                              f"{', '.join(names)}", study.source, f"joints.{joint}")
-    models = []
+    values = {}
     for name, prismatic in zip(names, robot.joint_is_prismatic):
         spec = study.joint(name)
         if spec.stiffness is None:
@@ -102,9 +106,31 @@ def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
             law = law_from_spec(spec.friction, study.source, key, study.base_dir, study.data_roots)
         else:
             law = scaled_law_from_spec(getattr(spec, given), FRICTION_SCALE[given], given, study.source, key)
-        values = {k: v for k, v in asdict(spec).items() if k not in FRICTION_KEYS}
-        models.append(JointErrorModel(law, **values))
-    return models
+        values[name] = {"friction": law, **{k: v for k, v in asdict(spec).items() if k not in FRICTION_KEYS}}
+    with located(study.source, JointKeys(study)):
+        return joint_error_models(robot, joints=values)
+
+
+@dataclass(frozen=True)
+class JointKeys:
+    """The study key of a joint's value: called with a :class:`~tribokin.errors.JointRangeError` (or
+    :class:`~tribokin.errors.JointModelError`), the key that sets the part at fault (:meth:`Study.joint_key`);
+    :meth:`locate` makes of it an error naming the study's file and that key (a :class:`PoseRunner`'s ``locate``)."""
+
+    study: Study
+
+    def __call__(self, error) -> str:
+        return self.study.joint_key(error.joint, error.part)
+
+    def locate(self, error) -> InputError:
+        """``error`` as an :class:`~tribokin.errors.InputError` naming the study's file and the key at fault."""
+        return InputError(error.message, self.study.source, self(error))
+
+
+def study_runner(study: Study, robot: Robot, models: list[JointErrorModel]) -> PoseRunner:
+    """A :class:`PoseRunner` of the study's settings (:meth:`TestSettings.of`), whose joint range errors name the
+    study's file and key."""
+    return PoseRunner(TestSettings.of(study), robot, models, JointKeys(study).locate)
 
 
 def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]:
@@ -116,11 +142,7 @@ def pose_tasks(study: Study, robot: Robot) -> tuple[list[PoseTask], dict | None]
             q = robot.check_configuration(p.q)
         friction = None if p.friction is None else law_from_spec(p.friction, study.source, f"poses[{i}].friction",
                                                                 study.base_dir, study.data_roots)
-        task = joint_space_task(p.name, q, p.normal_force_N, friction)
-        if p.directions is not None:
-            signs = np.array([label_approach_signs(robot, q, label) for label in p.directions])
-            task = replace(task, directions=signs, labels=p.directions, every_direction=True)
-        tasks.append(task)
+        tasks.append(pose_task(robot, p.name, q, p.directions, p.normal_force_N, friction))
     cube = None
     if study.iso_cube is not None:
         try:

@@ -36,8 +36,8 @@ from tribokin.measurement.contract import Measurements, Pose, read_measurements
 from tribokin.measurement.figures import pose_clouds
 from tribokin.measurement.registration import Registration, register_measurements
 from tribokin.simulation.joint_errors import JointErrorModel, friction_torque_moments
-from tribokin.simulation.pose_run import PoseRunner
 from tribokin.streams import posture_search
+from tribokin.study.assembly import study_runner
 from tribokin.study.spec import Study, backlash, instrument_noise, stiffness
 
 #: The ranges of a study's keys (joints.stiffness, joints.backlash, calibration.noise_floor_m): a fitted value
@@ -167,7 +167,7 @@ def calibration_input(study: Study, robot: Robot, models: list[JointErrorModel],
     model = calibration_model(study, robot, models)
     qs, how = configurations(study, robot, measurements)
     registration = register_measurements(measurements)
-    runner = PoseRunner(study, robot, models)
+    runner = study_runner(study, robot, models)
     poses, kept, left_out = [], [], []
     for pose, q in zip(measurements.poses, qs):
         forces = runner.normal_forces_at(q)
