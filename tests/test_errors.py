@@ -34,5 +34,6 @@ def test_an_input_error_passes_located_unchanged():
 
 def test_a_bad_pose_configuration_in_a_study_names_the_file_and_the_pose(axis_mapping):
     axis_mapping["poses"][0]["q"] = [9.0]
-    with pytest.raises(InputError, match=r"^<mapping>: poses\[0\].q: joint 'x' = 9 is outside its limits"):
+    with pytest.raises(InputError, match=r"^<mapping>: poses\[0\].q: joint 'x' = 9 m is outside its limits "
+                       r"\[0, 0\.\d+\] m \(q is in metres for prismatic joints, radians for revolute ones\)$"):
         run_study(axis_mapping, cycles=2)

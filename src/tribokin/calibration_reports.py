@@ -39,7 +39,7 @@ from tribokin.study.calibration_data import CalibrationInput, calibration_input,
 from tribokin.study.names import calibrated_pose_names, check_measured_pose_names, cloud_figure_file
 from tribokin.study.reading import parse_study_text, read_study_file
 from tribokin.study.spec import ISO_CUBE_POSES
-from tribokin.units import UM_PER_M
+from tribokin.units import UM_PER_M, um
 
 PARITY_FIGURE = "parity.png"
 SEED = 9283
@@ -48,10 +48,6 @@ PREDICTION_METHOD = (f"expected figure of one test at the fitted values (mean ov
                      "measured cycles, first-order model); 95 % prediction interval: 2.5th-97.5th percentile over "
                      f"{DRAWS} tests, each at parameters drawn from the fit's approximate posterior (parameter "
                      "uncertainty and test-to-test spread)")
-
-
-def _um(value_m: float | None) -> float | None:
-    return None if value_m is None else float(value_m * UM_PER_M)
 
 
 def _parameter_entry(estimate: ParameterEstimate, profile: tuple[float | None, float | None] | None) -> dict:
@@ -68,8 +64,8 @@ def _parameter_entry(estimate: ParameterEstimate, profile: tuple[float | None, f
 def _figure(figure: PredictedFigure | None) -> dict | None:
     if figure is None:
         return None
-    return {"measured_um": _um(figure.measured_m), "predicted_um": _um(figure.predicted_m),
-            "ci95_um": [_um(v) for v in figure.interval_m]}
+    return {"measured_um": um(figure.measured_m), "predicted_um": um(figure.predicted_m),
+            "ci95_um": [um(v) for v in figure.interval_m]}
 
 
 def _prediction_entry(prediction: PosePrediction) -> dict:
@@ -95,10 +91,10 @@ def _comparison_row(pose: str, direction: str, figure: str, cycles: int, fitted:
                     held_out: PredictedFigure) -> dict:
     """A row of ``comparison.csv`` [µm]."""
     return {"pose": pose, "direction": direction, "figure": figure, "cycles": cycles,
-            "measured_um": _um(fitted.measured_m), "predicted_um": _um(fitted.predicted_m),
-            "predicted_low_um": _um(fitted.interval_m[0]), "predicted_high_um": _um(fitted.interval_m[1]),
-            "held_out_predicted_um": _um(held_out.predicted_m), "held_out_low_um": _um(held_out.interval_m[0]),
-            "held_out_high_um": _um(held_out.interval_m[1])}
+            "measured_um": um(fitted.measured_m), "predicted_um": um(fitted.predicted_m),
+            "predicted_low_um": um(fitted.interval_m[0]), "predicted_high_um": um(fitted.interval_m[1]),
+            "held_out_predicted_um": um(held_out.predicted_m), "held_out_low_um": um(held_out.interval_m[0]),
+            "held_out_high_um": um(held_out.interval_m[1])}
 
 
 def _written_values(inputs: CalibrationInput, calibration: Calibration,
@@ -160,7 +156,7 @@ def _registration_entry(inputs: CalibrationInput, calibration: Calibration) -> d
                 "frame's rotation is fitted with the model and profiled out (the fit uses the clouds' shapes and the "
                 "differences of their barycentres, which do not depend on the frame)",
                 "fitted_rotation": calibration.rotation.tolist()}
-    return {"made": True, "rms_residual_um": _um(registration.rms_residual_m),
+    return {"made": True, "rms_residual_um": um(registration.rms_residual_m),
             "rotation": registration.rotation.tolist(), "translation_m": registration.translation_m.tolist(),
             "note": "the residual is the robot's geometric error (absolute accuracy), which friction does not "
                     "explain: barycentres serve only to register the frame, never as terms of the fit"}

@@ -28,7 +28,7 @@ from tribokin.output.folder import atomic_folder, check_output_folder
 from tribokin.output.writers import write_rows
 from tribokin.provenance import software_versions
 from tribokin.study.names import check_measured_pose_names, pose_figure_file
-from tribokin.units import UM_PER_M
+from tribokin.units import UM_PER_M, um
 
 DRIFT_FIGURE = "drift.png"
 #: Bytes per row of a measurement file while its figures are drawn (the field's points, the drift plot's), measured
@@ -59,13 +59,9 @@ class Segmenting:
                              (self.match_radius_m, "--match-radius-m"))))
 
 
-def _um(value_m: float | None) -> float | None:
-    return None if value_m is None else float(value_m * UM_PER_M)
-
-
 def _registration_summary(measurements: Measurements, registration: Registration | None) -> dict:
     if registration is not None:
-        return {"made": True, "rms_residual_um": _um(registration.rms_residual_m),
+        return {"made": True, "rms_residual_um": um(registration.rms_residual_m),
                 "rotation": registration.rotation.tolist(), "translation_m": registration.translation_m.tolist(),
                 "poses": list(registration.poses)}
     has_commanded = measurements.poses[0].pooled("commanded_m") is not None
@@ -78,7 +74,7 @@ def _correction_summary(figures: tuple[PoseFigures, ...]) -> dict:
     if not spreads:
         return {"made": False, "why": "no commanded positions", "largest_spread_um": None}
     made = any(f.commanded_corrected for f in figures)
-    largest = _um(max(spreads))
+    largest = um(max(spreads))
     if made:
         why = "each row referred to its own commanded position, turned into the measuring frame by the registration"
     elif largest == 0:
@@ -121,7 +117,7 @@ def _pose_summary(figures: PoseFigures, rows: list[dict], drift: list[dict], fla
 def _floor_summary(path, floor: NoiseFloor | None) -> dict | None:
     if floor is None:
         return None
-    return {"file": str(path), "readings": floor.readings, "RP_l_um": _um(floor.RP_l_m),
+    return {"file": str(path), "readings": floor.readings, "RP_l_um": um(floor.RP_l_m),
             "std_um": (floor.std_m * UM_PER_M).tolist(), "flag_factor": 2.0,
             "rule": "a figure at or below 2x the floor is flagged: RP_l and vAP_p against the floor's RP_l, "
                     "ellipsoid semi-axes against its largest per-axis standard deviation"}

@@ -9,6 +9,11 @@ UM_PER_M = 1e6
 MDEG_PER_RAD = 180e3 / math.pi
 
 
+def um(value_m: float | None) -> float | None:
+    """``value_m`` [m] in micrometres as a plain float, ``None`` kept (a figure that could not be computed)."""
+    return None if value_m is None else float(value_m * UM_PER_M)
+
+
 def gib(size: float) -> str:
     """``size`` [bytes] for people: ``"48 GiB"``, ``"310 MiB"``."""
     for unit, scale in (("TiB", 2 ** 40), ("GiB", 2 ** 30), ("MiB", 2 ** 20)):

@@ -8,7 +8,7 @@ import pinocchio as pin
 import pytest
 
 from conftest import AXIS_URDF, ROOT
-from tribokin.errors import RobotDescriptionError
+from tribokin.errors import ConfigurationError, RobotDescriptionError
 from tribokin.kinematics import robot as robot_module
 from tribokin.kinematics.robot import TESTED_ROBOTS, load_example_robot, load_urdf, rigid_placement
 
@@ -190,3 +190,9 @@ def test_a_urdfs_tool_point_is_named_after_its_frame_and_may_not_take_an_existin
     with pytest.raises(RobotDescriptionError, match="already has a frame 'tool_tool_point'") as error:
         load_urdf(urdf, "tool", tool_offset=rigid_placement([0.0, 0.0, 0.1]))
     assert error.value.argument == "tool_frame"
+
+
+def test_a_configuration_outside_the_limits_names_the_joints_unit():
+    with pytest.raises(ConfigurationError, match=r"joint 'shoulder_pan_joint' = 7 rad is outside its limits "
+                                                 r"\[-6\.28\d*, 6\.28\d*\] rad \(q is in metres for prismatic"):
+        load_example_robot("ur5").check_configuration([7.0, 0, 0, 0, 0, 0])

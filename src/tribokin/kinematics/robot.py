@@ -282,8 +282,10 @@ class Robot:
             raise ConfigurationError("must be finite numbers")
         for i, name in enumerate(names):
             if not self.lower_limits[i] <= q[i] <= self.upper_limits[i]:
-                raise ConfigurationError(f"joint '{name}' = {q[i]:g} is outside its limits "
-                                         f"[{self.lower_limits[i]:g}, {self.upper_limits[i]:g}]")
+                unit = "m" if self.joint_is_prismatic[i] else "rad"
+                raise ConfigurationError(f"joint '{name}' = {q[i]:g} {unit} is outside its limits "
+                                         f"[{self.lower_limits[i]:g}, {self.upper_limits[i]:g}] {unit} (q is in "
+                                         "metres for prismatic joints, radians for revolute ones)")
         return q
 
 

@@ -35,7 +35,7 @@ from tribokin.iso9283.metrics import (barycenter, covariance_semi_axes, largest_
                                       orientation_repeatability, position_repeatability)
 from tribokin.measurement.contract import Measurements, Pose, Series
 from tribokin.measurement.registration import Registration
-from tribokin.units import MDEG_PER_RAD, UM_PER_M
+from tribokin.units import MDEG_PER_RAD, UM_PER_M, um
 
 BOOTSTRAP_RESAMPLES = 2000
 BOOTSTRAP_SEED = 9283
@@ -106,20 +106,16 @@ class PoseFigures:
         for d in self.directions:
             row = {"pose": self.pose, "direction": d.direction, "cycles": d.cycles,
                    "too_short_for_RP": d.too_short,
-                   "RP_l_um": _um(d.RP_l_m), "AP_p_um": _um(d.AP_p_m)}
+                   "RP_l_um": um(d.RP_l_m), "AP_p_um": um(d.AP_p_m)}
             for axis, value in zip("abc", d.RP_abc_rad if d.RP_abc_rad is not None else (None,) * 3):
                 row[f"RP_{axis}_mdeg"] = None if value is None else float(value * MDEG_PER_RAD)
             row["RP_l_95_um"] = None if d.RP_l_ci95_m is None else [v * UM_PER_M for v in d.RP_l_ci95_m]
             row["ellipsoid_semi_axes_um"] = None if d.semi_axes_m is None else (d.semi_axes_m * UM_PER_M).tolist()
-            row.update(vAP_p_um=_um(self.vAP_p_m), RP_l_all_directions_um=_um(self.RP_l_all_directions_m),
-                       commanded_spread_um=_um(self.commanded_spread_m),
+            row.update(vAP_p_um=um(self.vAP_p_m), RP_l_all_directions_um=um(self.RP_l_all_directions_m),
+                       commanded_spread_um=um(self.commanded_spread_m),
                        commanded_corrected=self.commanded_corrected, registered=self.registered)
             rows.append(row)
         return rows
-
-
-def _um(value_m: float | None) -> float | None:
-    return None if value_m is None else float(value_m * UM_PER_M)
 
 
 def at_once(cycles: int, block_cycles: int) -> int:
