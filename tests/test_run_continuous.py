@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from conftest import GEN3_URDF
-from kinematics.test_continuous import wide_revolute_urdf
-from measurement.measurement_fixtures import write_csv
+from helpers.robots import wide_revolute_urdf
+from helpers.measurement_files import write_csv
 from tribokin import InputError, run_study
 from tribokin.kinematics.robot import load_urdf, wrap_angles
 from tribokin.measurement.contract import read_measurements

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from calibration_fixtures import arm_kinematics, arm_model, simulate
+from helpers.calibration_arm import arm_kinematics, arm_model, simulate
 
 from tribokin.calibration import cross_validation
 from tribokin.calibration.cross_validation import leave_one_pose_out, position_repeatability, predict_pose

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from calibration_fixtures import BACKLASH, NOISE_FLOOR_M, STIFFNESS, arm_kinematics, arm_model, simulate
+from helpers.calibration_arm import BACKLASH, NOISE_FLOOR_M, STIFFNESS, arm_kinematics, arm_model, simulate
 from scipy.spatial.transform import Rotation
 
 from tribokin.calibration.fit import fit, profile_interval

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from calibration_fixtures import arm_kinematics, arm_model, simulate
+from helpers.calibration_arm import arm_kinematics, arm_model, simulate
 from scipy.differentiate import jacobian
 from scipy.linalg import helmert
 from scipy.stats import multivariate_normal, wishart

@@ -11,7 +11,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from conftest import ROOT
-from integration.test_cli import tribokin
+from helpers.command import tribokin
 
 STUDY = ROOT / "studies" / "ur5-calibrate.toml"
 DATA = ROOT / "studies" / "data" / "ur5-tracker.csv"

@@ -5,7 +5,7 @@ import json
 import pytest
 
 from conftest import ROOT
-from integration.test_cli import tribokin
+from helpers.command import tribokin
 
 LOG = ROOT / "studies/data/tribometer-42CD4-treated-150N.csv"
 PROFILE = ROOT / "src/tribokin/data/profiles/intermediate.csv"

@@ -9,7 +9,7 @@ import tracemalloc
 import numpy as np
 import pytest
 
-from integration.test_cli import tribokin
+from helpers.command import tribokin
 from tribokin import measurement_reports
 from tribokin.cli import main
 from tribokin.maps import budget

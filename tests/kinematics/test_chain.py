@@ -6,7 +6,7 @@ import pinocchio as pin
 import pytest
 
 from conftest import AXIS_URDF, ROOT
-from propagation.test_exact import GANTRY_URDF
+from helpers.robots import GANTRY_URDF, random_q
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import TESTED_ROBOTS, Robot, load_example_robot, load_urdf, rigid_placement
 
@@ -32,10 +32,7 @@ ROBOTS = {
 }
 
 
-def random_q(robot: Robot, count: int, seed: int = 4) -> np.ndarray:
-    """(count, nv) configurations within the joint limits (revolute ranges capped at ±4 rad)."""
-    rng = np.random.default_rng(seed)
-    return rng.uniform(np.maximum(robot.lower_limits, -4), np.minimum(robot.upper_limits, 4), (count, robot.model.nv))
+
 
 
 @pytest.mark.parametrize("name", ROBOTS)

@@ -11,7 +11,7 @@ import pinocchio as pin
 import pytest
 
 from conftest import GEN3_URDF, ROOT
-from kinematics.test_chain import random_q
+from helpers.robots import random_q
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import load_example_robot, load_urdf
 

@@ -3,13 +3,12 @@ Kinova's Gen3 against the same URDF with its continuous joints made revolute wit
 one angle per joint as tribokin's: placements, Jacobians, the batched chain, bearing loads, propagated deviations and
 IK across ±π agree."""
 
-import xml.etree.ElementTree as ET
-
 import numpy as np
 import pinocchio as pin
 import pytest
 
 from conftest import GEN3_URDF
+from helpers.robots import wide_revolute_urdf
 from tribokin.errors import ConfigurationError
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.ik import solve_ik, solve_ik_batch
@@ -20,16 +19,7 @@ from tribokin.propagation.exact import tool_deviations, tool_deviations_exact
 CONTINUOUS = ["joint_1", "joint_3", "joint_5", "joint_7"]
 
 
-def wide_revolute_urdf(tmp_path):
-    """The Gen3 URDF with every continuous joint made revolute within ±1000 rad."""
-    root = ET.parse(GEN3_URDF).getroot()
-    for joint in root.iter("joint"):
-        if joint.get("type") == "continuous":
-            joint.set("type", "revolute")
-            joint.find("limit").attrib.update(lower="-1000", upper="1000")
-    path = tmp_path / "gen3_revolute.urdf"
-    path.write_text(ET.tostring(root, encoding="unicode"))
-    return path
+
 
 
 @pytest.fixture

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, STUDIES
+from helpers.map_studies import ur5_plane
 from tribokin.kinematics.robot import load_urdf
 from tribokin.maps.grid import GridError, grid_neighbours, make_grid
 from tribokin.study.map_spec import BoxMap, JointMap
@@ -11,14 +12,7 @@ from tribokin.study.assembly import load_robot
 from tribokin.study.reading import load_study
 
 
-def ur5_plane(resolution):
-    return load_study({
-        "study": {"cycles": 10},
-        "robot": {"name": "ur5"},
-        "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5},
-        "map": {"kind": "plane", "origin_m": [0.0, -0.5, 0.2], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
-                "extent_u_m": [-0.1, 0.1], "extent_v_m": [0.0, 0.1], "resolution": resolution, "rpy_deg": [180, 0, 90]},
-    })
+
 
 
 def test_neighbours_along_each_axis():

@@ -9,20 +9,14 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, STUDIES
+from helpers.map_studies import UR5_PLANE
 from tribokin import run_study
 from tribokin.execution import executor_for
 from tribokin.maps import run as map_run
 from tribokin.output.writers import map_table_name, write_map_table, write_summary
 from tribokin.study.reading import read_study_file
 
-#: A small UR5 plane (tool pointing down) whose far edge lies beyond the UR5's reach, not the UR10's.
-UR5_PLANE = {
-    "study": {"name": "robots", "cycles": 30, "seed": 3},
-    "robot": {"name": "ur5", "payload_kg": 2.0},
-    "joints": {"friction": {"preset": "42CD4-treated"}, "stiffness": 1.0e5, "bearing_span_m": 0.08},
-    "map": {"kind": "plane", "origin_m": [0.0, -0.6, 0.1], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
-            "extent_u_m": [-0.3, 0.3], "extent_v_m": [-0.45, 0.3], "resolution": [5, 6], "rpy_deg": [180, 0, 90]},
-}
+
 
 
 def with_scenarios(study: dict, *scenarios: dict) -> dict:

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from conftest import STUDIES
-from maps.test_grid import ur5_plane
+from helpers.map_studies import ur5_plane
 from tribokin import run_study
 from tribokin.kinematics import ik
 from tribokin.kinematics.robot import wrap_angles

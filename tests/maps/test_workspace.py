@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
+from helpers.map_studies import K, MU, gantry_loads_by_hand, gantry_map_study
 from tribokin import InputError, run_study
 from tribokin.execution import executor_for
 from tribokin.simulation.pose_run import PoseRunner, joint_space_task
@@ -15,23 +16,10 @@ from tribokin.streams import map_target_stream
 from tribokin.study.assembly import joint_models, load_robot
 from tribokin.study.reading import load_study
 
-GANTRY = str(ROOT / "urdf" / "cartesian_xyz.urdf")
-G = 9.81  # Pinocchio's default gravity [m/s^2]
-MU, K, SPAN, PAYLOAD = 0.12, 2.0e7, 0.2, 5.0
 
 
-def gantry_map_study(**joints) -> dict:
-    """Gantry, constant mu, bidirectional cycles: each cycle lands at x_c +/- (dx, dy, dz), dq_i = mu N_i / k.
 
-    The plane spans x = 0.2 .. 0.9 m; the tool reaches x <= 0.8 m (q_x <= 0.6), so the last column is unreachable.
-    """
-    return {
-        "study": {"cycles": 10, "seed": 3, "approach": "bidirectional"},
-        "robot": {"urdf": GANTRY, "tool_frame": "tool", "payload_kg": PAYLOAD},
-        "joints": {"friction": {"law": "constant", "mu": MU}, "stiffness": K, "bearing_span_m": SPAN, **joints},
-        "map": {"kind": "plane", "origin_m": [0.2, 0.0, 0.3], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
-                "extent_u_m": [0.0, 0.7], "extent_v_m": [0.0, 0.6], "resolution": [8, 4]},
-    }
+
 
 
 def test_gantry_with_fixed_loads_gives_a_flat_map_and_flags_unreachable_targets():
@@ -62,19 +50,7 @@ def test_a_maps_summary_computed_on_a_worker_is_the_one_computed_here():
         assert there.summary() == here.summary() and there._summary is there.summary()
 
 
-def gantry_loads_by_hand(y):
-    """Bearing loads [N] of the gantry's joints by hand statics (urdf/cartesian_xyz.urdf), tool at y = q_y.
 
-    X guide: carries everything (40 + 15 + 8 + 5 kg) perpendicular to x; the weights' pitch moment about y,
-    g sum m r_x = g (15*0.1 + (8 + 5)*0.2), loads one carriage up and the other down by pitch / SPAN along the
-    weight, so the carriages carry max(weight, 2 pitch / SPAN); their roll moment about x,
-    g sum m r_y = g (40*0.35 + 28 y), adds 2 roll / SPAN (the carriages' width taken as SPAN).
-    Y guide: carriage, ram, payload (28 kg), and the roll about y of ram and payload 0.1 m out in x.
-    Z guide: the weights are along its axis and act on it: no load.
-    """
-    weight = (40 + 15 + 8 + PAYLOAD) * G
-    pitch, roll = G * (15 * 0.1 + 13 * 0.2), G * np.abs(40 * 0.35 + 28 * y)
-    return np.maximum(weight, 2 * pitch / SPAN) + 2 * roll / SPAN, 28 * G + 2 * G * 13 * 0.1 / SPAN, 0.0
 
 
 def test_gantry_map_with_loads_from_statics_follows_hand_statics():

@@ -6,7 +6,7 @@ import tracemalloc
 
 import numpy as np
 import pytest
-from measurement_fixtures import write_csv
+from helpers.measurement_files import write_csv
 
 from tribokin.iso9283.metrics import position_repeatability
 from tribokin.measurement import figures

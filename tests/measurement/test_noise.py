@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from measurement_fixtures import write_csv
+from helpers.measurement_files import write_csv
 
 from tribokin.errors import InputError
 from tribokin.measurement.contract import read_stream

@@ -5,34 +5,14 @@ import pinocchio as pin
 import pytest
 
 from conftest import AXIS_URDF
+from helpers.robots import GANTRY_URDF
 from tribokin.kinematics.robot import load_example_robot, load_urdf
 from tribokin.propagation.exact import engine_bound, tool_deviations, tool_deviations_exact
 from tribokin.propagation.poe import _exp_tail, _log_tail, tool_deviations_fast, tool_twists
 
 NANOMETRE = 1e-9
 
-GANTRY_URDF = """<?xml version="1.0"?>
-<robot name="gantry">
-  <link name="frame"/>
-  <joint name="x" type="prismatic"><parent link="frame"/><child link="bridge"/>
-    <origin xyz="0 0 1.0"/><axis xyz="1 0 0"/><limit lower="0" upper="2" effort="1" velocity="1"/></joint>
-  <link name="bridge"/>
-  <joint name="y" type="prismatic"><parent link="bridge"/><child link="carriage"/>
-    <origin xyz="0 0 0.1" rpy="0 0 0.3"/><axis xyz="0 1 0"/><limit lower="0" upper="1" effort="1" velocity="1"/></joint>
-  <link name="carriage"/>
-  <joint name="z" type="prismatic"><parent link="carriage"/><child link="ram"/>
-    <origin xyz="0.05 0 0"/><axis xyz="0 0 -1"/><limit lower="0" upper="0.5" effort="1" velocity="1"/></joint>
-  <link name="ram"/>
-  <joint name="ram_end" type="fixed"><parent link="ram"/><child link="flange"/><origin xyz="0 0 -0.2"/></joint>
-  <link name="flange"/>
-  <joint name="c" type="revolute"><parent link="flange"/><child link="spindle"/>
-    <origin xyz="0 0 0"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
-  <link name="spindle"/>
-  <joint name="tool_joint" type="fixed"><parent link="spindle"/><child link="tool"/>
-    <origin xyz="0.15 0 -0.1"/></joint>
-  <link name="tool"/>
-</robot>
-"""
+
 
 
 @pytest.fixture(scope="module")

@@ -1,7 +1,7 @@
 """The shipped joint models from public sources (``studies/*-published.toml``) say where every number comes from:
 each value under ``[joints]`` carries on its line a source key defined, with its address, in the file's header,
 or the word "estimated"; and every joint of the arm has its own cited stiffness and friction torque, so no
-value falls back to an uncited default. (That the studies run is tests/test_run.py's every-shipped-study test.)"""
+value falls back to an uncited default. (That the studies run is tests/test_run_axis.py's every-shipped-study test.)"""
 
 import re
 import sys

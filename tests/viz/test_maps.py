@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from maps.test_workspace import gantry_map_study
+from helpers.map_studies import gantry_map_study
 from tribokin import run_study
 from tribokin.output.writers import write_results
 from tribokin.viz.contents import map_scene_layers
@@ -170,7 +170,7 @@ def test_a_directional_maps_scene_has_its_figures_as_layers_each_quantity_on_its
 @pytest.fixture(scope="module")
 def two_robots():
     """A UR5 plane whose far edge only the UR10 of the second scenario reaches."""
-    from maps.test_robot_scenarios import UR5_PLANE
+    from helpers.map_studies import UR5_PLANE
 
     return run_study({**UR5_PLANE, "scenarios": [{"name": "ur5"}, {"name": "ur10", "robot": {"name": "ur10"}}]})
 

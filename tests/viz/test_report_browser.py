@@ -17,7 +17,7 @@ from matplotlib.image import imread
 from tribokin.output.writers import write_results
 from tribokin.run import run_study
 from tribokin.viz.colours import ColourScale
-from viz_fixtures import CUBE, UNIFORM_AXIS, grid_layers
+from helpers.viz_layers import CUBE, UNIFORM_AXIS, grid_layers
 
 CHROMIUM = Path("/usr/bin/chromium")
 OFFLINE_FLAGS = ["--headless", "--no-sandbox", "--enable-unsafe-swiftshader", "--disable-background-networking",

@@ -16,7 +16,7 @@ from tribokin.viz.scene import (FIELD_OF_VIEW_DEG, FRAME_MARGIN, VIEW_ASPECT, VI
                                 chain_placements, choose_magnification, framing)
 from tribokin.viz.scene_file import CycleCloud
 from tribokin.viz.static import static_visualizer
-from viz_fixtures import CUBE, UNIFORM_AXIS, grid_layers
+from helpers.viz_layers import CUBE, UNIFORM_AXIS, grid_layers
 
 
 def unpack(packed: bytes) -> dict:

@@ -25,7 +25,7 @@ from tribokin.output.writers import write_results
 from tribokin.run import run_study
 from tribokin.viz.live import start_server
 from tribokin.viz.scene_file import load_scene_inputs
-from viz_fixtures import CUBE, UNIFORM_AXIS, grid_layers
+from helpers.viz_layers import CUBE, UNIFORM_AXIS, grid_layers
 
 SMALL_MAP_TOML = GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 20").replace("resolution = [25, 40]",
                                                                                  "resolution = [3, 3]")

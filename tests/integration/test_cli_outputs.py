@@ -4,8 +4,6 @@ import hashlib
 import json
 import platform
 import re
-import subprocess
-import sys
 from importlib import metadata
 
 import numpy as np
@@ -14,13 +12,9 @@ import pytest
 import scipy
 
 from conftest import AXIS_STUDY_TOML, STUDIES
+from helpers.command import tribokin
 from tribokin import __version__ as tribokin_version
 from tribokin.compiled import kernels_used
-
-
-def tribokin(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "tribokin", *map(str, args)], capture_output=True, text=True,
-                          cwd=cwd)
 
 
 @pytest.fixture

@@ -1,0 +1,1 @@
+"""Shared test helpers: robots, studies, measurement files and viewer layers used by several test files."""
