@@ -125,7 +125,7 @@ def timed(solve_all, targets: int, repeats: int) -> tuple[dict, tuple]:
 def batched(robot, grid, starts, batches: list[list[int]]) -> tuple:
     """Every row solved ``batches`` of rows at a time: q, reachable, closest as :func:`timed` wants them."""
     parts = [map_rows.solve_rows(robot, grid, rows, starts[rows]) for rows in batches]
-    return tuple(np.concatenate(arrays) for arrays in zip(*parts))
+    return tuple(np.concatenate(arrays) for arrays in zip(*parts, strict=True))
 
 
 def main() -> None:
@@ -141,13 +141,14 @@ def main() -> None:
     grid, starts = prepared.grids[0], prepared.row_starts[0]
     rows = list(range(grid.row_count))
     before, (q_before, reachable_before, _) = timed(lambda: tuple(np.array(arrays) for arrays in zip(
-        *(solve_row_before(robot, grid, row, starts[row]) for row in rows))), grid.size, args.repeats)
+        *(solve_row_before(robot, grid, row, starts[row]) for row in rows), strict=True)), grid.size, args.repeats)
     runs, solutions = {}, []
     for size in sorted({study.map.rows_per_chunk, 8, 32, grid.row_count}):
         if size <= grid.row_count:
             batches = chunk_rows(study, grid.row_count) if size == study.map.rows_per_chunk else [
                 rows[start:start + size] for start in range(0, grid.row_count, size)]
-            runs[f"{size}_rows"], solved = timed(lambda: batched(robot, grid, starts, batches), grid.size, args.repeats)
+            runs[f"{size}_rows"], solved = timed(lambda batches=batches: batched(robot, grid, starts, batches),
+                                                 grid.size, args.repeats)
             solutions.append(solved)
     per_target = map_rows.solve_rows(robot, grid, rows, starts, batched=False)
     q, reachable, _, _ = solutions[0]  # the map's chunks
@@ -172,7 +173,7 @@ def main() -> None:
         "largest_difference_of_the_same_solutions_rad": float(difference[difference <= SAME_RAD].max()),
         "per_target_path_same_bytes_as_before": per_target[0].tobytes() == q_before.tobytes(),
         "same_bytes_for_every_batch_size": all(
-            all(a.tobytes() == b.tobytes() for a, b in zip(solved, solutions[0])) for solved in solutions),
+            all(a.tobytes() == b.tobytes() for a, b in zip(solved, solutions[0], strict=True)) for solved in solutions),
     }
     RESULTS.parent.mkdir(exist_ok=True)
     RESULTS.write_text(json.dumps(results, indent=2) + "\n")

@@ -28,7 +28,8 @@ default ``map.statistic = "expected"``) with only ``map.resolution`` and ``study
   map on the same plane; its time per reachable target scaled to the big plane's reachable targets (``scaled``) for
   the ratio of one-test to expected time there, and the ratio measured on the same plane;
 * ``stages``: µs per target (all targets of the plane) of each stage of one in-process run of the command on the
-  big plane (1 worker, every stage in one process: the views too, not by the views' process), from timing hooks wrapped around the functions that do each stage, each stage's time its own
+  big plane (1 worker, every stage in one process: the views too, not by the views' process), from timing hooks
+  wrapped around the functions that do each stage, each stage's time its own
   (a stage inside another counts for itself only): imports, the robot (URDF and meshes), IK (rows' heads, rows,
   holes from neighbours), bearing loads, tool frames (what measuring a row takes besides the loads and the
   figures), expected figures, the map's store, map.csv, figures and report, and the rest (``other``: the command
@@ -171,12 +172,13 @@ def paired_ratios(run: dict, cycles: int) -> dict:
     """Each run of ``run`` (:func:`command` with ``loop_samples``) over the FK loop timed right after it, and their
     median: unlike the best run over the best loop, timed minutes apart, this ratio does not move with the speed of
     a shared machine between the two."""
-    ratios = [run["reachable"] * cycles * loop / seconds for seconds, loop in zip(run["runs_s"], run["loop_s"])]
+    ratios = [run["reachable"] * cycles * loop / seconds
+              for seconds, loop in zip(run["runs_s"], run["loop_s"], strict=True)]
     return {"how": "each 2-worker run's loop-equivalent time (reachable targets x cycles x the loop's time per sample, "
                    "the loop timed right after that run, best of 3) over its wall time; the goal is judged on the "
                    "median",
             "runs": [{"command_s": seconds, "loop_s_per_sample": loop, "ratio": ratio}
-                     for seconds, loop, ratio in zip(run["runs_s"], run["loop_s"], ratios)],
+                     for seconds, loop, ratio in zip(run["runs_s"], run["loop_s"], ratios, strict=True)],
             "median_ratio": float(statistics.median(ratios))}
 
 

@@ -82,7 +82,7 @@ def before_cell(value) -> str:
 
 def write_before(handle, columns: dict) -> None:
     text = io.StringIO(newline="")
-    csv.writer(text).writerows([before_cell(v) for v in row] for row in zip(*columns.values()))
+    csv.writer(text).writerows([before_cell(v) for v in row] for row in zip(*columns.values(), strict=True))
     handle.write(text.getvalue().encode())
 
 
@@ -144,8 +144,9 @@ def float_formatting(side: int, rows: int = 4096) -> dict:
         "repr_cells_ns": ns(lambda part: [[repr(x) for x in values.tolist()] for values in part]),
         "numpy_astype_str_cells_ns": ns(lambda part: [values.astype(str) for values in part]),
         "orjson_per_column_csv_writer_ns": ns(lambda part: csv.writer(io.StringIO()).writerows(
-            zip(*orjson_columns(part)))),
-        "orjson_per_column_join_ns": ns(lambda part: "\r\n".join(map(",".join, zip(*orjson_columns(part))))),
+            zip(*orjson_columns(part), strict=True))),
+        "orjson_per_column_join_ns": ns(
+            lambda part: "\r\n".join(map(",".join, zip(*orjson_columns(part), strict=True)))),
         "float_lines_ns": ns(lambda part: b"\r\n".join(float_lines(np.column_stack(part)))),
     }
 

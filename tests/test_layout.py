@@ -16,7 +16,8 @@ PACKAGE = ROOT / "src" / "tribokin"
 #: The stages, lowest first: a module may import from its own stage or a lower one. A stage is
 #: named by the first part of its modules' names below ``tribokin``; ``tribokin`` itself (the
 #: package's ``__init__``) is the top. Ground floor: errors, value checks, units, folder
-#: primitives, files confined before they are read, provenance, random streams. Figures (``viz``) sit below ``output``, which draws them into the folder.
+#: primitives, files confined before they are read, provenance, random streams. Figures (``viz``) sit below
+#: ``output``, which draws them into the folder.
 STAGES = (
     ("errors", "checks", "units", "folders", "confinement", "provenance", "streams", "compiled"),
     ("tribology",),

@@ -6,7 +6,6 @@ import sys
 import pytest
 
 import tribokin
-
 from conftest import ROOT
 
 FRESH = """
@@ -54,7 +53,7 @@ def test_every_public_name_resolves_to_its_module():
 
 def test_an_unknown_name_is_an_attribute_error():
     with pytest.raises(AttributeError, match="no_such_name"):
-        tribokin.no_such_name
+        _ = tribokin.no_such_name
 
 
 def test_the_version_is_printed_without_loading_the_physics_chain():

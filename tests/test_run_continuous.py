@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from conftest import GEN3_URDF
-from helpers.robots import wide_revolute_urdf
 from helpers.measurement_files import write_csv
+from helpers.robots import wide_revolute_urdf
 from tribokin import InputError, run_study
 from tribokin.kinematics.robot import load_urdf, wrap_angles
 from tribokin.measurement.contract import read_measurements
@@ -34,11 +34,11 @@ def test_poses_are_those_of_the_joints_made_wide_revolute(tmp_path):
                        {"name": "behind", "q": BEHIND}]}
     continuous = run_study(gen3_study(GEN3_URDF, **poses))
     revolute = run_study(gen3_study(wide_revolute_urdf(tmp_path), **poses))
-    for got, expected in zip(continuous.poses, revolute.poses):
+    for got, expected in zip(continuous.poses, revolute.poses, strict=True):
         np.testing.assert_array_equal(got.q, expected.q)  # one angle per joint, as given (4 and 7 rad kept)
         np.testing.assert_allclose(got.normal_forces_N, expected.normal_forces_N, rtol=1e-12)
         np.testing.assert_allclose(got.positions_m, expected.positions_m, rtol=0, atol=1e-15)
-        for row, other in zip(got.direction_rows(), expected.direction_rows()):
+        for row, other in zip(got.direction_rows(), expected.direction_rows(), strict=True):
             assert row["RP_l_um"] == pytest.approx(other["RP_l_um"], rel=1e-9) and row["RP_l_um"] > 0
 
 

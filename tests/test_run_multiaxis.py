@@ -110,7 +110,7 @@ def test_fast_and_exact_engines_give_the_same_study_figures():
     exact = copy.deepcopy(fast)
     exact["study"]["engine"] = "exact"
     fast_result, exact_result = run_study(fast), run_study(exact)
-    for a, b in zip(fast_result.poses, exact_result.poses):
+    for a, b in zip(fast_result.poses, exact_result.poses, strict=True):
         assert np.abs(a.positions_m - b.positions_m).max() < 1e-9  # 1 nm
         assert a.report_row()["engine_max_deviation_nm"] < 1.0
     assert fast_result.table()["RP_l_um"] == pytest.approx(exact_result.table()["RP_l_um"], abs=1e-3)

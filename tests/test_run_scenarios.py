@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from helpers.map_studies import G, MU, gantry_loads_by_hand, gantry_map_study
+from helpers.map_studies import MU, G, gantry_loads_by_hand, gantry_map_study
 from tribokin import InputError, run_study
 from tribokin.output.writers import write_results
 from tribokin.simulation.pose_run import PoseRunner

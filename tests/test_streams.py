@@ -5,8 +5,7 @@ import itertools
 import numpy as np
 import pytest
 
-from tribokin.streams import (ik_restart_stream, map_target_stream, pose_stream, posture_search,
-                              replicate_stream)
+from tribokin.streams import ik_restart_stream, map_target_stream, pose_stream, posture_search, replicate_stream
 
 
 def first_draws(rng: np.random.Generator) -> np.ndarray:

@@ -47,12 +47,11 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
+from output_file import check_out, write_atomically
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial.transform import Rotation
 
 from tribokin.errors import InputError
-
-from output_file import check_out, write_atomically
 
 MEASUREMENTS = Path("raw/Series_D/measurements_iso_cubes.csv")
 TOOL_TRAFO = Path("raw/Series_D/Trafo_TM_F_init.txt")
@@ -76,7 +75,7 @@ def read_table(path: Path) -> dict[str, np.ndarray]:
         with open(path, newline="", encoding="utf-8") as stream:
             lines = list(csv.reader(stream, delimiter=";"))
     except (OSError, UnicodeDecodeError) as error:
-        raise InputError(f"cannot read it ({error.__class__.__name__}); give the ipa-ur10 data folder", path)
+        raise InputError(f"cannot read it ({error.__class__.__name__}); give the ipa-ur10 data folder", path) from error
     header = lines[0] if lines else []
     missing = [name for name in COLUMNS if name not in header]
     if missing:
@@ -96,7 +95,7 @@ def read_table(path: Path) -> dict[str, np.ndarray]:
                 raise InputError(f"'{fields[index]}' is not a finite number", path, f"line {row + 2}: {COLUMNS[k]}")
     if len(values) == 0:
         raise InputError("no data rows", path)
-    return dict(zip(COLUMNS, values.T))
+    return dict(zip(COLUMNS, values.T, strict=True))
 
 
 def read_tool_offset(path: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -105,7 +104,7 @@ def read_tool_offset(path: Path) -> tuple[np.ndarray, np.ndarray]:
     try:
         matrix = np.loadtxt(path)
     except (OSError, ValueError) as error:
-        raise InputError(f"cannot read a 4x4 matrix ({error.__class__.__name__})", path)
+        raise InputError(f"cannot read a 4x4 matrix ({error.__class__.__name__})", path) from error
     if matrix.shape != (4, 4) or not np.isfinite(matrix).all():
         raise InputError(f"expected a 4x4 homogeneous matrix, found shape {matrix.shape}", path)
     tcp = np.linalg.inv(matrix)
@@ -148,7 +147,7 @@ def approach_labels(commanded_m: np.ndarray, poses: np.ndarray, source: Path) ->
             if row == 0:
                 continue
             angles_deg = [np.degrees(np.arccos(min(1.0, units[r] @ units[row]))) for r in references]
-            same = [r for r, angle in zip(references, angles_deg) if angle < DIRECTION_TOL_DEG]
+            same = [r for r, angle in zip(references, angles_deg, strict=True) if angle < DIRECTION_TOL_DEG]
             if same:
                 labels[row] = labels[same[0]]
             else:
@@ -161,7 +160,7 @@ def _ranges(rows) -> str:
     rows = list(rows)
     starts = [r for i, r in enumerate(rows) if i == 0 or rows[i - 1] != r - 1]
     ends = [r for i, r in enumerate(rows) if i == len(rows) - 1 or rows[i + 1] != r + 1]
-    return ", ".join(str(a) if a == b else f"{a}-{b}" for a, b in zip(starts, ends))
+    return ", ".join(str(a) if a == b else f"{a}-{b}" for a, b in zip(starts, ends, strict=True))
 
 
 class Conversion(NamedTuple):
@@ -199,7 +198,7 @@ def convert(folder: Path) -> Conversion:
     members = {names[p]: np.flatnonzero(poses == p).tolist() for p in np.unique(poses)}
     series: Counter = Counter()
     cycles = []
-    for pose, label in zip(poses, directions):
+    for pose, label in zip(poses, directions, strict=True):
         series[names[pose], label] += 1
         cycles.append(series[names[pose], label])
     longest = {name: max(count for (n, _), count in series.items() if n == name) for name in members}

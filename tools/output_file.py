@@ -1,4 +1,5 @@
-"""Writing one output file of a script in ``tools/``: refuse to replace it unless asked, and never leave it half written.
+"""Writing one output file of a script in ``tools/``: refuse to replace it unless asked, and never leave it half
+written.
 
 Imported by the scripts beside it (``from output_file import check_out, write_atomically``): a script run as
 ``python tools/<name>.py`` has ``tools/`` on its path.

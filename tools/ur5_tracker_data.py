@@ -34,14 +34,13 @@ from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
+from output_file import check_out, write_atomically
 
 from tribokin.errors import InputError
 from tribokin.iso9283.cube import APPROACH_DIRECTIONS, CubePose, held_approach_signs, place_cube
 from tribokin.kinematics.robot import Robot, load_example_robot
 from tribokin.provenance import software_versions
 from tribokin.tribology.laws import Gaussian
-
-from output_file import check_out, write_atomically
 
 ROBOT = "ur5"
 JOINTS = ("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
@@ -128,14 +127,15 @@ def simulate(truth: Truth, seed: int = SEED, cycles: int = CYCLES, poses: list[C
     rng = np.random.default_rng(seed)
     stiffness = np.array(truth.stiffness_Nm_per_rad)
     half_backlash_rad = np.array(truth.backlash_rad) / 2
-    laws = [Gaussian(mean, std) for mean, std in zip(truth.friction_torque_mean_Nm, truth.friction_torque_std_Nm)]
+    laws = [Gaussian(mean, std)
+            for mean, std in zip(truth.friction_torque_mean_Nm, truth.friction_torque_std_Nm, strict=True)]
     rotation, translation = truth.tracker_rotation(), np.array(truth.tracker_translation_m)
     rows = []
     for pose in poses:
         offset_rad = rng.normal(0.0, truth.joint_offset_std_rad, len(JOINTS))
         commanded_m = robot.tool_placement(pose.q).translation
         signs = held_approach_signs(robot, pose.q, list(DIRECTIONS.values()))
-        for label, sign in zip(DIRECTIONS, signs):
+        for label, sign in zip(DIRECTIONS, signs, strict=True):
             torque_Nm = np.column_stack([law.rvs(cycles, rng) for law in laws])
             noise_m = rng.normal(0.0, truth.noise_std_m, (cycles, 3))
             for cycle in range(cycles):

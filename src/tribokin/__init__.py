@@ -17,8 +17,16 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING
 
-from tribokin.errors import (ConfigurationError, InputError, JointModelError, JointRangeError, LawError,
-                             RobotDescriptionError, SettingsError, TribokinError)
+from tribokin.errors import (
+    ConfigurationError,
+    InputError,
+    JointModelError,
+    JointRangeError,
+    LawError,
+    RobotDescriptionError,
+    SettingsError,
+    TribokinError,
+)
 from tribokin.provenance import __version__
 
 if TYPE_CHECKING:
@@ -26,15 +34,15 @@ if TYPE_CHECKING:
     from tribokin.maps.grid import GridError
     from tribokin.maps.result import MapResult
     from tribokin.maps.run import MapScenario, workspace_map
-    from tribokin.simulation.joint_errors import JointErrorModel, joint_models
-    from tribokin.simulation.pose_run import TestSettings, pose_test
-    from tribokin.tribology.laws import Constant, Empirical, FrictionLaw, Gaussian, Lognormal, Uniform
-    from tribokin.tribology.presets import preset
     from tribokin.run import StudyResult, run_study
+    from tribokin.simulation.joint_errors import JointErrorModel, joint_models
     from tribokin.simulation.pose_result import PoseResult
+    from tribokin.simulation.pose_run import TestSettings, pose_test
     from tribokin.study.map_spec import BoxMap, JointMap, PlaneMap
     from tribokin.study.reading import load_study
     from tribokin.study.spec import IsoCubeSpec, JointSpec, PoseSpec, RobotSpec, ScenarioSpec, Study
+    from tribokin.tribology.laws import Constant, Empirical, FrictionLaw, Gaussian, Lognormal, Uniform
+    from tribokin.tribology.presets import preset
 
 #: Where each name loaded on first use lives.
 _LAZY = {"MapResult": "tribokin.maps.result", "StudyResult": "tribokin.run", "run_study": "tribokin.run",

@@ -18,9 +18,16 @@ from pathlib import Path
 
 import numpy as np
 
+from tribokin.calibration.cross_validation import (
+    DRAWS,
+    PosePrediction,
+    PredictedFigure,
+    leave_one_pose_out,
+    predict_pose,
+    predicted_clouds,
+    prediction_bytes,
+)
 from tribokin.calibration.data import PoseData
-from tribokin.calibration.cross_validation import (DRAWS, PosePrediction, PredictedFigure, leave_one_pose_out,
-                                                   predict_pose, predicted_clouds, prediction_bytes)
 from tribokin.calibration.fit import Calibration, ParameterEstimate, fit, profile_interval
 from tribokin.checks import seed_int
 from tribokin.errors import InputError
@@ -70,7 +77,7 @@ def _figure(figure: PredictedFigure | None) -> dict | None:
 
 def _prediction_entry(prediction: PosePrediction) -> dict:
     return {"pose": prediction.pose,
-            "RP_l": {d: _figure(f) for d, f in zip(prediction.directions, prediction.RP_l)},
+            "RP_l": {d: _figure(f) for d, f in zip(prediction.directions, prediction.RP_l, strict=True)},
             "vAP_p": _figure(prediction.vAP)}
 
 
@@ -79,9 +86,9 @@ def _compared(inputs: CalibrationInput, fitted: tuple[PosePrediction, ...], held
     """Per pose and direction RP_l, per pose vAP_p (direction ``all``): (pose, direction, figure, cycles, predicted
     by the fit to every pose, predicted by the fit without this pose); one-cycle series have no RP_l."""
     compared = []
-    for pose, all_poses, others in zip(inputs.poses, fitted, held_out):
+    for pose, all_poses, others in zip(inputs.poses, fitted, held_out, strict=True):
         pairs = [(d, "RP_l", len(s.points_m), a, o) for d, s, a, o in
-                 zip(all_poses.directions, pose.series, all_poses.RP_l, others.RP_l)]
+                 zip(all_poses.directions, pose.series, all_poses.RP_l, others.RP_l, strict=True)]
         pairs.append(("all", "vAP_p", sum(len(s.points_m) for s in pose.series), all_poses.vAP, others.vAP))
         compared += [(pose.label, *pair) for pair in pairs if pair[3] is not None]
     return compared
@@ -176,14 +183,14 @@ def _written_pose_names(study, measured: list[str], source) -> dict[str, str]:
     (:func:`~tribokin.study.names.calibrated_pose_names`)."""
     own = [(f"poses[{i}].name", p.name) for i, p in enumerate(study.poses)]
     cube = [("iso_cube", name) for name in ISO_CUBE_POSES] if study.iso_cube is not None else []
-    return dict(zip(measured, calibrated_pose_names(own + cube, measured, source)))
+    return dict(zip(measured, calibrated_pose_names(own + cube, measured, source), strict=True))
 
 
 def _calibrated_study(study, study_path: Path, out: Path, header: list[str], values: list[WrittenValue],
                       inputs: CalibrationInput, names: dict[str, str]) -> tuple[str, object]:
     """``calibrated.toml``'s text, and the study it parses into from ``out`` (checked runnable)."""
     poses = [(names[pose.label], q.tolist(), [s.direction for s in pose.series])
-             for pose, q in zip(inputs.poses, inputs.configurations)]
+             for pose, q in zip(inputs.poses, inputs.configurations, strict=True)]
     text = calibrated_study_text(study_path.read_text(encoding="utf-8"), study_path.parent, out, header, values,
                                  poses)
     calibrated = parse_study_text(text, out / "calibrated.toml", out)
@@ -281,7 +288,8 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
             "fit": list(study.calibration.fit), "fitted_joints": study.calibration.joints if
             study.calibration.joints == "all" else list(study.calibration.joints), "tie": study.calibration.tie,
             "configurations": {"source": inputs.configuration_source,
-                               "q": {p.label: q.tolist() for p, q in zip(inputs.poses, inputs.configurations)}},
+                               "q": {p.label: q.tolist()
+                                     for p, q in zip(inputs.poses, inputs.configurations, strict=True)}},
             "left_out": [asdict(item) for item in inputs.left_out],
             "intervals": INTERVAL_METHOD, "predictions": PREDICTION_METHOD, "seed": seed,
         },
@@ -303,7 +311,7 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
         figures = []
         for pose in (_in_base_frame(p, calibration) for p in inputs.poses):
             clouds = [PredictedCloud(s.direction, np.asarray(s.points_m), centre, covariance)
-                      for s, (covariance, centre) in zip(pose.series, predicted_clouds(calibration, pose))]
+                      for s, (covariance, centre) in zip(pose.series, predicted_clouds(calibration, pose), strict=True)]
             save_calibration_clouds(clouds, folder / cloud_figure_file(pose.label), title=f"{pose.label}")
             figures.append(cloud_figure_file(pose.label))
         parity = [ParityPoint(f"{pose} {direction}", figure, held) for pose, direction, figure, _, _, held in compared]

@@ -18,12 +18,25 @@ from tribokin.checks import positive, seed_int
 from tribokin.maps.budget import check_parts
 from tribokin.measurement.contract import Measurements, file_size, read_measurements, read_stream
 from tribokin.measurement.drift import pose_drift
-from tribokin.measurement.figures import BOOTSTRAP_RESAMPLES, BOOTSTRAP_SEED, PoseFigures, bootstrap_bytes, \
-    measurement_figures, pose_clouds
+from tribokin.measurement.figures import (
+    BOOTSTRAP_RESAMPLES,
+    BOOTSTRAP_SEED,
+    PoseFigures,
+    bootstrap_bytes,
+    measurement_figures,
+    pose_clouds,
+)
 from tribokin.measurement.noise import Flag, NoiseFloor, flag_figures, noise_floor
 from tribokin.measurement.registration import UNAVAILABLE, Registration, register_measurements
-from tribokin.measurement.segmentation import (DWELL_MIN_DURATION_S, DWELL_RADIUS_M, MATCH_RADIUS_M, Dwell,
-                                               dwell_measurements, find_dwells, label_dwells)
+from tribokin.measurement.segmentation import (
+    DWELL_MIN_DURATION_S,
+    DWELL_RADIUS_M,
+    MATCH_RADIUS_M,
+    Dwell,
+    dwell_measurements,
+    find_dwells,
+    label_dwells,
+)
 from tribokin.output.folder import atomic_folder, check_output_folder
 from tribokin.output.writers import write_rows
 from tribokin.provenance import software_versions
@@ -93,7 +106,7 @@ def _direction_rows(figures: PoseFigures, flags: tuple[Flag, ...]) -> list[dict]
     """The pose's report rows under ``run``'s ``poses.csv`` names: ``name``, ``direction``, its figures
     (with ``barycenter_m`` and the noise flags), then the pose's."""
     rows = []
-    for row, direction in zip(figures.report_rows(), figures.directions):
+    for row, direction in zip(figures.report_rows(), figures.directions, strict=True):
         rows.append({"name": row.pop("pose"), "direction": row.pop("direction"), "cycles": row.pop("cycles"),
                      "barycenter_m": direction.barycenter_m.tolist(), **row,
                      "noise_flags": " ".join(_flag_names(flags, figures.pose, direction.direction))})
@@ -195,13 +208,13 @@ def measure(path, out, force: bool = False, seed: int = BOOTSTRAP_SEED, segmenti
             "noise_floor": _floor_summary(noise_path, floor),
         },
         "reproduce": {"versions": software_versions()},
-        "poses": [_pose_summary(f, r, d, flags) for f, r, d in zip(figures, rows, drifts)],
+        "poses": [_pose_summary(f, r, d, flags) for f, r, d in zip(figures, rows, drifts, strict=True)],
     }
     timed = measurements.poses[0].series[0].times_s is not None
     with atomic_folder(out, force) as folder:
         (folder / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
         write_rows([row for pose_rows in rows for row in pose_rows], [], folder / "poses.csv")
-        for pose, pose_figures in zip(measurements.poses, figures):
+        for pose, pose_figures in zip(measurements.poses, figures, strict=True):
             save_measured_field(pose_figures, pose_clouds(pose, registration).positions_m,
                                 folder / pose_figure_file(pose.name), title=f"{Path(path).name} — {pose.name}")
         if timed:

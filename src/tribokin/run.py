@@ -23,8 +23,16 @@ from tribokin.placement.search import run_placement
 from tribokin.provenance import software_versions
 from tribokin.simulation.pose_result import PoseResult, pose_frame
 from tribokin.simulation.pose_run import run_poses
-from tribokin.study.assembly import MapRobots, check_names, joint_models, load_robot, map_robots, pose_tasks, \
-    robot_spec, study_runner
+from tribokin.study.assembly import (
+    MapRobots,
+    check_names,
+    joint_models,
+    load_robot,
+    map_robots,
+    pose_tasks,
+    robot_spec,
+    study_runner,
+)
 from tribokin.study.reading import load_study
 from tribokin.study.spec import ScenarioSpec
 
@@ -133,7 +141,8 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     kernels = kernels_used()  # TRIBOKIN_KERNELS checked before any work
     if not study.has_tests:
         raise InputError("nothing to run: the study has a [calibration] section only; fit it with `tribokin calibrate "
-                         "STUDY --measurements FILE`, or add [[poses]], an [iso_cube] or a [map]", study.source, "poses")
+                         "STUDY --measurements FILE`, or add [[poses]], an [iso_cube] or a [map]",
+                         study.source, "poses")
     if resume and study.map is None and checkpoint is not None and Path(checkpoint).exists():
         raise InputError("this study has no [map], so these chunks are another run's; run that study with "
                          "--resume, or pass --force without --resume to start over", checkpoint, "--resume")
@@ -167,10 +176,11 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
         "engine": study.engine,
         "payload_kg": study.robot.payload_kg,
         "iso_cube": cube,
-        "friction": {name: m.friction.describe() for name, m in zip(robot.joint_names, models)},
+        "friction": {name: m.friction.describe() for name, m in zip(robot.joint_names, models, strict=True)},
         "joint_models": {name: {f.name: getattr(m, f.name) for f in fields(m) if f.name != "friction"}
-                         for name, m in zip(robot.joint_names, models)},
-        "scenarios": [scenario_settings(s, robots, place) for s, place in zip(study.scenarios, robots.places)]
+                         for name, m in zip(robot.joint_names, models, strict=True)},
+        "scenarios": [scenario_settings(s, robots, place)
+                      for s, place in zip(study.scenarios, robots.places, strict=True)]
         if study.scenarios else [],
     }
     reproduce = {"seed": study.seed, "study_sha256": study.sha256, "versions": software_versions(),

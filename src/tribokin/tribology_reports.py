@@ -21,6 +21,7 @@ from tribokin.tribology.laws import LAWS, MU_MIN
 from tribokin.tribology.surfaces import find_peaks, level, profile_statistics, read_profile
 from tribokin.tribology.tribometer import read_log, steady_state
 
+
 def _toml_number(value: float) -> str:
     return repr(float(f"{value:.6g}"))
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers.calibration_arm import arm_kinematics, arm_model, simulate
 
+from helpers.calibration_arm import arm_kinematics, arm_model, simulate
 from tribokin.calibration import cross_validation
 from tribokin.calibration.cross_validation import leave_one_pose_out, position_repeatability, predict_pose
 from tribokin.calibration.data import PoseData, SeriesData
@@ -39,7 +39,7 @@ def test_held_out_poses_are_predicted_within_ten_percent_of_the_truths_expected_
     predicted_rp_l = np.array([[f.predicted_m for f in p.RP_l] for p in predictions])
     np.testing.assert_allclose(predicted_rp_l, expected_rp_l, rtol=0.10)
     np.testing.assert_allclose([p.vAP.predicted_m for p in predictions], expected_vap, rtol=0.10)
-    for pose, prediction in zip(poses, predictions):
+    for pose, prediction in zip(poses, predictions, strict=True):
         assert prediction.directions == ("+", "-", "x")
         assert [f.measured_m for f in prediction.RP_l] == [position_repeatability(s.points_m) for s in pose.series]
     figures = [f for p in predictions for f in (*p.RP_l, p.vAP)]

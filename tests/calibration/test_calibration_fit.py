@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers.calibration_arm import BACKLASH, NOISE_FLOOR_M, STIFFNESS, arm_kinematics, arm_model, simulate
 from scipy.spatial.transform import Rotation
 
+from helpers.calibration_arm import BACKLASH, NOISE_FLOOR_M, STIFFNESS, arm_kinematics, arm_model, simulate
 from tribokin.calibration.fit import fit, profile_interval
 
-TRUTH = dict(zip(arm_model().names(), np.concatenate([STIFFNESS, BACKLASH, [NOISE_FLOOR_M]])))
+TRUTH = dict(zip(arm_model().names(), np.concatenate([STIFFNESS, BACKLASH, [NOISE_FLOOR_M]]), strict=True))
 B_FIXED = dict(fit_backlash=(False,) * 6)
 
 

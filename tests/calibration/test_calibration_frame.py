@@ -4,16 +4,16 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers.calibration_arm import BACKLASH, NOISE_FLOOR_M, STIFFNESS, arm_kinematics, arm_model, simulate
 from scipy.differentiate import jacobian
 from scipy.spatial.transform import Rotation
 
+from helpers.calibration_arm import BACKLASH, NOISE_FLOOR_M, STIFFNESS, arm_kinematics, arm_model, simulate
 from tribokin.calibration.cross_validation import leave_one_pose_out
 from tribokin.calibration.data import stack
 from tribokin.calibration.fit import fit, profile_interval
 from tribokin.calibration.frame import profile_information, to_base, unknown_frame_log_likelihood_and_gradient
 
-TRUTH = dict(zip(arm_model().names(), np.concatenate([STIFFNESS, BACKLASH, [NOISE_FLOOR_M]])))
+TRUTH = dict(zip(arm_model().names(), np.concatenate([STIFFNESS, BACKLASH, [NOISE_FLOOR_M]]), strict=True))
 B_FIXED = dict(fit_backlash=(False,) * 6)
 SHIFT_M = np.array([1.5, -2.0, 0.3])
 
@@ -92,7 +92,7 @@ def test_registered_fit_of_the_same_data_is_at_least_as_precise():
     unknown = fit(model, poses, frame="unknown")
     registered = fit(model, to_base(stack(poses), unknown.rotation))
     np.testing.assert_allclose(registered.theta, unknown.theta, rtol=0, atol=2e-3)
-    pairs = [(u.std_error, r.std_error) for u, r in zip(unknown.parameters, registered.parameters)
+    pairs = [(u.std_error, r.std_error) for u, r in zip(unknown.parameters, registered.parameters, strict=True)
              if u.std_error is not None]
     assert len(pairs) >= 10
     assert all(u >= r * (1 - 1e-6) for u, r in pairs)
@@ -112,7 +112,7 @@ def test_held_out_predictions_compare_frame_invariant_figures():
     tracker = tracker_poses(8, Rotation.random(rng=np.random.default_rng(3)))
     unknown = leave_one_pose_out(model, tracker, draws=200, frame="unknown")
     registered = leave_one_pose_out(model, measured, draws=200)
-    for u, r in zip(unknown, registered):
+    for u, r in zip(unknown, registered, strict=True):
         np.testing.assert_allclose([f.measured_m for f in u.RP_l], [f.measured_m for f in r.RP_l], rtol=1e-9)
         assert u.vAP.measured_m == pytest.approx(r.vAP.measured_m, rel=1e-9)
         np.testing.assert_allclose([f.predicted_m for f in (*u.RP_l, u.vAP)],

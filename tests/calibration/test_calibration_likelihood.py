@@ -4,14 +4,18 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers.calibration_arm import arm_kinematics, arm_model, simulate
 from scipy.differentiate import jacobian
 from scipy.linalg import helmert
 from scipy.stats import multivariate_normal, wishart
 
+from helpers.calibration_arm import arm_kinematics, arm_model, simulate
 from tribokin.calibration.data import PoseData, SeriesData, stack
-from tribokin.calibration.likelihood import difference_loglik, log_likelihood, log_likelihood_and_gradient, \
-    wishart_logpdf
+from tribokin.calibration.likelihood import (
+    difference_loglik,
+    log_likelihood,
+    log_likelihood_and_gradient,
+    wishart_logpdf,
+)
 from tribokin.calibration.model import JointModel, predict_series
 
 

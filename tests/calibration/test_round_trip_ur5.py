@@ -90,7 +90,8 @@ def test_expected_repeatability_at_poses_not_measured_is_predicted_within_ten_pe
                                                               np.zeros(robot.model.nv))
             signs = held_approach_signs(robot, pose.q, [synthetic.DIRECTIONS[d] for d in directions])
             data = PoseData(pose.name, robot.tool_jacobian(pose.q)[:3], torque_mean, torque_std,
-                            tuple(SeriesData(d, s, one_test[p, k]) for k, (d, s) in enumerate(zip(directions, signs))))
+                            tuple(SeriesData(d, s, one_test[p, k])
+                                  for k, (d, s) in enumerate(zip(directions, signs, strict=True))))
             prediction = predict_pose(calibration, data, np.random.default_rng(p))
             predicted = np.array([f.predicted_m for f in prediction.RP_l])
             assert np.allclose(predicted, truth_rp_l[p], rtol=0.10), (pose.name, predicted, truth_rp_l[p])

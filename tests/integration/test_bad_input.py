@@ -204,7 +204,8 @@ CONFINEMENT_CASES = [
           id="confine-robot-urdf-proc-environ"),
     study(f'urdf = "{AXIS_URDF}"', 'urdf = "robot.urdf"', files={"robot.urdf": Symlink("/proc/self/environ")},
           expected=("robot.urdf", "resolves to '/proc/", "system file"), id="confine-robot-urdf-symlink-proc"),
-    study(f'urdf = "{AXIS_URDF}"', 'urdf = "robot.urdf.xacro"', files={"robot.urdf.xacro": Symlink("/proc/self/environ")},
+    study(f'urdf = "{AXIS_URDF}"', 'urdf = "robot.urdf.xacro"',
+          files={"robot.urdf.xacro": Symlink("/proc/self/environ")},
           expected=("robot.urdf", "resolves to '/proc/", "system file"), id="confine-robot-xacro-symlink-proc"),
     measurement("fit-friction", SECRET_LOG.replace(",mu", ",friction"), expected=("mu", "line 1: expected a header"),
                 id="confine-log-header-not-quoted"),
@@ -255,8 +256,10 @@ PRE_CHECKS = [
           base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
           expected=("scenarios[2].joints.w", "unknown joint 'w'"), id="scenario-joint-unknown"),
     # -- a scenario's robot: loaded (and checked as [robot] is) before the pose runs
-    study('name = "ratio_b"', 'name = "c"\nrobot = { name = "ur55" }', base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
-          expected=("scenarios[2].robot.name", "unknown robot 'ur55' (did you mean 'ur5'?)"), id="scenario-robot-unknown"),
+    study('name = "ratio_b"', 'name = "c"\nrobot = { name = "ur55" }',
+          base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
+          expected=("scenarios[2].robot.name", "unknown robot 'ur55' (did you mean 'ur5'?)"),
+          id="scenario-robot-unknown"),
     study('name = "ratio_b"', 'name = "c"\nrobot = { urdf = "missing.urdf" }',
           base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
           expected=("scenarios[2].robot.urdf", "{tmp}/missing.urdf' not found"), id="scenario-urdf-missing"),
@@ -264,7 +267,8 @@ PRE_CHECKS = [
           base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
           files={"share/pkg/gantry.urdf": MESHY_GANTRY_URDF.format(mesh="../evil.stl"), "evil.stl": STL},
           expected=("scenarios[2].robot.package_dirs", "evil.stl", "{tmp}/share"), id="scenario-mesh-outside"),
-    study('name = "ratio_b"', f'name = "c"\nrobot = {{ urdf = "{ROOT}/urdf/two_link_description/urdf/two_link.urdf.xacro", '
+    study('name = "ratio_b"',
+          f'name = "c"\nrobot = {{ urdf = "{ROOT}/urdf/two_link_description/urdf/two_link.urdf.xacro", '
           f'package_dirs = ["{ROOT}/urdf"], tool_frame = "tool", xacro_args = {{ upper_arm = "0.5" }} }}',
           base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
           expected=("scenarios[2].robot.xacro_args.upper_arm", "has no argument 'upper_arm'"),
@@ -272,7 +276,8 @@ PRE_CHECKS = [
     study('name = "ratio_b"', 'name = "c"\nrobot = { name = "ur5" }',
           base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS + "\nstart_q = [0.3, 0.2, 0.1]"),
           expected=("scenarios[2].map.start_q", "6"), id="scenario-robot-start-posture"),
-    study('name = "raw"', 'name = "raw"\nrobot = { name = "ur5" }', base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
+    study('name = "raw"', 'name = "raw"\nrobot = { name = "ur5" }',
+          base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
           expected=("scenarios[0].robot.name", "the first scenario is the reference"), id="scenario-reference-robot"),
     study('joints = ["x"]', 'joints = ["w"]', base=AXIS_JOINT_MAP, expected=("map.joints[0]", "unknown joint 'w'"),
           id="map-joint-unknown"),
@@ -297,19 +302,20 @@ def xacro_attack(payload: str, *, expected, id, key="urdf"):
     payload writes ``pwned`` in the case's folder, or reads ``secret.txt`` beside it, when it runs."""
     files = {"share/pkg/one.urdf.xacro": ONE_JOINT_XACRO.format(include=payload), "secret.txt": XACRO_SECRET,
              "secret.yaml": f"token: {XACRO_SECRET}"}
-    scenario = f'name = "c"\nrobot = {{ urdf = "share/pkg/one.urdf.xacro", package_dirs = ["share"], tool_frame = "tool" }}'
+    scenario = ('name = "c"\n'
+                'robot = { urdf = "share/pkg/one.urdf.xacro", package_dirs = ["share"], tool_frame = "tool" }')
     calibration = '\n[calibration]\nfit = ["stiffness"]\nnoise_floor_m = 1e-5\n'
     return [
         study(f'urdf = "{AXIS_URDF}"', XACRO_URDF, expected=(f"robot.{key}", *expected), id=f"{id}-run", files=files),
-        command(["robots", "--frames", "{tmp}/share/pkg/one.urdf.xacro"], expected=("command line: --frames", *expected),
-                id=f"{id}-robots-frames", files=files),
+        command(["robots", "--frames", "{tmp}/share/pkg/one.urdf.xacro"],
+                expected=("command line: --frames", *expected), id=f"{id}-robots-frames", files=files),
         pytest.param({**files, "out/summary.json": XACRO_SUMMARY, "out/scene.npz": b""}, ["view", "{tmp}/out"],
                      ("{tmp}/out/summary.json", f"robot.{key}", *expected), id=f"{id}-view"),
         study('name = "ratio_b"', scenario, base=_replace(GANTRY_MAP_AND_POSE, "[map]", SCENARIOS),
               expected=(f"scenarios[2].robot.{key}", *expected), id=f"{id}-scenario", files=files),
         pytest.param({**files, "study.toml": _replace(STUDY, f'urdf = "{AXIS_URDF}"', XACRO_URDF) + calibration},
-                     ["calibrate", "{tmp}/study.toml", "--measurements", "{tmp}/m.csv", "--out", "{tmp}/fit", "--report",
-                      "none"], ("{tmp}/study.toml", f"robot.{key}", *expected), id=f"{id}-calibrate"),
+                     ["calibrate", "{tmp}/study.toml", "--measurements", "{tmp}/m.csv", "--out", "{tmp}/fit",
+                      "--report", "none"], ("{tmp}/study.toml", f"robot.{key}", *expected), id=f"{id}-calibrate"),
     ]
 
 
@@ -639,8 +645,8 @@ CASES = [
     measurement("surface", GOOD_PROFILE.replace("x_m,z_m\n", "x_m,z_m\nfoo,1\n"), expected=("x_m", "line 2, column 1"),
                 id="profile-x-not-a-number"),
     measurement("surface", "x_m,z_m\n0,1\n1,2\n", expected=("x_m", "at least 50"), id="profile-too-short"),
-    measurement("surface", GOOD_PROFILE.replace("\n3e-06,", "\n1e-06,"), expected=("x_m", "increase strictly; line 5 does not"),
-                id="profile-x-not-increasing"),
+    measurement("surface", GOOD_PROFILE.replace("\n3e-06,", "\n1e-06,"),
+                expected=("x_m", "increase strictly; line 5 does not"), id="profile-x-not-increasing"),
     measurement("surface", "x_m,z_m\n" + "\n".join(f"{i * 1e-6},0" for i in range(100)) + "\n",
                 expected=("peaks",), id="profile-without-peaks"),
     measurement("surface", GOOD_PROFILE, "--area-m2=-1e-6", at_fault="command line", expected=("--area-m2", "> 0"),
@@ -731,8 +737,8 @@ CASES = [
              id="uniform-high-1e308"),
     friction('{ law = "lognormal", mean = 1e-300, std = 1.0 }', expected=("joints.friction.mean", "superlubric"),
              id="lognormal-mean-1e-300"),
-    friction('{ law = "empirical", values = [0.1, 1e308] }', expected=("joints.friction.values", "between 0 and 10", "1e+308"),
-             id="empirical-value-1e308"),
+    friction('{ law = "empirical", values = [0.1, 1e308] }',
+             expected=("joints.friction.values", "between 0 and 10", "1e+308"), id="empirical-value-1e308"),
     study('{ preset = "42CD4-raw" }', '{ file = "law.toml" }', files={"law.toml": 'file = "law.toml"\n'},
           at_fault="law.toml", expected=("file", "not another law file"), id="law-file-includes-itself"),
     study('{ preset = "42CD4-raw" }', '{ log = "log.csv" }',
@@ -960,7 +966,8 @@ def test_output_parent_that_cannot_hold_folders(tmp_path, capsys):
     """Refused for root too (unlike a read-only folder): the parent of --out is a file."""
     (tmp_path / "study.toml").write_text(STUDY)
     (tmp_path / "notes.txt").write_text("mine")
-    status = main(["run", str(tmp_path / "study.toml"), "--out", str(tmp_path / "notes.txt" / "out"), "--report", "none"])
+    status = main(["run", str(tmp_path / "study.toml"), "--out", str(tmp_path / "notes.txt" / "out"),
+                   "--report", "none"])
     error = capsys.readouterr().err
     assert status == 2 and "--out" in error and len(error.strip().splitlines()) == 1
     assert (tmp_path / "notes.txt").read_text() == "mine" and sorted(p.name for p in tmp_path.iterdir()) == [

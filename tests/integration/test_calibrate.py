@@ -113,7 +113,7 @@ def test_rotating_and_shifting_the_measurements_changes_no_fitted_value(tmp_path
     rotation = Rotation.from_euler("zyx", [71.0, -12.0, 33.0], degrees=True).as_matrix()
     for row in rows:
         point = rotation @ [float(row[k]) for k in ("x_m", "y_m", "z_m")] + np.array([-3.2, 1.7, 0.9])
-        row.update({k: repr(float(v)) for k, v in zip(("x_m", "y_m", "z_m"), point)})
+        row.update({k: repr(float(v)) for k, v in zip(("x_m", "y_m", "z_m"), point, strict=True)})
     write_rows(tmp_path / "moved.csv", header, rows)
     for data, out in ((DATA, "fit"), (tmp_path / "moved.csv", "moved")):
         done = tribokin("calibrate", study, "--measurements", data, "--out", tmp_path / out, "--report", "none")
@@ -286,9 +286,9 @@ def gantry_measurements(path, backlash_m: float = 0.0, noise_m: float = 1e-6) ->
                 lost = rng.normal(20.0, 5.0, 3) / stiffness + backlash_m / 2
                 point = commanded + sign * lost + rng.normal(0.0, noise_m, 3)
                 rows.append({"pose": name, "cycle": cycle, "direction": direction,
-                             **{f"{a}_m": repr(float(v)) for a, v in zip("xyz", point)},
-                             **{f"c{a}_m": repr(float(v)) for a, v in zip("xyz", commanded)},
-                             **{f"q_{a}": v for a, v in zip("xyz", q)}})
+                             **{f"{a}_m": repr(float(v)) for a, v in zip("xyz", point, strict=True)},
+                             **{f"c{a}_m": repr(float(v)) for a, v in zip("xyz", commanded, strict=True)},
+                             **{f"q_{a}": v for a, v in zip("xyz", q, strict=True)}})
     write_rows(path, list(rows[0]), rows)
 
 
@@ -350,8 +350,8 @@ def test_a_fit_beyond_the_study_s_range_is_held_at_its_end_said_so_and_the_calib
     determined), says so in calibration.json, on the console and in calibrated.toml, which runs."""
     gantry_measurements(tmp_path / "data.csv", backlash_m=0.12, noise_m=1e-3)
     study = gantry_study(tmp_path, "joint-tables-out-of-order", 'fit = ["backlash"]\nnoise_floor_m = 1e-3')
-    study.write_text(study.read_text(encoding="utf-8").replace("stiffness = 2.0e6", "stiffness = 2.0e6\nbacklash = 0.09"),
-                     encoding="utf-8")
+    text = study.read_text(encoding="utf-8")
+    study.write_text(text.replace("stiffness = 2.0e6", "stiffness = 2.0e6\nbacklash = 0.09"), encoding="utf-8")
     done = tribokin("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
                     "--report", "none")
     assert done.returncode == 0, done.stderr

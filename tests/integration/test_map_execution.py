@@ -219,7 +219,8 @@ def finished(chunks) -> int:
 
 
 def killed_after(command, chunks, count: int) -> int:
-    """Start ``command``, SIGKILL it once the store ``chunks`` has ``count`` finished chunks; the number finished then."""
+    """Start ``command``, SIGKILL it once the store ``chunks`` has ``count`` finished chunks; the number finished
+    then."""
     run = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 60
     while finished(chunks) < count and run.poll() is None and time.monotonic() < deadline:

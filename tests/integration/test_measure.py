@@ -114,7 +114,7 @@ def test_units_in_column_names_are_honoured(measured, tmp_path):
                     "--report", "none").returncode == 0
     in_mm = read_rows(tmp_path / "mm" / "poses.csv")
     in_m = read_rows(out_m / "poses.csv")
-    for a, b in zip(in_mm, in_m):
+    for a, b in zip(in_mm, in_m, strict=True):
         for key in ("RP_l_um", "AP_p_um", "vAP_p_um", "RP_l_all_directions_um", "barycenter_x_m"):
             assert (a[key] == b[key] == "") or float(a[key]) == pytest.approx(float(b[key]), rel=1e-9)
     assert not (tmp_path / "mm" / "report.html").exists()
@@ -176,7 +176,7 @@ def stream_file(folder):
                 t += 0.1
     path = folder / "stream.csv"
     path.write_text("t_s,x_m,y_m,z_m\n" + "".join(f"{ti!r},{float(p[0])!r},{float(p[1])!r},{float(p[2])!r}\n"
-                                                   for ti, p in zip(times, points)))
+                                                   for ti, p in zip(times, points, strict=True)))
     return path
 
 

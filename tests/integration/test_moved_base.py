@@ -40,7 +40,7 @@ def test_moving_the_base_and_the_grid_together_gives_the_same_map(statistic):
     figures_here, figures_there = a.figures[same], b.figures[same]
     scale = np.maximum(np.abs(figures_here), 1e-300)
     worst = np.nanmax(np.abs(figures_there - figures_here) / scale, axis=0)
-    assert np.all(worst <= 1e-6), dict(zip(names, worst))
+    assert np.all(worst <= 1e-6), dict(zip(names, worst, strict=True))
     assert np.allclose(b.normal_forces_N[same], a.normal_forces_N[same], rtol=1e-9, atol=0)
 
 

@@ -17,7 +17,7 @@ def test_cube_points_follow_the_standard():
     assert points["P1"] == pytest.approx(center)
     diagonal = side * np.sqrt(3)
     corners = [center + side / 2 * np.array(c) for c in [(-1, -1, 1), (1, 1, 1), (1, 1, -1), (-1, -1, -1)]]
-    for name, corner in zip(["P2", "P3", "P4", "P5"], corners):
+    for name, corner in zip(["P2", "P3", "P4", "P5"], corners, strict=True):
         assert np.linalg.norm(points[name] - corner) == pytest.approx(0.1 * diagonal)  # 10 % of the diagonal
         assert np.linalg.norm(points[name] - center) == pytest.approx(0.4 * diagonal)
     # P2-P5 are coplanar, on the plane x = y through the centre (a diagonal plane of the cube)
@@ -77,7 +77,7 @@ def test_held_approach_signs_move_the_tool_along_the_direction_with_its_orientat
     directions = np.array([[1.0, 0, 0], [0, 1, 0], [0.6, 0, 0.8]])  # each needs every joint here
     signs = held_approach_signs(robot, q, directions)
     jacobian = robot.tool_jacobian(q)
-    for d, row in zip(directions, signs):
+    for d, row in zip(directions, signs, strict=True):
         speeds = np.linalg.solve(jacobian, np.concatenate([d, np.zeros(3)]))  # independent: a 6x6 solve
         assert np.all(np.abs(speeds) > 1e-6) and np.array_equal(row, np.sign(speeds))
 

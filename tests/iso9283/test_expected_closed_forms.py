@@ -82,7 +82,7 @@ def test_the_compiled_closed_forms_agree_with_numpy(monkeypatch):
     assert np.all(np.abs(jacobi - lapack) <= 1e-14 * np.abs(lapack).max(axis=1, keepdims=True))
     for cycles in (10, 30, 1000):
         for got, expected in zip(*(with_path(monkeypatch, path, expected_rp_l, lapack * 1e-12, cycles)
-                                   for path in ("compiled", "numpy"))):
+                                   for path in ("compiled", "numpy")), strict=True):
             np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0)
     centres = rng.normal(size=(400, 3)) * np.exp(rng.uniform(-8, 3, (400, 1)))  # about and beyond the expansion
     for size in (1e-300, 1e-150, 1e-6, 1.0, 1e150, 1e300):

@@ -3,11 +3,15 @@
 import numpy as np
 import pinocchio as pin
 import pytest
-
 from scipy.spatial.distance import pdist
 
-from tribokin.iso9283.metrics import directional_metrics, largest_distance, multidirectional_variation, pose_metrics, \
-    position_repeatability
+from tribokin.iso9283.metrics import (
+    directional_metrics,
+    largest_distance,
+    multidirectional_variation,
+    pose_metrics,
+    position_repeatability,
+)
 
 
 def test_hand_computed_example():
@@ -22,8 +26,8 @@ def test_hand_computed_example():
 
 def test_sample_std_uses_n_minus_1():
     pts = np.array([[0, 0, 0], [1, 0, 0], [3, 0, 0]], dtype=float)  # barycenter 4/3
-    l = np.abs(pts[:, 0] - 4 / 3)  # 4/3, 1/3, 5/3
-    expected = l.mean() + 3 * np.sqrt(((l - l.mean()) ** 2).sum() / 2)
+    distances = np.abs(pts[:, 0] - 4 / 3)  # l_j: 4/3, 1/3, 5/3
+    expected = distances.mean() + 3 * np.sqrt(((distances - distances.mean()) ** 2).sum() / 2)
     assert position_repeatability(pts)[0] == pytest.approx(expected)
 
 

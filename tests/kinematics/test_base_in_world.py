@@ -30,7 +30,7 @@ def test_placements_and_jacobians_are_the_base_frames_moved_by_the_base(name):
 def test_geometry_hanging_from_the_world_moves_with_the_base_and_the_cached_models_do_not():
     placed = load_example_robot("ur5", base=BASE)
     plain = load_example_robot("ur5")
-    for moved, kept in zip(placed.visual_model.geometryObjects, plain.visual_model.geometryObjects):
+    for moved, kept in zip(placed.visual_model.geometryObjects, plain.visual_model.geometryObjects, strict=True):
         expected = BASE * kept.placement if kept.parentJoint == 0 else kept.placement
         assert np.allclose(moved.placement.homogeneous, expected.homogeneous, rtol=0, atol=1e-15)
     assert any(item.parentJoint == 0 for item in plain.visual_model.geometryObjects)

@@ -43,7 +43,7 @@ def test_placements_and_jacobians_match_pinocchio(name, tmp_path):
     placements = chain.tool_in_joint(q)
     jacobians = chain.tool_jacobians(placements)
     assert placements.shape == (50, robot.model.nv + 1, 4, 4) and jacobians.shape == (50, 6, robot.model.nv)
-    for qi, placement, jacobian in zip(q, placements, jacobians):
+    for qi, placement, jacobian in zip(q, placements, jacobians, strict=True):
         tool = robot.tool_placement(qi)
         np.testing.assert_allclose(placement[0], tool.homogeneous, rtol=0, atol=1e-12)
         rotation = np.kron(np.eye(2), tool.rotation)  # the tool frame's axes to the base's, for both halves
@@ -51,15 +51,15 @@ def test_placements_and_jacobians_match_pinocchio(name, tmp_path):
         pin.computeJointJacobians(robot.model, robot.data, robot.configuration(qi))  # as solve_ik asks for it
         local = pin.getFrameJacobian(robot.model, robot.data, robot.tool_frame_id, pin.LOCAL)
         np.testing.assert_allclose(jacobian, np.reshape(local, (6, -1)), rtol=0, atol=1e-12)
-        for joint, in_joint in zip(range(1, robot.model.njoints), placement[1:]):
+        for joint, in_joint in zip(range(1, robot.model.njoints), placement[1:], strict=True):
             np.testing.assert_allclose(in_joint, (robot.data.oMi[joint].inverse() * tool).homogeneous, atol=1e-12)
     assert chain.tool_in_joint(q[:0]).shape == (0, robot.model.nv + 1, 4, 4)
     world = chain.world_jacobians(placements)
     joints = chain.joints_in_world(placements)
-    for qi, jacobian, frames in zip(q, world, joints):
+    for qi, jacobian, frames in zip(q, world, joints, strict=True):
         np.testing.assert_allclose(jacobian, robot.tool_jacobian(qi), rtol=0, atol=1e-12)
         pin.forwardKinematics(robot.model, robot.data, robot.configuration(qi))
-        for joint, frame in zip(range(1, robot.model.njoints), frames):
+        for joint, frame in zip(range(1, robot.model.njoints), frames, strict=True):
             np.testing.assert_allclose(frame, robot.data.oMi[joint].homogeneous, rtol=0, atol=1e-12)
 
 

@@ -39,7 +39,7 @@ def configurations(count: int, seed: int = 3) -> np.ndarray:
 def test_gen3_loads_with_its_continuous_joints_as_unlimited_revolute_joints():
     robot = load_urdf(GEN3_URDF)
     assert robot.joint_names == [f"joint_{i}" for i in range(1, 8)] and robot.model.nv == 7 and robot.model.nq == 11
-    assert [name for name, c in zip(robot.joint_names, robot.continuous) if c] == CONTINUOUS
+    assert [name for name, c in zip(robot.joint_names, robot.continuous, strict=True) if c] == CONTINUOUS
     assert not robot.joint_is_prismatic.any()
     np.testing.assert_array_equal(robot.upper_limits, [np.inf, 2.24, np.inf, 2.57, np.inf, 2.09, np.inf])
     np.testing.assert_array_equal(robot.lower_limits, -robot.upper_limits)
@@ -80,11 +80,12 @@ def test_deviations_across_pi_propagate_as_through_wide_revolute_joints(gen3_pai
     rng = np.random.default_rng(5)
     q = np.array([np.pi - 1e-4, 0.6, -np.pi + 2e-5, 1.2, np.pi, -0.7, -np.pi])  # deviations cross ±π
     dq = rng.normal(scale=2e-4, size=(500, 7))
-    for reached, expected in zip(tool_deviations(continuous, q, dq, engine), tool_deviations(revolute, q, dq, engine)):
+    for reached, expected in zip(tool_deviations(continuous, q, dq, engine), tool_deviations(revolute, q, dq, engine),
+                                 strict=True):
         np.testing.assert_allclose(reached, expected, rtol=0, atol=1e-15)
     positions, _ = tool_deviations_exact(continuous, q, dq)  # and as Pinocchio integrates its configuration
     model, data = continuous.model, continuous.data
-    for position, step in zip(positions[:20], dq[:20]):
+    for position, step in zip(positions[:20], dq[:20], strict=True):
         pin.framesForwardKinematics(model, data, pin.integrate(model, continuous.configuration(q), step))
         np.testing.assert_allclose(position, data.oMf[continuous.tool_frame_id].translation, rtol=0, atol=1e-15)
 
@@ -108,7 +109,7 @@ def test_ik_crosses_pi_and_wraps_its_solution(gen3_pair, kernel_path):
     batch = solve_ik_batch(serial_chain(continuous), rotation, targets, np.tile(wrap_angles(start), (7, 1)))
     assert batch.success.all() and np.all(np.abs(batch.q) <= np.pi)
     assert (batch.q[:, 0] < 0).any() and (batch.q[:, 0] > 0).any()
-    for position, q in zip(targets, batch.q):
+    for position, q in zip(targets, batch.q, strict=True):
         alone = solve_ik(continuous, pin.SE3(rotation, position), wrap_angles(start))
         np.testing.assert_allclose(q, alone.q, rtol=0, atol=1e-9)
         np.testing.assert_allclose(continuous.tool_placement(q).translation, position, rtol=0, atol=1e-9)

@@ -61,7 +61,7 @@ def case(request):
 
 def one_by_one(robot, rotation, positions, starts, position_only, **options):
     return [solve_ik(robot, pin.SE3(rotation, p), q, position_only=position_only, **options)
-            for p, q in zip(positions, starts)]
+            for p, q in zip(positions, starts, strict=True)]
 
 
 @pytest.mark.parametrize("iterations", [200, BATCH_ITERATIONS - 2, BATCH_ITERATIONS + 1])

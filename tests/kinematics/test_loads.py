@@ -107,7 +107,7 @@ def test_loads_of_several_configurations_match_hand_statics_each(gantry, kernel_
     configurations = np.array([(0.0, 0.0, 0.0), (0.3, 0.5, 0.2), (0.6, 0.1, 0.5)])
     loads = BearingLoads(gantry, 5.0, SPAN)(configurations)
     assert loads.shape == (3, 3)
-    for q, row in zip(configurations, loads):
+    for q, row in zip(configurations, loads, strict=True):
         assert row == pytest.approx(hand_loads(*q, 5.0), rel=1e-9, abs=1e-9)
     assert BearingLoads(gantry, 5.0, SPAN)(np.zeros((0, 3))).shape == (0, 3)
 
@@ -120,7 +120,7 @@ def test_the_batched_statics_of_a_serial_chain_match_rnea(name, kernel_path):
     loads = BearingLoads(robot, 2.5, np.full(robot.model.nv, 0.08))
     q = np.random.default_rng(7).uniform(robot.lower_limits, robot.upper_limits, (40, robot.model.nv))
     wrenches = loads.chain_wrenches(q)
-    for qi, wrench in zip(q, wrenches):
+    for qi, wrench in zip(q, wrenches, strict=True):
         np.testing.assert_allclose(wrench, loads.wrenches(qi), rtol=0, atol=1e-11)
     batched = loads(q)
     loads.chain = None  # RNEA at each configuration

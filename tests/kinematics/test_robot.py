@@ -38,7 +38,7 @@ def test_example_robots_are_read_as_example_robot_datas_loader_reads_them(name):
         assert [(g.name, Path(g.meshPath).resolve(), g.parentJoint, g.parentFrame) for g in ours.geometryObjects] == \
             [(g.name, Path(g.meshPath).resolve(), g.parentJoint, g.parentFrame) for g in theirs.geometryObjects]
         assert all(np.array_equal(a.placement.homogeneous, b.placement.homogeneous)
-                   for a, b in zip(ours.geometryObjects, theirs.geometryObjects))
+                   for a, b in zip(ours.geometryObjects, theirs.geometryObjects, strict=True))
 
 
 def test_an_arms_meshes_are_read_when_first_asked_for_each_kind_once(monkeypatch):

@@ -15,7 +15,7 @@ def compiled_logs(rotations: np.ndarray, translations: np.ndarray) -> tuple[np.n
     from tribokin.kinematics import se3_log_kernels
 
     logs, angles = np.empty((len(rotations), 6)), np.empty(len(rotations))
-    for k, (rotation, translation) in enumerate(zip(rotations, translations)):
+    for k, (rotation, translation) in enumerate(zip(rotations, translations, strict=True)):
         angles[k] = se3_log_kernels.log6(rotation, translation, logs[k])
     return logs, angles
 
@@ -39,7 +39,7 @@ def motions(angles_rad, seed: int = 2) -> list[pin.SE3]:
     rng = np.random.default_rng(seed)
     axes = rng.normal(size=(len(angles_rad), 3))
     axes /= np.linalg.norm(axes, axis=1, keepdims=True)
-    return [pin.SE3(pin.exp3(angle * axis), rng.normal(size=3)) for angle, axis in zip(angles_rad, axes)]
+    return [pin.SE3(pin.exp3(angle * axis), rng.normal(size=3)) for angle, axis in zip(angles_rad, axes, strict=True)]
 
 
 def differences(placements: list[pin.SE3], implementation: str) -> tuple[np.ndarray, np.ndarray]:
@@ -49,8 +49,9 @@ def differences(placements: list[pin.SE3], implementation: str) -> tuple[np.ndar
     translations = np.array([m.translation for m in placements])
     logs, angles = log6(rotations, translations)
     jacobians = jlog6(logs[:, 3:], angles, translations)
-    return (np.array([np.abs(log - pin.log6(m).vector).max() for log, m in zip(logs, placements)]),
-            np.array([np.abs(jacobian - pin.Jlog6(m)).max() for jacobian, m in zip(jacobians, placements)]))
+    return (np.array([np.abs(log - pin.log6(m).vector).max() for log, m in zip(logs, placements, strict=True)]),
+            np.array([np.abs(jacobian - pin.Jlog6(m)).max()
+                      for jacobian, m in zip(jacobians, placements, strict=True)]))
 
 
 @pytest.mark.parametrize("implementation", IMPLEMENTATIONS)

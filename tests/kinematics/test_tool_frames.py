@@ -10,8 +10,13 @@ import pytest
 from conftest import GEN3_URDF
 from tribokin import InputError, run_study
 from tribokin.errors import RobotDescriptionError
-from tribokin.kinematics.robot import TESTED_ROBOTS, _example_robot, candidate_tool_frames, load_example_robot, \
-    load_urdf
+from tribokin.kinematics.robot import (
+    TESTED_ROBOTS,
+    _example_robot,
+    candidate_tool_frames,
+    load_example_robot,
+    load_urdf,
+)
 from tribokin.kinematics.tool_frames import is_sensor, tool_rank
 
 #: Each tested robot's tool frame before the default changed (the model's last frame), but kinova's: its last frame

@@ -8,8 +8,8 @@ import glob
 import json
 import math
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 import pytest
@@ -226,7 +226,7 @@ def ur5e_dh_tool(q) -> np.ndarray:
     d, a = (0.1625, 0, 0, 0.1333, 0.0997, 0.0996), (0, -0.425, -0.3922, 0, 0, 0)
     alpha = (math.pi / 2, 0, 0, math.pi / 2, -math.pi / 2, 0)
     placement = np.eye(4)
-    for qi, di, ai, alphai in zip(q, d, a, alpha):
+    for qi, di, ai, alphai in zip(q, d, a, alpha, strict=True):
         c, s, ca, sa = math.cos(qi), math.sin(qi), math.cos(alphai), math.sin(alphai)
         placement = placement @ np.array([[c, -s * ca, s * sa, ai * c], [s, c * ca, -c * sa, ai * s],
                                           [0, sa, ca, di], [0, 0, 0, 1]])
@@ -312,7 +312,8 @@ def laughs(folder: Path, depth: int = 26) -> Path:
     """The campaign's macro growth: ``depth`` macros each calling the previous twice (2^depth links, 2 KB)."""
     lines = ['<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">',
              '<xacro:macro name="m0"><link name="l"/></xacro:macro>',
-             *(f'<xacro:macro name="m{k}"><xacro:m{k - 1}/><xacro:m{k - 1}/></xacro:macro>' for k in range(1, depth + 1)),
+             *(f'<xacro:macro name="m{k}"><xacro:m{k - 1}/><xacro:m{k - 1}/></xacro:macro>'
+               for k in range(1, depth + 1)),
              f'<xacro:m{depth}/></robot>']
     (folder / "laughs.urdf.xacro").write_text("\n".join(lines))
     return folder / "laughs.urdf.xacro"
@@ -321,7 +322,8 @@ def laughs(folder: Path, depth: int = 26) -> Path:
 def doubling(folder: Path, properties: int = 40, uses: int = 1) -> Path:
     """The campaign's doubling string: each property twice the previous (8 * 2^39 characters at the end), the last
     one the name of ``uses`` links."""
-    lines = ['<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">', '<xacro:property name="s0" value="abcdefgh"/>',
+    lines = ['<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">',
+             '<xacro:property name="s0" value="abcdefgh"/>',
              *(f'<xacro:property name="s{k}" value="${{s{k - 1} + s{k - 1}}}"/>' for k in range(1, properties)),
              *[f'<link name="${{s{properties - 1}}}"/>'] * uses, '</robot>']
     (folder / "doubling.urdf.xacro").write_text("\n".join(lines))
@@ -338,7 +340,8 @@ def written(name: str, text: str) -> Callable[[Path], Path]:
 
 
 @pytest.mark.parametrize("make, limits, message", [
-    (laughs, XacroLimits(elements=2_000), "expansion stopped past 2,000 elements (the size limit of a xacro expansion)"),
+    (laughs, XacroLimits(elements=2_000),
+     "expansion stopped past 2,000 elements (the size limit of a xacro expansion)"),
     (laughs, XacroLimits(seconds=0.3, elements=10**9), "expansion stopped after 0.3 s (the time limit"),
     (doubling, XacroLimits(characters=1_000_000), "an expression's value passes 200,000 characters"),
     (lambda folder: doubling(folder, 15, uses=10), XacroLimits(characters=1_000_000),

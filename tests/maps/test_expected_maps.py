@@ -1,6 +1,5 @@
 """Expected maps as a whole: as smooth as the physics, and their closed form, sampled and asymptotic paths agree."""
 
-import dataclasses
 
 import numpy as np
 import pytest
@@ -69,5 +68,5 @@ def test_the_asymptotic_path_agrees_with_the_simulated_tests_at_its_threshold(la
         patch.setattr(module, "MULTI_CYCLES", 10 * module.MULTI_CYCLES)
         simulated = expected_targets(runner, ExpectedSetup.build(runner, table, "directional"), q, forces, twists,
                                      translations)["figures"][0]
-    for figure, a, s in zip(map_figures("directional"), asymptotic, simulated):
+    for figure, a, s in zip(map_figures("directional"), asymptotic, simulated, strict=True):
         assert a == pytest.approx(s, rel=0.01), figure.name

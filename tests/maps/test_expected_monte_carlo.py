@@ -46,7 +46,8 @@ def expected_at(runner: PoseRunner, q: np.ndarray) -> dict:
     twists, translations = tool_frames(runner.robot, q[None])
     out = expected_targets(runner, ExpectedSetup.build(runner, table, "directional"), q[None],
                            runner.normal_forces_at(q[None]), twists, translations)
-    return {**dict(zip([figure.name for figure in map_figures("directional")], out["figures"][0])), "method": out["method"][0],
+    names = [figure.name for figure in map_figures("directional")]
+    return {**dict(zip(names, out["figures"][0], strict=True)), "method": out["method"][0],
             "fallbacks": out["fallbacks"][0], "band_error": out["band_error"][0]}
 
 
@@ -136,8 +137,8 @@ def targets_near(robot_name: str, count: int) -> np.ndarray:
 
 def expected_block(runner: PoseRunner, qs: np.ndarray, figure_set: str = "directional") -> dict:
     """:func:`expected_targets` of configurations ``qs`` on the current kernel path, with their loads and frames."""
-    from tribokin.maps.expected import shape_table
     from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES
+    from tribokin.maps.expected import shape_table
 
     study = runner.settings
     table = None if study.cycles >= ASYMPTOTIC_CYCLES else shape_table(study.cycles, study.seed)

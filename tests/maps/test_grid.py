@@ -7,12 +7,9 @@ from conftest import ROOT, STUDIES
 from helpers.map_studies import ur5_plane
 from tribokin.kinematics.robot import load_urdf
 from tribokin.maps.grid import GridError, grid_neighbours, make_grid
-from tribokin.study.map_spec import BoxMap, JointMap
 from tribokin.study.assembly import load_robot
+from tribokin.study.map_spec import BoxMap, JointMap
 from tribokin.study.reading import load_study
-
-
-
 
 
 def test_neighbours_along_each_axis():
@@ -26,7 +23,8 @@ def test_neighbours_along_each_axis():
 
 def test_grid_positions_coordinates_and_thinning():
     study = ur5_plane([5, 4])
-    grid = make_grid(load_robot(study), study.map)  # 4 rows (v) x 5 columns (u), origin (0, -0.5, 0.2), u along x, v along y
+    # 4 rows (v) x 5 columns (u), origin (0, -0.5, 0.2), u along x, v along y
+    grid = make_grid(load_robot(study), study.map)
     np.testing.assert_allclose(grid.positions_m([0, 7]), [[-0.1, -0.5, 0.2], [0.0, -0.5 + 0.1 / 3, 0.2]])
     coordinates = grid.coordinates([7])
     np.testing.assert_allclose([coordinates["u_m"][0], coordinates["v_m"][0]], [0.0, 0.1 / 3])

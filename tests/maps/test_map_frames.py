@@ -78,7 +78,8 @@ def assert_same(values, cells: list[str], what: str) -> None:
     if expected.dtype.kind == "f":
         assert values.dtype == np.float64, what
         assert np.array_equal(np.isnan(values), np.isnan(expected)), what
-        assert np.array_equal(values[~np.isnan(values)].view(np.int64), expected[~np.isnan(expected)].view(np.int64)), what
+        assert np.array_equal(values[~np.isnan(values)].view(np.int64),
+                              expected[~np.isnan(expected)].view(np.int64)), what
     else:
         assert values.tolist() == expected.tolist(), what
 
@@ -158,7 +159,8 @@ def test_the_datasets_axes_place_each_target_where_the_grid_has_it(written):
     elif kind == "box":
         assert all((dataset[f"{axis}_m"] == dataset[axis]).all() for axis in "xyz")
     else:  # tool = (0.2 + q_x, q_y, 0.2 + q_z)
-        assert (dataset["q"].sel(joint="z") == dataset["z"]).all() and (dataset["q"].sel(joint="y") == dataset["y"]).all()
+        assert (dataset["q"].sel(joint="z") == dataset["z"]).all()
+        assert (dataset["q"].sel(joint="y") == dataset["y"]).all()
         assert close(z, 0.2 + dataset["z"]) and close(y, dataset["y"])
 
 

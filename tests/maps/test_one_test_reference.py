@@ -42,7 +42,7 @@ def test_one_test_figures_agree_with_the_engine_before_expected_maps(tmp_path):
     joints = [name for name in before[0] if name.startswith("q_")]
     far_rows = {k // 25 for k, row in enumerate(now) if k % 25 == 0 and row["reason"].startswith("beyond")}
     compared = moved = moved_far = 0
-    for k, (old, new) in enumerate(zip(before, now)):
+    for k, (old, new) in enumerate(zip(before, now, strict=True)):
         if old["reachable"] != "true":
             continue
         if max(abs(float(old[q]) - float(new[q])) for q in joints) > 1e-9:

@@ -17,8 +17,6 @@ from tribokin.output.writers import map_table_name, write_map_table, write_summa
 from tribokin.study.reading import read_study_file
 
 
-
-
 def with_scenarios(study: dict, *scenarios: dict) -> dict:
     return {**study, "scenarios": [{"name": "reference"}, *scenarios]}
 
@@ -103,10 +101,10 @@ def test_targets_reached_by_one_robot_only_are_won_by_it_and_marked_in_its_table
     expected = {(True, True): "both", (True, False): "ur10 only", (False, True): "reference only",
                 (False, False): "neither"}
     assert [row["reached_by"] for row in rows] == [expected[row["reachable"] == "true", ref]
-                                                   for row, ref in zip(rows, reference)]
+                                                   for row, ref in zip(rows, reference, strict=True)]
     only = np.array([row["reached_by"] == "ur10 only" for row in rows])
     assert only.any() and all(row["RP_l_ratio"] == row["RP_l_diff_um"] == "" and row["RP_l_um"] != ""
-                              for row, one in zip(rows, only) if one)
+                              for row, one in zip(rows, only, strict=True) if one)
     joints = result.map.scenarios["ur10"].joint_names
     assert [name for name in rows[0] if name.startswith("q_")] == [f"q_{joint}" for joint in joints]
     winners = result.map.winners()
@@ -134,7 +132,7 @@ def test_a_longer_forearm_as_a_xacro_argument_reaches_as_far_as_its_links(tmp_pa
                                          {"name": "long-forearm", "robot": {"xacro_args": {"forearm_m": "0.5"}}}]}
     workspace = run_study(study).map
     r = np.hypot(*workspace.positions_m[:, :2].T)
-    for scenario, forearm in zip(workspace.scenarios.values(), (0.35, 0.5)):
+    for scenario, forearm in zip(workspace.scenarios.values(), (0.35, 0.5), strict=True):
         shortest = np.sqrt(0.5**2 + forearm**2 + 2 * 0.5 * forearm * np.cos(2.6))
         clear = (np.abs(r - shortest) > 5e-3) & (np.abs(r - 0.5 - forearm) > 5e-3)
         reached = scenario.read_robot("reachable")
@@ -151,5 +149,6 @@ def test_the_shipped_what_if_studies_compare_what_they_say():
     assert robots["reached_by_any"] == robots["count"]
     placement = run_study(STUDIES / "what-if-placement.toml", cycles=5).map.summary()
     for moved in placement["scenarios"][1:]:
-        assert moved["reached_only_by_reference"] > 0 and moved["RP_l_ratio"]["min"] < 0.5 < 2 < moved["RP_l_ratio"]["max"]
+        assert moved["reached_only_by_reference"] > 0
+        assert moved["RP_l_ratio"]["min"] < 0.5 < 2 < moved["RP_l_ratio"]["max"]
     assert all(count > 0 for count in placement["wins"].values())

@@ -12,10 +12,18 @@ from tribokin.kinematics import ik
 from tribokin.kinematics.robot import wrap_angles
 from tribokin.maps import rows as map_rows
 from tribokin.maps.grid import grid_neighbours, make_grid
-from tribokin.maps.schema import MapLayout
-from tribokin.maps.rows import beyond_reach_m, extrapolate_rows, fill_from_neighbours, first_bound_beyond, \
-    holes_beside_reached, solve_row_starts, solve_rows, turned_into_limits
+from tribokin.maps.rows import (
+    beyond_reach_m,
+    extrapolate_rows,
+    fill_from_neighbours,
+    first_bound_beyond,
+    holes_beside_reached,
+    solve_row_starts,
+    solve_rows,
+    turned_into_limits,
+)
 from tribokin.maps.run import prepare_map
+from tribokin.maps.schema import MapLayout
 from tribokin.study.assembly import load_robot, map_robots
 from tribokin.study.reading import load_study, read_study_file
 
@@ -56,7 +64,7 @@ def test_holes_filled_with_their_first_tries_solved_beforehand_are_filled_alike(
     q[[5, 6, 7, 8, 9, 13]], reachable[[5, 6, 7, 8, 9, 13]] = np.nan, False
     read = reader(q, reachable)
     tries = map_rows.first_tries(grid, read)
-    before = dict(zip(tries, map_rows.solve_tries(robot, grid, [(i, q[n]) for i, n in tries])))
+    before = dict(zip(tries, map_rows.solve_tries(robot, grid, [(i, q[n]) for i, n in tries]), strict=True))
     alone = fill_from_neighbours(robot, grid, read)
     solves = []
     monkeypatch.setattr(map_rows, "_solve_from", lambda robot, grid, index, q_start, solve=map_rows._solve_from:
@@ -197,7 +205,7 @@ def test_a_row_running_into_a_joint_limit_goes_on_along_its_branch_on_either_ker
     robot = load_robot(study)
     solved = rows_on_both_paths(robot, make_grid(robot, study.map), monkeypatch)
     for path, (_, q, reachable, _, _) in solved.items():
-        for row, reached in zip(q, reachable):
+        for row, reached in zip(q, reachable, strict=True):
             steps = np.diff(row[reached], axis=0)
             assert np.abs(wrap_angles(steps)).max() < 0.3, path
             assert np.abs(steps).max() > 6.0, path  # turned once on the way
@@ -222,7 +230,7 @@ def test_the_rows_solved_together_are_each_solved_as_alone(horizontal):
     assert together[1].any() and not together[1].all()
     for row in (0, 7, 12, grid.row_count - 1):
         alone = solve_rows(robot, grid, [row], starts[[row]])
-        for array, whole in zip(alone, together):
+        for array, whole in zip(alone, together, strict=True):
             assert array[0].tobytes() == whole[row].tobytes()
 
 
@@ -240,7 +248,7 @@ def test_a_row_whose_head_is_not_reached_starts_from_the_last_head_reached(horiz
     assert sorted(solved) == heads[~beyond].tolist()
     order = map_rows.head_order(grid)
     at_head = 0
-    for before, row in zip([None, *order], order):
+    for before, row in zip([None, *order], order, strict=False):
         placement = robot.tool_placement(starts[row])
         if np.allclose(placement.translation, grid.positions_m([heads[row]])[0], atol=1e-9):
             at_head += 1
@@ -328,7 +336,7 @@ def test_a_robot_numpy_cannot_compute_is_solved_target_by_target(solved, monkeyp
     alone = solve_rows(robot, grid, range(grid.row_count), starts, batched=False)
     monkeypatch.setattr(map_rows, "serial_chain", lambda robot: None)
     monkeypatch.setattr(map_rows, "solve_ik_batch", None)
-    for array, expected in zip(solve_rows(robot, grid, range(grid.row_count), starts), alone):
+    for array, expected in zip(solve_rows(robot, grid, range(grid.row_count), starts), alone, strict=True):
         assert array.tobytes() == expected.tobytes()
 
 
@@ -341,7 +349,8 @@ def test_each_target_says_how_the_ik_reached_it(horizontal):
     assert np.array_equal(routes != map_rows.UNREACHED, reachable)
     counts = np.bincount(routes.ravel(), minlength=5)
     assert counts[map_rows.ALONG_ROW] > 0.9 * reachable.sum() and counts[map_rows.FROM_LAST_REACHED] > 0
-    for row, column in zip(*np.nonzero(np.isin(routes, [map_rows.FROM_LAST_REACHED, map_rows.AFTER_RESTARTS]))):
+    restarted = np.isin(routes, [map_rows.FROM_LAST_REACHED, map_rows.AFTER_RESTARTS])
+    for row, column in zip(*np.nonzero(restarted), strict=True):
         before = np.flatnonzero(reachable[row, :column])
         start = q[row, before[-1]] if len(before) else starts[row]
         index = grid.row_indices(row)[column]

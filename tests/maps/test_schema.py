@@ -60,9 +60,11 @@ def test_each_robot_of_the_scenarios_keeps_its_own_configurations_and_the_budget
     columns = layout.columns()
     assert columns["q"] == ((6,), "f8") and columns["robot1_q"] == ((7,), "f8")
     assert columns["scenario0_normal_forces_N"] == ((6,), "f8") and columns["scenario2_normal_forces_N"] == ((7,), "f8")
-    assert layout.bytes_per_target == 8 * 3 + (8 * (6 + 2) + 2) + (8 * (7 + 2) + 2) + 8 * (7 + 6 + 1) + 2 * 8 * (7 + 7 + 1)
+    assert layout.bytes_per_target == (8 * 3 + (8 * (6 + 2) + 2) + (8 * (7 + 2) + 2) + 8 * (7 + 6 + 1)
+                                       + 2 * 8 * (7 + 7 + 1))
     assert sorted(layout.columns(1)) == sorted(f"{prefix}_{name}" for prefix, names in (
-        ("robot1", ("q", "reachable", "closest", "ik_route")), ("scenario1", ("figures", "normal_forces_N", "dominant_joint")),
+        ("robot1", ("q", "reachable", "closest", "ik_route")),
+        ("scenario1", ("figures", "normal_forces_N", "dominant_joint")),
         ("scenario2", ("figures", "normal_forces_N", "dominant_joint"))) for name in names)
     study = load_study(STUDIES / "what-if-robots.toml")
     shared = dict((key, size) for size, key, _ in estimate(study, 6, []))

@@ -8,18 +8,13 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
-from helpers.map_studies import K, MU, gantry_loads_by_hand, gantry_map_study
+from helpers.map_studies import MU, K, gantry_loads_by_hand, gantry_map_study
 from tribokin import InputError, run_study
 from tribokin.execution import executor_for
 from tribokin.simulation.pose_run import PoseRunner, joint_space_task
 from tribokin.streams import map_target_stream
 from tribokin.study.assembly import joint_models, load_robot
 from tribokin.study.reading import load_study
-
-
-
-
-
 
 
 def test_gantry_with_fixed_loads_gives_a_flat_map_and_flags_unreachable_targets():

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers.measurement_files import write_csv
 
+from helpers.measurement_files import write_csv
 from tribokin.errors import InputError
 from tribokin.measurement.contract import read_measurements, read_stream
 
@@ -18,7 +18,7 @@ def test_units_in_the_names_are_honoured_and_comments_skipped(tmp_path):
     in_m = read_measurements(write_csv(tmp_path, "pose,direction,cycle,x_m,y_m,z_m",
                                        ["P1,+x,1,0.1,0.2,0.3", "P1,+x,2,0.100003,0.2,0.3", "P1,-x,1,0.10001,0.2,0.3"],
                                        "m.csv", comments=("# a", "# b")))
-    for mm, m in zip(in_mm.poses[0].series, in_m.poses[0].series):
+    for mm, m in zip(in_mm.poses[0].series, in_m.poses[0].series, strict=True):
         np.testing.assert_allclose(mm.positions_m, m.positions_m, rtol=1e-12)
     assert in_mm.poses[0].series[0].positions_m[1, 0] == pytest.approx(0.100003)
     assert in_mm.poses[0].series[0].lines.tolist() == [3, 4]  # line numbers of the file, comments counted

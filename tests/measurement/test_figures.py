@@ -6,11 +6,10 @@ import tracemalloc
 
 import numpy as np
 import pytest
-from helpers.measurement_files import write_csv
 
+from helpers.measurement_files import write_csv
 from tribokin.iso9283.metrics import position_repeatability
 from tribokin.measurement import figures
-
 from tribokin.measurement.contract import read_measurements
 from tribokin.measurement.figures import bootstrap_bytes, measurement_figures, pose_figures, rp_l_interval
 from tribokin.measurement.registration import register_measurements

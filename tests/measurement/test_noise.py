@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers.measurement_files import write_csv
 
+from helpers.measurement_files import write_csv
 from tribokin.errors import InputError
 from tribokin.measurement.contract import read_stream
 from tribokin.measurement.figures import DirectionFigures, PoseFigures

@@ -63,10 +63,10 @@ def test_rotating_and_shifting_the_measurements_changes_no_figure(data):
     registered = register_measurements(after)
     assert registered.rms_residual_m > 10e-6  # the geometric error is left as residual
     for a, b in zip(measurement_figures(before, register_measurements(before)),
-                    measurement_figures(after, registered)):
+                    measurement_figures(after, registered), strict=True):
         assert b.vAP_p_m == pytest.approx(a.vAP_p_m, rel=1e-9)
         assert b.RP_l_all_directions_m == pytest.approx(a.RP_l_all_directions_m, rel=1e-9)
-        for x, y in zip(a.directions, b.directions):
+        for x, y in zip(a.directions, b.directions, strict=True):
             assert y.RP_l_m == pytest.approx(x.RP_l_m, rel=1e-9)
             assert y.AP_p_m == pytest.approx(x.AP_p_m, rel=1e-9)
             np.testing.assert_allclose(y.RP_l_ci95_m, x.RP_l_ci95_m, rtol=1e-9)

@@ -42,7 +42,7 @@ def test_dwells_are_found_where_the_stream_settles():
     stream, truth = _stream()
     dwells = find_dwells(stream.times_s, stream.positions_m)
     assert len(dwells) == len(truth)
-    for dwell, (start, end, place) in zip(dwells, truth):
+    for dwell, (start, end, place) in zip(dwells, truth, strict=True):
         assert dwell.start_s == pytest.approx(start, abs=0.03) and dwell.end_s == pytest.approx(end, abs=0.03)
         np.testing.assert_allclose(dwell.position_m, place, atol=3e-6)
 

@@ -34,7 +34,8 @@ friction = { log = "logs/run.csv" }
 def test_values_poses_and_comments(tmp_path):
     values = [WrittenValue("j1", "stiffness", 61234.5, "fitted: 95 % interval [5.1e4, 7.2e4] N·m/rad"),
               WrittenValue("j2", "backlash", 2.5e-05, "fitted")]
-    text = calibrated_study_text(STUDY, tmp_path, tmp_path, ["made by a test", ""], values, [("P1", [0.1, -0.2], ["+x", "-0.6+0.8+0.0"])])
+    text = calibrated_study_text(STUDY, tmp_path, tmp_path, ["made by a test", ""], values,
+                                 [("P1", [0.1, -0.2], ["+x", "-0.6+0.8+0.0"])])
     assert text.startswith("# made by a test\n#\n") and "# my study: keep this comment" in text
     parsed = tomllib.loads(text)
     assert parsed["joints"]["j1"]["stiffness"] == 61234.5 and parsed["joints"]["j2"]["backlash"] == 2.5e-05

@@ -10,9 +10,9 @@ import pytest
 from conftest import STUDIES
 from tribokin import run_study
 from tribokin.execution import executor_for
-from tribokin.study.reading import read_study_file
 from tribokin.output import writers
 from tribokin.output.writers import column_cells, float_lines, map_table_name, table_lines, write_map_table
+from tribokin.study.reading import read_study_file
 
 SPECIAL = [0.0, -0.0, 3.0, -3.0, 0.1, 1e-4, 9.999999999999999e-05, 1e-5, 1.5e-5, -2e-7, 1e-9, 9.99e-10, 1e-10,
            5e-324, -5e-324, 2.2250738585072014e-308, 2.225073858507201e-308, 1e308, 1.7976931348623157e308,
@@ -29,7 +29,8 @@ def repr_lines(columns: dict) -> str:
         return ("" if np.isnan(value) else repr(value)) if isinstance(value, float) else value
 
     text = io.StringIO()
-    csv.writer(text).writerows([cell(v) for v in row] for row in zip(*(c.tolist() for c in columns.values())))
+    csv.writer(text).writerows([cell(v) for v in row]
+                               for row in zip(*(c.tolist() for c in columns.values()), strict=True))
     return text.getvalue()
 
 
@@ -42,7 +43,7 @@ def test_every_float_is_written_as_repr_and_round_trips_bit_for_bit():
     cells = [cell.decode() for cell in float_lines(values[:, None])]
     assert cells == ["" if np.isnan(v) else repr(v) for v in values.tolist()]
     finite = ~np.isnan(values)
-    parsed = np.array([float(cell) for cell, keep in zip(cells, finite) if keep])
+    parsed = np.array([float(cell) for cell, keep in zip(cells, finite, strict=True) if keep])
     assert np.array_equal(parsed.view(np.int64), values[finite].view(np.int64))
     assert float_lines(values.reshape(-1, 4)) == [",".join(cells[i:i + 4]).encode() for i in range(0, len(cells), 4)]
     assert float_lines(values[::-7, None]) == [cell.encode() for cell in cells[::-7]]

@@ -205,7 +205,7 @@ def test_poses_propagated_together_match_each_alone(robots, engine):
     dq = np.stack([scale * rng.standard_normal((50, robot.model.nv)) for scale in (1e-7, 1e-5, 1e-4, 0.2)])
     twists, translations = tool_frames(robot, qs)
     positions, angles = tool_deviations_at_poses(robot, qs, dq, engine, twists, translations)
-    for q, samples, p, a in zip(qs, dq, positions, angles):
+    for q, samples, p, a in zip(qs, dq, positions, angles, strict=True):
         alone_p, alone_a = tool_deviations(robot, q, samples, engine)
         np.testing.assert_allclose(p, alone_p, rtol=0, atol=1e-15)
         np.testing.assert_allclose(a, alone_a, rtol=0, atol=1e-15)
@@ -242,7 +242,7 @@ def test_the_compiled_bounds_agree_with_numpy(robots, name, monkeypatch):
         monkeypatch.setenv("TRIBOKIN_KERNELS", "numpy")
         reference = _order_bounds(twists, dq)
         monkeypatch.setenv("TRIBOKIN_KERNELS", "compiled")
-        for compiled, expected in zip(_order_bounds(twists, dq), reference):
+        for compiled, expected in zip(_order_bounds(twists, dq), reference, strict=True):
             assert np.array_equal(np.isinf(compiled), np.isinf(expected))
             finite = np.isfinite(expected)
             np.testing.assert_allclose(compiled[finite], expected[finite], rtol=1e-12, atol=0)

@@ -8,8 +8,16 @@ import pytest
 from conftest import axis_study
 from tribokin.errors import InputError, JointRangeError
 from tribokin.run import run_study
-from tribokin.simulation.joint_errors import (JointErrorModel, approach_signs, check_travel, deviation_parts,
-                                              draw_friction, joint_travel, largest_mu, sample_joint_deviations)
+from tribokin.simulation.joint_errors import (
+    JointErrorModel,
+    approach_signs,
+    check_travel,
+    deviation_parts,
+    draw_friction,
+    joint_travel,
+    largest_mu,
+    sample_joint_deviations,
+)
 from tribokin.tribology import Constant, Gaussian, Lognormal, Uniform
 from tribokin.tribology.laws import Scaled
 

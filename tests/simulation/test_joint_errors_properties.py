@@ -23,7 +23,7 @@ modes = st.sampled_from(["unidirectional", "bidirectional", "random"])
 
 def _models(mu, stiffnesses, offsets_, backlash=0.0):
     return [JointErrorModel(Constant(mu), k, offset=o, backlash=backlash, friction_radius_m=0.05)
-            for k, o in zip(stiffnesses, offsets_)]
+            for k, o in zip(stiffnesses, offsets_, strict=True)]
 
 
 @given(st.lists(stiffness, min_size=3, max_size=3), st.lists(offsets, min_size=3, max_size=3),

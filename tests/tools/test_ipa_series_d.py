@@ -45,7 +45,8 @@ def _raw_rows():
     """The raw file parsed by hand: header and rows of floats (';' separators, decimal commas)."""
     lines = RAW.read_text(encoding="utf-8").splitlines()
     header = lines[0].split(";")
-    return header, [dict(zip(header, (float(v.replace(",", ".")) for v in line.split(";")))) for line in lines[1:]]
+    return header, [dict(zip(header, (float(v.replace(",", ".")) for v in line.split(";")), strict=True))
+                    for line in lines[1:]]
 
 
 def _read(text):
@@ -189,7 +190,7 @@ def test_the_tool_offset_reproduces_the_commanded_pose_with_the_ur10_model(conve
     pose[:3, :3] = _rz(np.pi)
     for a, d, alpha, q in zip([0, -0.612, -0.5723, 0, 0, 0], [0.1273, 0, 0, 0.163941, 0.1157, 0.0922],
                               [np.pi / 2, 0, 0, np.pi / 2, -np.pi / 2, 0],
-                              [float(rows[0][f"q_{j}"]) for j in JOINTS]):
+                              [float(rows[0][f"q_{j}"]) for j in JOINTS], strict=True):
         link = np.eye(4)
         link[:3, :3] = _rz(q) @ _rx(alpha)
         link[:3, 3] = [a * np.cos(q), a * np.sin(q), d]

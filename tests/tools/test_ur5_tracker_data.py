@@ -68,7 +68,7 @@ def test_the_committed_file_is_a_measurement_file_of_five_poses_three_series_of_
     measurements = read_measurements(COMMITTED)
     assert [p.name for p in measurements.poses] == ["P1", "P2", "P3", "P4", "P5"]
     assert measurements.joints == ur5_tracker_data.JOINTS == tuple(robot.joint_names)
-    for pose, cube_pose in zip(measurements.poses, poses):
+    for pose, cube_pose in zip(measurements.poses, poses, strict=True):
         assert [s.direction for s in pose.series] == ["+x", "+y", "+z"]
         assert all(s.cycles.tolist() == list(range(1, 31)) for s in pose.series)
         assert pose.q_spread == 0.0  # every row holds the same q, the cube's, to rounding (its IK's, a few ulps):

@@ -13,8 +13,19 @@ from conftest import axis_study
 from tribokin.errors import InputError, LawError, TribokinError
 from tribokin.study.assembly import joint_models, load_robot
 from tribokin.study.reading import load_study
-from tribokin.tribology import (PRESETS, Constant, Empirical, FrictionLaw, Gaussian, Lognormal, Uniform, fitting,
-                                law_from_spec, laws, preset)
+from tribokin.tribology import (
+    PRESETS,
+    Constant,
+    Empirical,
+    FrictionLaw,
+    Gaussian,
+    Lognormal,
+    Uniform,
+    fitting,
+    law_from_spec,
+    laws,
+    preset,
+)
 
 N = 200_000
 
@@ -190,7 +201,8 @@ def test_truncated_gaussian_closed_forms_are_scipys(mean, std):
 def test_moments_and_draws_of_the_closed_form_laws_do_not_import_scipy_stats():
     """scipy.stats takes about 0.3 s to import: a map of these laws needs none of it."""
     code = ("import sys, numpy as np; from tribokin.tribology import Constant, Gaussian, Uniform, preset; "
-            "laws = [Gaussian(0.1, 0.01), Gaussian(0.1, 0.0), Uniform(0.1, 0.1), Constant(0.1), preset('42CD4-treated')]; "
+            "laws = [Gaussian(0.1, 0.01), Gaussian(0.1, 0.0), Uniform(0.1, 0.1), Constant(0.1), "
+            "preset('42CD4-treated')]; "
             "[(law.describe(), law.rvs(3, np.random.default_rng(0))) for law in laws]; "
             "assert 'scipy.stats' not in sys.modules, 'imported'; Gaussian(0.1, 0.01).pdf(0.1); "
             "assert 'scipy.stats' in sys.modules, 'never imported'")

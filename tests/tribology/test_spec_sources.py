@@ -3,11 +3,10 @@
 import numpy as np
 import pytest
 
+from conftest import ROOT, axis_study
 from tribokin.errors import InputError
 from tribokin.run import run_study
 from tribokin.tribology import Empirical, Gaussian, law_from_spec
-
-from conftest import ROOT, axis_study
 
 PROFILES = ROOT / "src/tribokin/data/profiles"
 SURFACE = {"normal_force_N": 150.0, "contact_area_m2": 1e-6, "film_thickness_m": 1.2e-6, "cycles": 300}

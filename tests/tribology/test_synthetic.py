@@ -3,12 +3,11 @@
 import numpy as np
 import pytest
 
+from conftest import ROOT
 from tribokin.errors import InputError
 from tribokin.tribology.surfaces import read_profile
 from tribokin.tribology.synthetic import REFERENCE_PROFILES, ProfileRecipe, synthetic_log, synthetic_profile
 from tribokin.tribology.tribometer import read_log
-
-from conftest import ROOT
 
 
 @pytest.mark.parametrize("randomness", [0.0, 0.5, 1.0])

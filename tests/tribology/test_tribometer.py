@@ -12,7 +12,7 @@ from tribokin.tribology.tribometer import read_log, running_in_cycles, steady_st
 
 def test_forces_give_mu_and_cycle_is_optional(tmp_path):
     path = tmp_path / "log.csv"
-    rows = "\n".join(f"{f},{n}" for f, n in zip(np.linspace(10, 20, 30), np.full(30, 100.0)))
+    rows = "\n".join(f"{f},{n}" for f, n in zip(np.linspace(10, 20, 30), np.full(30, 100.0), strict=True))
     path.write_text("# a comment\nfriction_force_N,normal_force_N\n" + rows + "\n")
     log = read_log(path)
     np.testing.assert_allclose(log.mu, np.linspace(0.1, 0.2, 30))

@@ -9,8 +9,14 @@ import pytest
 
 from tribokin.calibration.cross_validation import PredictedFigure
 from tribokin.viz import calibration
-from tribokin.viz.calibration import (RADIUS_95_2D, ParityPoint, PredictedCloud, ellipse_outline,
-                                      save_calibration_clouds, save_parity)
+from tribokin.viz.calibration import (
+    RADIUS_95_2D,
+    ParityPoint,
+    PredictedCloud,
+    ellipse_outline,
+    save_calibration_clouds,
+    save_parity,
+)
 
 
 def png_size(path) -> tuple[int, int]:
@@ -25,7 +31,7 @@ def clouds(points_per_direction=(30, 30, 30), names=("+x", "-y", "o")) -> list[P
     rng = np.random.default_rng(5)
     pose = np.array([0.6, 0.1, 0.4])
     found = []
-    for n, name in zip(points_per_direction, names):
+    for n, name in zip(points_per_direction, names, strict=True):
         shape = rng.normal(size=(3, 3)) * np.array([3.0, 1.5, 0.7])[:, None] * 1e-6
         covariance = shape @ shape.T
         mean = pose + rng.normal(size=3) * 2e-6
@@ -41,7 +47,7 @@ def parity_points(count=15, kinds=("RP_l", "vAP_p"), low_um=1.0, high_um=14.0) -
     predicted = measured * rng.uniform(0.8, 1.2, count)
     return [ParityPoint(f"P{k // 3 + 1}_{k % 3}", kinds[k % len(kinds)],
                         PredictedFigure(float(m), float(p), (float(0.6 * p), float(1.5 * p))))
-            for k, (m, p) in enumerate(zip(measured, predicted))]
+            for k, (m, p) in enumerate(zip(measured, predicted, strict=True))]
 
 
 def captured_figures(monkeypatch) -> list:

@@ -193,7 +193,8 @@ def test_comparisons_with_another_robot_mark_the_targets_one_robot_reaches_and_t
     for name in ("map_RP_l_ratio_ur10.png", "map_RP_l_diff_ur10.png"):
         marks = saved[name][1]["marks"]
         assert marks.labels == ("reached by ur10 only", "reached by ur5 only")
-        np.testing.assert_array_equal(marks.values(everything), np.select([reached_by == 1, reached_by == 2], [0, 1], -1))
+        np.testing.assert_array_equal(marks.values(everything),
+                                      np.select([reached_by == 1, reached_by == 2], [0, 1], -1))
         assert saved[name][1]["grey"] == "reached by neither"
     assert (reached_by == 1).any()  # the UR10 reaches the far edge, the UR5 does not: drawn in gold
     pixels = imread(tmp_path / "map_RP_l_ratio_ur10.png")[..., :3]

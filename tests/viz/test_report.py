@@ -9,15 +9,15 @@ import pytest
 
 from conftest import ROOT, axis_study
 from helpers.map_studies import gantry_map_study
+from helpers.viz_layers import CUBE, UNIFORM_AXIS, grid_layers
 from tribokin.output.writers import write_results
 from tribokin.run import run_study
 from tribokin.viz.maps import map_figure_names
 from tribokin.viz.report import input_values, joint_table, write_report
 from tribokin.viz.scene_file import load_scene_inputs
-from helpers.viz_layers import CUBE, UNIFORM_AXIS, grid_layers
 
-NETWORK = re.compile(r"""(src|href)\s*=\s*["']?\s*(https?:)?//|url\(\s*["']?(https?:)?//|@import|fetch\(\s*["']https?:""",
-                     re.IGNORECASE)
+NETWORK = re.compile(r"""(src|href)\s*=\s*["']?\s*(https?:)?//|url\(\s*["']?(https?:)?//"""
+                     r"""|@import|fetch\(\s*["']https?:""", re.IGNORECASE)
 
 
 @pytest.fixture(scope="module")

@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
+from helpers.viz_layers import CUBE, UNIFORM_AXIS, grid_layers
 from tribokin.output.writers import write_results
 from tribokin.run import run_study
 from tribokin.viz.colours import ColourScale
-from helpers.viz_layers import CUBE, UNIFORM_AXIS, grid_layers
 
 CHROMIUM = Path("/usr/bin/chromium")
 OFFLINE_FLAGS = ["--headless", "--no-sandbox", "--enable-unsafe-swiftshader", "--disable-background-networking",

@@ -8,15 +8,24 @@ import umsgpack
 from meshcat.servers.tree import find_node
 
 from conftest import AXIS_URDF
+from helpers.viz_layers import CUBE, UNIFORM_AXIS, grid_layers
 from tribokin.errors import InputError
 from tribokin.kinematics.robot import load_urdf
 from tribokin.run import run_study
 from tribokin.viz.colours import UNREACHABLE_RGB, ColourScale
-from tribokin.viz.scene import (FIELD_OF_VIEW_DEG, FRAME_MARGIN, VIEW_ASPECT, VIEW_FROM, MapLayer, build_scene,
-                                chain_placements, choose_magnification, framing)
+from tribokin.viz.scene import (
+    FIELD_OF_VIEW_DEG,
+    FRAME_MARGIN,
+    VIEW_ASPECT,
+    VIEW_FROM,
+    MapLayer,
+    build_scene,
+    chain_placements,
+    choose_magnification,
+    framing,
+)
 from tribokin.viz.scene_file import CycleCloud
 from tribokin.viz.static import static_visualizer
-from helpers.viz_layers import CUBE, UNIFORM_AXIS, grid_layers
 
 
 def unpack(packed: bytes) -> dict:

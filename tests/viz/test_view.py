@@ -19,13 +19,13 @@ from pathlib import Path
 import pytest
 
 from conftest import AXIS_STUDY_TOML, AXIS_URDF, GANTRY_MAP_TOML
+from helpers.viz_layers import CUBE, UNIFORM_AXIS, grid_layers
 from tribokin.cli import main
 from tribokin.errors import InputError
 from tribokin.output.writers import write_results
 from tribokin.run import run_study
 from tribokin.viz.live import start_server
 from tribokin.viz.scene_file import load_scene_inputs
-from helpers.viz_layers import CUBE, UNIFORM_AXIS, grid_layers
 
 SMALL_MAP_TOML = GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 20").replace("resolution = [25, 40]",
                                                                                  "resolution = [3, 3]")

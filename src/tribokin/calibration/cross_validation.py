@@ -5,8 +5,8 @@ marginal N(θ̂, covariance) (the fit's approximate posterior in log space; thei
 their correlation with the others costs them), the parameters the data do not determine held at θ̂
 (a Gaussian in log space is no approximation of a likelihood that is flat on one side and steep on the
 other: its draws reach stiffnesses the measured spreads exclude; so the interval does not hold those
-parameters' uncertainty, and the fit names them), each giving the series' Σ and m(s) (:func:`~.model.predict_series`); for
-each draw one ISO test is simulated as Gaussian clouds of the measured number of cycles per
+parameters' uncertainty, and the fit names them), each giving the series' Σ and m(s) (:func:`~.model.predict_series`);
+for each draw one ISO test is simulated as Gaussian clouds of the measured number of cycles per
 direction, and its RP_l per direction (l̄ + 3·S_l) and vAP (largest distance between the
 directions' barycentres) computed. The 95 % prediction interval runs from the 2.5th to the 97.5th
 percentile of those figures (the tests drawn and measured in blocks of about ``PREDICTION_BLOCK_CYCLES``
@@ -147,7 +147,7 @@ def predicted_clouds(calibration: Calibration, pose: PoseData) -> list[tuple[np.
     weights = np.linalg.inv(covariance / np.array([len(s.points_m) for s in pose.series])[:, None, None])
     measured = np.array([np.mean(s.points_m, axis=0) for s in pose.series])
     position = np.linalg.solve(weights.sum(axis=0), np.einsum("mab,mb->a", weights, measured - shift))
-    return [(c, position + m) for c, m in zip(covariance, shift)]
+    return [(c, position + m) for c, m in zip(covariance, shift, strict=True)]
 
 
 def leave_one_pose_out(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...], draws: int = DRAWS,

@@ -97,7 +97,7 @@ def stack(poses: list[PoseData] | tuple[PoseData, ...]) -> SeriesStack:
             raise ValueError(f"pose {pose.label!r}, direction {series.direction!r}: points must be (n >= 1, 3)")
     points = [np.asarray(s.points_m, dtype=float) for _, _, s in rows]
     means = np.array([p.mean(axis=0) for p in points])
-    centred = [p - m for p, m in zip(points, means)]
+    centred = [p - m for p, m in zip(points, means, strict=True)]
     return SeriesStack(
         jacobian=np.array([p.jacobian for _, p, _ in rows], dtype=float),
         signs=np.array([s.signs for _, _, s in rows], dtype=float),

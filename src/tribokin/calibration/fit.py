@@ -54,8 +54,12 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 from tribokin.calibration.data import PoseData, SeriesStack, stack
-from tribokin.calibration.frame import candidate_rotations, profile_information, to_base, \
-    unknown_frame_log_likelihood_and_gradient
+from tribokin.calibration.frame import (
+    candidate_rotations,
+    profile_information,
+    to_base,
+    unknown_frame_log_likelihood_and_gradient,
+)
 from tribokin.calibration.identifiability import MAX_RELATIVE_STD_ERROR, RANK_RTOL, analyse, hint
 from tribokin.calibration.likelihood import log_likelihood, log_likelihood_and_gradient
 from tribokin.calibration.model import JointModel, predict_series
@@ -451,7 +455,7 @@ def _calibration(model: JointModel, data: SeriesStack, optimum: _Optimum, max_re
     confounded = _lost_motion_confounded(model, theta, data, identifiable, max_relative_std_error)
     identifiable &= ~confounded
     estimates, values = [], model.value_range()
-    for i, (name, unit, joints) in enumerate(zip(model.names(), model.units(), _parameter_joints(model))):
+    for i, (name, unit, joints) in enumerate(zip(model.names(), model.units(), _parameter_joints(model), strict=True)):
         value, se = float(np.clip(np.exp(theta[i]), *values[i])), float(found.std_error[i])
         known = np.isfinite(se)
         unseen = bool(len(joints)) and bool(invisible[joints].all())

@@ -118,15 +118,15 @@ class JointModel:
     def names(self) -> tuple[str, ...]:
         """Names of the free parameters, in θ's order (``joints.<joint>.stiffness``, ...)."""
         stiff = ["joints.stiffness_factor"] if self.tied else [
-            f"joints.{n}.stiffness" for n, f in zip(self.joint_names, self.fit_stiffness) if f]
-        back = [f"joints.{n}.backlash" for n, f in zip(self.joint_names, self.fit_backlash) if f]
+            f"joints.{n}.stiffness" for n, f in zip(self.joint_names, self.fit_stiffness, strict=True) if f]
+        back = [f"joints.{n}.backlash" for n, f in zip(self.joint_names, self.fit_backlash, strict=True) if f]
         return tuple(stiff + back + (["noise_floor_m"] if self.fit_noise_floor else []))
 
     def units(self) -> tuple[str, ...]:
         """Units of the free parameters, in θ's order."""
         stiff = ["1"] if self.tied else [
-            "N/m" if p else "N·m/rad" for p, f in zip(self.prismatic, self.fit_stiffness) if f]
-        back = ["m" if p else "rad" for p, f in zip(self.prismatic, self.fit_backlash) if f]
+            "N/m" if p else "N·m/rad" for p, f in zip(self.prismatic, self.fit_stiffness, strict=True) if f]
+        back = ["m" if p else "rad" for p, f in zip(self.prismatic, self.fit_backlash, strict=True) if f]
         return tuple(stiff + back + (["m"] if self.fit_noise_floor else []))
 
     def theta(self) -> np.ndarray:

@@ -16,8 +16,10 @@ from tribokin.streams import posture_search
 #: Cartesian approach directions of a cube pose, each followed by its opposite: label -> the tool's
 #: direction of travel along the base axes. Unidirectional tests use the + ones (ISO 9283's three
 #: directions for vAP), bidirectional and random tests all six.
-APPROACH_DIRECTIONS = {f"{sign}{axis}": sign_value * row for axis, row in zip("xyz", np.eye(3))
+APPROACH_DIRECTIONS = {f"{sign}{axis}": sign_value * row for axis, row in zip("xyz", np.eye(3), strict=True)
                        for sign, sign_value in (("+", 1.0), ("-", -1.0))}
+#: The six approach directions' unit vectors, in the order of :data:`APPROACH_DIRECTIONS`.
+APPROACH_VECTORS = tuple(APPROACH_DIRECTIONS.values())
 
 
 class UnreachableCube(ValueError):
@@ -44,14 +46,15 @@ def position_manipulability(robot: Robot, q) -> float:
 
 def candidate_postures(robot: Robot, samples: int = 256, keep: int = 4) -> list[np.ndarray]:
     """Well-conditioned working postures, best first: the reference posture and random
-    postures within the limits (:func:`~tribokin.streams.posture_search`), ranked by the manipulability of the tool position."""
+    postures within the limits (:func:`~tribokin.streams.posture_search`), ranked by the manipulability of the tool
+    position."""
     rng = posture_search()
     candidates = [robot.reference_q] + [robot.random_configuration(rng) for _ in range(samples)]
     scores = np.round([position_manipulability(robot, q) for q in candidates], 9)
     return [candidates[i] for i in np.argsort(-scores, kind="stable")[:keep]]
 
 
-def joint_approach_signs(robot: Robot, q, directions=tuple(APPROACH_DIRECTIONS.values())) -> np.ndarray:
+def joint_approach_signs(robot: Robot, q, directions=APPROACH_VECTORS) -> np.ndarray:
     """(m, nv) direction of travel of each joint when the tool approaches along each Cartesian direction.
 
     The joint velocities that move the tool along ``d`` (least-squares, ``pinv(J_position) d``)

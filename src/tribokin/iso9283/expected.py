@@ -28,7 +28,6 @@ import numpy as np
 
 from tribokin.compiled import use_compiled
 
-
 #: Fewest cycles for which E[RP_l] is the delta method's (error under 0.5 %); fewer: the table's mean.
 ANALYTIC_MIN_CYCLES = 10
 #: From this many cycles on, one test's RP_l is taken as normal (:func:`normal_band`) and the largest semi-axis as the

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
 from tribokin.compiled import kernel
 
 #: Relative error the duplication stops at (Carlson 1995: the truncated series' error is below it).

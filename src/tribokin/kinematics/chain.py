@@ -103,7 +103,7 @@ class SerialChain:
         holds a -0: then every term is kept."""
         rows = len(self.base), 16
         negative_zero = bool(np.any((self.base == 0) & np.signbit(self.base)))
-        terms = zip(("cos", "sin", "q"), (self.turn_cos, self.turn_sin, self.slide))
+        terms = zip(("cos", "sin", "q"), (self.turn_cos, self.turn_sin, self.slide), strict=True)
         return self.base.reshape(rows), tuple((factor, term.reshape(rows)) for factor, term in terms
                                               if negative_zero or term.any())
 

@@ -84,7 +84,8 @@ def solve_ik(robot: Robot, target: pin.SE3, q_start, position_tol_m: float = 1e-
         if cycle is not None:  # the iterate of the cycle's start this many iterations on
             q, position_error, angle_error = iterates[cycle[0] + (iteration - cycle[0]) % cycle[1]]
         else:
-            pin.computeJointJacobians(model, data, robot.configuration(q))  # forward kinematics and Jacobians in one pass
+            # forward kinematics and Jacobians in one pass
+            pin.computeJointJacobians(model, data, robot.configuration(q))
             current = pin.updateFramePlacement(model, data, frame)
             gap = goal - current.translation
             position_error = math.sqrt(gap @ gap)

@@ -13,8 +13,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from tribokin.compiled import kernel
 
+from tribokin.compiled import kernel
 from tribokin.kinematics.chain_kernels import local_jacobian_at, placements_at
 from tribokin.kinematics.se3_log_kernels import jlog6, log6
 

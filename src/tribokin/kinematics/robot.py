@@ -62,7 +62,8 @@ def kinematics_sha256(model: pin.Model) -> str:
     """A hash of ``model``'s kinematic parameters: its joints' kinds, placements and limits, its frames' names,
     parents and placements, and the inertias the bearing loads are computed from (bytes of float64 arrays)."""
     digest = hashlib.sha256()
-    for joint, name, placement, inertia in zip(model.joints, model.names, model.jointPlacements, model.inertias):
+    for joint, name, placement, inertia in zip(model.joints, model.names, model.jointPlacements, model.inertias,
+                                               strict=True):
         digest.update(f"{name}:{joint.shortname()}:{joint.nq}:{joint.nv};".encode())
         digest.update(np.ascontiguousarray(placement.homogeneous, dtype=float).tobytes())
         digest.update(np.array([inertia.mass, *inertia.lever, *np.asarray(inertia.inertia).ravel()]).tobytes())
@@ -408,7 +409,7 @@ def reduce_to_chain(model: pin.Model, reference_q: np.ndarray, tool_frame: str |
               if j not in chain or model.joints[j].shortname() == "JointModelFreeFlyer"]
     if locked:
         model = pin.buildReducedModel(model, locked, reference_q)
-    for joint, name in zip(model.joints[1:], list(model.names)[1:]):
+    for joint, name in zip(model.joints[1:], list(model.names)[1:], strict=True):
         if joint.nv != 1 or joint.nq > 2:
             raise RobotDescriptionError(f"joint '{name}' ({joint.shortname()}) moves the tool but is not a 1-DoF "
                                         "revolute, continuous or prismatic joint; tribokin cannot model it")
@@ -430,7 +431,7 @@ def reduce_to_chain(model: pin.Model, reference_q: np.ndarray, tool_frame: str |
 
     robot = Robot(model, tool_frame, label, kept_q, None if read_geometry is None else reduced_geometry,
                   missing_meshes)
-    for name, low, high in zip(robot.joint_names, robot.lower_limits, robot.upper_limits):
+    for name, low, high in zip(robot.joint_names, robot.lower_limits, robot.upper_limits, strict=True):
         if not high > low:
             raise RobotDescriptionError(f"joint '{name}' moves the tool, but its limits [{low:g}, {high:g}] leave it "
                                         "no travel; give it a range (the URDF's <limit lower=... upper=...>), or make "
@@ -557,7 +558,7 @@ def candidate_tool_frames(robot: str) -> ToolFrames:
     return tool_frames(model, robot)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _example_robot(name: str):
     """(model, ``read_geometry(kind)``, reference posture) of an example-robot-data robot, read once per process;
     callers copy the model (:func:`_read_example_robot`)."""
@@ -604,7 +605,7 @@ def _read_example_robot(name: str):
         reference_q = readParamsFromSrdf(model, str(srdf), False, attributes.has_rotor_parameters,
                                          attributes.ref_posture)
 
-    @functools.lru_cache(maxsize=None)
+    @functools.cache
     def read_geometry(geometry_type: pin.GeometryType) -> pin.GeometryModel:
         return _quiet(pin.buildGeomFromUrdf, model, str(urdf), geometry_type, None, [str(robots.parent.parent)])
 

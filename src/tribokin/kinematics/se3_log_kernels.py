@@ -16,8 +16,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from tribokin.compiled import kernel
 
+from tribokin.compiled import kernel
 from tribokin.kinematics.se3_log import EPSILON, PRECISION_2, PRECISION_3
 
 

@@ -85,7 +85,7 @@ def _joint_tree(model: pin.Model) -> tuple[dict[int, list[int]], dict[int, int]]
 def _chain_end(model: pin.Model, label: str) -> tuple[int, str | None]:
     """The last joint of the chain the default tool frame ends (module docstring), and why there is none (then 0)."""
     children, longest = _joint_tree(model)
-    floating = next((name for joint, name in zip(model.joints, model.names) if joint.shortname() ==
+    floating = next((name for joint, name in zip(model.joints, model.names, strict=True) if joint.shortname() ==
                      "JointModelFreeFlyer"), None)
     node = followed = 0
     while children[node]:

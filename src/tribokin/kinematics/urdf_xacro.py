@@ -26,10 +26,11 @@ import io
 import math
 import threading
 import time
+from collections.abc import Callable
 from functools import partial
 from pathlib import Path
 from types import SimpleNamespace
-from typing import Callable, NoReturn
+from typing import NoReturn
 
 from tribokin.confinement import SYSTEM_ROOTS
 from tribokin.errors import RobotDescriptionError, closest_hint

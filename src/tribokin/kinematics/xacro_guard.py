@@ -40,8 +40,9 @@ from __future__ import annotations
 import ast
 import operator
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable, NoReturn
+from typing import NoReturn
 
 #: The largest whole number an expression may build, in bits (Python writes no more than 4300 digits anyway).
 INTEGER_BITS = 16_384
@@ -396,7 +397,7 @@ def replace_node(node, by, content_only: bool = False) -> None:
         child.parentNode = parent
     neighbours = [parent.childNodes[index - 1] if index else None, *moved,
                   parent.childNodes[index + len(moved)] if index + len(moved) < len(parent.childNodes) else None]
-    for before, after in zip(neighbours, neighbours[1:]):
+    for before, after in zip(neighbours, neighbours[1:], strict=False):
         if before is not None:
             before.nextSibling = after
         if after is not None:

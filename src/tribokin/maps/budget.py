@@ -89,8 +89,9 @@ def check_disk(study: Study, nv: int, folder, layout: MapLayout | None = None) -
     free = shutil.disk_usage(existing).free
     if needed > free:
         key = study.map.size_key
-        raise InputError(f"this map needs about {gib(needed)} of disk space for its results ({_count(targets, 'map target')}"
-                         f" × {_count(scenarios, 'scenario')} × {_count(nv, 'joint')}), and {gib(free)} is available in "
+        raise InputError(f"this map needs about {gib(needed)} of disk space for its results "
+                         f"({_count(targets, 'map target')} × {_count(scenarios, 'scenario')} × "
+                         f"{_count(nv, 'joint')}), and {gib(free)} is available in "
                          f"'{existing}': lower {key}, or split the map into several", study.source, key)
 
 

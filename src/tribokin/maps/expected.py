@@ -31,8 +31,20 @@ import numpy as np
 
 from tribokin.compiled import use_compiled
 from tribokin.iso9283.cube import APPROACH_DIRECTIONS, approach_signs_from_jacobians
-from tribokin.iso9283.expected import ANALYTIC_MIN_CYCLES, ASYMPTOTIC_CYCLES, BAND_PERCENTILES, ShapeTable, c4, \
-    eigenvalues, expected_norm, expected_rp_l, normal_band, percentile_error, rp_l_from_moments, standardised_shape
+from tribokin.iso9283.expected import (
+    ANALYTIC_MIN_CYCLES,
+    ASYMPTOTIC_CYCLES,
+    BAND_PERCENTILES,
+    ShapeTable,
+    c4,
+    eigenvalues,
+    expected_norm,
+    expected_rp_l,
+    normal_band,
+    percentile_error,
+    rp_l_from_moments,
+    standardised_shape,
+)
 from tribokin.iso9283.metrics import orientation_repeatability, position_repeatability, position_spread
 from tribokin.maps.schema import map_figures
 from tribokin.propagation.exact import tool_deviations_at_poses, tool_frames
@@ -203,7 +215,8 @@ class ExpectedSetup:
 
 
 def tests_for(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> int:
-    """Sampled tests of ``cycles`` cycles: about ``cycles_in_all`` cycles, at least ``fewest``, at most ``MAX_TESTS``."""
+    """Sampled tests of ``cycles`` cycles: about ``cycles_in_all`` cycles, at least ``fewest``, at most
+    ``MAX_TESTS``."""
     return min(max(fewest, math.ceil(cycles_in_all / cycles)), MAX_TESTS)
 
 

@@ -8,6 +8,7 @@ Imported only on the compiled path (:func:`tribokin.compiled.use_compiled`).
 from __future__ import annotations
 
 import numpy as np
+
 from tribokin.compiled import kernel
 
 

@@ -104,7 +104,7 @@ class TargetGrid:
         """(k, 3) values of the column, row and layer axes at targets ``indices`` (0 for a missing axis)."""
         layer, row, column = np.unravel_index(np.asarray(indices, dtype=int), self.shape)
         return np.column_stack([np.zeros(len(k)) if axis is None else axis.values[k]
-                                for axis, k in zip(self.axes, (column, row, layer))])
+                                for axis, k in zip(self.axes, (column, row, layer), strict=True)])
 
     def positions_m(self, indices) -> np.ndarray:
         """(k, 3) commanded tool positions of Cartesian targets ``indices`` in the world frame [m], rounded to
@@ -127,7 +127,7 @@ class TargetGrid:
     def every(self, strides: tuple[int, int, int]) -> np.ndarray:
         """(layers', rows', columns') indices of every ``strides``-th target along (layers, rows, columns),
         from the first."""
-        kept = [np.arange(0, size, stride) for size, stride in zip(self.shape, strides)]
+        kept = [np.arange(0, size, stride) for size, stride in zip(self.shape, strides, strict=True)]
         return np.ravel_multi_index(np.ix_(*kept), self.shape)
 
     def thinned(self, most: int) -> tuple[np.ndarray, int]:
@@ -196,14 +196,14 @@ def make_grid(robot: Robot, spec: MapSpec, like: TargetGrid | None = None) -> Ta
         return TargetGrid("plane", (u, v, None), rotation, start, np.asarray(spec.origin_m, dtype=float),
                           directions, reach=reach)
     x, y, z = (GridAxis(name, "m", _grid_values([low, high], count)) for name, low, high, count
-               in zip("xyz", spec.min_m, spec.max_m, spec.resolution))
+               in zip("xyz", spec.min_m, spec.max_m, spec.resolution, strict=True))
     return TargetGrid("box", (x, y, z), rotation, start, np.zeros(3), np.eye(3), reach=reach)
 
 
 def _joint_grid(robot: Robot, spec: JointMap, start: np.ndarray) -> TargetGrid:
     names = robot.joint_names
     axes = []
-    for i, (joint, bounds, count) in enumerate(zip(spec.joints, spec.ranges, spec.counts)):
+    for i, (joint, bounds, count) in enumerate(zip(spec.joints, spec.ranges, spec.counts, strict=True)):
         if joint not in names:
             raise GridError(f"unknown joint '{joint}'{closest_hint(joint, names)}; joints of {robot.label}: "
                             f"{', '.join(names)}", f"joints[{i}]")
@@ -234,7 +234,7 @@ def axis_steps(shape: tuple[int, int, int]) -> tuple[tuple[int, int], ...]:
 def grid_neighbours(grid: TargetGrid, index: int) -> list[int]:
     """Indices of the targets next to ``index`` along each grid axis (up to 6), in increasing order."""
     neighbours = []
-    for position, (size, step) in zip(np.unravel_index(index, grid.shape), axis_steps(grid.shape)):
+    for position, (size, step) in zip(np.unravel_index(index, grid.shape), axis_steps(grid.shape), strict=True):
         for offset in (-1, 1):
             if 0 <= position + offset < size:
                 neighbours.append(index + offset * step)

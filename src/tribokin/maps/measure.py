@@ -1,5 +1,6 @@
 """Measuring a block of map targets: each target's cycles drawn from its own stream and measured like a single
-pose (joint-space approach), keeping only its scalar figures (``map.statistic = "one-test"``, :func:`~tribokin.maps.schema.map_figures`)."""
+pose (joint-space approach), keeping only its scalar figures (``map.statistic = "one-test"``,
+:func:`~tribokin.maps.schema.map_figures`)."""
 
 from __future__ import annotations
 
@@ -18,8 +19,8 @@ from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twists: np.ndarray,
                     translations: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """One-test figures (targets, ``map_figures("one-test")``), bearing loads [N] (targets, nv) and dominant joint (-1: none)
-    of the targets ``indices`` at configurations ``qs`` (targets, nv), each drawn from its own stream
+    """One-test figures (targets, ``map_figures("one-test")``), bearing loads [N] (targets, nv) and dominant joint
+    (-1: none) of the targets ``indices`` at configurations ``qs`` (targets, nv), each drawn from its own stream
     and measured like a single pose (joint-space approach); ``twists``, ``translations``: their
     :func:`~tribokin.propagation.exact.tool_frames`. Targets go through in blocks of even sizes, of at most about
     ``TARGET_BLOCK_SAMPLES`` cycles: few enough for the arrays to stay small, enough to share the
@@ -33,7 +34,7 @@ def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twi
     for b in range(blocks):  # blocks of even sizes: no small last one paying the per-call costs alone
         members = slice(len(qs) * b // blocks, len(qs) * (b + 1) // blocks)
         per_joint = np.empty((len(indices[members]), qs.shape[1], study.cycles))  # cycles contiguous
-        for k, (load, index) in enumerate(zip(forces[members], indices[members])):
+        for k, (load, index) in enumerate(zip(forces[members], indices[members], strict=True)):
             per_joint[k] = runner.draw(task, load, study.cycles, study.approach,
                                        map_target_stream(study.seed, int(index)))[0].T
         figures[members], dominant[members] = block_figures(runner, qs[members], np.swapaxes(per_joint, 1, 2),

@@ -16,7 +16,6 @@ from tribokin.maps.schema import figure_index, map_figures, robot_column, scenar
 from tribokin.maps.store import ChunkStore
 from tribokin.maps.streaming import blocks, spread
 
-
 #: Who reaches a target, as :meth:`MapResult.reached_by` gives it: a scenario's robot and the reference's, the
 #: scenario's only, the reference's only, neither.
 REACHED_BY = ("both", "this only", "reference only", "neither")
@@ -252,7 +251,7 @@ class MapResult:
             "directional": reference.figure_set == "directional",
             **{f.name: spread(lambda part, f=f: reference.figure(f.name, part), size)
                for f in map_figures(reference.figure_set) if f.summarised},
-            "dominant_joint_counts": {name: int(count) for name, count in zip(self.joint_names, dominant)},
+            "dominant_joint_counts": {name: int(count) for name, count in zip(self.joint_names, dominant, strict=True)},
         }
         if self.grid.kind != "joint":
             block["ik"] = self.ik_routes()
@@ -267,7 +266,7 @@ class MapResult:
             } for s in self.scenarios.values()]
             if self.robot_count > 1:
                 block["reached_by_any"] = reached
-            block["wins"] = {name: int(count) for name, count in zip(self.scenarios, wins[1:])}
+            block["wins"] = {name: int(count) for name, count in zip(self.scenarios, wins[1:], strict=True)}
             block["ties"] = int(wins[0])
         if reference.figure_set != "one-test":
             block["computed"] = {s.name: self._computed(s) for s in self.scenarios.values()}

@@ -148,7 +148,7 @@ def _solve_from_warm_starts(robot: Robot, chain: SerialChain | None, grid: Targe
     """IK of targets ``indices`` (k > 0) at ``positions_m`` (k, 3) [m] from ``q_starts`` (k, nv), without restarts:
     all at once (:func:`~tribokin.kinematics.ik.solve_ik_batch`) given the robot's ``chain``, else one by one."""
     if chain is None:
-        results = [_solve_from(robot, grid, index, q) for index, q in zip(indices, q_starts)]
+        results = [_solve_from(robot, grid, index, q) for index, q in zip(indices, q_starts, strict=True)]
         return IKResult(*(np.array([getattr(r, name) for r in results])
                           for name in ("q", "position_error_m", "angle_error_rad", "success")))
     return solve_ik_batch(chain, _rotation(grid), positions_m, q_starts, position_only=grid.rotation is None)
@@ -237,7 +237,7 @@ def holes_beside_reached(grid: TargetGrid, read) -> list[int]:
         low = max(0, first - reach)
         window = read("reachable", slice(low, min(grid.size, indices[-1] + 1 + reach)))
         beside = np.zeros(len(indices), dtype=bool)
-        for position, (size, step) in zip(np.unravel_index(indices, grid.shape), strides):
+        for position, (size, step) in zip(np.unravel_index(indices, grid.shape), strides, strict=True):
             for offset in (-1, 1):
                 inside = (position + offset >= 0) & (position + offset < size)
                 beside[inside] |= window[indices[inside] + offset * step - low]
@@ -246,7 +246,7 @@ def holes_beside_reached(grid: TargetGrid, read) -> list[int]:
 
 
 def _within_reach(grid: TargetGrid, indices: list[int]) -> list[int]:
-    return [index for index, gap in zip(indices, beyond_reach_m(grid, indices)) if np.isnan(gap)]
+    return [index for index, gap in zip(indices, beyond_reach_m(grid, indices), strict=True) if np.isnan(gap)]
 
 
 def first_tries(grid: TargetGrid, read) -> list[tuple[int, int]]:
@@ -260,7 +260,7 @@ def first_tries(grid: TargetGrid, read) -> list[tuple[int, int]]:
     for index in _within_reach(grid, holes_beside_reached(grid, read)):
         neighbours = grid_neighbours(grid, index)
         tries += [(index, neighbour)
-                  for neighbour, reached in zip(neighbours, read("reachable", neighbours)) if reached]
+                  for neighbour, reached in zip(neighbours, read("reachable", neighbours), strict=True) if reached]
     return tries
 
 
@@ -300,7 +300,7 @@ def fill_from_neighbours(robot: Robot, grid: TargetGrid, read,
     while pending:
         index = pending.pop(0)
         neighbours = grid_neighbours(grid, index)
-        for neighbour, was_reached in zip(neighbours, reached(neighbours)):
+        for neighbour, was_reached in zip(neighbours, reached(neighbours), strict=True):
             if not was_reached or neighbour in tried[index]:
                 continue
             tried[index].add(neighbour)
@@ -311,7 +311,7 @@ def fill_from_neighbours(robot: Robot, grid: TargetGrid, read,
             if result.success:
                 filled[index] = result.q
                 around = grid_neighbours(grid, index)
-                pending += _within_reach(grid, [other for other, done in zip(around, reached(around))
+                pending += _within_reach(grid, [other for other, done in zip(around, reached(around), strict=True)
                                                 if not done and other not in pending])
                 pending.sort()
                 break

@@ -24,15 +24,21 @@ import numpy as np
 from tribokin.compiled import kernels_used
 from tribokin.errors import InputError, TribokinError
 from tribokin.execution import local_pool, run_chunks
+from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
-from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
-from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES
 from tribokin.maps.expected import ExpectedSetup, expected_targets, shape_table
+from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
 from tribokin.maps.measure import measure_targets
 from tribokin.maps.result import MapResult, ScenarioMap
-from tribokin.maps.rows import FROM_NEIGHBOUR, fill_from_neighbours, first_tries, solve_row_starts, solve_rows, \
-    solve_tries
+from tribokin.maps.rows import (
+    FROM_NEIGHBOUR,
+    fill_from_neighbours,
+    first_tries,
+    solve_row_starts,
+    solve_rows,
+    solve_tries,
+)
 from tribokin.maps.schema import MapLayout, robot_column, scenario_column
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.propagation.exact import tool_frames
@@ -75,7 +81,7 @@ def _job_context(job: MapJob) -> tuple[list[Robot], list[PoseRunner]]:
     if cache is None or cache[0] != job.token:
         robots = list(job.robots)
         runners = [PoseRunner(settings, robots[r], models, locate) for settings, models, locate, r
-                   in zip(job.settings, job.models, job.locators, job.layout.places)]
+                   in zip(job.settings, job.models, job.locators, job.layout.places, strict=True)]
         _local.cache = (job.token, robots, runners)
     return _local.cache[1:]
 
@@ -94,10 +100,10 @@ def compute_chunk(job: MapJob, chunk: int, rows: list[int], starts: tuple[np.nda
     robots, runners = _job_context(job)
     row_length = job.grids[0].row_length
     arrays = empty_arrays(len(rows) * row_length, job.layout)
-    for r, (robot, grid, robot_starts) in enumerate(zip(robots, job.grids, starts)):
+    for r, (robot, grid, robot_starts) in enumerate(zip(robots, job.grids, starts, strict=True)):
         scenarios = [(s, runners[s], job.setups[s]) for s in job.layout.scenarios_of(r)]
         solved = solve_rows(robot, grid, rows, robot_starts)
-        for k, (row, q, reachable, closest, routes) in enumerate(zip(rows, *solved)):
+        for k, (row, q, reachable, closest, routes) in enumerate(zip(rows, *solved, strict=True)):
             span = slice(k * row_length, (k + 1) * row_length)
             indices = grid.row_indices(row)
             for name, value in (("q", q), ("reachable", reachable), ("closest", closest), ("ik_route", routes)):
@@ -172,12 +178,12 @@ def first_tries_solved(job: MapJob, robot: int, read, executor: Executor) -> dic
     tries = first_tries(job.grids[robot], read)
     parts = math.ceil(len(tries) / TRIES_PER_PART)
     starts = read("q", np.array([neighbour for _, neighbour in tries], dtype=np.intp))  # the neighbours' at once
-    todo = {k: (job, robot, [(index, q) for (index, _), q in zip(tries[k::parts], starts[k::parts])])
+    todo = {k: (job, robot, [(index, q) for (index, _), q in zip(tries[k::parts], starts[k::parts], strict=True)])
             for k in range(parts)}
     solved = {}
     with run_chunks(solve_tries_of, todo, executor) as results:
         for k, part in results:
-            solved.update(zip(tries[k::parts], part))
+            solved.update(zip(tries[k::parts], part, strict=True))
     return solved
 
 
@@ -191,7 +197,7 @@ def fill_holes(job: MapJob, robots: list[Robot], runners: list[PoseRunner], stor
     Each robot's outcome is kept as a record (``filled``, ``robot<k>_filled``) before the store is changed, so a run
     killed while changing it writes the same values again on resume instead of searching anew from a changed store.
     """
-    for r, (robot, grid) in enumerate(zip(robots, job.grids)):
+    for r, (robot, grid) in enumerate(zip(robots, job.grids, strict=True)):
         record = robot_column(r, "filled")
         filled = store.load_record(record)
         if filled is None:
@@ -307,8 +313,8 @@ def plan_map(spec: MapSpec, robots: tuple[Robot, ...], runners: list[PoseRunner]
         except GridError as error:
             error.robot = r
             raise
-    starts = tuple(solve_row_starts(robot, grid) for robot, grid in zip(robots, grids))
-    for i, (runner, r) in enumerate(zip(runners, places)):
+    starts = tuple(solve_row_starts(robot, grid) for robot, grid in zip(robots, grids, strict=True))
+    for i, (runner, r) in enumerate(zip(runners, places, strict=True)):
         try:
             runner.normal_forces_at(starts[r])  # the loads at each row's start, checked before any chunk runs
         except TribokinError as error:
@@ -323,7 +329,7 @@ def prepare_map(study: Study, robots: MapRobots) -> PreparedMap:
     scenario (the study itself without scenarios), its errors naming the study's file and key."""
     scenarios = tuple(s.study for s in study.scenarios) or (study,)
     runners = []
-    for i, (scenario, r) in enumerate(zip(scenarios, robots.places)):
+    for i, (scenario, r) in enumerate(zip(scenarios, robots.places, strict=True)):
         robot = robots.robots[r]
         try:
             runners.append(study_runner(scenario, robot, joint_models(scenario, robot)))
@@ -387,7 +393,8 @@ def measure_map(prepared: PreparedMap, executor: Executor | None = None, checkpo
         _local.cache = None
     fill_holes(job, robots, runners, store, executor)
     maps = {name: ScenarioMap(name, settings.cycles, i, robots[r].joint_names, store, prepared.spec.figure_set, r)
-            for i, (name, settings, r) in enumerate(zip(prepared.names, job.settings, prepared.layout.places))}
+            for i, (name, settings, r)
+            in enumerate(zip(prepared.names, job.settings, prepared.layout.places, strict=True))}
     return MapResult(prepared.grids, robots[0].joint_names, store, maps)
 
 

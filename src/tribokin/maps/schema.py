@@ -99,7 +99,8 @@ SCENARIO_COLUMNS = (MapColumn("figures", "figures", "f8"), MapColumn("normal_for
 
 
 def scenario_column(scenario: int, name: str) -> str:
-    """Store column of scenario number ``scenario``'s ``name`` (``figures``, ``normal_forces_N``, ``dominant_joint``...)."""
+    """Store column of scenario number ``scenario``'s ``name`` (``figures``, ``normal_forces_N``,
+    ``dominant_joint``...)."""
     return f"scenario{scenario}_{name}"
 
 

@@ -242,7 +242,7 @@ class ChunkStore:
         order = np.argsort(index, kind="stable")
         ordered = index[order]
         bounds = np.searchsorted(ordered, np.arange(0, self.size + READ_ROWS, READ_ROWS))
-        pieces = [(lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:]) if hi > lo]
+        pieces = [(lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:], strict=True) if hi > lo]
         if not pieces:
             return self._mapped(name, take(index))
         values = None

@@ -48,7 +48,8 @@ def order_statistic(read: Callable[[slice], np.ndarray], size: int, rank: int) -
         count, low_seen, high_seen = 0, np.inf, -np.inf
         for values in candidates():
             if values.size:
-                count, low_seen, high_seen = count + values.size, min(low_seen, values.min()), max(high_seen, values.max())
+                count = count + values.size
+                low_seen, high_seen = min(low_seen, values.min()), max(high_seen, values.max())
         low, high = low_seen, high_seen
         if count <= GATHER_VALUES or low == high:
             break

@@ -18,9 +18,9 @@ A raw stream (``t_s`` and positions, no ``pose``) is read by :func:`read_stream`
 from __future__ import annotations
 
 import csv
+from collections.abc import Collection
 from dataclasses import dataclass, replace
 from pathlib import Path
-from collections.abc import Collection
 
 import numpy as np
 
@@ -262,7 +262,7 @@ class _Table:
         """The cells of column ``name`` (:meth:`texts`), refusing characters that are not printable (NUL, escape,
         tab...): labels are written into tables and figures' titles, and shown on terminals."""
         cells = self.texts(name)
-        for number, cell in zip(self.lines, cells):
+        for number, cell in zip(self.lines, cells, strict=True):
             if not cell.isprintable():
                 raise InputError(f"line {number} holds {cell[:40]!r}, with a character that is not printable (such as "
                                  "NUL, escape or a tab); write the label in printable characters", self.path, name)
@@ -272,7 +272,7 @@ class _Table:
         """Column ``name`` as finite floats times ``factor``, within ``RANGES[bounds]`` (in SI) if given."""
         column = self.header.index(name) + 1
         values = np.array([finite_cell(cell, f"line {number}, column {column}", self.path, name)
-                           for number, cell in zip(self.lines, self.texts(name))]) * factor
+                           for number, cell in zip(self.lines, self.texts(name), strict=True)]) * factor
         if bounds is not None:
             low, high, unit, why = RANGES[bounds]
             outside = np.flatnonzero((values < low) | (values > high))
@@ -334,7 +334,7 @@ def read_measurements(path, prismatic: Collection[str] = (), continuous: Collect
             raise InputError("missing column (one row per measured cycle: pose, cycle, [direction,] x_m, y_m, z_m"
                              " or x_mm, ...)", table.path, name)
     cycles = table.numbers("cycle")
-    for number, cycle in zip(table.lines, cycles):
+    for number, cycle in zip(table.lines, cycles, strict=True):
         if cycle < 1 or cycle != int(cycle) or cycle > MAX_CYCLE:
             raise InputError(f"line {number} holds {cycle:g}; cycles are whole numbers from 1 to {MAX_CYCLE:g} (1e15 "
                              "cycles at one a second would take 30 million years)", table.path, "cycle")
@@ -376,7 +376,7 @@ def read_stream(path, require_time: bool = True) -> Stream:
 
 def _refuse_duplicates(source: str, rows: Rows) -> None:
     seen: dict[tuple[str, str, int], int] = {}
-    for line, key in zip(rows.lines, zip(rows.poses, rows.directions, rows.cycles.tolist())):
+    for line, key in zip(rows.lines, zip(rows.poses, rows.directions, rows.cycles.tolist(), strict=True), strict=True):
         if key in seen:
             raise InputError(f"lines {seen[key]} and {line} both hold pose '{key[0]}', direction '{key[1]}', "
                              f"cycle {key[2]}; remove or renumber one", source, "cycle")
@@ -387,7 +387,7 @@ def _joint_configuration(source: str, pose: str, q: np.ndarray, joints: tuple[st
                          prismatic: Collection[str], continuous: Collection[str]) -> tuple[np.ndarray, float]:
     """Mean (circular for ``continuous`` joints) and largest spread of a pose's (n, n_joints) coordinates."""
     means, spreads = [], []
-    for column, joint in zip(q.T, joints):
+    for column, joint in zip(q.T, joints, strict=True):
         if joint in continuous:
             mean = float(np.arctan2(np.sin(column).mean(), np.cos(column).mean()))
             deviations = (column - mean + np.pi) % (2 * np.pi) - np.pi

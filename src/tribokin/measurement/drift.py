@@ -103,5 +103,5 @@ def pose_drift(pose: Pose, registration: Registration | None = None,
     clouds = pose_clouds(pose, registration)
     commanded = clouds.commanded_m or [None] * len(pose.series)
     drifts = (series_drift(series, points, reference, cycles_per_set)
-              for series, points, reference in zip(pose.series, clouds.positions_m, commanded))
+              for series, points, reference in zip(pose.series, clouds.positions_m, commanded, strict=True))
     return tuple(d for d in drifts if d is not None)

@@ -31,8 +31,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from tribokin.iso9283.metrics import (barycenter, covariance_semi_axes, largest_distance, multidirectional_variation,
-                                      orientation_repeatability, position_repeatability)
+from tribokin.iso9283.metrics import (
+    barycenter,
+    covariance_semi_axes,
+    largest_distance,
+    multidirectional_variation,
+    orientation_repeatability,
+    position_repeatability,
+)
 from tribokin.measurement.contract import Measurements, Pose, Series
 from tribokin.measurement.registration import Registration
 from tribokin.units import MDEG_PER_RAD, UM_PER_M, um
@@ -107,7 +113,7 @@ class PoseFigures:
             row = {"pose": self.pose, "direction": d.direction, "cycles": d.cycles,
                    "too_short_for_RP": d.too_short,
                    "RP_l_um": um(d.RP_l_m), "AP_p_um": um(d.AP_p_m)}
-            for axis, value in zip("abc", d.RP_abc_rad if d.RP_abc_rad is not None else (None,) * 3):
+            for axis, value in zip("abc", d.RP_abc_rad if d.RP_abc_rad is not None else (None,) * 3, strict=True):
                 row[f"RP_{axis}_mdeg"] = None if value is None else float(value * MDEG_PER_RAD)
             row["RP_l_95_um"] = None if d.RP_l_ci95_m is None else [v * UM_PER_M for v in d.RP_l_ci95_m]
             row["ellipsoid_semi_axes_um"] = None if d.semi_axes_m is None else (d.semi_axes_m * UM_PER_M).tolist()
@@ -200,7 +206,7 @@ def pose_clouds(pose: Pose, registration: Registration | None) -> Clouds:
     if registration is None or spread == 0:
         return Clouds(positions, [s.commanded_m for s in pose.series], spread, False)
     mean = commanded.mean(axis=0)
-    return Clouds([points - (s.commanded_m - mean) for points, s in zip(positions, pose.series)],
+    return Clouds([points - (s.commanded_m - mean) for points, s in zip(positions, pose.series, strict=True)],
                   [np.broadcast_to(mean, s.commanded_m.shape) for s in pose.series], spread, True)
 
 
@@ -211,8 +217,8 @@ def pose_figures(pose: Pose, registration: Registration | None = None, resamples
     commanded = clouds.commanded_m or [None] * len(pose.series)
     directions = tuple(
         _direction_figures(series, points, reference, resamples, np.random.default_rng([seed, pose_index, k]))
-        for k, (series, points, reference) in enumerate(zip(pose.series, clouds.positions_m, commanded)))
-    long_enough = [points for series, points in zip(pose.series, clouds.positions_m)
+        for k, (series, points, reference) in enumerate(zip(pose.series, clouds.positions_m, commanded, strict=True)))
+    long_enough = [points for series, points in zip(pose.series, clouds.positions_m, strict=True)
                    if not series.too_short]
     vap = multidirectional_variation(np.array([barycenter(points) for points in long_enough]))
     rp_all, _ = position_repeatability(np.concatenate(clouds.positions_m))

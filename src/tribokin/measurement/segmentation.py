@@ -78,7 +78,7 @@ def find_dwells(times_s: np.ndarray, positions_m: np.ndarray, radius_m: float = 
     edges = np.diff(covered)
     firsts, lasts = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
     return tuple(Dwell(int(a), int(b), float(times_s[a]), float(times_s[b]), positions_m[a:b + 1].mean(axis=0))
-                 for a, b in zip(firsts, lasts))
+                 for a, b in zip(firsts, lasts, strict=True))
 
 
 def label_dwells(dwells: tuple[Dwell, ...], match_radius_m: float = MATCH_RADIUS_M,
@@ -96,7 +96,7 @@ def label_dwells(dwells: tuple[Dwell, ...], match_radius_m: float = MATCH_RADIUS
     names = {g: f"P{k + 1}" for k, g in enumerate(g for g in range(len(anchors)) if counts[g] >= min_cycles)}
     seen: dict[int, int] = {}
     labelled = []
-    for dwell, group in zip(dwells, groups):
+    for dwell, group in zip(dwells, groups, strict=True):
         if group in names:
             seen[group] = seen.get(group, 0) + 1
             labelled.append(Dwell(dwell.first, dwell.last, dwell.start_s, dwell.end_s, dwell.position_m,

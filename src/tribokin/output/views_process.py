@@ -27,7 +27,6 @@ from pathlib import Path
 
 from tribokin.execution import end_with_parent
 
-
 #: The largest poses' samples [bytes] sent to the views' process: sending more would take that much memory twice again
 #: (the pickled copy, the process's copy), beyond what the run's memory check counts (a map's results are on disk).
 SENT_POSE_BYTES = 64 << 20
@@ -151,6 +150,7 @@ def _prepared(study, cycles, seed, report: str):
     (the command says why, or draws itself)."""
     try:
         import pinocchio.visualize  # noqa: F401 - what draws the robot
+
         import tribokin.viz.contents  # noqa: F401 - matplotlib, meshcat
         from tribokin.study.assembly import load_robot
         from tribokin.study.reading import load_study

@@ -81,7 +81,7 @@ def float_lines(values: np.ndarray) -> list[bytes]:
         lines[i] = lines[i].replace(b"null", b"")
     magnitude = np.abs(values)
     differ = (np.isinf(values) | ((magnitude >= 1e-9) & (magnitude < 1e-4))).any(axis=1)
-    for i, row in zip(np.flatnonzero(differ).tolist(), values[differ].tolist()):
+    for i, row in zip(np.flatnonzero(differ).tolist(), values[differ].tolist(), strict=True):
         lines[i] = ",".join("" if np.isnan(value) else repr(value) for value in row).encode()
     return lines[:len(values)]  # no rows: "[]" splits into one empty line
 
@@ -120,7 +120,7 @@ def table_lines(columns: dict[str, np.ndarray], rows: int = 4096) -> Iterator[by
                 pieces.append(float_lines(np.column_stack([values[part] for values in run])))
             else:
                 pieces.extend(column_cells(values[part]) for values in run)
-        yield b"\r\n".join(map(b",".join, zip(*pieces))) + b"\r\n"
+        yield b"\r\n".join(map(b",".join, zip(*pieces, strict=True))) + b"\r\n"
 
 
 #: Bytes a part file of a map table is copied into its table at a time.

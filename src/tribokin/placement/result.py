@@ -89,7 +89,7 @@ class PlacementResult:
                 "base_rpy_deg": list(self.rpy_deg(candidate)), "reachable_targets": int(self.reachable[i]),
                 "reachable_fraction": float(self.fraction[i]),
                 "meets_min_reachable": bool(self.meets_min_reachable[i]), "rank": int(self.ranks[i]),
-                "RP_l_um": {name: _number(value) for name, value in zip(STATISTICS, self.RP_l_um[i])}}
+                "RP_l_um": {name: _number(value) for name, value in zip(STATISTICS, self.RP_l_um[i], strict=True)}}
 
     def summary(self) -> dict:
         """The ``placement`` block of ``summary.json``."""

@@ -55,7 +55,8 @@ def tool_deviations(robot: Robot, q: np.ndarray, dq: np.ndarray, engine: str = "
 
 
 def tool_frames(robot: Robot, qs: np.ndarray, placements: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Joint twists about the tool origin (poses, 6, nv) and tool positions (poses, 3) [m] at configurations (poses, nv);
+    """Joint twists about the tool origin (poses, 6, nv) and tool positions (poses, 3) [m]
+    at configurations (poses, nv);
     for a serial chain (:func:`~tribokin.kinematics.chain.serial_chain`) in one batched pass, Pinocchio's to rounding,
     from the configurations' ``placements`` (its :meth:`~tribokin.kinematics.chain.SerialChain.tool_in_joint`) when
     given."""

@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from functools import lru_cache
+from functools import cache
 from itertools import combinations_with_replacement, product
 from typing import NamedTuple
 
@@ -226,7 +226,7 @@ def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = Non
 
 # --- the polynomial -----------------------------------------------------------------------------
 
-@lru_cache(maxsize=None)
+@cache
 def _monomials(nv: int, degree: int) -> tuple[tuple[int, ...], ...]:
     """Sorted index tuples of the monomials of one degree, in lexicographic order."""
     return tuple(combinations_with_replacement(range(nv), degree))
@@ -248,12 +248,12 @@ def _logarithm_weight(word: tuple[int, ...]) -> float:
     total = 0.0
     for cuts in product((False, True), repeat=len(word) - 1):
         bounds = [0] + [i + 1 for i, cut in enumerate(cuts) if cut] + [len(word)]
-        pieces = [word[a:b] for a, b in zip(bounds, bounds[1:])]
+        pieces = [word[a:b] for a, b in zip(bounds, bounds[1:], strict=False)]
         total += (-1) ** (len(pieces) + 1) / len(pieces) * math.prod(_ordered_weight(p) for p in pieces)
     return total
 
 
-@lru_cache(maxsize=None)
+@cache
 def _summations(nv: int, degree: int) -> tuple[np.ndarray, np.ndarray]:
     """Matrices taking the products X_word of every word (row-major) to monomial coefficients.
 
@@ -303,7 +303,7 @@ def tool_polynomial(twists: np.ndarray, order: int) -> np.ndarray:
     return np.concatenate(blocks, axis=-2)
 
 
-@lru_cache(maxsize=None)
+@cache
 def _feature_plan(nv: int, order: int) -> tuple[tuple[int, int, int], ...]:
     """How each block of monomial rows extends a lower-degree row: (prefix row, first new index, first row).
 

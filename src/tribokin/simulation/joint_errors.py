@@ -121,7 +121,8 @@ def joint_models(robot: Robot, *, friction: FrictionLaw | None = None, stiffness
 def friction_lever(models: list[JointErrorModel], prismatic: np.ndarray) -> np.ndarray:
     """r_i / k_i for each joint: lost motion per newton of normal load per unit mu [m/N or rad/N]; 1 / k_i
     per unit of friction force or torque for a joint whose law gives it (r = 1 for both)."""
-    radius = np.array([1.0 if p or m.friction_is_torque else m.friction_radius_m for m, p in zip(models, prismatic)])
+    radius = np.array([1.0 if p or m.friction_is_torque else m.friction_radius_m
+                       for m, p in zip(models, prismatic, strict=True)])
     return radius / np.array([m.stiffness for m in models])
 
 
@@ -184,7 +185,7 @@ def check_travel(models: list[JointErrorModel], prismatic: np.ndarray, forces_N:
         unit = "m" if prismatic[i] else "rad"
         part = list(DEVIATION_PARTS)[int(np.argmax(parts[i]))]
         labels = ("lost motion", "backlash/2", "offset", f"{TAIL_STDS} noise_std")
-        shown = [f"{label} {value:.3g} {unit}" for label, value in zip(labels, parts[i]) if value]
+        shown = [f"{label} {value:.3g} {unit}" for label, value in zip(labels, parts[i], strict=True) if value]
         what = labels[int(np.argmax(parts[i]))] if len(shown) == 1 else f"deviation ({', '.join(shown)})"
         raise JointRangeError(f"joint '{names[i]}': {what} up to {parts[i].sum():.3g} {unit} exceeds the joint's "
                               f"range {travel[i]:.3g} {unit}; {DEVIATION_PARTS[part]}", names[i], part)

@@ -66,9 +66,9 @@ class PoseResult:
             "AP_p_um": m.AP_p_m * UM_PER_M,
             "RP_l_um": m.RP_l_m * UM_PER_M,
         }
-        for axis, ap in zip("abc", m.AP_abc_rad):
+        for axis, ap in zip("abc", m.AP_abc_rad, strict=True):
             figures[f"AP_{axis}_mdeg"] = float(ap * MDEG_PER_RAD)
-        for axis, rp in zip("abc", m.RP_abc_rad):
+        for axis, rp in zip("abc", m.RP_abc_rad, strict=True):
             figures[f"RP_{axis}_mdeg"] = float(rp * MDEG_PER_RAD)
         figures.update(self.direction_extra.get(label, {}))
         return figures
@@ -118,13 +118,13 @@ def pose_table_row(row: dict, joints: list[str], missing="") -> dict:
     flat = {}
     for key, value in row.items():
         if key == "q":
-            flat.update({f"q_{joint}": v for joint, v in zip(joints, value)})
+            flat.update({f"q_{joint}": v for joint, v in zip(joints, value, strict=True)})
         elif key == "normal_forces_N":
-            flat.update({f"normal_force_{joint}_N": v for joint, v in zip(joints, value)})
+            flat.update({f"normal_force_{joint}_N": v for joint, v in zip(joints, value, strict=True)})
         elif key in POSE_VECTOR_COLUMNS:
-            flat.update(zip(POSE_VECTOR_COLUMNS[key], value or (missing,) * len(POSE_VECTOR_COLUMNS[key])))
+            flat.update(zip(POSE_VECTOR_COLUMNS[key], value or (missing,) * len(POSE_VECTOR_COLUMNS[key]), strict=True))
         elif isinstance(value, list) and key.endswith("_m"):
-            flat.update({f"{key[:-2]}_{axis}_m": v for axis, v in zip("xyz", value)})
+            flat.update({f"{key[:-2]}_{axis}_m": v for axis, v in zip("xyz", value, strict=True)})
         else:
             flat[key] = missing if value is None else value
     return flat

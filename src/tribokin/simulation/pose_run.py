@@ -11,13 +11,23 @@ import numpy as np
 
 from tribokin.errors import JointRangeError, SettingsError, TribokinError
 from tribokin.iso9283.cube import label_approach_signs
-from tribokin.iso9283.metrics import covariance_semi_axes, directional_metrics, position_repeatability, \
-    variance_contributions
+from tribokin.iso9283.metrics import (
+    covariance_semi_axes,
+    directional_metrics,
+    position_repeatability,
+    variance_contributions,
+)
 from tribokin.kinematics.loads import BearingLoads
 from tribokin.kinematics.robot import Robot
 from tribokin.propagation.exact import engine_bound, tool_deviations
-from tribokin.simulation.joint_errors import APPROACH_MODES, JointErrorModel, approach_signs, check_travel, \
-    joint_travel, sample_joint_deviations
+from tribokin.simulation.joint_errors import (
+    APPROACH_MODES,
+    JointErrorModel,
+    approach_signs,
+    check_travel,
+    joint_travel,
+    sample_joint_deviations,
+)
 from tribokin.simulation.pose_result import PoseResult
 from tribokin.streams import pose_stream, replicate_stream
 from tribokin.tribology.laws import FrictionLaw
@@ -124,8 +134,8 @@ def pose_task(robot: Robot, name: str, q, directions: tuple[str, ...] | None = N
               normal_force_N: float | None = None, friction: FrictionLaw | None = None) -> PoseTask:
     """A pose to test at configuration ``q`` (nv,) [m or rad]: approached in joint space (:func:`joint_space_task`),
     or along each of ``directions`` (labels such as ``"+x"``, ``"-z"``:
-    :func:`~tribokin.iso9283.cube.label_approach_signs`), each then tested whatever the approach mode; ``normal_force_N``
-    [N] and ``friction``, when given, every joint's at this pose.
+    :func:`~tribokin.iso9283.cube.label_approach_signs`), each then tested whatever the approach mode;
+    ``normal_force_N`` [N] and ``friction``, when given, every joint's at this pose.
 
     Raises:
         ConfigurationError: ``q`` of the wrong size, not finite or outside the joint limits.
@@ -262,7 +272,7 @@ class PoseRunner:
             mine = result.approach == result.directions.index(label)
             shares = variance_contributions(jacobian, result.dq[mine])
             extra = {f"contribution_{name}": None if np.isnan(share) else float(share)
-                     for name, share in zip(self.robot.joint_names, shares)}
+                     for name, share in zip(self.robot.joint_names, shares, strict=True)}
             extra["ellipsoid_semi_axes_um"] = (covariance_semi_axes(result.positions_m[mine]) * UM_PER_M).tolist()
             signs = np.broadcast_to(task.directions[task.labels.index(label)].astype(float), (cycles, len(task.q)))
             rp = np.empty(replicates)

@@ -89,7 +89,7 @@ def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
             raise InputError(f"unknown joint '{joint}'{closest_hint(joint, names)}; joints of {robot.label}: "
                              f"{', '.join(names)}", study.source, f"joints.{joint}")
     values = {}
-    for name, prismatic in zip(names, robot.joint_is_prismatic):
+    for name, prismatic in zip(names, robot.joint_is_prismatic, strict=True):
         spec = study.joint(name)
         if spec.stiffness is None:
             raise InputError(f"joint '{name}' has no stiffness: set joints.stiffness or joints.{name}.stiffness",

@@ -84,8 +84,9 @@ def read_robot_measurements(path, robot: Robot) -> Measurements:
     """The measurement file at ``path`` (:func:`~tribokin.measurement.contract.read_measurements`), its ``q_`` columns
     read as ``robot``'s joints: lengths [m] for prismatic ones, circular means of angles [rad] for continuous ones (rows
     on either side of ±π are one configuration)."""
-    return read_measurements(path, prismatic=[n for n, p in zip(robot.joint_names, robot.joint_is_prismatic) if p],
-                             continuous=[n for n, c in zip(robot.joint_names, robot.continuous) if c])
+    prismatic = [n for n, p in zip(robot.joint_names, robot.joint_is_prismatic, strict=True) if p]
+    return read_measurements(path, prismatic=prismatic,
+                             continuous=[n for n, c in zip(robot.joint_names, robot.continuous, strict=True) if c])
 
 
 def calibration_model(study: Study, robot: Robot, models: list[JointErrorModel]) -> JointModel:
@@ -169,11 +170,11 @@ def calibration_input(study: Study, robot: Robot, models: list[JointErrorModel],
     registration = register_measurements(measurements)
     runner = study_runner(study, robot, models)
     poses, kept, left_out = [], [], []
-    for pose, q in zip(measurements.poses, qs):
+    for pose, q in zip(measurements.poses, qs, strict=True):
         forces = runner.normal_forces_at(q)
         torque_mean, torque_std = friction_torque_moments(models, robot.joint_is_prismatic, forces)
         series = []
-        for measured, points in zip(pose.series, pose_clouds(pose, registration).positions_m):
+        for measured, points in zip(pose.series, pose_clouds(pose, registration).positions_m, strict=True):
             signs = label_approach_signs(robot, q, measured.direction)
             if signs is None:
                 left_out.append(LeftOut(pose.name, measured.direction, len(measured.cycles),

@@ -32,7 +32,8 @@ class MapSpec:
     """What every ``[map]`` has: ``start_q`` [m or rad] (the IK's start posture, or the other joints' posture of
     a joint grid; ``None``: chosen) and ``chunk_rows`` (grid rows per chunk; ``None``: :attr:`rows_per_chunk`),
     ``statistic`` (``"expected"``: each figure's mean over tests, or ``"one-test"``) and ``directional``
-    (an expected map's vAP_p and RP_l_multi too). Each kind has ``counts``: the targets along each axis, columns first."""
+    (an expected map's vAP_p and RP_l_multi too). Each kind has ``counts``: the targets along each axis, columns
+    first."""
 
     kind: ClassVar[str]
     #: The study key that sets the number of targets.

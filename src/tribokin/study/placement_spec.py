@@ -53,7 +53,7 @@ class PlacementSpec:
         if self.candidates is not None:
             return np.array(self.candidates, dtype=float)
         axes = [np.round(low + np.arange(count) * ((high - low) / (count - 1) if count > 1 else 0.0), DECIMALS) + 0.0
-                for low, high, count in zip(self.base_xyz_m_min, self.base_xyz_m_max, self.resolution)]
+                for low, high, count in zip(self.base_xyz_m_min, self.base_xyz_m_max, self.resolution, strict=True)]
         z, y, x = np.meshgrid(axes[2], axes[1], axes[0], indexing="ij")
         return np.column_stack([x.ravel(), y.ravel(), z.ravel()])
 

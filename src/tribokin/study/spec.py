@@ -13,15 +13,28 @@ from dataclasses import asdict, dataclass, field, replace
 from functools import partial
 from pathlib import Path
 
-from tribokin.checks import boolean, distinct_strings, finite, non_negative, number_list, one_of, positive, positive_int, \
-    seed_int, string_list, table, text, whole_number, within
+from tribokin.checks import (
+    boolean,
+    distinct_strings,
+    finite,
+    non_negative,
+    number_list,
+    one_of,
+    positive,
+    positive_int,
+    seed_int,
+    string_list,
+    table,
+    text,
+    whole_number,
+    within,
+)
 from tribokin.errors import InputError, closest_hint
 from tribokin.iso9283.cube import known_approach
 from tribokin.kinematics.urdf_xacro import XACRO_SUFFIX, is_xacro
 from tribokin.simulation.joint_errors import APPROACH_MODES
 from tribokin.study.map_spec import MAP_SPECS, STATISTICS, MapSpec
 from tribokin.study.placement_spec import OBJECTIVES, PlacementSpec
-
 
 # -- ranges: physically meaningful bounds, each with the reason a value outside is refused ---------------------
 
@@ -540,7 +553,8 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
                               "calibration")
         if "noise_floor" not in checked["fit"] and checked["noise_floor_m"] is None:
             raise InputError("the instrument's noise floor is neither fitted nor given: add \"noise_floor\" to "
-                             "calibration.fit or set calibration.noise_floor_m [m]", source, "calibration.noise_floor_m")
+                             "calibration.fit or set calibration.noise_floor_m [m]",
+                             source, "calibration.noise_floor_m")
         calibration = _spec(CalibrationSpec, checked)
     poses_list = mapping.get("poses", [])
     if not isinstance(poses_list, list) or (not poses_list and iso_cube is None and map_spec is None
@@ -590,15 +604,15 @@ def check_map(mapping: dict, source) -> MapSpec:
                          "remove map.directional, or set map.statistic = \"expected\"", source, "map.directional")
     if kind == "plane":
         _check_counts(spec["resolution"], 2, "[nu, nv]", source)
-        dot = sum(a * b for a, b in zip(spec["axis_u"], spec["axis_v"]))
+        dot = sum(a * b for a, b in zip(spec["axis_u"], spec["axis_v"], strict=True))
         if abs(dot) > 1e-6:
             raise InputError(f"must be perpendicular to map.axis_u (their dot product is {dot:g})", source,
                              "map.axis_v")
-        for name, count in zip(("extent_u_m", "extent_v_m"), spec["resolution"]):
+        for name, count in zip(("extent_u_m", "extent_v_m"), spec["resolution"], strict=True):
             _check_width(spec[name], count, source, f"map.{name}")
     elif kind == "box":
         _check_counts(spec["resolution"], 3, "[nx, ny, nz]", source)
-        for axis, (low, high, count) in enumerate(zip(spec["min_m"], spec["max_m"], spec["resolution"])):
+        for axis, (low, high, count) in enumerate(zip(spec["min_m"], spec["max_m"], spec["resolution"], strict=True)):
             _check_width([low, high], count, source, f"map.max_m[{axis}]")
     else:
         joints, ranges, counts = spec["joints"], spec["ranges"], spec["counts"]
@@ -608,7 +622,7 @@ def check_map(mapping: dict, source) -> MapSpec:
             if len(values) != len(joints):
                 raise InputError(f"needs one entry per joint in map.joints ({len(joints)}); got {len(values)}",
                                  source, f"map.{key}")
-        for i, (bounds, count) in enumerate(zip(ranges, counts)):
+        for i, (bounds, count) in enumerate(zip(ranges, counts, strict=True)):
             _check_width(bounds, count, source, f"map.ranges[{i}]")
     return _spec(MAP_SPECS[kind], {key: value for key, value in spec.items() if key != "kind"})
 
@@ -638,7 +652,7 @@ def check_placement(mapping: dict, map_spec: MapSpec | None, source) -> Placemen
             raise InputError(f"needs 3 whole numbers [nx, ny, nz] (got {len(spec['resolution'])})", source,
                              "placement.resolution")
         for axis, (low, high, count) in enumerate(zip(spec["base_xyz_m_min"], spec["base_xyz_m_max"],
-                                                     spec["resolution"])):
+                                                     spec["resolution"], strict=True)):
             if low > high:
                 raise InputError(f"is below base_xyz_m_min[{axis}] ({high:g} < {low:g}): swap them", source,
                                  f"placement.base_xyz_m_max[{axis}]")

@@ -20,7 +20,6 @@ import numpy as np
 from tribokin.checks import finite, within
 from tribokin.errors import InputError, LawError
 
-
 #: Largest friction coefficient a law may hold [-]: above, it is not sliding friction (clean metals in
 #: vacuum reach a few).
 MU_MAX = 10.0
@@ -30,7 +29,8 @@ MU_MIN = 1e-6
 
 
 #: A friction coefficient: a finite number in [0, ``MU_MAX``].
-coefficient = within(finite, 0.0, MU_MAX, "", f"friction coefficients are never negative, and above {MU_MAX:g} they are "
+coefficient = within(finite, 0.0, MU_MAX, "",
+                     f"friction coefficients are never negative, and above {MU_MAX:g} they are "
                      "not sliding friction (clean metals in vacuum reach a few)")
 
 

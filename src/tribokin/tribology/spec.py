@@ -91,11 +91,14 @@ SURFACE_REQUIRED = ("normal_force_N", "contact_area_m2", "film_thickness_m")
 #: key -> check of the numbers of a surface law: each within its physical range.
 SURFACE_NUMBERS = {
     "normal_force_N": within(finite, 1e-3, 1e7, "N", "tribometers load from millinewtons; no bearing carries 1000 t"),
-    "contact_area_m2": within(finite, 1e-12, 1e-2, "m²", "a pin's apparent contact spans a square micrometre to 100 cm²"),
-    "film_thickness_m": within(finite, 1e-9, 1e-3, "m", "lubricant films run from nanometres to a tenth of a millimetre"),
+    "contact_area_m2": within(finite, 1e-12, 1e-2, "m²",
+                              "a pin's apparent contact spans a square micrometre to 100 cm²"),
+    "film_thickness_m": within(finite, 1e-9, 1e-3, "m",
+                               "lubricant films run from nanometres to a tenth of a millimetre"),
     "mu_boundary": within(finite, MU_MIN, MU_MAX, "", "the friction coefficients a law may hold"),
     "mu_film": within(finite, MU_MIN, MU_MAX, "", "the friction coefficients a law may hold"),
-    "modulus_Pa": within(finite, 1e6, 1.2e12, "Pa", "contact moduli run from rubber's megapascals to diamond's 1.2e12 Pa"),
+    "modulus_Pa": within(finite, 1e6, 1.2e12, "Pa",
+                         "contact moduli run from rubber's megapascals to diamond's 1.2e12 Pa"),
 }
 #: key -> (default, check) of the whole numbers of a surface law.
 SURFACE_COUNTS = {"cycles": (1000, within(whole_number, 1, 10 ** 6, "", "a surface law simulates up to a million "
@@ -155,8 +158,8 @@ SPEC_KINDS = {"preset": _from_preset, "law": _from_law, "file": _from_file, "log
 def _only_keys(spec: dict, allowed: tuple[str, ...]) -> None:
     for key in spec:
         if key not in allowed:
-            raise InputError(f"unknown key '{key}'{closest_hint(key, list(allowed))}; allowed here: {', '.join(allowed)}",
-                             key=key)
+            raise InputError(f"unknown key '{key}'{closest_hint(key, list(allowed))}; "
+                             f"allowed here: {', '.join(allowed)}", key=key)
 
 
 def law_from_spec(spec, source: str | Path | None = None, key: str = "friction",

@@ -9,6 +9,7 @@ mu drifts) do not belong to the steady state whose statistics a study needs.
 from __future__ import annotations
 
 from dataclasses import dataclass
+
 import numpy as np
 
 from tribokin.checks import count

@@ -86,7 +86,8 @@ def ellipse_outline(mean_2d: np.ndarray, covariance_2x2: np.ndarray, radius: flo
 @matplotlib.rc_context({"text.parse_math": False})  # names as written: '$' is no math
 def save_calibration_clouds(directions: list[PredictedCloud] | tuple[PredictedCloud, ...], path: Path,
                             title: str = "") -> None:
-    """One pose's measured clouds (``directions``: at least one) and the model's predictions in the x-y, x-z and y-z projections, in µm about
+    """One pose's measured clouds (``directions``: at least one) and the model's predictions in the x-y, x-z and y-z
+    projections, in µm about
     the pooled measured barycentre: per direction (one colour each) its cycles, measured barycentre (×) and 95 %
     ellipse (dashed, from three cycles on; sample covariance), predicted barycentre (◇) and 95 % ellipse (solid)."""
     centre = barycenter(np.concatenate([d.points_m for d in directions]))
@@ -94,13 +95,13 @@ def save_calibration_clouds(directions: list[PredictedCloud] | tuple[PredictedCl
     panels = fig.subplots(1, len(PROJECTIONS))
     colours = DIRECTION_COLOURS * len(directions)
     reaches = np.ones(len(PROJECTIONS))  # half-width of each panel [µm]
-    for d, colour in zip(directions, colours):
+    for d, colour in zip(directions, colours, strict=False):
         points = (d.points_m - centre) * UM_PER_M
         measured = points.mean(axis=0)
         predicted = (d.predicted_mean_m - centre) * UM_PER_M
         covariance = d.predicted_covariance_m2 * UM_PER_M ** 2
         spread = np.cov(points.T) if len(points) >= 3 else None
-        for k, (panel, pair) in enumerate(zip(panels, map(list, PROJECTIONS))):
+        for k, (panel, pair) in enumerate(zip(panels, map(list, PROJECTIONS), strict=True)):
             block = np.ix_(pair, pair)
             outline = ellipse_outline(predicted[pair], covariance[block], RADIUS_95_2D)
             panel.scatter(*points[:, pair].T, s=12, color=colour, alpha=0.65, lw=0, zorder=3)
@@ -112,13 +113,14 @@ def save_calibration_clouds(directions: list[PredictedCloud] | tuple[PredictedCl
                 outline = ellipse_outline(measured[pair], spread[block], RADIUS_95_2D)
                 panel.plot(*outline.T, "--", color=colour, lw=1.2, zorder=4)
                 reaches[k] = max(reaches[k], np.abs(outline).max())
-    for panel, (i, j), reach in zip(panels, PROJECTIONS, reaches * 1.08):
+    for panel, (i, j), reach in zip(panels, PROJECTIONS, reaches * 1.08, strict=True):
         panel.plot(0, 0, "k+", ms=10, mew=1.5, zorder=6)
         frame_field(panel, i, j, reach)
         panel.set_title(f"{'xyz'[i]}-{'xyz'[j]}")
     grey = "#555555"
     fig.legend(handles=[Line2D([], [], color=colour, marker="o", ls="none", label=f"{d.direction}: {len(d.points_m)} "
-                               f"cycle{'s' * (len(d.points_m) > 1)}") for d, colour in zip(directions, colours)],
+                               f"cycle{'s' * (len(d.points_m) > 1)}")
+                        for d, colour in zip(directions, colours, strict=False)],
                loc="lower center", bbox_to_anchor=(0.5, 0.05), ncol=len(directions), fontsize=8)
     fig.legend(handles=[Line2D([], [], color=grey, marker="x", ms=8, mew=2, ls="--", lw=1.2,
                                label="measured (barycentre, 95 % ellipse)"),
@@ -147,14 +149,14 @@ def save_parity(points: list[ParityPoint] | tuple[ParityPoint, ...], path: Path,
     fig = agg_figure(figsize=(6.4, 6.4))
     axes = fig.subplots()
     kinds = list(dict.fromkeys(p.kind for p in points))
-    for kind, colour, marker in zip(kinds, DIRECTION_COLOURS * len(kinds), "osD^v<>" * len(kinds)):
+    for kind, colour, marker in zip(kinds, DIRECTION_COLOURS * len(kinds), "osD^v<>" * len(kinds), strict=False):
         mine = np.array([p.kind == kind for p in points])
         axes.errorbar(measured[mine], (low[mine] + high[mine]) / 2, yerr=(high[mine] - low[mine]) / 2, fmt="none",
                       ecolor=colour, elinewidth=1, capsize=3, alpha=0.7, zorder=2)
         axes.plot(measured[mine], predicted[mine], marker, color=colour, ms=6, ls="none", zorder=3,
                   label=f"{kind} (bar: 95 % prediction interval)")
     if len(points) <= MOST_LABELLED:
-        for p, x, y in zip(points, measured, predicted):
+        for p, x, y in zip(points, measured, predicted, strict=True):
             axes.annotate(p.label, (x, y), xytext=(4, -9), textcoords="offset points", fontsize=6.5, color="#333333")
     limits = (values[values > 0].min() / 1.5, values.max() * 1.5) if logarithmic else (0.0, values.max() * 1.08)
     axes.plot(limits, limits, color="#888888", lw=1, zorder=1, label="y = x")

@@ -26,7 +26,8 @@ def _parameter_rows(parameters: list[dict]) -> list[list]:
     rows = []
     for p in parameters:
         if not p["identifiable"]:
-            rows.append([p["name"], "not identifiable", "–", "–", f"kept at the fit's {_shown(p['kept_value'], p['unit'])}, not determined"
+            rows.append([p["name"], "not identifiable", "–", "–",
+                         f"kept at the fit's {_shown(p['kept_value'], p['unit'])}, not determined"
                          f": {p['hint']}"])
             continue
         interval = ", ".join("unbounded" if v is None else _shown(v, p["unit"]) for v in p["ci95"])

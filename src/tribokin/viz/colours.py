@@ -20,7 +20,7 @@ class ColourScale:
     name: str = "viridis"
 
     @classmethod
-    def spanning(cls, *values_um: np.ndarray) -> "ColourScale":
+    def spanning(cls, *values_um: np.ndarray) -> ColourScale:
         """The scale from the smallest to the largest finite value of ``values_um`` (0–1 µm if none)."""
         finite = np.concatenate([np.ravel(v)[np.isfinite(np.ravel(v))] for v in values_um] + [np.empty(0)])
         if finite.size == 0:
@@ -41,5 +41,5 @@ class ColourScale:
         fractions = np.linspace(0, 1, stops)
         colours = colormaps[self.name](fractions)[:, :3]
         parts = [f"rgb({r * 255:.0f},{g * 255:.0f},{b * 255:.0f}) {f * 100:.0f}%"
-                 for (r, g, b), f in zip(colours, fractions)]
+                 for (r, g, b), f in zip(colours, fractions, strict=True)]
         return f"linear-gradient(to right, {', '.join(parts)})"

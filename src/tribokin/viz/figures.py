@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import matplotlib
-
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.patches import Circle
@@ -13,7 +12,6 @@ from matplotlib.patches import Circle
 from tribokin.simulation.pose_result import PoseResult
 from tribokin.units import UM_PER_M
 from tribokin.viz.canvas import agg_figure
-
 
 #: Colours of the approach directions' barycenters and RP_l circles, in the order of the directions.
 DIRECTION_COLOURS = ("#e63946", "#457b9d", "#8338ec", "#fb8500", "#6a994e", "#b5179e")
@@ -66,17 +64,17 @@ def save_repeatability_field(pose: PoseResult, path: Path, title: str = "") -> N
                            label=f"ε_t reference circle = {eps_t:.2f} µm"))
     centres = [(m.barycenter_m - pose.commanded_position_m) * UM_PER_M for m in directions.values()]
     radii = [m.RP_l_m * UM_PER_M for m in directions.values()]
-    for (label, m), centre, rp_l, colour in zip(directions.items(), centres, radii, DIRECTION_COLOURS):
+    for (label, m), centre, rp_l, colour in zip(directions.items(), centres, radii, DIRECTION_COLOURS, strict=False):
         text = (f"RP_l = {rp_l:.2f} µm around the barycenter" if one else
                 f"{label}: RP_l = {rp_l:.2f} µm, AP_p = {m.AP_p_m * UM_PER_M:.2f} µm (barycenter ×)")
         field.add_patch(Circle((centre[i], centre[j]), rp_l, fill=False, color=colour, lw=1.2, label=text))
     field.scatter(deviations[:, i], deviations[:, j], s=14, color="#2a9d8f", alpha=0.8, zorder=3,
                   label=f"{pose.cycles} cycles")
     field.plot(0, 0, "k+", ms=12, mew=2, zorder=4, label="commanded position")
-    for m, centre, colour in zip(directions.values(), centres, DIRECTION_COLOURS):
+    for m, centre, colour in zip(directions.values(), centres, DIRECTION_COLOURS, strict=False):
         field.plot(centre[i], centre[j], "x", color=colour, ms=9, mew=2, zorder=4,
                    label=f"barycenter, AP_p = {m.AP_p_m * UM_PER_M:.2f} µm" if one else None)
-    reach = max(eps_d2, eps_t, *(np.linalg.norm(c) + r for c, r in zip(centres, radii)), 1.0) * 1.15
+    reach = max(eps_d2, eps_t, *(np.linalg.norm(c) + r for c, r in zip(centres, radii, strict=True)), 1.0) * 1.15
     frame_field(field, i, j, reach)
     field.set_title("repeatability field")
     if one:

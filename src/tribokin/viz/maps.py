@@ -77,8 +77,10 @@ def panel_frame(grid: TargetGrid, columns: GridAxis, rows: GridAxis | None) -> P
     if grid.kind == "joint":
         return PanelFrame(columns.label, None if rows is None else rows.label,
                           (*_span(columns.values), *_span(None if rows is None else rows.values)), None)
+    # grid.directions has the layer axis's row too: a panel shows the first two
     (xlabel, x, base_x), (ylabel, y, base_y) = (_shown_axis(axis, direction, grid.origin_m)
-                                                for axis, direction in zip((columns, rows), grid.directions))
+                                                for axis, direction
+                                                in zip((columns, rows), grid.directions, strict=False))
     extent = (*_span(x), *_span(y))
     inside = min(extent[:2]) <= base_x <= max(extent[:2]) and min(extent[2:]) <= base_y <= max(extent[2:])
     plane = ""
@@ -150,11 +152,12 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
     """
     shown, strides = shown_targets(grid)
     columns, rows, layers = (None if axis is None else GridAxis(axis.name, axis.unit, axis.values[::stride])
-                             for axis, stride in zip(grid.axes, strides[::-1]))
+                             for axis, stride in zip(grid.axes, strides[::-1], strict=True))
     n_layers = shown.shape[0]
     data = np.asarray(values(shown.ravel()), dtype=float).reshape(shown.shape)
     images = np.ma.masked_invalid(data)
-    marked = None if marks is None else np.ma.masked_less(np.asarray(marks.values(shown.ravel())).reshape(shown.shape), 0)
+    marked = (None if marks is None
+              else np.ma.masked_less(np.asarray(marks.values(shown.ravel())).reshape(shown.shape), 0))
     cmap = matplotlib.colormaps.get_cmap(cmap).with_extremes(bad=UNREACHABLE_GREY)
     norm = norm or value_norm(data, centre)
     panels_across = math.ceil(math.sqrt(n_layers))
@@ -193,7 +196,7 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
     if categories:
         bar.set_ticks(np.arange(-1, len(categories) - 1), labels=categories)
     if marked is not None:
-        handles = [Patch(facecolor=colour, label=text) for colour, text in zip(MARK_COLOURS, marks.labels)]
+        handles = [Patch(facecolor=colour, label=text) for colour, text in zip(MARK_COLOURS, marks.labels, strict=True)]
         fig.legend(handles=handles + [Patch(facecolor=UNREACHABLE_GREY, label=grey)], loc="outside lower center",
                    ncols=len(handles) + 1, fontsize=8, frameon=False)
     thinned = shown.size < grid.size

@@ -43,7 +43,7 @@ def save_measured_field(figures: PoseFigures, clouds_m: list[np.ndarray], path: 
     fig = agg_figure(figsize=(11, 5.4))
     field, series = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.1, 1]})
     reach, start = 1.0, 1
-    for d, points, colour in zip(figures.directions, deviations, DIRECTION_COLOURS * len(deviations)):
+    for d, points, colour in zip(figures.directions, deviations, DIRECTION_COLOURS * len(deviations), strict=False):
         middle = (d.barycenter_m - centre) * UM_PER_M
         rp_l = 0.0 if d.RP_l_m is None else d.RP_l_m * UM_PER_M
         text = f"{d.direction}: {d.cycles} cycles, " + ("too short for RP" if d.RP_l_m is None
@@ -78,7 +78,7 @@ def save_drift(measurements: Measurements, registration: Registration | None, pa
     fig = agg_figure(figsize=(9, 4.8))
     axes = fig.subplots()
     for pose in measurements.poses:
-        for series, points in zip(pose.series, pose_clouds(pose, registration).positions_m):
+        for series, points in zip(pose.series, pose_clouds(pose, registration).positions_m, strict=True):
             if series.too_short:
                 continue
             order = np.argsort(series.times_s, kind="stable")

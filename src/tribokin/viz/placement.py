@@ -78,7 +78,7 @@ def save_placement_figure(placement: PlacementResult, path: Path, title: str) ->
     axes = fig.subplots(down, across, squeeze=False)
     best = placement.best.index
     collection = None
-    for ax, (panel_title, indices) in zip(axes.flat, drawn):
+    for ax, (panel_title, indices) in zip(axes.flat, drawn, strict=False):
         cells = lambda shown: [  # noqa: E731
             Rectangle((x - 0.45 * cell_x, y - 0.45 * cell_y), 0.9 * cell_x, 0.9 * cell_y) for x, y in positions[shown]]
         collection = PatchCollection(cells(indices), cmap=cmap, norm=norm, edgecolor="white", linewidth=0.5)

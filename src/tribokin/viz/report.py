@@ -93,7 +93,7 @@ def map_statistics(workspace_map: MapResult) -> str:
     scenarios = summary.get("scenarios") or [{"RP_l_um": summary["RP_l_um"]}]
     baseline = scenarios[0]["RP_l_um"]["median"]
     rows = []
-    for name, scenario in zip(workspace_map.scenarios, scenarios):
+    for name, scenario in zip(workspace_map.scenarios, scenarios, strict=True):
         spread = scenario["RP_l_um"]
         change = (None if spread["median"] is None or not baseline
                   else f"{100 * (spread['median'] / baseline - 1):+.1f} %")
@@ -156,14 +156,15 @@ def joint_table(settings: dict, prismatic) -> str:
     headers = ["joints", "type", *(header for _, header, _, _ in JOINT_COLUMNS),
                "friction law" if of_torque else "friction coefficient μ"]
     rows: dict[tuple, list[str]] = {}
-    for name, is_prismatic in zip(settings["joints"], prismatic):
+    for name, is_prismatic in zip(settings["joints"], prismatic, strict=True):
         model = models[name]
         cells = tuple(_number(model[key], prismatic_unit if is_prismatic else revolute_unit)
                       if key != "normal_force_N" or model[key] is not None else "from statics"
                       for key, _, prismatic_unit, revolute_unit in JOINT_COLUMNS)
         rows.setdefault(("prismatic" if is_prismatic else "revolute", *cells, _friction(settings["friction"][name])),
                         []).append(name)
-    return html_table(headers, [[", ".join(names), *row] for row, names in rows.items()], text_columns=(len(headers) - 1,))
+    return html_table(headers, [[", ".join(names), *row] for row, names in rows.items()],
+                      text_columns=(len(headers) - 1,))
 
 
 def _overrides(overrides: dict, prefix: str = "") -> list[str]:
@@ -187,7 +188,7 @@ def map_targets(grid: TargetGrid) -> str:
     directions = [f" along {_vector(d)}" for d in grid.directions] if grid.kind == "plane" else [""] * 3
     where = f"plane through {_vector(grid.origin_m)} m: " if grid.kind == "plane" else f"{grid.kind}: "
     ranges = "; ".join(f"{a.name}{d} {a.values[0]:g} to {a.values[-1]:g} {a.unit} ({len(a.values)} values)"
-                       for a, d in zip(axes, directions))
+                       for a, d in zip(axes, directions, strict=False))
     rpy = grid.describe()["rpy_deg"]
     held = "" if rpy is None else f"; tool orientation held at roll, pitch, yaw {_vector(np.round(rpy, 6) + 0.0)}°"
     return where + ranges + held

@@ -245,7 +245,8 @@ def chain_placements(robot: Robot, q) -> tuple[np.ndarray, np.ndarray, np.ndarra
     bodies = [i for i, frame in enumerate(model.frames) if frame.parentJoint == 0 and frame.type == pin.FrameType.BODY]
     base = data.oMf[bodies[0]].translation if bodies else np.zeros(3)
     origins = np.array([data.oMi[j].translation for j in range(1, model.njoints)])
-    axes = np.array([data.oMi[j].rotation @ axis for j, axis in zip(range(1, model.njoints), robot.motion_axes)])
+    axes = np.array([data.oMi[j].rotation @ axis
+                     for j, axis in zip(range(1, model.njoints), robot.motion_axes, strict=True)])
     points = np.vstack([base, origins, data.oMf[robot.tool_frame_id].translation])
     return points, origins, axes
 
@@ -270,13 +271,13 @@ def draw_skeleton(node, robot: Robot, q) -> None:
     points, origins, axes = chain_placements(robot, q)
     size = max(float(np.ptp(points, axis=0).max()), 0.1)
     link_radius, joint_radius, joint_length = (fraction * size for fraction in SKELETON_SIZES)
-    for i, (start, end) in enumerate(zip(points[:-1], points[1:])):
+    for i, (start, end) in enumerate(zip(points[:-1], points[1:], strict=True)):
         length = float(np.linalg.norm(end - start))
         if length > 1e-9:  # joints at one point (a wrist) have no link between them
             link = node["links"][str(i)]
             link.set_object(mg.Cylinder(length, link_radius), mg.MeshLambertMaterial(color=LINK_COLOUR))
             link.set_transform(_along(start, end))
-    for i, (origin, axis) in enumerate(zip(origins, axes)):
+    for i, (origin, axis) in enumerate(zip(origins, axes, strict=True)):
         node["joints"][str(i)].set_object(mg.Cylinder(joint_length, joint_radius),
                                           mg.MeshLambertMaterial(color=JOINT_COLOUR))
         node["joints"][str(i)].set_transform(_along(origin - axis * joint_length / 2, origin + axis * joint_length / 2))

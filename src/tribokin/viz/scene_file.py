@@ -80,7 +80,7 @@ def load_scene_inputs(folder) -> SceneInputs:
         labels = [str(label) for label in scene["map_labels"]]
         quantities = [str(q) for q in scene["map_quantities"]] if "map_quantities" in scene else ["RP_l"] * len(labels)
         layers = {label: MapLayer(scene[f"map/{label}/points_m"], scene[f"map/{label}/values_um"], label,
-                                  quantity=quantity) for label, quantity in zip(labels, quantities)}
+                                  quantity=quantity) for label, quantity in zip(labels, quantities, strict=True)}
         cube = Cube(tuple(scene["cube_centre_m"]), float(scene["cube_edge_m"])) if "cube_edge_m" in scene else None
         return SceneInputs(robot, scene["robot_q"], poses, layers, cube, float(scene["magnification"]))
 
