@@ -50,7 +50,7 @@ demo: $(VENV)/.base
 	@echo "tribokin is in $(VENV), not on your PATH: run $(VENV)/bin/tribokin, or first source $(VENV)/bin/activate"
 
 test: $(VENV)/.test
-	$(PY) -m pytest -q -n auto
+	$(PY) -m pytest -q -n auto --dist loadgroup
 
 # The docs site (mkdocs.yml): the study-file reference regenerated first, then built in strict mode (a broken
 # link, a docstring mkdocstrings cannot read or a page missing from the nav fails the build).

@@ -27,6 +27,11 @@ from tribokin.run import run_study
 from tribokin.viz.live import start_server
 from tribokin.viz.scene_file import load_scene_inputs
 
+#: Every test here starts meshcat servers, which take the first free port from 7000 and are checked to stop
+#: answering there: one xdist worker runs them all (make test passes --dist loadgroup), so that another test's
+#: server never takes the port a stopped one freed.
+pytestmark = pytest.mark.xdist_group("meshcat-viewer")
+
 SMALL_MAP_TOML = GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 20").replace("resolution = [25, 40]",
                                                                                  "resolution = [3, 3]")
 STUDY_TEXTS = {"pose": AXIS_STUDY_TOML, "map": SMALL_MAP_TOML,
