@@ -10,7 +10,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 
-from conftest import ROOT
+from conftest import GANTRY_MAP_TOML, ROOT
 from tribokin import run_study
 from tribokin.cli import main
 from tribokin.execution import executor_for
@@ -29,6 +29,15 @@ STUDY = {
                   {"name": "moved", "robot": {"base_xyz_m": [0.15, 0.0, 0.0]}}],
 }
 
+
+#: The gantry's plane map (conftest's) made small: 7 x 4 targets of 6 cycles, in one-row chunks.
+PARQUET_STUDY_TOML = GANTRY_MAP_TOML
+for _old, _new in (('name = "gantry-resume"', 'name = "gantry-parquet"'), ("cycles = 400", "cycles = 6"),
+                   ("seed = 8", "seed = 4"), ("origin_m = [0.2, 0.0, 0.4]", "origin_m = [0.2, 0.0, 0.3]"),
+                   ("extent_u_m = [0.0, 0.6]", "extent_u_m = [0.0, 0.9]"),
+                   ("resolution = [25, 40]", "resolution = [7, 4]")):
+    assert _old in PARQUET_STUDY_TOML, _old  # an edit that does not apply would test another study
+    PARQUET_STUDY_TOML = PARQUET_STUDY_TOML.replace(_old, _new)
 
 def study(**map_keys) -> dict:
     mapping = copy.deepcopy(STUDY)
@@ -102,30 +111,7 @@ def test_parquet_bytes_are_the_same_written_twice_and_however_the_map_was_comput
 
 def test_the_command_writes_parquet_tables_instead_of_csv(tmp_path):
     path = tmp_path / "study.toml"
-    path.write_text(f"""[study]
-name = "gantry-parquet"
-cycles = 6
-seed = 4
-
-[robot]
-urdf = "{ROOT / 'urdf' / 'cartesian_xyz.urdf'}"
-tool_frame = "tool"
-payload_kg = 5.0
-
-[joints]
-friction = {{ preset = "42CD4-raw" }}
-stiffness = 2.0e7
-bearing_span_m = 0.2
-
-[map]
-kind = "plane"
-origin_m = [0.2, 0.0, 0.3]
-axis_u = [1, 0, 0]
-axis_v = [0, 1, 0]
-extent_u_m = [0.0, 0.9]
-extent_v_m = [0.0, 0.6]
-resolution = [7, 4]
-""")
+    path.write_text(PARQUET_STUDY_TOML)
     assert main(["run", str(path), "--out", str(tmp_path / "csv"), "--report", "none"]) == 0
     assert main(["run", str(path), "--out", str(tmp_path / "parquet"), "--report", "none", "--table-format",
                  "parquet", "--workers", "2"]) == 0

@@ -35,18 +35,18 @@ def test_a_law_file_that_is_not_toml_is_located_not_quoted(tmp_path):
 
 
 def test_files_out_of_the_roots_are_refused_and_roots_admit_them(tmp_path):
-    study, shared = tmp_path / "study", tmp_path / "shared"
+    study, logs = tmp_path / "study", tmp_path / "logs"
     study.mkdir()
-    shared.mkdir()
+    logs.mkdir()
     mu = np.full(40, 0.12) + np.linspace(0, 1e-3, 40)
-    (shared / "log.csv").write_text("mu\n" + "\n".join(map(str, mu)) + "\n")
-    (study / "law.toml").write_text('log = "../shared/log.csv"\nrunning_in = 0\n')
+    (logs / "log.csv").write_text("mu\n" + "\n".join(map(str, mu)) + "\n")
+    (study / "law.toml").write_text('log = "../logs/log.csv"\nrunning_in = 0\n')
     with pytest.raises(InputError, match="joints.friction.log: .*outside the folders"):
-        law_from_spec({"log": "../shared/log.csv"}, "s.toml", "joints.friction", study)
+        law_from_spec({"log": "../logs/log.csv"}, "s.toml", "joints.friction", study)
     with pytest.raises(InputError, match="law.toml: log: .*outside the folders"):  # a law file's own: the same roots
         law_from_spec({"file": "law.toml"}, "s.toml", "joints.friction", study)
-    for spec in ({"log": "../shared/log.csv", "running_in": 0}, {"file": "law.toml"}):
-        law = law_from_spec(spec, "s.toml", "joints.friction", study, (study, shared))
+    for spec in ({"log": "../logs/log.csv", "running_in": 0}, {"file": "law.toml"}):
+        law = law_from_spec(spec, "s.toml", "joints.friction", study, (study, logs))
         assert isinstance(law, Empirical) and law.mean() == pytest.approx(mu.mean())
 
 
