@@ -24,6 +24,7 @@ import contextlib
 import glob
 import io
 import math
+import os
 import threading
 import time
 from collections.abc import Callable
@@ -32,8 +33,8 @@ from pathlib import Path
 from types import SimpleNamespace
 from typing import NoReturn
 
-from tribokin.confinement import SYSTEM_ROOTS
-from tribokin.errors import RobotDescriptionError, closest_hint
+from tribokin.confinement import regular_file
+from tribokin.errors import InputError, RobotDescriptionError, closest_hint
 from tribokin.kinematics.xacro_guard import Budget, Guard, XacroLimits, replace_node
 
 #: The ending of a file expanded by xacro.
@@ -308,19 +309,18 @@ MAX_URDF_BYTES = XacroLimits().characters // 5
 
 
 def description_file(path, kind: str = "URDF") -> Path:
-    """``path`` resolved (symlinks followed): a regular file outside the kernel's pseudo-file systems.
+    """``path`` resolved (symlinks followed): a regular file outside the kernel's pseudo-file systems
+    (:func:`~tribokin.confinement.regular_file`).
 
     Raises:
         RobotDescriptionError: (``"path"``) missing, under ``/proc``, ``/sys`` or ``/dev``, or not a regular file.
     """
-    real = Path(path).resolve()
-    if any(real.is_relative_to(root) for root in SYSTEM_ROOTS):
-        raise RobotDescriptionError(f"'{path}' resolves to '{real}', a system file, not a robot description", "path")
-    if not real.exists():
+    if not os.path.lexists(path):
         raise RobotDescriptionError(f"{kind} file '{path}' not found", "path")
-    if not real.is_file():
-        raise RobotDescriptionError(f"'{path}' is not a regular file; name a URDF or xacro file", "path")
-    return real
+    try:
+        return regular_file(path, None, None, f"{kind} file not found")
+    except InputError as error:
+        raise RobotDescriptionError(error.message, "path") from None
 
 
 def urdf_text(path: Path, package_dirs: list[Path], xacro_args: dict[str, str] | None = None) -> bytes | str:
