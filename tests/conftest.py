@@ -132,3 +132,13 @@ def kernel_path(request, monkeypatch):
     """Each kernel path in turn (``TRIBOKIN_KERNELS``, :mod:`tribokin.compiled`): a test of both."""
     monkeypatch.setenv("TRIBOKIN_KERNELS", request.param)
     return request.param
+
+
+def pytest_itemcollected(item):
+    """A test that uses its module's own module-scoped fixtures runs on the xdist worker of the module's other such
+    tests (make test passes --dist loadgroup), so that each fixture is built once, not once per worker."""
+    module = item.nodeid.split("::")[0]
+    definitions = getattr(item, "_fixtureinfo", None)
+    if definitions and any(d[-1].scope == "module" and d[-1].baseid == module
+                           for d in definitions.name2fixturedefs.values()):
+        item.add_marker(pytest.mark.xdist_group(module))

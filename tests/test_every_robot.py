@@ -18,13 +18,24 @@ REFUSALS = (r"has a floating base \(joint '\w+'\) and its longest chains of join
             r"joint '\w+' moves the tool, but its limits \[0, 0\] leave it no travel")
 
 
+@pytest.fixture(scope="module")
+def loaded() -> dict:
+    """Each robot's Robot, or the RobotDescriptionError that refuses it (each loaded once for both tests)."""
+    outcomes = {}
+    for name in example_robot_names():
+        try:
+            outcomes[name] = load_example_robot(name)
+        except RobotDescriptionError as error:
+            outcomes[name] = error
+    return outcomes
+
+
 @pytest.mark.parametrize("name", example_robot_names())
-def test_every_robot_runs_a_pose_study_or_is_refused_with_the_reason(name):
+def test_every_robot_runs_a_pose_study_or_is_refused_with_the_reason(name, loaded):
     study = {"study": {"cycles": 2}, "robot": {"name": name},
              "joints": {"friction": {"preset": "42CD4-raw"}, "stiffness": 1.0e5}}
-    try:
-        robot = load_example_robot(name)
-    except RobotDescriptionError as error:
+    robot = error = loaded[name]
+    if isinstance(error, RobotDescriptionError):
         assert any(re.search(reason, str(error)) for reason in REFUSALS), str(error)
         with pytest.raises(InputError, match=r"^<mapping>: robot(\.tool_frame|\.name)?: ") as refused:
             run_study({**study, "poses": [{"q": [0.0]}]})
@@ -36,13 +47,8 @@ def test_every_robot_runs_a_pose_study_or_is_refused_with_the_reason(name):
     assert all(np.isfinite(row["RP_l_um"]) for row in result.poses[0].direction_rows())
 
 
-def test_which_robots_are_refused():
-    refused = set()
-    for name in example_robot_names():
-        try:
-            load_example_robot(name)
-        except RobotDescriptionError:
-            refused.add(name)
+def test_which_robots_are_refused(loaded):
+    refused = {name for name, outcome in loaded.items() if isinstance(outcome, RobotDescriptionError)}
     assert {"anymal", "solo12", "talos", "hector", "double_pendulum"} <= refused
     assert not refused & {"ur5", "panda", "kinova", "tiago", "tiago_dual", "anymal_kinova", "b1_z1", "baxter",
                           "double_pendulum_continuous", "so100", "z1"}

@@ -27,11 +27,6 @@ from tribokin.run import run_study
 from tribokin.viz.live import start_server
 from tribokin.viz.scene_file import load_scene_inputs
 
-#: Every test here starts meshcat servers, which take the first free port from 7000 and are checked to stop
-#: answering there: one xdist worker runs them all (make test passes --dist loadgroup), so that another test's
-#: server never takes the port a stopped one freed.
-pytestmark = pytest.mark.xdist_group("meshcat-viewer")
-
 SMALL_MAP_TOML = GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 20").replace("resolution = [25, 40]",
                                                                                  "resolution = [3, 3]")
 STUDY_TEXTS = {"pose": AXIS_STUDY_TOML, "map": SMALL_MAP_TOML,
@@ -129,10 +124,10 @@ def listening_addresses(pids: set[int]) -> set[tuple[str, int]]:
     return addresses
 
 
-def assert_stopped(server_pid: int, url: str) -> None:
+def assert_stopped(server_pid: int) -> None:
+    """The server has exited, and its listening sockets closed with it. (Its port is not probed: once freed, any other
+    program on the machine may take it, as another job's server did on CI.)"""
     assert wait_until_gone(server_pid)
-    with pytest.raises(OSError):
-        urllib.request.urlopen(url, timeout=2)
 
 
 def test_view_serves_the_scene_and_stops_on_ctrl_c(tmp_path):
@@ -144,7 +139,7 @@ def test_view_serves_the_scene_and_stops_on_ctrl_c(tmp_path):
         viewer.send_signal(signal.SIGINT)
         assert viewer.wait(timeout=20) == 0, viewer.stderr.read()
     assert not Path(f"/proc/{server_pid}").exists()  # the server was stopped and reaped
-    assert_stopped(server_pid, url)
+    assert_stopped(server_pid)
 
 
 def test_view_draws_the_skeleton_of_a_robot_whose_meshes_are_missing(tmp_path):
@@ -162,7 +157,7 @@ def test_view_draws_the_skeleton_of_a_robot_whose_meshes_are_missing(tmp_path):
         assert viewer.wait(timeout=20) == 0, viewer.stderr.read()
     assert ("note: robot drawn as a skeleton (links as segments, joints as cylinders on their axes): its meshes were "
             "not found in its package folders (pkg/meshes/slide.stl)\n") in printed
-    assert_stopped(server_pid, url)
+    assert_stopped(server_pid)
 
 
 @pytest.mark.parametrize("kind", ["pose", "map", "mixed"])
@@ -175,7 +170,7 @@ def test_view_shows_pose_map_and_mixed_folders(folders, kind):
             assert response.status == 200
         viewer.send_signal(signal.SIGINT)
         assert viewer.wait(timeout=20) == 0, viewer.stderr.read()
-    assert_stopped(server_pid, url)
+    assert_stopped(server_pid)
 
 
 def test_view_listens_on_127_0_0_1_only(folders):
@@ -195,14 +190,14 @@ def test_view_stops_its_server_on(folders, signum):
         viewer.send_signal(signum)
         out, err = viewer.communicate(timeout=20)
         assert viewer.returncode == 0 and out.strip().endswith("viewer stopped"), err
-    assert_stopped(server_pid, url)
+    assert_stopped(server_pid)
 
 
 def test_view_server_dies_with_a_killed_viewer(folders):
     with running_view(folders["pose"]) as (viewer, url, server_pid):
         viewer.kill()
         viewer.wait()
-        assert_stopped(server_pid, url)
+        assert_stopped(server_pid)
 
 
 def test_view_of_a_folder_without_scene_is_one_line_exit_2(tmp_path):

@@ -45,7 +45,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import partial
+from functools import cache, partial
 
 import numpy as np
 from scipy.differentiate import jacobian
@@ -525,6 +525,7 @@ def profile_interval(calibration: Calibration, poses: list[PoseData] | tuple[Pos
     others = np.arange(len(optimum)) != i
     threshold = chi2.ppf(0.95, 1) / 2
 
+    @cache
     def excess(value: float) -> float:
         if not others.any():
             return float(objective(np.array([value]))[0]) + calibration.log_likelihood - threshold
