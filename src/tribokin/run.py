@@ -92,6 +92,20 @@ class StudyResult:
 
         return write_claimed(self, folder, force, report=report, table_format=table_format, executor=executor)
 
+    def figures(self) -> dict:
+        """The figures ``tribokin run`` writes as PNGs (placement, each pose's field, the map's heat maps) as
+        matplotlib ``Figure`` objects, by file name in the report's order; each saved at 110 dpi is the file."""
+        from tribokin.viz.contents import study_figures  # figures sit above results: a method's import (layout)
+
+        return study_figures(self)
+
+    def _repr_html_(self) -> str | None:
+        """A notebook's view: ``report.html``'s 3-D scene (robot, poses' clouds, map layers, ISO cube) inline (no
+        server, offline); ``None`` (text) when the robot is not known."""
+        from tribokin.viz.notebook import study_scene  # figures sit above results: a method's import (layout)
+
+        return study_scene(self)
+
     def summary(self) -> dict:
         """The content of ``summary.json``."""
         summary = {"study": self.settings, "reproduce": self.reproduce, "poses": [p.report_row() for p in self.poses]}

@@ -17,6 +17,7 @@ from tribokin.output.writers import write_results
 from tribokin.placement.search import open_store
 from tribokin.study.assembly import load_robot
 from tribokin.study.reading import load_study, read_study_file
+from tribokin.viz.canvas import save_png
 
 MU_MEAN, MU_STD, STIFFNESS = 0.1375, 0.0075, 2.0e7  # the 42CD4-treated preset [-], its σ, k [N/m]
 PAYLOAD_KG, SPAN_M, CYCLES = 5.0, 0.2, 30
@@ -203,6 +204,9 @@ def test_the_run_writes_the_table_the_summary_and_the_best_study(result, study_f
     out = tmp_path / "out"
     write_results(result, out, report="none")
     assert sorted(p.name for p in out.iterdir()) == ["best.toml", "placement.csv", "placement.png", "summary.json"]
+    (name, figure), = result.figures().items()  # the heat map as a matplotlib Figure: the same PNG saved
+    save_png(figure, tmp_path / name)
+    assert (tmp_path / name).read_bytes() == (out / "placement.png").read_bytes()
     lines = (out / "placement.csv").read_text().splitlines()
     assert lines[0] == ("candidate,base_x_m,base_y_m,base_z_m,yaw_deg,reachable_fraction,reachable_targets,"
                         "RP_l_p95_um,RP_l_mean_um,RP_l_max_um,meets_min_reachable,rank")

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tribokin.kinematics.robot import Robot
 from tribokin.maps.expected import ANALYTIC, SAMPLED
 from tribokin.maps.frames import map_dataset, map_frame
 from tribokin.maps.grid import TargetGrid
@@ -103,12 +104,14 @@ class MapResult:
             (:class:`ScenarioMap`).
         scenarios: one :class:`ScenarioMap` per scenario, by name, in the study's order; the first is the
             reference of comparisons (measured with the study's robot).
+        robot: the study's robot, which the 3-D scene draws (:meth:`_repr_html_`; ``None``: no scene).
     """
 
     grids: tuple[TargetGrid, ...]
     joint_names: list[str]
     store: ChunkStore = field(repr=False)
     scenarios: dict[str, ScenarioMap]
+    robot: Robot | None = field(default=None, repr=False)
     _summary: dict | Future | None = field(default=None, init=False, repr=False)
 
     def __getstate__(self) -> dict:
@@ -301,6 +304,20 @@ class MapResult:
         IK's ``q`` per robot (:func:`~tribokin.maps.frames.map_dataset`; xarray: ``pip install 'tribokin[data]'``).
         The whole map, in memory."""
         return map_dataset(self)
+
+    def figures(self, title: str = "map") -> dict:
+        """The heat maps ``tribokin run`` writes of the map (reference, scenarios, ratios, differences, winner) as
+        matplotlib ``Figure`` objects, by file name in that order, titled ``title: ...``."""
+        from tribokin.viz.notebook import map_figures  # figures sit above results: a method's import (layout)
+
+        return map_figures(self, title)
+
+    def _repr_html_(self) -> str | None:
+        """A notebook's view: the report's 3-D scene of the map (each scenario's RP_l a layer) inline (no server,
+        offline); ``None`` (text) when the robot is not known."""
+        from tribokin.viz.notebook import map_scene  # figures sit above results: a method's import (layout)
+
+        return map_scene(self)
 
     def first_reachable_q(self) -> np.ndarray | None:
         """The configuration of the first reachable target [m or rad], ``None`` if none is."""

@@ -395,7 +395,7 @@ def measure_map(prepared: PreparedMap, executor: Executor | None = None, checkpo
     maps = {name: ScenarioMap(name, settings.cycles, i, robots[r].joint_names, store, prepared.spec.figure_set, r)
             for i, (name, settings, r)
             in enumerate(zip(prepared.names, job.settings, prepared.layout.places, strict=True))}
-    return MapResult(prepared.grids, robots[0].joint_names, store, maps)
+    return MapResult(prepared.grids, robots[0].joint_names, store, maps, prepared.robots[0])
 
 
 def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = None, checkpoint=None,

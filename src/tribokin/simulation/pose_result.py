@@ -8,6 +8,7 @@ import numpy as np
 
 from tribokin.errors import import_extra
 from tribokin.iso9283.metrics import DirectionalMetrics
+from tribokin.kinematics.robot import Robot
 from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 
@@ -28,6 +29,7 @@ class PoseResult:
         metrics: the ISO 9283 figures, per direction and across directions.
         extra: further figures of the pose. direction_extra: further figures per direction label.
         joint_names: the active joints, in the order of ``q`` (names the columns of :meth:`to_pandas`).
+        robot: the robot tested, which the 3-D scene draws (:meth:`_repr_html_`; ``None``: no scene).
     """
 
     name: str
@@ -46,6 +48,7 @@ class PoseResult:
     extra: dict = field(default_factory=dict)
     direction_extra: dict[str, dict] = field(default_factory=dict)
     joint_names: tuple[str, ...] = ()
+    robot: Robot | None = field(default=None, repr=False, compare=False)
 
     def samples(self) -> dict[str, np.ndarray]:
         """The arrays of one value (row) per cycle, by name: what ``samples.npz`` keeps of the pose."""
@@ -103,6 +106,20 @@ class PoseResult:
         empty; a pose's own friction law is its ``describe()`` dict, whose text the file holds (pandas:
         ``pip install 'tribokin[data]'``)."""
         return pose_frame(self.direction_rows(), list(self.joint_names))
+
+    def figures(self) -> dict:
+        """The pose's repeatability field (the PNG ``tribokin run`` writes of it, titled with its name) as a
+        matplotlib ``Figure``, by its file name in an output folder (``pose_<name>.png``)."""
+        from tribokin.viz.notebook import pose_figures  # figures sit above results: a method's import (layout)
+
+        return pose_figures(self)
+
+    def _repr_html_(self) -> str | None:
+        """A notebook's view: the robot at the pose with its cycle cloud, the report's 3-D scene inline (no server,
+        offline); ``None`` (text) when the robot is not known."""
+        from tribokin.viz.notebook import pose_scene  # figures sit above results: a method's import (layout)
+
+        return pose_scene(self)
 
 
 #: poses.csv columns of the vector figures that are not per joint or per base axis: key -> element names.

@@ -240,7 +240,7 @@ class PoseRunner:
         reference = self.robot.tool_placement(task.q + self.offsets)
         return PoseResult(task.name, task.q, commanded.translation.copy(), commanded.rotation.copy(),
                           reference.translation.copy(), positions, angles, task.labels, group, mu, dq, forces,
-                          metrics, joint_names=tuple(self.robot.joint_names))
+                          metrics, joint_names=tuple(self.robot.joint_names), robot=self.robot)
 
     def run(self, task: PoseTask, index: int) -> PoseResult:
         """Measure pose ``index`` (ISO 9283 per approach direction and across them, and beyond)."""

@@ -5,12 +5,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from matplotlib.figure import Figure
+
 from tribokin.maps.result import MapResult
 from tribokin.run import StudyResult
 from tribokin.study.names import pose_figure_file
-from tribokin.viz.figures import save_repeatability_field
-from tribokin.viz.maps import map_figure_names, save_map_figures
-from tribokin.viz.placement import PLACEMENT_FIGURE, save_placement_figure
+from tribokin.viz.figures import repeatability_field, save_repeatability_field
+from tribokin.viz.maps import map_figure_names, map_figures_drawn, save_map_figures
+from tribokin.viz.placement import PLACEMENT_FIGURE, placement_figure, save_placement_figure
 from tribokin.viz.report import write_report
 from tribokin.viz.scene import Cube, MapLayer
 from tribokin.viz.scene_file import save_scene_inputs
@@ -53,6 +55,20 @@ def figure_names(result: StudyResult) -> list[str]:
     return names + (map_figure_names(result.map) if result.map is not None else [])
 
 
+def pose_title(result: StudyResult, pose) -> str:
+    """The title of a pose's figure in ``result``'s folder."""
+    return f"{result.name} — {pose.name}"
+
+
+def study_figures(result: StudyResult) -> dict[str, Figure]:
+    """The figures :func:`write_views` writes, by file name in :func:`figure_names`' order, as matplotlib Figures
+    (each saved as a PNG, the folder's bytes: :func:`tribokin.viz.canvas.save_png`)."""
+    figures = {} if result.placement is None else {PLACEMENT_FIGURE: placement_figure(result.placement, result.name)}
+    figures.update({pose_figure_file(pose.name): repeatability_field(pose, pose_title(result, pose))
+                    for pose in result.poses})
+    return figures | (map_figures_drawn(result.map, result.name) if result.map is not None else {})
+
+
 def write_views(result: StudyResult, folder: Path, report: str = "full", map_layers: dict[str, MapLayer] | None = None,
                 cube: Cube | None = None) -> None:
     """Draw into ``folder`` the placement's heat map, one figure per pose and the map's figures; with ``report``
@@ -60,7 +76,7 @@ def write_views(result: StudyResult, folder: Path, report: str = "full", map_lay
     (robot visual or collision meshes) also ``report.html`` and ``scene.npz`` (for ``tribokin view``), drawing
     ``map_layers`` (default: the map's scenarios, :func:`map_scene_layers`) and ``cube`` (default: the study's)."""
     for pose in result.poses:
-        save_repeatability_field(pose, folder / pose_figure_file(pose.name), title=f"{result.name} — {pose.name}")
+        save_repeatability_field(pose, folder / pose_figure_file(pose.name), pose_title(result, pose))
     if result.map is not None:
         save_map_figures(result.map, folder, result.name)
     if result.placement is not None:

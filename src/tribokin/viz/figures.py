@@ -7,11 +7,12 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
 from tribokin.simulation.pose_result import PoseResult
 from tribokin.units import UM_PER_M
-from tribokin.viz.canvas import agg_figure
+from tribokin.viz.canvas import NO_MATH, agg_figure, save_png
 
 #: Colours of the approach directions' barycenters and RP_l circles, in the order of the directions.
 DIRECTION_COLOURS = ("#e63946", "#457b9d", "#8338ec", "#fb8500", "#6a994e", "#b5179e")
@@ -35,8 +36,14 @@ def frame_field(axes: Axes, i: int, j: int, reach_um: float) -> None:
     axes.grid(alpha=0.3)
 
 
-@matplotlib.rc_context({"text.parse_math": False})  # names (study, pose) as written: '$' is no math
+@matplotlib.rc_context(NO_MATH)
 def save_repeatability_field(pose: PoseResult, path: Path, title: str = "") -> None:
+    """:func:`repeatability_field` written to ``path`` (PNG)."""
+    save_png(repeatability_field(pose, title), path)
+
+
+@matplotlib.rc_context(NO_MATH)
+def repeatability_field(pose: PoseResult, title: str = "") -> Figure:
     """The paper's "repeatability field" (Fig. 10-13) of one pose, in µm.
 
     Left: the cycle cloud around the commanded position, the reference circle
@@ -93,4 +100,4 @@ def save_repeatability_field(pose: PoseResult, path: Path, title: str = "") -> N
     series.grid(alpha=0.3)
     fig.suptitle(title)
     fig.tight_layout(rect=(0, 0 if one else 0.15, 1, 1))
-    fig.savefig(path, dpi=110)
+    return fig

@@ -11,12 +11,13 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize, TwoSlopeNorm
+from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
 from tribokin.maps.grid import GridAxis, TargetGrid
 from tribokin.maps.result import REACHED_BY, MapResult, ScenarioMap
 from tribokin.study.names import map_figure_file
-from tribokin.viz.canvas import agg_figure
+from tribokin.viz.canvas import NO_MATH, agg_figure, save_png
 
 UNREACHABLE_GREY = "#c8c8c8"
 
@@ -134,11 +135,16 @@ class Marks:
     labels: tuple[str, ...]
 
 
-@matplotlib.rc_context({"text.parse_math": False})  # names (study, joints, scenarios) as written: '$' is no math
-def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str, cmap="viridis",
-                    norm: Normalize | None = None, centre: float | None = None,
-                    categories: list[str] | None = None, marks: Marks | None = None,
-                    grey: str = "unreachable") -> None:
+@matplotlib.rc_context(NO_MATH)
+def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str, **options) -> None:
+    """:func:`grid_image` written to ``path`` (PNG)."""
+    save_png(grid_image(grid, values, label, title, **options), path)
+
+
+@matplotlib.rc_context(NO_MATH)
+def grid_image(grid: TargetGrid, values, label: str, title: str, cmap="viridis", norm: Normalize | None = None,
+               centre: float | None = None, categories: list[str] | None = None, marks: Marks | None = None,
+               grey: str = "unreachable") -> Figure:
     """``values`` as images over the grid's columns and rows, one panel per layer, for the targets
     :func:`shown_targets` picks.
 
@@ -209,7 +215,7 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
         note += (f"; shown: {shown.size:,} of {grid.size:,} targets, 1 in {strides[2]} along rows and columns"
                  + (f", 1 in {strides[0]} layers" if strides[0] > 1 else "") + "; map.csv has them all")
     fig.suptitle(textwrap.fill(f"{title}{note}", int(TITLE_CHARACTERS_PER_IN * width_in)), fontsize=10)
-    fig.savefig(path, dpi=110)
+    return fig
 
 
 def _categorical(count: int) -> ListedColormap:
@@ -235,7 +241,7 @@ EXPECTED_HEAT_MAPS = (
 
 
 def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | None) -> dict[str, tuple]:
-    """File name -> arguments of :func:`save_grid_image` (values, label, title, options) of each map figure,
+    """File name -> arguments of :func:`grid_image` (values, label, title, options) of each map figure,
     in the order a reader follows: the reference, each other scenario, their ratios and differences to
     the reference, the winner."""
     reference = workspace_map.reference
@@ -283,7 +289,7 @@ def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | No
 
 
 def _reach_marks(workspace_map: MapResult, scenario: ScenarioMap) -> dict:
-    """The options of :func:`save_grid_image` that set apart, on a comparison of ``scenario`` with the reference
+    """The options of :func:`grid_image` that set apart, on a comparison of ``scenario`` with the reference
     measured with another robot, the targets only one of the two robots reaches (none when they share the robot)."""
     reference = workspace_map.reference
     if scenario.robot == reference.robot:
@@ -308,3 +314,10 @@ def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) ->
     for name, (values, label, title, options) in figures.items():
         save_grid_image(workspace_map.grid, values, folder / name, label, f"{study_name}: {title}", **options)
     return [folder / name for name in figures]
+
+
+def map_figures_drawn(workspace_map: MapResult, study_name: str) -> dict[str, Figure]:
+    """The figures :func:`save_map_figures` writes, by file name in the same order, as matplotlib Figures."""
+    figures = _map_figures(workspace_map, study_name, rp_l_norm(workspace_map))
+    return {name: grid_image(workspace_map.grid, values, label, f"{study_name}: {title}", **options)
+            for name, (values, label, title, options) in figures.items()}

@@ -10,12 +10,13 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 from matplotlib.collections import PatchCollection
+from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Polygon, Rectangle
 
 from tribokin.placement.result import PlacementResult
 from tribokin.study.map_spec import BoxMap, MapSpec
-from tribokin.viz.canvas import agg_figure
+from tribokin.viz.canvas import NO_MATH, agg_figure, save_png
 from tribokin.viz.maps import PANELS, TITLE_CHARACTERS_PER_IN, UNREACHABLE_GREY, value_norm
 
 PLACEMENT_FIGURE = "placement.png"
@@ -57,8 +58,14 @@ def panels(placement: PlacementResult) -> tuple[list[tuple[str, np.ndarray]], st
                                                       "best-ranked candidate over them")
 
 
-@matplotlib.rc_context({"text.parse_math": False})
+@matplotlib.rc_context(NO_MATH)
 def save_placement_figure(placement: PlacementResult, path: Path, title: str) -> None:
+    """:func:`placement_figure` written to ``path`` (``placement.png``)."""
+    save_png(placement_figure(placement, title), path)
+
+
+@matplotlib.rc_context(NO_MATH)
+def placement_figure(placement: PlacementResult, title: str) -> Figure:
     """Draw ``placement.png`` (module docstring): each candidate a cell at its base's (x, y) [m] coloured by the
     objective [µm] (grey: no target reached), one panel per height and yaw (:func:`panels`)."""
     drawn, note = panels(placement)
@@ -114,4 +121,4 @@ def save_placement_figure(placement: PlacementResult, path: Path, title: str) ->
     text = (f"{title}: expected RP_l {spec.objective} over the task's {placement.target_count} targets, per base "
             f"position ({len(placement.candidates)} candidates){note}")
     fig.suptitle(textwrap.fill(text, int(TITLE_CHARACTERS_PER_IN * width_in)), fontsize=10)
-    fig.savefig(path, dpi=110)
+    return fig

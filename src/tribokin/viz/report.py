@@ -317,7 +317,6 @@ def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: d
                 folder: Path, figures: list[str], variant: str, prismatic) -> str:
     """The report page around ``scene_page`` (a full meshcat static page), embedding the PNGs ``figures`` of
     ``folder``; ``prismatic``: per joint, True for a prismatic one (the units of its model)."""
-    srcdoc = scene_page.replace("&", "&amp;").replace('"', "&quot;")
     statistics = (f"<h3>Map statistics</h3>{thinning_note(layers)}{map_statistics(result.map)}"
                   if result.map is not None else "")
     bars = "".join(colour_bar(quantity, scale) for quantity, scale in info.colour_scales.items())
@@ -336,7 +335,7 @@ def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: d
 <h2>Scene</h2>
 <p>{clouds}Open Controls (top right) toggles the robot, each map and each pose.</p>
 {robot_geometry(info.robot, variant)}
-<iframe title="3-D scene" srcdoc="{srcdoc}"></iframe>
+{scene_frame(scene_page)}
 {notes}
 {maps}
 {poses}
@@ -363,11 +362,26 @@ def write_report(result: StudyResult, robot: Robot, folder, figures: list[str] =
     """
     folder = Path(folder)
     layers = dict(map_layers or {})
-    vis = static_visualizer()
-    info = build_scene(vis, robot, result.display_configuration(), result.poses, layers, cube, variant=variant)
-    page = report_html(result, vis.static_html(), info, layers, folder, list(figures), variant,
-                       robot.joint_is_prismatic)
+    scene, info = static_scene(robot, result.display_configuration(), result.poses, layers, cube, variant)
+    page = report_html(result, scene, info, layers, folder, list(figures), variant, robot.joint_is_prismatic)
     return write_page(folder, page), info
+
+
+def static_scene(robot: Robot, q, poses, map_layers: dict[str, MapLayer] | None = None, cube: Cube | None = None,
+                 variant: str = "full") -> tuple[str, SceneInfo]:
+    """The scene :func:`~tribokin.viz.scene.build_scene` draws (same arguments) as one self-contained meshcat page,
+    built without any server, and what it drew."""
+    vis = static_visualizer()
+    info = build_scene(vis, robot, q, poses, map_layers, cube, variant=variant)
+    return vis.static_html(), info
+
+
+def scene_frame(scene_page: str, style: str | None = None) -> str:
+    """``scene_page`` (a full page) inside an ``<iframe srcdoc>``, its text escaped for the attribute: the frame
+    holds the whole page and asks nothing of a server; ``style``: the frame's CSS (``None``: the page's)."""
+    srcdoc = scene_page.replace("&", "&amp;").replace('"', "&quot;")
+    styled = "" if style is None else f' style="{html.escape(style)}"'
+    return f'<iframe title="3-D scene"{styled} srcdoc="{srcdoc}"></iframe>'
 
 
 def write_page(folder, page: str) -> Path:
