@@ -10,8 +10,8 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar
 
-#: ``map.statistic``: the expected figures over tests of ``cycles`` cycles (:mod:`tribokin.maps.expected`), or one
-#: simulated test per target (:mod:`tribokin.maps.measure`).
+#: ``map.statistic``: the expected figures over tests of ``cycles`` cycles (:mod:`tribokin.maps.expected_figures`), or
+#: one simulated test per target (:mod:`tribokin.maps.measure`).
 STATISTICS = ("expected", "one-test")
 #: The sets of figures a map target has (:attr:`MapSpec.figure_set`).
 FIGURE_SETS = ("one-test", "expected", "directional")
