@@ -254,7 +254,7 @@ class ShapeTable:
         """(mean, low, high, semi_axis) over √λ₁ at shapes (..., 2) (:func:`standardised_shape`), interpolated.
 
         ``scipy.interpolate`` is imported here, by the runs of fewer than :data:`ASYMPTOTIC_CYCLES` cycles that use a
-        table: the import takes about 0.1 s, before a map's workers start."""
+        table, before a map's workers start (``benchmarks/startup.py`` times the import)."""
         from scipy.interpolate import RegularGridInterpolator
 
         axis = np.linspace(0.0, 1.0, TABLE_NODES)
