@@ -4,7 +4,7 @@ Run from the repository root: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src python ben
 quicker run). Writes ``benchmarks/results/ik.json`` and prints it.
 
 The grid is the shipped ``studies/ur5-map-horizontal.toml``'s plane (tool pointing down: the orientation held) at
-``--side`` × ``--side`` targets; where its rows start is solved once (:func:`tribokin.maps.run.prepare_map`) and not
+``--side`` × ``--side`` targets; where its rows start is solved once (:func:`tribokin.maps.mapping.prepare_map`) and not
 timed. Then, in one run, every row is solved from its head (:func:`tribokin.maps.rows.solve_rows`):
 
 * ``row_by_row``: a row at a time, each target by :func:`~tribokin.kinematics.ik.solve_ik`, by ``solve_row`` as it
@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from tribokin.maps import rows as map_rows
-from tribokin.maps.run import chunk_rows, prepare_map
+from tribokin.maps.mapping import chunk_rows, prepare_map
 from tribokin.study.assembly import load_robot, map_robots
 from tribokin.study.reading import load_study, read_study_file
 

@@ -258,13 +258,13 @@ class StageClock:
 #: (module, attribute, stage): the functions each stage's time is measured around, where the code calls them.
 STAGE_HOOKS = (
     ("tribokin.run", "load_robot", "robot"),
-    ("tribokin.maps.run", "solve_row_starts", "IK: rows' heads"),
-    ("tribokin.maps.run", "solve_rows", "IK: rows"),
-    ("tribokin.maps.run", "fill_from_neighbours", "IK: holes from neighbours"),
-    ("tribokin.simulation.pose_run", "PoseRunner.normal_forces_at", "loads"),
-    ("tribokin.maps.run", "measure_into", "tool frames"),  # the rest of measuring a row: its tool frames
-    ("tribokin.maps.run", "expected_targets", "expected figures"),
-    ("tribokin.maps.run", "measure_targets", "one-test figures"),
+    ("tribokin.maps.mapping", "solve_row_starts", "IK: rows' heads"),
+    ("tribokin.maps.mapping", "solve_rows", "IK: rows"),
+    ("tribokin.maps.mapping", "fill_from_neighbours", "IK: holes from neighbours"),
+    ("tribokin.simulation.pose_test", "PoseRunner.normal_forces_at", "loads"),
+    ("tribokin.maps.mapping", "measure_into", "tool frames"),  # the rest of measuring a row: its tool frames
+    ("tribokin.maps.mapping", "expected_targets", "expected figures"),
+    ("tribokin.maps.mapping", "measure_targets", "one-test figures"),
     ("tribokin.maps.store", "ChunkStore.save", "store"),
     ("tribokin.maps.store", "ChunkStore.write", "store"),
     ("tribokin.output.writers", "write_map_tables", "map.csv"),

@@ -44,7 +44,7 @@ def test_a_run_compiles_its_kernels_when_numbas_cache_holds_none_of_them(tmp_pat
 import numpy as np
 from tribokin.cli import kernels_to_compile
 assert kernels_to_compile()
-from tribokin.maps.expected_kernels import covariances
+from tribokin.maps.expected_figures_kernels import covariances
 covariances(np.ones((1, 6, 2)), np.ones((1, 2)), 0)
 assert not kernels_to_compile()
 """
@@ -66,8 +66,8 @@ import numpy as np
 from tribokin.compiled import CacheWarning, cache_is_empty
 with warnings.catch_warnings(record=True) as caught:
     warnings.simplefilter("always")
-    import tribokin.maps.expected_kernels as kernels
-    from tribokin.maps.expected_kernels import covariances
+    import tribokin.maps.expected_figures_kernels as kernels
+    from tribokin.maps.expected_figures_kernels import covariances
     cache_is_empty([kernels])
     jacobian, variance = np.arange(24.0).reshape(1, 6, 4), np.array([[1.0, 2.0, 3.0, 4.0]])
     for _ in range(2):

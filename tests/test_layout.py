@@ -51,7 +51,7 @@ WRITE_METHODS = {("tribokin.run", "tribokin.output.writers"): ("write",),
 
 
 def module_name(path: Path) -> str:
-    """``tribokin.maps.run`` for ``src/tribokin/maps/run.py``; ``tribokin.maps`` for its ``__init__.py``."""
+    """``tribokin.maps.mapping`` for ``src/tribokin/maps/mapping.py``; ``tribokin.maps`` for its ``__init__.py``."""
     parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 

@@ -6,7 +6,7 @@ import pytest
 from helpers.map_studies import MU, G, gantry_loads_by_hand, gantry_map_study
 from tribokin import InputError, run_study
 from tribokin.output.writers import write_results
-from tribokin.simulation.pose_run import PoseRunner
+from tribokin.simulation.pose_test import PoseRunner
 from tribokin.study.names import pose_figure_file, scenario_files
 
 

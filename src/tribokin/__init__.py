@@ -32,12 +32,12 @@ from tribokin.provenance import __version__
 if TYPE_CHECKING:
     from tribokin.kinematics.robot import Robot
     from tribokin.maps.grid import GridError
+    from tribokin.maps.mapping import MapScenario, workspace_map
     from tribokin.maps.result import MapResult
-    from tribokin.maps.run import MapScenario, workspace_map
     from tribokin.run import StudyResult, run_study
     from tribokin.simulation.joint_errors import JointErrorModel, joint_models
     from tribokin.simulation.pose_result import PoseResult
-    from tribokin.simulation.pose_run import TestSettings, pose_test
+    from tribokin.simulation.pose_test import TestSettings, pose_test
     from tribokin.study.map_spec import BoxMap, JointMap, PlaneMap
     from tribokin.study.reading import load_study
     from tribokin.study.spec import IsoCubeSpec, JointSpec, PoseSpec, RobotSpec, ScenarioSpec, Study
@@ -51,9 +51,10 @@ _LAZY = {"MapResult": "tribokin.maps.result", "StudyResult": "tribokin.run", "ru
          "load_study": "tribokin.study.reading", "IsoCubeSpec": "tribokin.study.spec",
          "JointSpec": "tribokin.study.spec", "PoseSpec": "tribokin.study.spec", "RobotSpec": "tribokin.study.spec",
          "ScenarioSpec": "tribokin.study.spec", "Study": "tribokin.study.spec",
-         "Robot": "tribokin.kinematics.robot", "MapScenario": "tribokin.maps.run", "workspace_map": "tribokin.maps.run",
+         "Robot": "tribokin.kinematics.robot",
+         "MapScenario": "tribokin.maps.mapping", "workspace_map": "tribokin.maps.mapping",
          "JointErrorModel": "tribokin.simulation.joint_errors", "joint_models": "tribokin.simulation.joint_errors",
-         "TestSettings": "tribokin.simulation.pose_run", "pose_test": "tribokin.simulation.pose_run",
+         "TestSettings": "tribokin.simulation.pose_test", "pose_test": "tribokin.simulation.pose_test",
          "FrictionLaw": "tribokin.tribology.laws", "Constant": "tribokin.tribology.laws",
          "Uniform": "tribokin.tribology.laws", "Gaussian": "tribokin.tribology.laws",
          "Lognormal": "tribokin.tribology.laws", "Empirical": "tribokin.tribology.laws",

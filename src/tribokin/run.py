@@ -15,14 +15,14 @@ from tribokin.errors import InputError
 from tribokin.execution import local_workers
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.budget import check_disk, check_memory
+from tribokin.maps.mapping import prepare_map, run_map
 from tribokin.maps.result import MapResult
-from tribokin.maps.run import prepare_map, run_map
 from tribokin.maps.schema import MapLayout
 from tribokin.placement.result import PlacementResult
 from tribokin.placement.search import run_placement
 from tribokin.provenance import software_versions
 from tribokin.simulation.pose_result import PoseResult, pose_frame
-from tribokin.simulation.pose_run import run_poses
+from tribokin.simulation.pose_test import run_poses
 from tribokin.study.assembly import (
     MapRobots,
     check_names,
@@ -140,11 +140,11 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
             cluster: :func:`~tribokin.execution.executor_for`).
         checkpoint: folder where the map's finished chunks (the placement's candidates) are saved.
         resume: reuse the chunks (candidates) already in ``checkpoint``.
-        progress: called with the map's targets done and in all (:func:`~tribokin.maps.run.run_map`; a placement:
+        progress: called with the map's targets done and in all (:func:`~tribokin.maps.mapping.run_map`; a placement:
             the targets of the candidates done, :func:`~tribokin.placement.search.run_placement`).
         meshes: load the robot's meshes, to draw it in a report (every mesh of a URDF must then be found);
             ``False``: its kinematics only.
-        meanwhile: called once, here, while the map's chunks run (:func:`~tribokin.maps.run.run_map`).
+        meanwhile: called once, here, while the map's chunks run (:func:`~tribokin.maps.mapping.run_map`).
 
     Returns:
         the per-pose samples and ISO 9283 figures, and the map's per-target figures or the placement's per-candidate

@@ -39,8 +39,8 @@ def map_target_stream(seed: int, index: int) -> np.random.Generator:
 
 
 def expected_stream(seed: int, purpose: str) -> np.random.Generator:
-    """The common random numbers of an expected map (:mod:`tribokin.maps.expected`), the same at every target and
-    scenario: ``purpose`` names them (``"table"``, ``"tests"``, ``"signs"``, ``"vap"``, ``"multi"``, ...)."""
+    """The common random numbers of an expected map (:mod:`tribokin.maps.expected_figures`), the same at every target
+    and scenario: ``purpose`` names them (``"table"``, ``"tests"``, ``"signs"``, ``"vap"``, ``"multi"``, ...)."""
     return _seeded(seed, int.from_bytes(purpose.encode(), "little"), EXPECTED)
 
 

@@ -19,7 +19,7 @@ import pytest
 
 from conftest import AXIS_STUDY_TOML, AXIS_URDF, GANTRY_MAP_TOML, ROOT
 from tribokin.cli import main
-from tribokin.simulation.pose_run import PoseRunner
+from tribokin.simulation.pose_test import PoseRunner
 
 
 def _replace(text: str, old: str, new: str) -> str:

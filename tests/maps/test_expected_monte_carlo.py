@@ -12,13 +12,13 @@ import numpy as np
 import pytest
 
 from tribokin.iso9283.cube import APPROACH_DIRECTIONS, held_approach_signs
-from tribokin.iso9283.expected import BAND_PERCENTILES, ShapeTable, percentile_error
+from tribokin.iso9283.gaussian_tests import BAND_PERCENTILES, ShapeTable, percentile_error
 from tribokin.iso9283.metrics import position_spread
-from tribokin.maps.expected import ANALYTIC, SAMPLED, VAP_DIRECTIONS, ExpectedSetup, expected_targets
+from tribokin.maps.expected_figures import ANALYTIC, SAMPLED, VAP_DIRECTIONS, ExpectedSetup, expected_targets
 from tribokin.maps.schema import map_figures
 from tribokin.propagation.exact import tool_deviations_exact, tool_frames
 from tribokin.simulation.joint_errors import sample_joint_deviations
-from tribokin.simulation.pose_run import PoseRunner
+from tribokin.simulation.pose_test import PoseRunner
 from tribokin.streams import expected_stream
 from tribokin.study.assembly import joint_models, load_robot
 from tribokin.study.reading import load_study
@@ -96,7 +96,7 @@ def test_the_first_order_models_bound_holds_against_exact_kinematics_at_every_ta
     """At every reachable target of a UR5 map, deviations anywhere within the laws' supports (corners of the box
     and random points) reach positions and angles within the reported bound of J(q″) δ from exact FK."""
     from tribokin import run_study
-    from tribokin.maps.expected import JointMoments, linear_model
+    from tribokin.maps.expected_figures import JointMoments, linear_model
     from tribokin.simulation.joint_errors import friction_lever, friction_loads
 
     study = {"study": {"name": "bound", "cycles": 30, "seed": 2}, "robot": {"name": "ur5", "payload_kg": 3.0},
@@ -137,8 +137,8 @@ def targets_near(robot_name: str, count: int) -> np.ndarray:
 
 def expected_block(runner: PoseRunner, qs: np.ndarray, figure_set: str = "directional") -> dict:
     """:func:`expected_targets` of configurations ``qs`` on the current kernel path, with their loads and frames."""
-    from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES
-    from tribokin.maps.expected import shape_table
+    from tribokin.iso9283.gaussian_tests import ASYMPTOTIC_CYCLES
+    from tribokin.maps.expected_figures import shape_table
 
     study = runner.settings
     table = None if study.cycles >= ASYMPTOTIC_CYCLES else shape_table(study.cycles, study.seed)

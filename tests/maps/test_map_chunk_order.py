@@ -4,7 +4,7 @@
 from conftest import GANTRY_MAP_TOML
 from tribokin import run_study
 from tribokin.execution import executor_for
-from tribokin.maps.run import chunk_order
+from tribokin.maps.mapping import chunk_order
 from tribokin.maps.store import ChunkStore
 
 SMALL_MAP = GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 5")  # 1000 targets in 40 chunks of one row

@@ -12,7 +12,7 @@ from conftest import ROOT, STUDIES
 from helpers.map_studies import UR5_PLANE
 from tribokin import run_study
 from tribokin.execution import executor_for
-from tribokin.maps import run as map_run
+from tribokin.maps import mapping
 from tribokin.output.writers import map_table_name, write_map_table, write_summary
 from tribokin.study.reading import read_study_file
 
@@ -50,8 +50,8 @@ def vertical(*scenarios: dict) -> dict:
 
 def test_a_base_moved_by_zero_solves_its_own_ik_and_gives_the_same_bytes(tmp_path, monkeypatch):
     filled = []
-    real = map_run.fill_from_neighbours
-    monkeypatch.setattr(map_run, "fill_from_neighbours", lambda *args: filled.append(real(*args)) or filled[-1])
+    real = mapping.fill_from_neighbours
+    monkeypatch.setattr(mapping, "fill_from_neighbours", lambda *args: filled.append(real(*args)) or filled[-1])
     plain = run_study(vertical({"name": "same"}), cycles=10)
     zero_study = vertical({"name": "same", "robot": {"base_xyz_m": [0.0, 0.0, 0.0]}})
     zero = run_study(zero_study, cycles=10)

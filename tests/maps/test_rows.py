@@ -12,6 +12,7 @@ from tribokin.kinematics import ik
 from tribokin.kinematics.robot import wrap_angles
 from tribokin.maps import rows as map_rows
 from tribokin.maps.grid import grid_neighbours, make_grid
+from tribokin.maps.mapping import prepare_map
 from tribokin.maps.rows import (
     beyond_reach_m,
     extrapolate_rows,
@@ -22,7 +23,6 @@ from tribokin.maps.rows import (
     solve_rows,
     turned_into_limits,
 )
-from tribokin.maps.run import prepare_map
 from tribokin.maps.schema import MapLayout
 from tribokin.study.assembly import load_robot, map_robots
 from tribokin.study.reading import load_study, read_study_file

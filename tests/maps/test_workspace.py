@@ -11,7 +11,7 @@ from conftest import ROOT
 from helpers.map_studies import MU, K, gantry_loads_by_hand, gantry_map_study
 from tribokin import InputError, run_study
 from tribokin.execution import executor_for
-from tribokin.simulation.pose_run import PoseRunner, joint_space_task
+from tribokin.simulation.pose_test import PoseRunner, joint_space_task
 from tribokin.streams import map_target_stream
 from tribokin.study.assembly import joint_models, load_robot
 from tribokin.study.reading import load_study

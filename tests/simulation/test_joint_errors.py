@@ -1,4 +1,4 @@
-"""Joint error model: friction draws and lost motion against the closed form of DESIGN §2."""
+"""Joint error model: friction draws and lost motion against the closed form in docs/concepts.md, "The joint model"."""
 
 import math
 
@@ -89,7 +89,7 @@ def test_pose_loads_beyond_a_joints_range_are_refused_before_any_pose_is_sampled
     study["poses"] = [{"name": "light", "q": [0.2], "normal_force_N": 1.0},
                       {"name": "heavy", "q": [0.2], "normal_force_N": 1e7}]
     sampled = []
-    monkeypatch.setattr("tribokin.simulation.pose_run.sample_joint_deviations", lambda *args: sampled.append(args))
+    monkeypatch.setattr("tribokin.simulation.pose_test.sample_joint_deviations", lambda *args: sampled.append(args))
     with pytest.raises(InputError, match="lost motion up to 1 m exceeds the joint's range 0.4 m") as error:
         run_study(study)
     assert error.value.key == "joints.stiffness" and sampled == []

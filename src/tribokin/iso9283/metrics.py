@@ -135,7 +135,7 @@ def variance_contributions(position_jacobian: np.ndarray, dq: np.ndarray) -> np.
 
 def largest_distance(points_m: np.ndarray) -> float:
     """The largest distance between two of the (k, 3) points [m] (0 for fewer than two), over their distinct points:
-    scipy's ``pdist`` without importing ``scipy.spatial`` (0.15 s) into every command."""
+    scipy's ``pdist`` without importing ``scipy.spatial`` into every command (``benchmarks/startup.py`` times it)."""
     distinct = np.unique(points_m, axis=0)
     differences = distinct[:, None, :] - distinct[None, :, :]
     return float(np.sqrt(np.einsum("ijk,ijk->ij", differences, differences).max(initial=0.0)))

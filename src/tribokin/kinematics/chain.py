@@ -143,9 +143,9 @@ class SerialChain:
 
 
 def serial_chain(robot: Robot) -> SerialChain | None:
-    """The :class:`SerialChain` of ``robot``, or ``None`` when a joint is not an axis joint (:data:`AXIS_JOINTS`)
-    or the joints are not one chain, in the order of ``q``, that carries the tool frame on its last joint; built at
-    the first call and kept on ``robot`` (a map asks for it at every row: building it costs about 200 µs)."""
+    """The :class:`SerialChain` of ``robot``, or ``None`` when a joint is not an axis joint (:data:`AXIS_JOINTS`) or the
+    joints are not one chain, in the order of ``q``, that carries the tool frame on its last joint; built at the first
+    call and kept on ``robot`` (a map asks for it at every row; ``benchmarks/startup.py`` times building it)."""
     if "_serial_chain" not in robot.__dict__:
         robot.__dict__["_serial_chain"] = _build_serial_chain(robot)
     return robot.__dict__["_serial_chain"]

@@ -30,7 +30,7 @@ functions), a file is refused past a fifth of ``characters`` before it is parsed
 (whose time grows as its length times its ``$`` signs) reads it past :data:`LEXED_CHARACTERS`, a macro body or
 block is cloned only from elements already counted, and xacro's ``replace_node``, whose time grows as the square of
 the nodes it moves, is replaced by :func:`replace_node` (one pass). So the expansion stops with one error within
-one such step of its limit (the campaign's 26 nested macros: 1.9 s at 20 000 elements, 24 MB at most), in
+one such step of its limit (``benchmarks/startup.py`` times the campaign's 26 nested macros at the default), in
 memory a few times ``characters`` and ``elements`` DOM nodes (about 1 KB each), and the same bytes as xacro's
 own otherwise.
 """
@@ -48,7 +48,8 @@ from typing import NoReturn
 INTEGER_BITS = 16_384
 #: ``round(x, n)``: the most digits ``n`` may ask for, either way.
 ROUND_DIGITS = 400
-#: The most characters xacro's lexer may copy for one text (its length times its ``$`` signs; some 0.3 s).
+#: The most characters xacro's lexer may copy for one text (its length times its ``$`` signs; ``benchmarks/startup.py``
+#: times the lexer at this limit).
 LEXED_CHARACTERS = 2_000_000_000
 
 _MATH = ("pi", "e", "tau", "inf", "nan", "radians", "degrees", "sin", "cos", "tan", "asin", "acos", "atan", "atan2",

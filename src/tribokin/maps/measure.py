@@ -12,7 +12,7 @@ from tribokin.iso9283.metrics import orientation_repeatability, position_spread,
 from tribokin.maps.budget import TARGET_BLOCK_SAMPLES
 from tribokin.maps.schema import map_figures
 from tribokin.propagation.exact import tool_deviations_at_poses
-from tribokin.simulation.pose_run import PoseRunner, joint_space_task
+from tribokin.simulation.pose_test import PoseRunner, joint_space_task
 from tribokin.streams import map_target_stream
 from tribokin.units import MDEG_PER_RAD, UM_PER_M
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tribokin.kinematics.robot import Robot
-from tribokin.maps.expected import ANALYTIC, SAMPLED
+from tribokin.maps.expected_figures import ANALYTIC, SAMPLED
 from tribokin.maps.frames import map_dataset, map_frame
 from tribokin.maps.grid import TargetGrid
 from tribokin.maps.rows import IK_ROUTES, unreachable_reasons
@@ -55,7 +55,7 @@ class ScenarioMap:
         :meth:`~tribokin.maps.store.ChunkStore.read`): ``figures`` (k, len(map_figures(figure_set))),
         ``normal_forces_N`` (k, nv) bearing loads [N], ``dominant_joint`` (k,) index in ``joint_names`` of the joint
         with the largest share of the position variance (-1: none); an expected map's ``method``, ``fallbacks``,
-        ``engine_bound``, ``band_error`` (:func:`~tribokin.maps.expected.expected_targets`)."""
+        ``engine_bound``, ``band_error`` (:func:`~tribokin.maps.expected_figures.expected_targets`)."""
         return self.store.read(scenario_column(self.number, name), targets, item)
 
     def figure(self, name: str, targets=slice(None)) -> np.ndarray:
@@ -277,7 +277,7 @@ class MapResult:
 
     def _computed(self, scenario: ScenarioMap) -> dict:
         """How an expected map's figures were computed: targets per method, fallbacks, the largest engine bound and
-        RP_l band error (:mod:`tribokin.maps.expected`)."""
+        RP_l band error (:mod:`tribokin.maps.expected_figures`)."""
         analytic = sampled = fallback = 0
         bound, band_error = np.zeros(2), 0.0
         for part in self.blocks():

@@ -91,7 +91,7 @@ TARGET_COLUMNS = (MapColumn("position_m", 3, "f8"),)
 ROBOT_COLUMNS = (MapColumn("q", "joints", "f8"), MapColumn("reachable", None, "?"), MapColumn("closest", 2, "f8"),
                  MapColumn("ik_route", None, "i1"))
 #: Columns of every target per scenario (see :class:`~tribokin.maps.result.ScenarioMap`); an expected map's also
-#: say how its figures were computed (:func:`~tribokin.maps.expected.expected_targets`).
+#: say how its figures were computed (:func:`~tribokin.maps.expected_figures.expected_targets`).
 SCENARIO_COLUMNS = (MapColumn("figures", "figures", "f8"), MapColumn("normal_forces_N", "joints", "f8"),
                     MapColumn("dominant_joint", None, "i8"), MapColumn("method", None, "i8", _EXPECTED),
                     MapColumn("fallbacks", None, "i8", _EXPECTED), MapColumn("engine_bound", 2, "f8", _EXPECTED),

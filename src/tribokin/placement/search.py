@@ -2,9 +2,9 @@
 candidate placement of its ``[placement]``, each candidate's RP_l summarised.
 
 A candidate is one unit of work: on the executor's worker it loads the robot at its base, maps the task region there
-with the map machinery itself (:func:`~tribokin.maps.run.run_map`, in that process, its store a temporary folder), and
-returns the targets it reached and RP_l's mean, 95th percentile and maximum over them. Finished candidates are kept in
-a :class:`~tribokin.maps.store.ChunkStore` (one row a candidate), so ``--resume`` computes only the missing ones; the
+with the map machinery itself (:func:`~tribokin.maps.mapping.run_map`, in that process, its store a temporary folder),
+and returns the targets it reached and RP_l's mean, 95th percentile and maximum over them. Finished candidates are kept
+in a :class:`~tribokin.maps.store.ChunkStore` (one row a candidate), so ``--resume`` computes only the missing ones; the
 numbers depend on nothing but the candidate, so neither on the workers nor on a resume.
 """
 
@@ -18,8 +18,8 @@ import numpy as np
 
 from tribokin.compiled import kernels_used
 from tribokin.execution import run_chunks
+from tribokin.maps.mapping import chunk_order, prepare_map, run_map
 from tribokin.maps.result import ScenarioMap
-from tribokin.maps.run import chunk_order, prepare_map, run_map
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.maps.streaming import blocks, order_statistic
 from tribokin.placement.result import STATISTICS, PlacementResult

@@ -9,7 +9,7 @@ from tribokin.iso9283.cube import APPROACH_DIRECTIONS, UnreachableCube, place_cu
 from tribokin.kinematics.robot import Robot, load_example_robot, load_urdf, rigid_placement
 from tribokin.simulation.joint_errors import JointErrorModel
 from tribokin.simulation.joint_errors import joint_models as joint_error_models
-from tribokin.simulation.pose_run import PoseRunner, PoseTask, TestSettings, pose_task
+from tribokin.simulation.pose_test import PoseRunner, PoseTask, TestSettings, pose_task
 from tribokin.study.names import check_file_name_part, check_files_apart, check_name, pose_figure_file, scenario_files
 from tribokin.study.spec import FRICTION_KEYS, FRICTION_SCALE, RobotSpec, Study
 from tribokin.tribology.spec import law_from_spec, scaled_law_from_spec

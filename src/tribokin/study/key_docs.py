@@ -19,12 +19,14 @@ KEY_DOCS = {
                   "results do not depend on the other poses or targets; `--seed` overrides it",
     "study.approach": "the approach directions of each pose: `unidirectional` (`+` for a `[[poses]]` pose; `+x`, "
                       "`+y`, `+z` for a cube pose), `bidirectional` (`+` and `-`; the six axis directions) or "
-                      "`random` (`+` or `-` at random, one cloud)",
+                      "`random` (`+` or `-` at random, one cloud); see "
+                      "[approach directions](../study-files.md#approach-directions)",
     "study.engine": "`fast`: vectorised truncated product of exponentials, exact FK wherever its error bound "
                     "exceeds 0.1 nm ([engines](../concepts.md#forward-kinematics-and-the-engines)); `exact`: one "
                     "Pinocchio forward-kinematics call per cycle",
     "study.data_dirs": "folders, relative to the study file, from which the files its friction laws name (`file`, "
-                       "`log`, `surface`) may also be read (else only the study file's folder)",
+                       "`log`, `surface`) may also be read (else only the study file's folder), symlinks followed; "
+                       "never under `/proc`, `/sys` or `/dev`, nor FIFOs, sockets or devices",
     # [robot]
     "robot.urdf": "URDF file, relative to the study file (give this or `robot.name`); one ending `.xacro` is "
                   "expanded by xacro first, under the checks of the [security model](../security.md)",
@@ -32,18 +34,22 @@ KEY_DOCS = {
     "robot.tool_frame": "the frame whose pose is measured; default: the end of the model's longest chain of joints "
                         "([the default tool frame](../your-robot.md#the-default-tool-frame))",
     "robot.package_dirs": "folders that `package://` meshes and `$(find pkg)` resolve against, and the only folders "
-                          "meshes and xacro files may lie in; every mesh must be found there unless `--report none`; "
-                          "default: the URDF's folder and its parent",
+                          "meshes and xacro files may lie in; a mesh not found there leaves the robot drawn as a "
+                          "skeleton; default: the URDF's folder and its parent",
     "robot.payload_kg": "point mass at the tool frame (or tool point), for bearing loads from statics",
-    "robot.tool_offset_m": "`[x, y, z]` of a tool point fixed to `tool_frame`, in that frame's axes; when set, the "
+    "robot.tool_offset_m": "`[x, y, z]` of a tool point (a probe's tip, a tracker's reflector) fixed to `tool_frame`, "
+                           "in that frame's axes; when set, the "
                            "frame `<tool_frame>_tool_point` is measured and carries the payload",
     "robot.tool_offset_rpy_deg": "the tool point's orientation in `tool_frame` (roll, pitch, yaw; R = R_z R_y R_x); "
                                  "it turns the measured orientation, not the position; default 0, 0, 0",
     "robot.xacro_args": "the xacro's arguments, `{ name = \"value\" }`, each a string as `name:=value` on xacro's "
-                        "command line; only with a `.xacro` `robot.urdf`, each one it declares",
-    "robot.base_xyz_m": "where the robot's base sits in the world frame; default: the origin",
+                        "command line; only with a `.xacro` `robot.urdf`, each one it declares or reads; a number "
+                        "no double holds (e.g. 400 digits) is refused",
+    "robot.base_xyz_m": "where the robot's base sits in the world frame (the cell's); map grids, cube centres, "
+                        "commanded positions, approach directions and heat maps' axes are the world's; default: the "
+                        "origin",
     "robot.base_rpy_deg": "the base's orientation in the world (roll, pitch, yaw about the world's x, y, z); gravity "
-                          "stays along the world's −z; default 0, 0, 0",
+                          "stays along the world's −z, so a wall or ceiling mount changes the loads; default 0, 0, 0",
     # [joints] and [joints.<joint>]
     "joints.friction": "law of the friction coefficient μ (a preset, a law, a law file, a tribometer log or a "
                        "surface: [friction laws](../study-files.md#friction-laws)); lost motion μ·N·r/k",
@@ -114,9 +120,11 @@ KEY_DOCS = {
     "placement.base_xyz_m_max": "the opposite corner of the box of base positions",
     "placement.resolution": "positions along x, y, z of the box `[nx, ny, nz]`, end points included",
     "placement.yaw_deg": "turns about the world's vertical tried at every position, each added to "
-                         "`robot.base_rpy_deg`'s yaw",
+                         "`robot.base_rpy_deg`'s yaw (the sum brought within ±360°); each once: two equal modulo 360° "
+                         "(`0`, `360`, `-360`) are refused",
     "placement.objective": "the statistic of the expected RP_l over the targets a candidate reaches that ranks it: "
-                           "`p95`, `max`, `mean`",
+                           "`p95` (95th percentile, linear between order statistics as `numpy.percentile`), `max`, "
+                           "`mean`",
     "placement.min_reachable": "share of the task's targets a candidate must reach; one reaching fewer ranks after "
                                "every one that does",
 }

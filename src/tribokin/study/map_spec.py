@@ -10,16 +10,16 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar
 
-#: ``map.statistic``: the expected figures over tests of ``cycles`` cycles (:mod:`tribokin.maps.expected`), or one
-#: simulated test per target (:mod:`tribokin.maps.measure`).
+#: ``map.statistic``: the expected figures over tests of ``cycles`` cycles (:mod:`tribokin.maps.expected_figures`), or
+#: one simulated test per target (:mod:`tribokin.maps.measure`).
 STATISTICS = ("expected", "one-test")
 #: The sets of figures a map target has (:attr:`MapSpec.figure_set`).
 FIGURE_SETS = ("one-test", "expected", "directional")
 #: A map chunk holds at most about this many targets, in whole grid rows split evenly between the chunks
 #: (``map.chunk_rows`` overrides). A chunk's rows are solved together column by column
 #: (:func:`tribokin.maps.rows.solve_rows`), so the more rows, the less each target pays of NumPy's per-call costs
-#: (UR5: the batched IK takes about 40 µs a target at 14 rows, 12 µs at 100, 10 µs at 220); a chunk's columns take
-#: about 260 bytes a target (a 600 x 600 plane: 4 chunks of 150 rows; 1000 x 1000: 8 of 125).
+#: (``benchmarks/ik.py`` measures it against the rows per batch); a chunk's columns take about 260 bytes a target
+#: (a 600 x 600 plane: 4 chunks of 150 rows; 1000 x 1000: 8 of 125).
 CHUNK_TARGETS = 131072
 #: A grid of this many rows or more makes at least this many chunks, so that several workers share even a small map.
 MIN_CHUNKS = 4

@@ -1,9 +1,9 @@
 """Study files: validation of the mapping into a frozen :class:`Study` of frozen specs.
 
-Every key is checked here, before anything runs; a bad one raises an
-:class:`~tribokin.errors.InputError` naming the file and the key. The keys,
-their units and defaults are documented in the README. Overrides (the command line's
-``cycles`` and ``seed``, scenarios) make new specs with :func:`dataclasses.replace`.
+Every key is checked here, before anything runs; a bad one raises an :class:`~tribokin.errors.InputError` naming the
+file and the key. The keys, their units and defaults are documented in docs/reference/study-file.md
+(tools/study_reference.py). Overrides (the command line's ``cycles`` and ``seed``, scenarios) make new specs with
+:func:`dataclasses.replace`.
 """
 
 from __future__ import annotations

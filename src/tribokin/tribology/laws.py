@@ -45,8 +45,8 @@ def _check_coefficient(**values: float) -> None:
 
 def _stats():
     """``scipy.stats``, imported when a law first needs its distribution (a density, a fit, or a moment without a
-    closed form here): the import takes about 0.3 s, in the serial start of a map command, and a map of a Gaussian or
-    constant law needs none of these."""
+    closed form here): the import (``benchmarks/startup.py`` times it) falls in the serial start of a map command, and
+    a map of a Gaussian or constant law needs none of these."""
     from scipy import stats
     return stats
 
@@ -85,7 +85,7 @@ class FrictionLaw:
         self._value = value
         self.params = params
         self.provenance = provenance
-        self._known = {}  # moments and support, computed once (scipy's take up to milliseconds each)
+        self._known = {}  # moments and support, computed once (scipy's cost far more than a lookup)
 
     def _once(self, name: str, compute):
         if name not in self._known:

@@ -1,4 +1,4 @@
-"""One pose's run: sample the cycles of each approach direction, propagate them, take their ISO 9283 figures."""
+"""A pose's ISO 9283 test: sample the cycles of each approach direction, propagate them, take their figures."""
 
 from __future__ import annotations
 

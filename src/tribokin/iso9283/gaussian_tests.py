@@ -109,11 +109,11 @@ def expected_rp_l(lam: np.ndarray, cycles: int) -> tuple[np.ndarray, np.ndarray]
     compiled where :func:`~tribokin.compiled.use_compiled`."""
     n = cycles
     if use_compiled():
-        from tribokin.iso9283 import expected_kernels
+        from tribokin.iso9283 import gaussian_tests_kernels
 
         lam = np.asarray(lam, dtype=float)
         flat = np.ascontiguousarray(lam.reshape(-1, 3))
-        mean, spread = expected_kernels.expected_rp_l(flat, n, EIGENVALUE_FLOOR, _MEAN_NORM)
+        mean, spread = gaussian_tests_kernels.expected_rp_l(flat, n, EIGENVALUE_FLOOR, _MEAN_NORM)
         return mean.reshape(lam.shape[:-1]), spread.reshape(lam.shape[:-1])
     scale, unit = _scaled(lam)
     mean, spread = rp_l_from_moments(_unit_moments((n - 1) / n * unit), n)
@@ -143,10 +143,10 @@ def expected_norm(centre: np.ndarray, covariance: np.ndarray) -> np.ndarray:
     """
     centre, covariance = np.asarray(centre, dtype=float), np.asarray(covariance, dtype=float)
     if use_compiled():
-        from tribokin.iso9283 import expected_kernels
+        from tribokin.iso9283 import gaussian_tests_kernels
 
         shape = np.broadcast_shapes(centre.shape[:-1], covariance.shape[:-2])
-        return expected_kernels.expected_norm(
+        return gaussian_tests_kernels.expected_norm(
             np.ascontiguousarray(np.broadcast_to(centre, shape + (3,)).reshape(-1, 3)),
             np.ascontiguousarray(np.broadcast_to(covariance, shape + (3, 3)).reshape(-1, 3, 3)), EXPANSION_RATIO,
             _NODE_TIMES, _NODE_WEIGHTS, _LOG_STEP).reshape(shape)
@@ -194,10 +194,10 @@ def eigenvalues(matrices: np.ndarray) -> np.ndarray:
     matrices = np.asarray(matrices, dtype=float)
     if not use_compiled():
         return np.linalg.eigvalsh(matrices)
-    from tribokin.iso9283 import expected_kernels
+    from tribokin.iso9283 import gaussian_tests_kernels
 
     flat = np.ascontiguousarray(matrices.reshape(-1, 3, 3))
-    return expected_kernels.eigenvalues(flat).reshape(matrices.shape[:-1])
+    return gaussian_tests_kernels.eigenvalues(flat).reshape(matrices.shape[:-1])
 
 
 def standardised_shape(lam: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -254,7 +254,7 @@ class ShapeTable:
         """(mean, low, high, semi_axis) over √λ₁ at shapes (..., 2) (:func:`standardised_shape`), interpolated.
 
         ``scipy.interpolate`` is imported here, by the runs of fewer than :data:`ASYMPTOTIC_CYCLES` cycles that use a
-        table: the import takes about 0.1 s, before a map's workers start."""
+        table, before a map's workers start (``benchmarks/startup.py`` times the import)."""
         from scipy.interpolate import RegularGridInterpolator
 
         axis = np.linspace(0.0, 1.0, TABLE_NODES)

@@ -1,6 +1,7 @@
 """E|c + w| at the extremes of size: closed forms (a point, the Maxwell distribution) from 1e-300 to 1e300 m; E[RP_l]
 against the moments of an isotropic and a one-dimensional Gaussian; each on both kernel paths, and the compiled
-kernels (:mod:`tribokin.iso9283.expected_kernels`) against NumPy's (SciPy's Carlson integrals, LAPACK's eigenvalues)."""
+kernels (:mod:`tribokin.iso9283.gaussian_tests_kernels`) against NumPy's (SciPy's Carlson integrals, LAPACK's
+eigenvalues)."""
 
 import math
 import os
@@ -10,7 +11,7 @@ import sys
 import numpy as np
 import pytest
 
-from tribokin.iso9283.expected import eigenvalues, expected_norm, expected_rp_l, rp_l_from_moments
+from tribokin.iso9283.gaussian_tests import eigenvalues, expected_norm, expected_rp_l, rp_l_from_moments
 
 #: E|w| of w ~ N(0, σ² I₃) over σ: the mean of the Maxwell distribution, 2 √(2/π).
 MAXWELL_MEAN = 2 * math.sqrt(2 / math.pi)
@@ -98,7 +99,7 @@ def test_the_compiled_closed_forms_agree_with_numpy(monkeypatch):
 
 def test_the_shape_table_alone_imports_scipy_interpolate():
     """The import takes about 0.1 s; runs of ASYMPTOTIC_CYCLES cycles or more use no table."""
-    code = ("import sys, numpy as np; from tribokin.iso9283.expected import ShapeTable; "
+    code = ("import sys, numpy as np; from tribokin.iso9283.gaussian_tests import ShapeTable; "
             "assert 'scipy.interpolate' not in sys.modules, 'imported'; "
             "ShapeTable.simulate(30, np.random.default_rng(0)).at(np.array([0.5, 0.5])); "
             "assert 'scipy.interpolate' in sys.modules, 'never imported'")

@@ -8,7 +8,7 @@ J(q″) (dq - E[dq]) to first order (:func:`linear_model`); its error for every 
 target as ``engine_bound``. The mean deviation itself goes through exact forward kinematics.
 
 - **analytic** (every law Gaussian, truncation negligible, or constant; unidirectional approach): the figures of
-  :mod:`tribokin.iso9283.expected` from the covariance of J(q″) dq.
+  :mod:`tribokin.iso9283.gaussian_tests` from the covariance of J(q″) dq.
 - **sampled** (other laws, approach modes, or a target whose bound exceeds ``DEFAULT_TOLERANCE``): common random
   numbers: the same ``sampled_tests`` tests of drawn μ at every target (and scenario), through the linear model,
   or through the fast engine where the bound is not met (a *fallback*). The RP_l band's Monte Carlo error is kept.
@@ -31,7 +31,7 @@ import numpy as np
 
 from tribokin.compiled import use_compiled
 from tribokin.iso9283.cube import APPROACH_DIRECTIONS, approach_signs_from_jacobians
-from tribokin.iso9283.expected import (
+from tribokin.iso9283.gaussian_tests import (
     ANALYTIC_MIN_CYCLES,
     ASYMPTOTIC_CYCLES,
     BAND_PERCENTILES,
@@ -50,7 +50,7 @@ from tribokin.maps.schema import map_figures
 from tribokin.propagation.exact import tool_deviations_at_poses, tool_frames
 from tribokin.propagation.poe import DEFAULT_TOLERANCE, truncation_bound
 from tribokin.simulation.joint_errors import TAIL_STDS, JointErrorModel, approach_signs, friction_lever, friction_loads
-from tribokin.simulation.pose_run import PoseRunner
+from tribokin.simulation.pose_test import PoseRunner
 from tribokin.streams import expected_stream
 from tribokin.tribology.laws import Constant, FrictionLaw, Gaussian, Scaled
 from tribokin.units import MDEG_PER_RAD, UM_PER_M
@@ -150,7 +150,7 @@ class LinearModel:
         """J diag(var) Jᵀ of the Jacobian's rows ``first`` to ``first + 2``; compiled where
         :func:`~tribokin.compiled.use_compiled`."""
         if use_compiled():
-            from tribokin.maps.expected_kernels import covariances
+            from tribokin.maps.expected_figures_kernels import covariances
 
             return covariances(np.ascontiguousarray(self.jacobian, dtype=float),
                                np.ascontiguousarray(self.deviation_variance, dtype=float), first)
@@ -196,11 +196,11 @@ def shape_table(cycles: int, seed: int) -> ShapeTable:
 
 @dataclass(frozen=True)
 class ExpectedSetup:
-    """What every block of one scenario's expected map shares, built once per map: the tests' ``cycles``, the
-    scenario's :class:`JointMoments`, the shape table of Gaussian tests (:class:`~tribokin.iso9283.expected.ShapeTable`;
-    ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on), the map's ``figure_set`` (``"directional"``: vAP_p and
-    RP_l_multi too) and ``mean_signs`` (nv,), each joint's mean sign of travel over the sampled tests' cycles
-    (:func:`test_signs`), about which the test's first-order model is taken."""
+    """What every block of one scenario's expected map shares, built once per map: the tests' ``cycles``, the scenario's
+    :class:`JointMoments`, the shape table of Gaussian tests (:class:`~tribokin.iso9283.gaussian_tests.ShapeTable`;
+    ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on), the map's ``figure_set`` (``"directional"``: vAP_p and RP_l_multi
+    too) and ``mean_signs`` (nv,), each joint's mean sign of travel over the sampled tests' cycles (:func:`test_signs`),
+    about which the test's first-order model is taken."""
 
     cycles: int
     moments: JointMoments
@@ -396,7 +396,7 @@ def barycentre_normals(count: int) -> np.ndarray:
 def _summarise_cycles(values: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
                       commanded: np.ndarray, cycles: int) -> None:
     """As :func:`_summarise_tests`, for tests of ``cycles`` >= ``ASYMPTOTIC_CYCLES`` cycles from (k, 1, M, 3) single
-    cycles: RP_l from their distances' moments (:func:`~tribokin.iso9283.expected.rp_l_from_moments`), its band
+    cycles: RP_l from their distances' moments (:func:`~tribokin.iso9283.gaussian_tests.rp_l_from_moments`), its band
     normal; AP_p, RP_a/b/c and the semi-axis from the cycles' mean and covariance as in the closed form. The band's
     Monte Carlo error: that of the distances' mean and standard deviation over M cycles."""
     positions, angles = positions[:, 0], angles[:, 0]
@@ -439,7 +439,7 @@ def _summarise_tests(values: dict, slots: list[int], positions: np.ndarray, angl
 
 def _analytic(model: LinearModel, chosen: np.ndarray, setup: ExpectedSetup, commanded: np.ndarray
               ) -> dict[str, np.ndarray]:
-    """The figures of targets ``chosen`` in closed form (:mod:`tribokin.iso9283.expected`)."""
+    """The figures of targets ``chosen`` in closed form (:mod:`tribokin.iso9283.gaussian_tests`)."""
     n = setup.cycles
     position = model.position_covariance[chosen]
     lam = eigenvalues(position)

@@ -5,11 +5,11 @@ import numpy as np
 import pytest
 
 from tribokin import run_study
-from tribokin.iso9283.expected import ShapeTable
-from tribokin.maps.expected import ExpectedSetup, expected_targets
+from tribokin.iso9283.gaussian_tests import ShapeTable
+from tribokin.maps.expected_figures import ExpectedSetup, expected_targets
 from tribokin.maps.schema import map_figures
 from tribokin.propagation.exact import tool_frames
-from tribokin.simulation.pose_run import PoseRunner
+from tribokin.simulation.pose_test import PoseRunner
 from tribokin.streams import expected_stream
 from tribokin.study.assembly import joint_models, load_robot
 from tribokin.study.reading import load_study
@@ -61,7 +61,7 @@ def test_the_asymptotic_path_agrees_with_the_simulated_tests_at_its_threshold(la
     table = ShapeTable.simulate(500, expected_stream(study.seed, "table"))
     asymptotic = expected_targets(runner, ExpectedSetup.build(runner, None, "directional"), q, forces, twists,
                                   translations)["figures"][0]
-    import tribokin.maps.expected as module
+    import tribokin.maps.expected_figures as module
 
     with pytest.MonkeyPatch.context() as patch:  # simulated, with 10x the default tests: 0.2 % of their own
         patch.setattr(module, "ASYMPTOTIC_CYCLES", 10 ** 9)

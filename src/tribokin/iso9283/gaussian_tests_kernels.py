@@ -1,6 +1,6 @@
-"""Compiled (numba) kernels of :mod:`tribokin.iso9283.expected`, target by target: E[RP_l] and its spread (Carlson's
-R_F and R_D by duplication, the delta method), E|c + w| (expansion or quadrature), and the eigenvalues of symmetric
-3 × 3 matrices by cyclic Jacobi rotations. They agree with the NumPy path (SciPy's Carlson integrals, LAPACK's
+"""Compiled (numba) kernels of :mod:`tribokin.iso9283.gaussian_tests`, target by target: E[RP_l] and its spread
+(Carlson's R_F and R_D by duplication, the delta method), E|c + w| (expansion or quadrature), and the eigenvalues of
+symmetric 3 × 3 matrices by cyclic Jacobi rotations. They agree with the NumPy path (SciPy's Carlson integrals, LAPACK's
 eigenvalues) to rounding, about 1e-14 relative.
 
 Imported only on the compiled path (:func:`tribokin.compiled.use_compiled`). The NumPy module's constants are passed
@@ -75,8 +75,9 @@ def _carlson(u, rd):
 
 @kernel
 def _unit_moments(u, mean_norm):
-    """E|w|^k, k = 1..4, of w ~ N(0, diag(u)) for positive ``u`` (3,), as ``iso9283.expected._unit_moments``: R_G from
-    R_F and the R_D whose last argument is the middle one (no cancellation), ∂R_G/∂u_i = R_F/4 - u_i R_D_i/12."""
+    """E|w|^k, k = 1..4, of w ~ N(0, diag(u)) for positive ``u`` (3,), as ``iso9283.gaussian_tests._unit_moments``:
+    R_G from R_F and the R_D whose last argument is the middle one (no cancellation), ∂R_G/∂u_i = R_F/4 - u_i
+    R_D_i/12."""
     rd = np.empty(3)  # R_D with u_i last
     rf = _carlson(u, rd)
     middle = 0
@@ -98,7 +99,8 @@ def _unit_moments(u, mean_norm):
 
 @kernel
 def _rp_l_from_moments(m1, m2, m3, m4, n):
-    """(E[RP_l], its standard deviation) from one cycle's four moments, as ``iso9283.expected.rp_l_from_moments``."""
+    """(E[RP_l], its standard deviation) from one cycle's four moments, as
+    ``iso9283.gaussian_tests.rp_l_from_moments``."""
     variance = np.maximum(m2 - m1 ** 2, 0.0)
     central3 = m3 - 3 * m2 * m1 + 2 * m1 ** 3
     central4 = m4 - 4 * m3 * m1 + 6 * m2 * m1 ** 2 - 3 * m1 ** 4
@@ -116,7 +118,7 @@ def _rp_l_from_moments(m1, m2, m3, m4, n):
 def expected_rp_l(lam, cycles, floor, mean_norm):
     """(E[RP_l], one test's standard deviation) (k,) each [m] of tests of ``cycles`` cycles with Gaussian deviations of
     covariance eigenvalues ``lam`` (k, 3) [m²], those below ``floor`` of the largest raised to it, as
-    ``iso9283.expected.expected_rp_l``; ``mean_norm``: E|z| of a standard normal 3-vector."""
+    ``iso9283.gaussian_tests.expected_rp_l``; ``mean_norm``: E|z| of a standard normal 3-vector."""
     n = cycles
     mean, spread = np.empty(lam.shape[0]), np.empty(lam.shape[0])
     unit = np.empty(3)
@@ -204,8 +206,8 @@ def eigenvalues(matrices):
 @kernel
 def expected_norm(centre, covariance, ratio, times, weights, step):
     """E|c + w| (k,) [m] for w ~ N(0, S), centres c (k, 3) [m] and covariances S (k, 3, 3) [m²], as
-    ``iso9283.expected.expected_norm``: on c and S scaled by a power of two to order one; where tr S < ``ratio`` |c|²
-    the expansion |c| + (tr S - ĉᵀ S ĉ) / (2 |c|), else the trapezoid rule of step ``step`` at the quadrature's
+    ``iso9283.gaussian_tests.expected_norm``: on c and S scaled by a power of two to order one; where tr S < ``ratio``
+    |c|² the expansion |c| + (tr S - ĉᵀ S ĉ) / (2 |c|), else the trapezoid rule of step ``step`` at the quadrature's
     ``times`` e^u with ``weights`` e^(-u/2)."""
     out = np.empty(centre.shape[0])
     c = np.empty(3)

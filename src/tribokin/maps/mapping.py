@@ -1,10 +1,10 @@
 """Workspace maps: the ISO 9283 figures at every target of a grid, computed in chunks of whole rows.
 
-Each target's figures are expected values over ISO tests (:mod:`tribokin.maps.expected`), or those of one simulated
-test from the target's own random stream (a one-test map: :mod:`tribokin.maps.measure`). Only its scalar figures are
-kept, on disk (:class:`~tribokin.maps.store.ChunkStore`, into which a local worker writes its chunk itself, no values
-sent back through a pipe): memory holds a chunk's targets and a block's cycles, whatever the grid's size. A chunk
-solves and measures whole grid rows from where they start (:mod:`tribokin.maps.rows`), so the numbers depend on
+Each target's figures are expected values over ISO tests (:mod:`tribokin.maps.expected_figures`), or those of one
+simulated test from the target's own random stream (a one-test map: :mod:`tribokin.maps.measure`). Only its scalar
+figures are kept, on disk (:class:`~tribokin.maps.store.ChunkStore`, into which a local worker writes its chunk itself,
+no values sent back through a pipe): memory holds a chunk's targets and a block's cycles, whatever the grid's size. A
+chunk solves and measures whole grid rows from where they start (:mod:`tribokin.maps.rows`), so the numbers depend on
 neither the chunk size, nor the number of workers, nor where the chunks run, nor on a resume. Each robot the scenarios
 measure with (another robot, base or tool: :class:`~tribokin.study.assembly.MapRobots`) solves its own IK of the same
 targets; the scenarios of one robot are measured at its configurations, every scenario with the same streams.
@@ -24,10 +24,10 @@ import numpy as np
 from tribokin.compiled import kernels_used
 from tribokin.errors import InputError, TribokinError
 from tribokin.execution import local_pool, run_chunks
-from tribokin.iso9283.expected import ASYMPTOTIC_CYCLES
+from tribokin.iso9283.gaussian_tests import ASYMPTOTIC_CYCLES
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
-from tribokin.maps.expected import ExpectedSetup, expected_targets, shape_table
+from tribokin.maps.expected_figures import ExpectedSetup, expected_targets, shape_table
 from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
 from tribokin.maps.measure import measure_targets
 from tribokin.maps.result import MapResult, ScenarioMap
@@ -43,7 +43,7 @@ from tribokin.maps.schema import MapLayout, robot_column, scenario_column
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.propagation.exact import tool_frames
 from tribokin.simulation.joint_errors import JointErrorModel
-from tribokin.simulation.pose_run import PoseRunner, TestSettings
+from tribokin.simulation.pose_test import PoseRunner, TestSettings
 from tribokin.study.assembly import MapRobots, joint_models, study_runner
 from tribokin.study.map_spec import MapSpec
 from tribokin.study.spec import Study
@@ -55,9 +55,9 @@ class MapJob:
     the map's robots and grids.
 
     ``token`` names the job, so each process builds the runners once per job. ``setups``: each scenario's
-    :class:`~tribokin.maps.expected.ExpectedSetup` (``None`` for a one-test map). ``robots``: each robot the scenarios
-    measure with (pickled as its kinematics: :meth:`~tribokin.kinematics.robot.Robot.__reduce__`), ``grids`` its grid
-    of the map's targets, ``layout`` the store's (each scenario's robot).
+    :class:`~tribokin.maps.expected_figures.ExpectedSetup` (``None`` for a one-test map). ``robots``: each robot the
+    scenarios measure with (pickled as its kinematics: :meth:`~tribokin.kinematics.robot.Robot.__reduce__`), ``grids``
+    its grid of the map's targets, ``layout`` the store's (each scenario's robot).
     """
 
     token: str
@@ -221,7 +221,7 @@ def fill_holes(job: MapJob, robots: list[Robot], runners: list[PoseRunner], stor
 
 
 def expected_setups(spec: MapSpec, runners: list[PoseRunner]) -> tuple[ExpectedSetup | None, ...]:
-    """Each scenario's :class:`~tribokin.maps.expected.ExpectedSetup` (a shape table per cycles and seed), or
+    """Each scenario's :class:`~tribokin.maps.expected_figures.ExpectedSetup` (a shape table per cycles and seed), or
     ``None`` each for a one-test map."""
     if spec.statistic != "expected":
         return (None,) * len(runners)
@@ -268,7 +268,7 @@ class MapScenario:
         name: its name (the figures' and files' names).
         robot: another robot, or the same one with another base or tool (:class:`~tribokin.kinematics.robot.Robot`).
         joints: one error model per joint of its robot (:func:`~tribokin.simulation.joint_errors.joint_models`).
-        settings: its cycles, seed, approach, engine, payload (:class:`~tribokin.simulation.pose_run.TestSettings`).
+        settings: its cycles, seed, approach, engine, payload (:class:`~tribokin.simulation.pose_test.TestSettings`).
     """
 
     name: str
@@ -420,7 +420,7 @@ def workspace_map(robot: Robot, joints: list[JointErrorModel], map_spec: MapSpec
         scenarios: what-if variants measured instead of the robot itself (:class:`MapScenario`), the first the
             reference; ``()``: the robot alone, a scenario called ``name``.
         name: the map's one scenario's name, without ``scenarios``.
-        cycles: cycles of each test (:class:`~tribokin.simulation.pose_run.TestSettings`), each scenario's unless
+        cycles: cycles of each test (:class:`~tribokin.simulation.pose_test.TestSettings`), each scenario's unless
             it sets its own settings.
         seed: the random streams' seed.
         approach: ``"unidirectional"``, ``"bidirectional"`` or ``"random"``.

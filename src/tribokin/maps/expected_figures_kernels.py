@@ -1,4 +1,4 @@
-"""Compiled (numba) kernel of :class:`~tribokin.maps.expected.LinearModel`: the covariance J diag(var) Jᵀ of the
+"""Compiled (numba) kernel of :class:`~tribokin.maps.expected_figures.LinearModel`: the covariance J diag(var) Jᵀ of the
 tool's position or angle deviation, target by target. It agrees with the NumPy path (``np.einsum``) to rounding,
 about 1e-15 relative.
 
