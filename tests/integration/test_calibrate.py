@@ -327,11 +327,11 @@ def test_fitted_values_run_would_refuse_are_one_line_naming_the_fit_and_nothing_
     """Should a fit (within the ranges) still give values `run` refuses (here a stiffness of 1 N/m forced in: the
     gantry's x axis would then lose more than its travel), calibrate says so in one line naming the measurements
     and what run would refuse, never the calibrated.toml it did not write."""
-    from tribokin import calibration_reports
     from tribokin.cli import main
-    from tribokin.output.calibrated_study import WrittenValue
+    from tribokin.measured import calibrated as calibrated_module
+    from tribokin.study.calibrated_study import WrittenValue
 
-    monkeypatch.setattr(calibration_reports, "_written_values",
+    monkeypatch.setattr(calibrated_module, "_written_values",
                         lambda *args: [WrittenValue("x", "stiffness", 1.0, "forced by the test")])
     gantry_measurements(tmp_path / "data.csv")
     status = main(["calibrate", str(gantry_study(tmp_path, "joint-tables-out-of-order")), "--measurements",
@@ -367,12 +367,12 @@ def test_a_fit_beyond_the_study_s_range_is_held_at_its_end_said_so_and_the_calib
 
 
 def test_a_measurement_file_beyond_the_memory_is_refused_before_it_is_read(tmp_path, capsys, monkeypatch):
-    from tribokin import calibration_reports
     from tribokin.cli import main
     from tribokin.maps import budget
+    from tribokin.measured import calibrated as calibrated_module
 
     monkeypatch.setattr(budget, "available_bytes", lambda: 2 ** 20)  # a machine of little memory
-    monkeypatch.setattr(calibration_reports, "read_robot_measurements", None)  # never reached
+    monkeypatch.setattr(calibrated_module, "read_robot_measurements", None)  # never reached
     assert main(["calibrate", study_without_map(tmp_path), "--measurements", DATA, "--out", tmp_path / "fit"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"tribokin: error: {DATA}: rows: calibrating with this file needs")
@@ -380,14 +380,14 @@ def test_a_measurement_file_beyond_the_memory_is_refused_before_it_is_read(tmp_p
 
 
 def test_a_map_beyond_the_memory_is_refused_before_the_fit(tmp_path, capsys, monkeypatch):
-    from tribokin import calibration_reports
     from tribokin.cli import main
     from tribokin.maps import budget
+    from tribokin.measured import calibrated as calibrated_module
 
     study = tmp_path / "study.toml"
     study.write_text(STUDY.read_text(encoding="utf-8").replace("cycles = 30", "cycles = 100000000"), encoding="utf-8")
     monkeypatch.setattr(budget, "available_bytes", lambda: 2 ** 30)
-    monkeypatch.setattr(calibration_reports, "fit", None)  # the fit is never reached
+    monkeypatch.setattr(calibrated_module, "fit", None)  # the fit is never reached
     assert main(["calibrate", study, "--measurements", DATA, "--out", tmp_path / "fit"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"tribokin: error: {study}: study.cycles: this run needs about")
