@@ -12,6 +12,7 @@ from scipy.spatial.transform import Rotation
 
 from conftest import ROOT
 from helpers.command import tribokin
+from helpers.folders import assert_frame_matches_csv, assert_frozen, assert_same_files
 
 STUDY = ROOT / "studies" / "ur5-calibrate.toml"
 DATA = ROOT / "studies" / "data" / "ur5-tracker.csv"
@@ -57,6 +58,18 @@ def calibrated(tmp_path_factory):
     return folder / "fit", done.stdout
 
 
+@pytest.fixture(scope="module")
+def library(tmp_path_factory):
+    """calibrate() of the command's study and file (one call for every library check), and the folder it wrote, at
+    the depth of the command's (``calibrated.toml`` names the study's files relative to its folder)."""
+    from tribokin import calibrate
+
+    out = tmp_path_factory.mktemp("library") / "fit"
+    result = calibrate(STUDY, DATA, out=out)
+    assert result.write(out) == out
+    return result, out
+
+
 def test_calibrate_writes_its_folder_and_names_what_it_fitted(calibrated):
     out, stdout = calibrated
     for name in OUTPUTS:
@@ -82,6 +95,35 @@ def test_comparison_holds_measured_and_predicted_figures_of_every_pose(calibrate
     for row in rows:
         low, high = float(row["held_out_low_um"]), float(row["held_out_high_um"])
         assert low <= float(row["held_out_predicted_um"]) <= high
+
+
+def test_the_library_s_result_is_frozen_and_writes_the_command_s_folder(calibrated, library):
+    from tribokin import CalibrationResult
+
+    result, out = library
+    assert isinstance(result, CalibrationResult)
+    assert_frozen(result)
+    assert_same_files(out, calibrated[0])
+    assert result.map is not None and result.calibrated.map is not None
+
+
+def test_the_library_s_result_holds_what_the_command_printed(calibrated, library):
+    result, _ = library
+    _, stdout = calibrated
+    parameters = {p.name: p for p in result.calibration.parameters}
+    for line in stdout.splitlines():
+        name = line.split(" ")[0]
+        if name in parameters and parameters[name].identifiable:
+            low, high = result.intervals[name]
+            assert line.split()[1:3] == [f"{parameters[name].value:.4g}", f"{parameters[name].std_error:.4g}"]
+            assert low < parameters[name].value < high
+    assert result.inputs.registration is not None and result.registration_why is None
+    assert [c.row() for c in result.compared] == result.rows()
+
+
+def test_the_library_s_table_is_comparison_csv(calibrated, library):
+    result, _ = library
+    assert_frame_matches_csv(result.to_pandas(), calibrated[0] / "comparison.csv")
 
 
 def test_the_calibrated_study_runs_with_the_fitted_values(calibrated, tmp_path):
