@@ -328,7 +328,8 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
         seed: seed of the predictions' simulated tests.
         out: the folder ``calibrated.toml`` will be written in, from which the calibrated study is read and checked
             (default: the study's folder); :meth:`CalibrationResult.write` writes its paths for the folder it writes.
-        executor, progress: where the calibrated study's map's chunks run, and its progress callback (``run_study``).
+        executor: where the calibrated study's map's chunks run (``run_study``).
+        progress: the map's progress callback (``run_study``).
 
     Returns:
         the fit, its intervals and predictions, and the calibrated study (and its map). A bad ``seed`` is a
