@@ -26,13 +26,14 @@ def add_parser(commands) -> None:
 
 
 def calibrate(args) -> None:
+    """Calibrate the study, write the folder, print the fit and the held-out predictions."""
     from tribokin.execution import executor_for
     from tribokin.measured.calibrated import calibrate
     from tribokin.output.measured import write_calibration
 
     with executor_for(args.workers, None) as executor, claimed(args.out, args.force), \
             map_progress(warm_up=args.workers, compiling=kernels_to_compile()) as progress:
-        with options_located():
+        with options_located({"seed": "--seed"}):
             result = calibrate(args.study, args.measurements, args.seed, out=args.out, executor=executor,
                                progress=progress)
         write_calibration(result, args.out, args.force, args.report)

@@ -17,6 +17,7 @@ def add_parser(commands) -> None:
 
 
 def fit_friction(args) -> None:
+    """Fit the log's laws, write the folder, print the fits and the chosen law."""
     from tribokin.output.tribology import write_friction_fit
     from tribokin.tribology.friction_fit import fit_friction
 

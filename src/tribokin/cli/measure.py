@@ -43,6 +43,7 @@ def add_parser(commands) -> None:
 
 
 def measure(args) -> None:
+    """Measure the file (a raw stream with ``--segment``), write the folder, print the figures."""
     from tribokin.measured.iso_figures import Segmenting, measure
     from tribokin.output.measured import write_measurement
 
@@ -54,7 +55,7 @@ def measure(args) -> None:
     if args.segment:
         segmenting = Segmenting(**{key: value for key, value in given.items() if value is not None})
     with claimed(args.out, args.force):
-        with options_located(SEGMENTING_OPTIONS):
+        with options_located({"seed": "--seed", **SEGMENTING_OPTIONS}):
             result = measure(args.file, args.seed, segmenting, args.noise_floor)
         write_measurement(result, args.out, args.force, args.report)
     _print(result, args)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 
-from tribokin.errors import InputError, TribokinError, located
+from tribokin.errors import InputError, SettingsError
 
 
 @contextmanager
@@ -35,12 +35,15 @@ def option_named(argument: str, instead: str):
 
 
 
-def options_located(renamed: dict[str, str] | None = None):
-    """Within the block, a library's error naming its argument (``SettingsError.argument``: ``"area_m2"``) names the
-    command-line option instead (``--area-m2``, or as ``renamed`` gives it) and the command line as its source, as
-    any :class:`~tribokin.errors.InputError` does (:func:`~tribokin.errors.located`)."""
-    def key(error: TribokinError) -> str | None:
-        name = getattr(error, "argument", None)
-        return None if name is None else (renamed or {}).get(name, "--" + name.replace("_", "-"))
-
-    return located("command line", key)
+@contextmanager
+def options_located(options: dict[str, str]):
+    """Within the block, a library's :class:`~tribokin.errors.SettingsError` naming one of ``options``' arguments
+    (``"seed"``, or ``"z_range_m[0]"`` for ``"z_range_m"``) is an :class:`~tribokin.errors.InputError` naming the
+    command line and the option instead (``--seed``, ``--z-range-m[0]``); any other error passes unchanged."""
+    try:
+        yield
+    except SettingsError as error:
+        name, bracket, index = (error.argument or "").partition("[")
+        if name not in options:
+            raise
+        raise InputError(error.message, "command line", options[name] + bracket + index) from None

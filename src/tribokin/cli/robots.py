@@ -12,6 +12,7 @@ def add_parser(commands) -> None:
 
 
 def robots(args) -> None:
+    """Print the robot names a study accepts, or a robot's candidate tool frames."""
     from tribokin.errors import located
     from tribokin.kinematics.robot import TESTED_ROBOTS, candidate_tool_frames, example_robot_names
 

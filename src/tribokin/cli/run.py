@@ -38,6 +38,7 @@ def add_parser(commands) -> None:
 
 
 def run(args) -> None:
+    """Run the study (its views drawn by a forked process meanwhile), write the folder, print its figures."""
     from tribokin.errors import import_extra, located
     from tribokin.output.views_process import ViewsProcess
 

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 from tribokin.cli.options import claimed, options_located
 
+#: The command-line option of each argument of :func:`~tribokin.tribology.surface_result.analyse_surface`.
+OPTIONS = {"area_m2": "--area-m2", "z_range_m": "--z-range-m", "radius_range_m": "--radius-range-m"}
+
 
 def add_parser(commands) -> None:
     """The ``surface`` command's arguments."""
@@ -21,11 +24,12 @@ def add_parser(commands) -> None:
 
 
 def surface(args) -> None:
+    """Analyse the profile, write the folder, print its statistics and eq. (6)'s count."""
     from tribokin.output.tribology import write_surface
     from tribokin.tribology.surface_result import analyse_surface
 
     with claimed(args.out, args.force):
-        with options_located():
+        with options_located(OPTIONS):
             result = analyse_surface(args.profile, args.area_m2, args.z_range_m, args.radius_range_m)
         write_surface(result, args.out, args.force)
     statistics = result.statistics

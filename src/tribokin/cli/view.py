@@ -18,6 +18,7 @@ def add_parser(commands) -> None:
 
 
 def view(args) -> None:
+    """Serve the folder's scene in a live meshcat viewer until Ctrl-C."""
     from tribokin.viz.live import live_scene, stop_signals_interrupt
 
     try:

@@ -245,6 +245,10 @@ class CalibrationResult(Written):
         calibrated: the calibrated study (its values the fit's), as ``calibrated.toml`` reads from ``out``.
         map: the calibrated study's workspace map (``None``: the study has no ``[map]``).
         versions: the software that computed them.
+        header: ``calibrated.toml``'s header comment lines (the command, the fit).
+        values: the joint values ``calibrated.toml`` writes, each with its comment.
+        written_poses: the measured poses ``calibrated.toml`` adds: (name, configuration, approach labels).
+        study_text: the study file's own text, which ``calibrated.toml`` keeps.
     """
 
     study_file: str
