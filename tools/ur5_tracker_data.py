@@ -39,7 +39,7 @@ from output_file import check_out, write_atomically
 from tribokin.errors import InputError
 from tribokin.iso9283.cube import APPROACH_DIRECTIONS, CubePose, held_approach_signs, place_cube
 from tribokin.kinematics.robot import Robot, load_example_robot
-from tribokin.provenance import software_versions
+from tribokin.output.provenance import software_versions
 from tribokin.tribology.laws import Gaussian
 
 ROBOT = "ur5"

@@ -8,8 +8,11 @@ What users touch: :func:`run_study` and :func:`load_study`, the :class:`Study` t
 :class:`TribokinError`; without a study file, the library under it: a :class:`Robot` (``Robot.from_pinocchio``,
 ``from_urdf``, ``from_example_robot_data``), its :func:`joint_models` and friction laws (:class:`Gaussian`...,
 :func:`preset`), a pose's ISO test (:func:`pose_test`) and a workspace map (:func:`workspace_map`, its
-:class:`MapScenario`). The errors and ``__version__`` load with the package; the rest on first use (PEP 562), so
-``tribokin --version`` and a refused command line do not import the physics chain.
+:class:`MapScenario`); measured data: a measurement file's ISO figures (:func:`measure`), a study fitted to it
+(:func:`calibrate`), friction laws fitted to a tribometer log (:func:`fit_friction`) and a surface profile's
+asperities (:func:`analyse_surface`), each a frozen result that writes its command's folder. The errors and
+``__version__`` load with the package; the rest on first use (PEP 562), so ``tribokin --version`` and a refused
+command line do not import the physics chain.
 """
 
 from __future__ import annotations
@@ -27,13 +30,15 @@ from tribokin.errors import (
     SettingsError,
     TribokinError,
 )
-from tribokin.provenance import __version__
+from tribokin.output.provenance import __version__
 
 if TYPE_CHECKING:
     from tribokin.kinematics.robot import Robot
     from tribokin.maps.grid import GridError
     from tribokin.maps.mapping import MapScenario, workspace_map
     from tribokin.maps.result import MapResult
+    from tribokin.measured.calibrated import CalibrationResult, calibrate
+    from tribokin.measured.iso_figures import MeasurementResult, Segmenting, measure
     from tribokin.run import StudyResult, run_study
     from tribokin.simulation.joint_errors import JointErrorModel, joint_models
     from tribokin.simulation.pose_result import PoseResult
@@ -41,8 +46,10 @@ if TYPE_CHECKING:
     from tribokin.study.map_spec import BoxMap, JointMap, PlaneMap
     from tribokin.study.reading import load_study
     from tribokin.study.spec import IsoCubeSpec, JointSpec, PoseSpec, RobotSpec, ScenarioSpec, Study
+    from tribokin.tribology.friction_fit import FrictionFitResult, fit_friction
     from tribokin.tribology.laws import Constant, Empirical, FrictionLaw, Gaussian, Lognormal, Uniform
     from tribokin.tribology.presets import preset
+    from tribokin.tribology.surface_result import SurfaceResult, analyse_surface
 
 #: Where each name loaded on first use lives.
 _LAZY = {"MapResult": "tribokin.maps.result", "StudyResult": "tribokin.run", "run_study": "tribokin.run",
@@ -58,14 +65,20 @@ _LAZY = {"MapResult": "tribokin.maps.result", "StudyResult": "tribokin.run", "ru
          "FrictionLaw": "tribokin.tribology.laws", "Constant": "tribokin.tribology.laws",
          "Uniform": "tribokin.tribology.laws", "Gaussian": "tribokin.tribology.laws",
          "Lognormal": "tribokin.tribology.laws", "Empirical": "tribokin.tribology.laws",
-         "preset": "tribokin.tribology.presets", "GridError": "tribokin.maps.grid"}
+         "preset": "tribokin.tribology.presets", "GridError": "tribokin.maps.grid",
+         "measure": "tribokin.measured.iso_figures", "MeasurementResult": "tribokin.measured.iso_figures",
+         "Segmenting": "tribokin.measured.iso_figures", "calibrate": "tribokin.measured.calibrated",
+         "CalibrationResult": "tribokin.measured.calibrated", "fit_friction": "tribokin.tribology.friction_fit",
+         "FrictionFitResult": "tribokin.tribology.friction_fit", "analyse_surface": "tribokin.tribology.surface_result",
+         "SurfaceResult": "tribokin.tribology.surface_result"}
 
 __all__ = ["run_study", "load_study", "Study", "RobotSpec", "JointSpec", "PoseSpec", "IsoCubeSpec", "PlaneMap",
            "BoxMap", "JointMap", "ScenarioSpec", "StudyResult", "PoseResult", "MapResult", "Robot", "joint_models",
            "JointErrorModel", "TestSettings", "pose_test", "workspace_map", "MapScenario", "FrictionLaw", "Constant",
            "Uniform", "Gaussian", "Lognormal", "Empirical", "preset", "TribokinError", "InputError",
            "ConfigurationError", "RobotDescriptionError", "LawError", "JointRangeError", "SettingsError",
-           "JointModelError", "GridError", "__version__"]
+           "JointModelError", "GridError", "measure", "MeasurementResult", "Segmenting", "calibrate",
+           "CalibrationResult", "fit_friction", "FrictionFitResult", "analyse_surface", "SurfaceResult", "__version__"]
 
 
 def __getattr__(name: str):

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 import sys
 
-from tribokin.errors import InputError, closest_hint
+from tribokin.errors import InputError, SettingsError, closest_hint
 
 #: Largest seed: NumPy's seeds are 64-bit numbers.
 SEED_MAX = 2 ** 64 - 1
@@ -65,6 +65,15 @@ def seed_int(value, source, key) -> int:
 
 
 seed_int.bounds = (0, SEED_MAX, "", "seeds are 64-bit numbers")
+
+
+def argument(check, value, name: str):
+    """``check(value, source, key)`` applied to argument ``name`` of a library function: its refusal a
+    :class:`~tribokin.errors.SettingsError` naming the argument, no file (the command locates it)."""
+    try:
+        return check(value, None, name)
+    except InputError as error:
+        raise SettingsError(error.message, name) from None
 
 
 def _shown(value) -> str:

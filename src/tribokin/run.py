@@ -18,9 +18,9 @@ from tribokin.maps.budget import check_disk, check_memory
 from tribokin.maps.mapping import prepare_map, run_map
 from tribokin.maps.result import MapResult
 from tribokin.maps.schema import MapLayout
+from tribokin.output.provenance import software_versions
 from tribokin.placement.result import PlacementResult
 from tribokin.placement.search import run_placement
-from tribokin.provenance import software_versions
 from tribokin.simulation.pose_result import PoseResult, pose_frame
 from tribokin.simulation.pose_test import run_poses
 from tribokin.study.assembly import (
@@ -88,9 +88,11 @@ class StudyResult:
         Returns:
             the folder written.
         """
-        from tribokin.output.writers import write_claimed  # the writer takes this class: a method's import (layout)
+        from tribokin.output.lock import write_claimed
+        from tribokin.output.writers import write_results  # the writer takes this class: a method's import (layout)
 
-        return write_claimed(self, folder, force, report=report, table_format=table_format, executor=executor)
+        return write_claimed(write_results, self, folder, force, report=report, table_format=table_format,
+                             executor=executor)
 
     def figures(self) -> dict:
         """The figures ``tribokin run`` writes as PNGs (placement, each pose's field, the map's heat maps) as

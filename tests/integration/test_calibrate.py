@@ -12,6 +12,7 @@ from scipy.spatial.transform import Rotation
 
 from conftest import ROOT
 from helpers.command import tribokin
+from helpers.folders import assert_frame_matches_csv, assert_frozen, assert_same_files
 
 STUDY = ROOT / "studies" / "ur5-calibrate.toml"
 DATA = ROOT / "studies" / "data" / "ur5-tracker.csv"
@@ -77,6 +78,19 @@ def registered(tmp_path_factory) -> tuple[Path, Path]:
     return study, folder / "fit"
 
 
+@pytest.fixture(scope="module")
+def library(calibrated):
+    """calibrate() of the command's study and file (one call for every library check), and the folder it wrote,
+    beside the command's (``calibrated.toml`` names the study's files relative to its folder)."""
+    from tribokin import calibrate
+
+    _, _, study = calibrated
+    out = study.parent / "library"
+    result = calibrate(study, DATA, out=out)
+    assert result.write(out) == out
+    return result, out
+
+
 def test_calibrate_writes_its_folder_and_names_what_it_fitted(calibrated):
     out, stdout, _ = calibrated
     for name in OUTPUTS:
@@ -104,6 +118,36 @@ def test_comparison_holds_measured_and_predicted_figures_of_every_pose(calibrate
         assert low <= float(row["held_out_predicted_um"]) <= high
 
 
+def test_a_second_run_the_library_s_writes_the_command_s_bytes_and_its_result_is_frozen(calibrated, library):
+    """Two runs write the same bytes: the command's folder, and calibrate()'s result written by its write()."""
+    from tribokin import CalibrationResult
+
+    result, out = library
+    assert isinstance(result, CalibrationResult)
+    assert_frozen(result)
+    assert_same_files(out, calibrated[0])
+    assert result.map is not None and result.calibrated.map is not None
+
+
+def test_the_library_s_result_holds_what_the_command_printed(calibrated, library):
+    result, _ = library
+    _, stdout, _ = calibrated
+    parameters = {p.name: p for p in result.calibration.parameters}
+    for line in stdout.splitlines():
+        name = line.split(" ")[0]
+        if name in parameters and parameters[name].identifiable:
+            low, high = result.intervals[name]
+            assert line.split()[1:3] == [f"{parameters[name].value:.4g}", f"{parameters[name].std_error:.4g}"]
+            assert low < parameters[name].value < high
+    assert result.inputs.registration is not None and result.registration_why is None
+    assert [c.row() for c in result.compared] == result.rows()
+
+
+def test_the_library_s_table_is_comparison_csv(calibrated, library):
+    result, _ = library
+    assert_frame_matches_csv(result.to_pandas(), calibrated[0] / "comparison.csv")
+
+
 def test_the_calibrated_study_runs_with_the_fitted_values(calibrated, tmp_path):
     out, *_ = calibrated
     text = (out / "calibrated.toml").read_text(encoding="utf-8")
@@ -117,14 +161,6 @@ def test_the_calibrated_study_runs_with_the_fitted_values(calibrated, tmp_path):
     assert [p["name"] for p in summary["poses"]] == [f"P{i}" for i in range(1, 6)]
     assert all(list(p["directions"]) == ["+x", "+y", "+z"] for p in summary["poses"])  # approached as measured
     assert summary["study"]["joint_models"]["shoulder_pan_joint"]["stiffness"] == pan
-
-
-def test_two_runs_write_the_same_bytes(calibrated, tmp_path):
-    out, _, study = calibrated
-    done = tribokin("calibrate", study, "--measurements", DATA, "--out", tmp_path / "again")
-    assert done.returncode == 0, done.stderr
-    for path in sorted(out.iterdir()):
-        assert (tmp_path / "again" / path.name).read_bytes() == path.read_bytes(), path.name
 
 
 def test_rotating_and_shifting_the_measurements_changes_no_fitted_value(registered, tmp_path):
@@ -347,11 +383,11 @@ def test_fitted_values_run_would_refuse_are_one_line_naming_the_fit_and_nothing_
     """Should a fit (within the ranges) still give values `run` refuses (here a stiffness of 1 N/m forced in: the
     gantry's x axis would then lose more than its travel), calibrate says so in one line naming the measurements
     and what run would refuse, never the calibrated.toml it did not write."""
-    from tribokin import calibration_reports
     from tribokin.cli import main
-    from tribokin.output.calibrated_study import WrittenValue
+    from tribokin.measured import calibrated as calibrated_module
+    from tribokin.study.calibrated_study import WrittenValue
 
-    monkeypatch.setattr(calibration_reports, "_written_values",
+    monkeypatch.setattr(calibrated_module, "_written_values",
                         lambda *args: [WrittenValue("x", "stiffness", 1.0, "forced by the test")])
     gantry_measurements(tmp_path / "data.csv")
     status = main(["calibrate", str(gantry_study(tmp_path, "joint-tables-out-of-order")), "--measurements",
@@ -387,12 +423,12 @@ def test_a_fit_beyond_the_study_s_range_is_held_at_its_end_said_so_and_the_calib
 
 
 def test_a_measurement_file_beyond_the_memory_is_refused_before_it_is_read(tmp_path, capsys, monkeypatch):
-    from tribokin import calibration_reports
     from tribokin.cli import main
     from tribokin.maps import budget
+    from tribokin.measured import calibrated as calibrated_module
 
     monkeypatch.setattr(budget, "available_bytes", lambda: 2 ** 20)  # a machine of little memory
-    monkeypatch.setattr(calibration_reports, "read_robot_measurements", None)  # never reached
+    monkeypatch.setattr(calibrated_module, "read_robot_measurements", None)  # never reached
     assert main(["calibrate", study_without_map(tmp_path), "--measurements", DATA, "--out", tmp_path / "fit"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"tribokin: error: {DATA}: rows: calibrating with this file needs")
@@ -400,14 +436,14 @@ def test_a_measurement_file_beyond_the_memory_is_refused_before_it_is_read(tmp_p
 
 
 def test_a_map_beyond_the_memory_is_refused_before_the_fit(tmp_path, capsys, monkeypatch):
-    from tribokin import calibration_reports
     from tribokin.cli import main
     from tribokin.maps import budget
+    from tribokin.measured import calibrated as calibrated_module
 
     study = tmp_path / "study.toml"
     study.write_text(STUDY.read_text(encoding="utf-8").replace("cycles = 30", "cycles = 100000000"), encoding="utf-8")
     monkeypatch.setattr(budget, "available_bytes", lambda: 2 ** 30)
-    monkeypatch.setattr(calibration_reports, "fit", None)  # the fit is never reached
+    monkeypatch.setattr(calibrated_module, "fit", None)  # the fit is never reached
     assert main(["calibrate", study, "--measurements", DATA, "--out", tmp_path / "fit"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"tribokin: error: {study}: study.cycles: this run needs about")

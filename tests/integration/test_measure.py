@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from helpers.command import tribokin
-from tribokin import measurement_reports
 from tribokin.cli import main
 from tribokin.maps import budget
+from tribokin.measured import iso_figures
 from tribokin.measurement.contract import file_size
 from tribokin.measurement.figures import bootstrap_bytes
 
@@ -241,7 +241,7 @@ def test_a_file_beyond_the_memory_is_refused_before_it_is_read(tmp_path, capsys,
     path = _long_series(tmp_path, 1000)
     size = file_size(path)
     monkeypatch.setattr(budget, "available_bytes", lambda: size.reading_bytes // 2)  # a machine of little memory
-    monkeypatch.setattr(measurement_reports, "read_measurements", None)  # never reached
+    monkeypatch.setattr(iso_figures, "read_measurements", None)  # never reached
     assert main(["measure", path, "--out", tmp_path / "out"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"tribokin: error: {path}: rows: measuring this file needs about")
@@ -254,9 +254,9 @@ def test_measuring_takes_no_more_memory_than_the_estimate(tmp_path):
     estimate it checks, which is below the 2000 resamples' positions held at once before (240 MB)."""
     path = _long_series(tmp_path, 5_000)
     tracemalloc.start()
-    measurement_reports.measure(path, tmp_path / "out", report="none")
+    iso_figures.measure(path).write(tmp_path / "out", report="none")
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     size = file_size(path)
-    estimate = size.reading_bytes + bootstrap_bytes(size.lines) + measurement_reports.DRAWN_BYTES_PER_ROW * size.lines
+    estimate = size.reading_bytes + bootstrap_bytes(size.lines) + iso_figures.DRAWN_BYTES_PER_ROW * size.lines
     assert peak <= estimate < 2000 * 5_000 * 24

@@ -36,7 +36,7 @@ import numpy as np
 from numpy.lib.format import open_memmap, read_array_header_1_0, read_array_header_2_0, read_magic
 
 from tribokin.errors import InputError
-from tribokin.folders import DISK_FULL, disk_full, remove, temporary_sibling, temporary_siblings
+from tribokin.output.folder import DISK_FULL, disk_full, remove, temporary_sibling, temporary_siblings
 from tribokin.units import gib
 
 #: Temporary stores' folders under ``$TMPDIR``: this prefix, then random characters.

@@ -16,8 +16,7 @@ from contextlib import contextmanager, suppress
 from pathlib import Path
 
 from tribokin.errors import InputError
-from tribokin.folders import DISK_FULL, disk_full
-from tribokin.output.folder import check_output_folder, remove_leftovers
+from tribokin.output.folder import DISK_FULL, check_output_folder, disk_full, remove_leftovers
 
 #: Descriptors of the lock files this process holds.
 _held: set[int] = set()
@@ -108,3 +107,11 @@ def claimed_folder(out, force: bool = False):
     check_output_folder(out, force)
     with output_lock(out):
         yield remove_leftovers(out)
+
+
+def write_claimed(write, result, out, force: bool = False, **options) -> Path:
+    """``write(result, out, force, **options)`` (a writer of the whole folder, all at once) as the commands write:
+    ``out``'s lock held (:func:`claimed_folder`), the temporary folders a killed run left beside it deleted first
+    (a result's ``write`` method)."""
+    with claimed_folder(out, force):
+        return write(result, out, force, **options)

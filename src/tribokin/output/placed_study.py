@@ -1,6 +1,6 @@
 """``best.toml``: the user's study file with the robot's base at the placement search's best candidate.
 
-The study's own text is kept (its comments and layout, through ``tomlkit``: :mod:`tribokin.output.calibrated_study`),
+The study's own text is kept (its comments and layout, through ``tomlkit``: :mod:`tribokin.study.calibrated_study`),
 its relative paths rewritten to name the same files from the output folder, ``robot.base_xyz_m`` and
 ``robot.base_rpy_deg`` set, and ``[placement]`` removed: ``tribokin run best.toml`` maps the task region (the
 ``[map]``) with the robot placed there.
@@ -14,9 +14,9 @@ from pathlib import Path
 import tomlkit
 
 from tribokin.errors import InputError
-from tribokin.output.calibrated_study import moved_study_document, with_header
+from tribokin.output.provenance import __version__
 from tribokin.placement.result import PlacementResult
-from tribokin.provenance import __version__
+from tribokin.study.calibrated_study import moved_study_document, with_header
 
 #: The file name of the placed study.
 BEST_STUDY = "best.toml"

@@ -22,7 +22,6 @@ from tribokin.maps.result import MapResult, ScenarioMap
 from tribokin.maps.streaming import blocks
 from tribokin.maps.table import map_table_columns, map_table_name
 from tribokin.output.folder import atomic_folder
-from tribokin.output.lock import claimed_folder
 from tribokin.output.placed_study import BEST_STUDY, best_study_text
 from tribokin.output.views_process import ViewsProcess
 from tribokin.placement.result import PlacementResult
@@ -290,14 +289,6 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
             if views is not None:
                 views.close()
     return Path(out)
-
-
-def write_claimed(result: StudyResult, out, force: bool = False, **options) -> Path:
-    """:func:`write_results` (``options``: its keywords) as ``tribokin run`` writes: ``out``'s lock held
-    (:func:`~tribokin.output.lock.claimed_folder`), the temporary folders a killed run left beside it deleted first
-    (:meth:`~tribokin.run.StudyResult.write`)."""
-    with claimed_folder(out, force):
-        return write_results(result, out, force, **options)
 
 
 def _write_views(result: StudyResult, folder: Path, report: str, map_layers, cube) -> None:

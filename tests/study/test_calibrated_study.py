@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from tribokin.output.calibrated_study import WrittenValue, calibrated_study_text
+from tribokin.study.calibrated_study import WrittenValue, calibrated_study_text
 
 if sys.version_info >= (3, 11):
     import tomllib

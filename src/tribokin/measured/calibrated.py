@@ -1,20 +1,21 @@
-"""A study and a measurement file -> the fitted joint model and its predictions (``tribokin calibrate``).
+"""A study's joint model fitted to a measurement file, and its predictions (``tribokin calibrate``).
 
-Everything is read and checked first (the study and its ``[calibration]``, the robot, the measurement file, the
-pose names that become file names, the configurations); then the maximum-likelihood fit
+Everything is read and checked first (the study and its ``[calibration]``, the robot, the memory, the measurement
+file, the pose names that become file names, the configurations); then the maximum-likelihood fit
 (:func:`tribokin.calibration.fit.fit`) with a profile-likelihood 95 % interval of every identifiable parameter,
-the predicted figures at the measured poses (from the fit to all of them, and left out one at a time), and, when
-the study has a ``[map]``, the workspace map of the calibrated study; then the folder is written all at once:
-``calibration.json``, ``comparison.csv``, ``calibrated.toml``, ``clouds_<pose>.png``, ``parity.png``, the
-map's figures and, unless ``report == "none"``, ``report.html``.
+the predicted figures at the measured poses (from the fit to all of them, and left out one at a time), the
+calibrated study (its text, parsed and checked as ``tribokin run`` checks it) and, when the study has a ``[map]``,
+the calibrated study's workspace map: a :class:`CalibrationResult`, which writes ``calibration.json``,
+``comparison.csv``, ``calibrated.toml``, ``clouds_<pose>.png``, ``parity.png``, the map's figures and, unless
+``report == "none"``, ``report.html``.
 """
 
 from __future__ import annotations
 
 import hashlib
-import json
-from dataclasses import asdict, replace
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -24,28 +25,28 @@ from tribokin.calibration.cross_validation import (
     PredictedFigure,
     leave_one_pose_out,
     predict_pose,
-    predicted_clouds,
     prediction_bytes,
 )
 from tribokin.calibration.data import PoseData
 from tribokin.calibration.fit import Calibration, ParameterEstimate, fit, profile_interval
-from tribokin.checks import seed_int
+from tribokin.checks import argument, seed_int
 from tribokin.errors import InputError
 from tribokin.execution import local_workers
+from tribokin.kinematics.robot import Robot
 from tribokin.maps import budget
 from tribokin.maps.budget import check_parts
+from tribokin.maps.result import MapResult
 from tribokin.maps.schema import MapLayout
+from tribokin.measured.written import Written
 from tribokin.measurement.contract import file_size
-from tribokin.output.calibrated_study import WrittenValue, calibrated_study_text
-from tribokin.output.folder import atomic_folder, check_output_folder
-from tribokin.output.writers import write_rows
-from tribokin.provenance import software_versions
+from tribokin.output.provenance import software_versions
 from tribokin.run import run_study
 from tribokin.study.assembly import check_names, joint_models, load_robot, map_robots, pose_tasks, study_runner
+from tribokin.study.calibrated_study import WrittenValue, calibrated_study_text
 from tribokin.study.calibration_data import CalibrationInput, calibration_input, read_robot_measurements
 from tribokin.study.names import calibrated_pose_names, check_measured_pose_names, cloud_figure_file
 from tribokin.study.reading import parse_study_text, read_study_file
-from tribokin.study.spec import ISO_CUBE_POSES
+from tribokin.study.spec import ISO_CUBE_POSES, Study
 from tribokin.units import UM_PER_M, um
 
 PARITY_FIGURE = "parity.png"
@@ -81,27 +82,36 @@ def _prediction_entry(prediction: PosePrediction) -> dict:
             "vAP_p": _figure(prediction.vAP)}
 
 
+class Compared(NamedTuple):
+    """A measured figure beside its predictions: by the fit to every pose and by the fit without this pose."""
+
+    pose: str
+    direction: str
+    figure: str
+    cycles: int
+    fitted: PredictedFigure
+    held_out: PredictedFigure
+
+    def row(self) -> dict:
+        """A row of ``comparison.csv`` [µm]."""
+        fitted, held_out = self.fitted, self.held_out
+        return {"pose": self.pose, "direction": self.direction, "figure": self.figure, "cycles": self.cycles,
+                "measured_um": um(fitted.measured_m), "predicted_um": um(fitted.predicted_m),
+                "predicted_low_um": um(fitted.interval_m[0]), "predicted_high_um": um(fitted.interval_m[1]),
+                "held_out_predicted_um": um(held_out.predicted_m), "held_out_low_um": um(held_out.interval_m[0]),
+                "held_out_high_um": um(held_out.interval_m[1])}
+
+
 def _compared(inputs: CalibrationInput, fitted: tuple[PosePrediction, ...], held_out: tuple[PosePrediction, ...]
-              ) -> list[tuple[str, str, str, int, PredictedFigure, PredictedFigure]]:
-    """Per pose and direction RP_l, per pose vAP_p (direction ``all``): (pose, direction, figure, cycles, predicted
-    by the fit to every pose, predicted by the fit without this pose); one-cycle series have no RP_l."""
+              ) -> tuple[Compared, ...]:
+    """Per pose and direction RP_l, per pose vAP_p (direction ``all``); one-cycle series have no RP_l."""
     compared = []
     for pose, all_poses, others in zip(inputs.poses, fitted, held_out, strict=True):
         pairs = [(d, "RP_l", len(s.points_m), a, o) for d, s, a, o in
                  zip(all_poses.directions, pose.series, all_poses.RP_l, others.RP_l, strict=True)]
         pairs.append(("all", "vAP_p", sum(len(s.points_m) for s in pose.series), all_poses.vAP, others.vAP))
-        compared += [(pose.label, *pair) for pair in pairs if pair[3] is not None]
-    return compared
-
-
-def _comparison_row(pose: str, direction: str, figure: str, cycles: int, fitted: PredictedFigure,
-                    held_out: PredictedFigure) -> dict:
-    """A row of ``comparison.csv`` [µm]."""
-    return {"pose": pose, "direction": direction, "figure": figure, "cycles": cycles,
-            "measured_um": um(fitted.measured_m), "predicted_um": um(fitted.predicted_m),
-            "predicted_low_um": um(fitted.interval_m[0]), "predicted_high_um": um(fitted.interval_m[1]),
-            "held_out_predicted_um": um(held_out.predicted_m), "held_out_low_um": um(held_out.interval_m[0]),
-            "held_out_high_um": um(held_out.interval_m[1])}
+        compared += [Compared(pose.label, *pair) for pair in pairs if pair[3] is not None]
+    return tuple(compared)
 
 
 def _written_values(inputs: CalibrationInput, calibration: Calibration,
@@ -156,13 +166,16 @@ def _noise_text(calibration: Calibration, intervals: dict) -> str | None:
     return f"{estimate.value * UM_PER_M:.4g} µm, 95 % interval [{shown}] µm"
 
 
+#: Why a calibration's measuring frame is not registered.
+UNREGISTERED = ("no commanded positions at three or more poses not on one line: the measuring frame's rotation is "
+                "fitted with the model and profiled out (the fit uses the clouds' shapes and the differences of their "
+                "barycentres, which do not depend on the frame)")
+
+
 def _registration_entry(inputs: CalibrationInput, calibration: Calibration) -> dict:
     registration = inputs.registration
     if registration is None:
-        return {"made": False, "why": "no commanded positions at three or more poses not on one line: the measuring "
-                "frame's rotation is fitted with the model and profiled out (the fit uses the clouds' shapes and the "
-                "differences of their barycentres, which do not depend on the frame)",
-                "fitted_rotation": calibration.rotation.tolist()}
+        return {"made": False, "why": UNREGISTERED, "fitted_rotation": calibration.rotation.tolist()}
     return {"made": True, "rms_residual_um": um(registration.rms_residual_m),
             "rotation": registration.rotation.tolist(), "translation_m": registration.translation_m.tolist(),
             "note": "the residual is the robot's geometric error (absolute accuracy), which friction does not "
@@ -186,15 +199,10 @@ def _written_pose_names(study, measured: list[str], source) -> dict[str, str]:
     return dict(zip(measured, calibrated_pose_names(own + cube, measured, source), strict=True))
 
 
-def _calibrated_study(study, study_path: Path, out: Path, header: list[str], values: list[WrittenValue],
-                      inputs: CalibrationInput, names: dict[str, str]) -> tuple[str, object]:
-    """``calibrated.toml``'s text, and the study it parses into from ``out`` (checked runnable)."""
-    poses = [(names[pose.label], q.tolist(), [s.direction for s in pose.series])
-             for pose, q in zip(inputs.poses, inputs.configurations, strict=True)]
-    text = calibrated_study_text(study_path.read_text(encoding="utf-8"), study_path.parent, out, header, values,
-                                 poses)
-    calibrated = parse_study_text(text, out / "calibrated.toml", out)
-    return text, calibrated
+def _written_poses(inputs: CalibrationInput, names: dict[str, str]) -> tuple:
+    """The measured poses as ``calibrated.toml`` writes them: (name, configuration, approach labels)."""
+    return tuple((names[pose.label], q.tolist(), [s.direction for s in pose.series])
+                 for pose, q in zip(inputs.poses, inputs.configurations, strict=True))
 
 
 def _check_runnable(calibrated, robot) -> None:
@@ -218,27 +226,123 @@ def check_memory(measurements_path, available: int | None = None) -> None:
                 "calibrating with this file", "split it into several files", measurements_path, "rows", available)
 
 
-def calibrate(study_path, measurements_path, out, force: bool = False, report: str = "full", seed: int = SEED,
-              executor=None, progress=None) -> dict:
-    """Fit the study's joint model to the measurements and write the folder ``out`` (module docstring).
+@dataclass(frozen=True, eq=False)
+class CalibrationResult(Written):
+    """A study's joint model fitted to measured clouds, its intervals and predictions, and the calibrated study.
+
+    Attributes:
+        study_file: the study's file, as given.
+        measurements_file: the measurement file, as given.
+        measurements_sha256: its SHA-256 digest.
+        study: the study read.
+        robot: its robot (kinematics only).
+        inputs: the calibration's data and model (per measured pose its configuration, Jacobian, series).
+        calibration: the fit.
+        intervals: per identifiable parameter, its profile-likelihood 95 % interval (``None``: unbounded).
+        fitted: per pose, its figures predicted by the fit to every pose.
+        held_out: per pose, its figures predicted by the fit to the other poses.
+        seed: seed of the predictions' simulated tests.
+        calibrated: the calibrated study (its values the fit's), as ``calibrated.toml`` reads from ``out``.
+        map: the calibrated study's workspace map (``None``: the study has no ``[map]``).
+        versions: the software that computed them.
+        header: ``calibrated.toml``'s header comment lines (the command, the fit).
+        values: the joint values ``calibrated.toml`` writes, each with its comment.
+        written_poses: the measured poses ``calibrated.toml`` adds: (name, configuration, approach labels).
+        study_text: the study file's own text, which ``calibrated.toml`` keeps.
+    """
+
+    study_file: str
+    measurements_file: str
+    measurements_sha256: str
+    study: Study = field(repr=False)
+    robot: Robot = field(repr=False)
+    inputs: CalibrationInput = field(repr=False)
+    calibration: Calibration = field(repr=False)
+    intervals: dict[str, tuple[float | None, float | None]]
+    fitted: tuple[PosePrediction, ...]
+    held_out: tuple[PosePrediction, ...]
+    seed: int
+    calibrated: Study = field(repr=False)
+    map: MapResult | None = field(repr=False)
+    versions: dict = field(repr=False)
+    header: tuple[str, ...] = field(repr=False)
+    values: tuple[WrittenValue, ...] = field(repr=False)
+    written_poses: tuple = field(repr=False)
+    study_text: str = field(repr=False)
+
+    @property
+    def registration_why(self) -> str | None:
+        """Why the measuring frame is not registered (``None``: it is)."""
+        return None if self.inputs.registration is not None else UNREGISTERED
+
+    @property
+    def compared(self) -> tuple[Compared, ...]:
+        """Per pose and direction RP_l, per pose vAP_p (direction ``all``): measured, and predicted with and without
+        the pose (``comparison.csv``'s rows)."""
+        return _compared(self.inputs, self.fitted, self.held_out)
+
+    def rows(self) -> list[dict]:
+        """``comparison.csv``'s rows [µm]."""
+        return [c.row() for c in self.compared]
+
+    def calibrated_text(self, out) -> str:
+        """``calibrated.toml``'s text for the folder ``out`` (its relative paths name the same files from there)."""
+        path = Path(self.study_file)
+        return calibrated_study_text(self.study_text, path.parent, Path(out), list(self.header), list(self.values),
+                                     list(self.written_poses))
+
+    def poses_in_base_frame(self) -> list[PoseData]:
+        """The measured poses, their points in the world frame (turned by the fit's rotation when the frame was
+        unknown), as the clouds' figures draw them."""
+        return [_in_base_frame(p, self.calibration) for p in self.inputs.poses]
+
+    def summary(self) -> dict:
+        """The content of ``calibration.json``."""
+        study, inputs, calibration = self.study, self.inputs, self.calibration
+        return {
+            "settings": {
+                "study": self.study_file, "study_sha256": study.sha256, "measurements": self.measurements_file,
+                "measurements_sha256": self.measurements_sha256,
+                "robot": self.robot.label, "tool_frame": self.robot.tool_frame, "joints": self.robot.joint_names,
+                "fit": list(study.calibration.fit), "fitted_joints": study.calibration.joints if
+                study.calibration.joints == "all" else list(study.calibration.joints), "tie": study.calibration.tie,
+                "configurations": {"source": inputs.configuration_source,
+                                   "q": {p.label: q.tolist()
+                                         for p, q in zip(inputs.poses, inputs.configurations, strict=True)}},
+                "left_out": [asdict(item) for item in inputs.left_out],
+                "intervals": INTERVAL_METHOD, "predictions": PREDICTION_METHOD, "seed": self.seed,
+            },
+            "parameters": [_parameter_entry(e, self.intervals.get(e.name)) for e in calibration.parameters],
+            "log_likelihood": calibration.log_likelihood, "aic": calibration.aic,
+            "information": {"rank": calibration.rank, "free_parameters": len(calibration.parameters),
+                            "condition_number": calibration.condition_number, "converged": calibration.converged},
+            "registration": _registration_entry(inputs, calibration),
+            "predictions": [_prediction_entry(p) for p in self.fitted],
+            "cross_validation": [_prediction_entry(p) for p in self.held_out],
+            "reproduce": {"versions": self.versions},
+        }
+
+
+def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None, progress=None) -> CalibrationResult:
+    """Fit the study's joint model to the measurements (module docstring).
 
     Args:
-        study_path: the study (TOML) with a ``[calibration]`` section.
-        measurements_path: the measurement file (README: Measured data).
-        out: output folder (must not exist, unless ``force``).
-        report: ``"full"`` writes ``report.html``, ``"none"`` does not.
+        study: the study's file (TOML) with a ``[calibration]`` section.
+        measurements: the measurement file (README: Measured data).
         seed: seed of the predictions' simulated tests.
-        executor, progress: where the predicted map's chunks run, and its progress callback (``run_study``).
+        out: the folder ``calibrated.toml`` will be written in, from which the calibrated study is read and checked
+            (default: the study's folder); :meth:`CalibrationResult.write` writes its paths for the folder it writes.
+        executor: where the calibrated study's map's chunks run (``run_study``).
+        progress: the map's progress callback (``run_study``).
 
     Returns:
-        the content of ``calibration.json``.
+        the fit, its intervals and predictions, and the calibrated study (and its map). A bad ``seed`` is a
+        :class:`~tribokin.errors.SettingsError` naming it; bad files, an :class:`~tribokin.errors.InputError` naming
+        the file and key.
     """
-    from tribokin.viz.calibration import ParityPoint, PredictedCloud, save_calibration_clouds, save_parity
-    from tribokin.viz.calibration_report import write_calibration_report
-    from tribokin.viz.maps import save_map_figures
-
-    out, study_path = Path(check_output_folder(out, force)), Path(study_path)
-    seed = seed_int(seed, "command line", "--seed")
+    study_path, measurements_path = Path(study), measurements
+    out = study_path.parent if out is None else Path(out)
+    seed = argument(seed_int, seed, "seed")
     study = read_study_file(study_path)
     if study.calibration is None:
         raise InputError("no [calibration] section: add one naming what to fit (fit = [\"stiffness\", ...])",
@@ -266,9 +370,12 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
     held_out = leave_one_pose_out(inputs.model, inputs.poses, seed=seed, frame=frame)
     values = _written_values(inputs, calibration, intervals)
     header = _header(study_path, measurements_path, calibration, _noise_text(calibration, intervals))
+    study_text = study_path.read_text(encoding="utf-8")
+    poses = _written_poses(inputs, names)
     workspace_map = None
     try:
-        text, calibrated = _calibrated_study(study, study_path, out, header, values, inputs, names)
+        text = calibrated_study_text(study_text, study_path.parent, out, header, values, list(poses))
+        calibrated = parse_study_text(text, out / "calibrated.toml", out)
         _check_runnable(calibrated, robot)
         if calibrated.map is not None:
             only_map = replace(calibrated, poses=(), iso_cube=None, calibration=None)
@@ -279,46 +386,7 @@ def calibrate(study_path, measurements_path, out, force: bool = False, report: s
         raise InputError(f"the fitted values make a study that `tribokin run` refuses ({error.key}: {error.message}); "
                          "nothing is written: fix the values the measurements cannot determine, or check the data",
                          measurements_path, "calibration") from None
-
-    summary = {
-        "settings": {
-            "study": str(study_path), "study_sha256": study.sha256, "measurements": str(measurements_path),
-            "measurements_sha256": hashlib.sha256(Path(measurements_path).read_bytes()).hexdigest(),
-            "robot": robot.label, "tool_frame": robot.tool_frame, "joints": robot.joint_names,
-            "fit": list(study.calibration.fit), "fitted_joints": study.calibration.joints if
-            study.calibration.joints == "all" else list(study.calibration.joints), "tie": study.calibration.tie,
-            "configurations": {"source": inputs.configuration_source,
-                               "q": {p.label: q.tolist()
-                                     for p, q in zip(inputs.poses, inputs.configurations, strict=True)}},
-            "left_out": [asdict(item) for item in inputs.left_out],
-            "intervals": INTERVAL_METHOD, "predictions": PREDICTION_METHOD, "seed": seed,
-        },
-        "parameters": [_parameter_entry(e, intervals.get(e.name)) for e in calibration.parameters],
-        "log_likelihood": calibration.log_likelihood, "aic": calibration.aic,
-        "information": {"rank": calibration.rank, "free_parameters": len(calibration.parameters),
-                        "condition_number": calibration.condition_number, "converged": calibration.converged},
-        "registration": _registration_entry(inputs, calibration),
-        "predictions": [_prediction_entry(p) for p in fitted],
-        "cross_validation": [_prediction_entry(p) for p in held_out],
-        "reproduce": {"versions": software_versions()},
-    }
-    compared = _compared(inputs, fitted, held_out)
-    rows = [_comparison_row(*entry) for entry in compared]
-    with atomic_folder(out, force) as folder:
-        (folder / "calibration.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
-        write_rows(rows, [], folder / "comparison.csv")
-        (folder / "calibrated.toml").write_text(text, encoding="utf-8")
-        figures = []
-        for pose in (_in_base_frame(p, calibration) for p in inputs.poses):
-            clouds = [PredictedCloud(s.direction, np.asarray(s.points_m), centre, covariance)
-                      for s, (covariance, centre) in zip(pose.series, predicted_clouds(calibration, pose), strict=True)]
-            save_calibration_clouds(clouds, folder / cloud_figure_file(pose.label), title=f"{pose.label}")
-            figures.append(cloud_figure_file(pose.label))
-        parity = [ParityPoint(f"{pose} {direction}", figure, held) for pose, direction, figure, _, _, held in compared]
-        save_parity(parity, folder / PARITY_FIGURE, title="held-out poses: measured against predicted")
-        figures.insert(0, PARITY_FIGURE)
-        if workspace_map is not None:
-            figures += [p.name for p in save_map_figures(workspace_map, folder, f"{calibrated.name} (calibrated)")]
-        if report != "none":
-            write_calibration_report(summary, rows, folder, figures)
-    return summary
+    return CalibrationResult(str(study_path), str(measurements_path),
+                             hashlib.sha256(Path(measurements_path).read_bytes()).hexdigest(), study, robot, inputs,
+                             calibration, intervals, fitted, held_out, seed, calibrated, workspace_map,
+                             software_versions(), tuple(header), tuple(values), poses, study_text)

@@ -1,0 +1,153 @@
+"""Friction laws fitted to a tribometer log (``tribokin fit-friction``): the steady state's maximum-likelihood fits,
+ranked by AIC, as a :class:`FrictionFitResult` that writes ``law.toml``, ``fit.json`` and its figures."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from tribokin.errors import InputError, LawError
+from tribokin.tribology.columns import quiet_numerics
+from tribokin.tribology.fitting import Fit, fit_laws
+from tribokin.tribology.laws import LAWS, MU_MIN
+from tribokin.tribology.tribometer import TribometerLog, read_log, steady_state
+
+#: What ``fit.json`` says of its fits.
+FIT_NOTE = "maximum-likelihood fits ranked by AIC; KS p-values are optimistic (parameters fitted to the same data)"
+
+
+def _toml_number(value: float) -> str:
+    return repr(float(f"{value:.6g}"))
+
+
+def inline_law(fit: Fit) -> str:
+    """The fitted law as a study-file inline table, e.g. ``{ law = "gaussian", mean = 0.1375, std = 0.0075 }``."""
+    keys = ", ".join(f"{key} = {_toml_number(fit.params[key])}" for key in LAWS[fit.law].parameters)
+    return f'{{ law = "{fit.law}", {keys} }}'
+
+
+@dataclass(frozen=True, eq=False)
+class FrictionFitResult:
+    """The laws fitted to a tribometer log's steady state.
+
+    Attributes:
+        log: the log's file, as given.
+        cycle: every cycle's number [-].
+        mu: every cycle's friction coefficient [-].
+        running_in_cycles: cycles trimmed at the start.
+        running_in: how their count was set, ``"given"`` or ``"detected"``.
+        fits: the maximum-likelihood fits, best (lowest AIC) first.
+    """
+
+    log: str
+    cycle: np.ndarray
+    mu: np.ndarray
+    running_in_cycles: int
+    running_in: str
+    fits: tuple[Fit, ...]
+
+    @property
+    def steady(self) -> np.ndarray:
+        """The steady state's friction coefficients [-]: the cycles after the running-in."""
+        return self.mu[self.running_in_cycles:]
+
+    @property
+    def chosen(self) -> Fit:
+        """The best fit (lowest AIC)."""
+        return self.fits[0]
+
+    @property
+    def inline(self) -> str:
+        """The chosen law as a study-file inline table (:func:`inline_law`)."""
+        return inline_law(self.chosen)
+
+    @property
+    def name(self) -> str:
+        """The log's file name, which the law's provenance and the figures' titles give."""
+        return Path(self.log).name
+
+    def law_toml(self) -> str:
+        """``law.toml``: the chosen law as TOML keys, with provenance and the AIC table as comments."""
+        provenance = (f"{self.name}, {self.steady.size} cycles after {self.running_in_cycles} running-in cycles "
+                      f"({self.running_in})")
+        lines = [f"# Friction law written by `tribokin fit-friction`: {provenance}.",
+                 "# Maximum-likelihood fits ranked by AIC (lowest first). KS p-values are optimistic:",
+                 "# the parameters were fitted to the same data.",
+                 *(f"#   {f.law:<10} AIC = {f.aic:12.2f}   KS p = {f.ks_pvalue:.3g}   "
+                   + ", ".join(f"{k} = {_toml_number(v)}" for k, v in f.params.items()) for f in self.fits),
+                 '# Use it in a study: friction = { file = "law.toml" } (path relative to the study file).',
+                 f'law = "{self.chosen.law}"',
+                 *(f"{key} = {_toml_number(self.chosen.params[key])}" for key in LAWS[self.chosen.law].parameters)]
+        return "\n".join(lines) + "\n"
+
+    def summary(self) -> dict:
+        """The content of ``fit.json``."""
+        steady = self.steady
+        return {"log": self.log, "cycles": int(self.mu.size), "running_in_cycles": self.running_in_cycles,
+                "running_in": self.running_in, "steady_cycles": int(steady.size), "mean": float(steady.mean()),
+                "std": float(steady.std(ddof=1)), "chosen": self.chosen.law, "inline": self.inline,
+                "fits": [{"law": f.law, **f.params, "log_likelihood": f.log_likelihood, "aic": f.aic,
+                          "ks_pvalue": f.ks_pvalue} for f in self.fits],
+                "note": FIT_NOTE}
+
+    def to_pandas(self):
+        """The fits as a pandas DataFrame, one row per law, best first: ``law``, its parameters, ``log_likelihood``,
+        ``aic``, ``ks_pvalue`` (``fit.json``'s ``fits``; pandas: ``pip install 'tribokin[data]'``)."""
+        from tribokin.errors import import_extra
+
+        return import_extra("pandas", "to_pandas()").DataFrame(self.summary()["fits"])
+
+    def write(self, folder, force: bool = False) -> Path:
+        """Write the files ``tribokin fit-friction`` writes into ``folder`` (``law.toml``, ``fit.json``,
+        ``mu_cycles.png``, ``mu_histogram.png``): all at once, its lock held, refused
+        (:class:`~tribokin.errors.InputError`) if it exists, unless ``force``.
+
+        Returns:
+            the folder written.
+        """
+        from tribokin.output.lock import write_claimed
+        from tribokin.output.tribology import write_friction_fit  # a method's import (layout)
+
+        return write_claimed(write_friction_fit, self, folder, force)
+
+
+def fit_friction(log, running_in: int | None = None) -> FrictionFitResult:
+    """Fit friction laws to a tribometer log's steady state.
+
+    Args:
+        log: a :class:`~tribokin.tribology.tribometer.TribometerLog` or its file (``cycle, mu`` or
+            ``friction_force_N, normal_force_N``).
+        running_in: cycles to trim at the start (``None``: detected).
+
+    Returns:
+        the fits, best first, and the log they came from.
+    """
+    log = log if isinstance(log, TribometerLog) else read_log(log)
+    mu, trimmed = steady_state(log, running_in)
+    fits = _checked_fits(mu, log.source)
+    return FrictionFitResult(log.source, log.cycle, log.mu, trimmed, "given" if running_in is not None else "detected",
+                             tuple(fits))
+
+
+def _checked_fits(mu: np.ndarray, source: str) -> list[Fit]:
+    """``fit_laws(mu)``, each fit finite and a valid law, else an error naming the log's ``mu``."""
+    if mu.mean() < MU_MIN:
+        raise InputError(f"the steady-state mean mu is {mu.mean():g}, below {MU_MIN:g}: no sliding contact "
+                         "has so little friction; check the units", source, "mu")
+    if np.ptp(mu) == 0:
+        raise InputError(f"every steady-state cycle has mu = {mu[0]:g}: there is no spread to fit; use "
+                         f'{{ law = "constant", mu = {mu[0]:g} }}', source, "mu")
+    with quiet_numerics():
+        fits = fit_laws(mu)
+    for fit in fits:
+        try:
+            if not all(math.isfinite(v) for v in [*fit.params.values(), fit.aic]):
+                raise LawError(f"parameters {fit.params}, AIC {fit.aic}", fit.law)
+            fit.to_law()
+        except LawError as error:
+            raise InputError(f"the {fit.law} fit to the {mu.size} steady-state cycles is not a valid law "
+                             f"({error.parameter}: {error.message}); check the values", source, "mu") from None
+    return fits
