@@ -14,8 +14,8 @@
   start|: at most 0.15 % of its value for se = 0.1 within the box; along directions the data leave flat
   it makes the optimum unique, so the fit converges there too (without it the optimiser stops anywhere
   along them, and the determined parameters move with it, by up to 1e-5 relative under a rotation of
-  the data). Standard errors and log L are the data's alone. (L-BFGS-B reaches the same optima but, with scipy 1.17's
-  multi-threaded OpenBLAS on a busy machine, spent 15× longer per fit here.)
+  the data). Standard errors and log L are the data's alone. (L-BFGS-B reaches the same optima, more slowly:
+  docs/benchmarks.md.)
 - **Uncertainty.** Observed Fisher information = Hessian of the negative log-likelihood at the
   optimum: the Jacobian of its analytic gradient by ``scipy.differentiate.jacobian`` (adaptive
   central differences with Richardson extrapolation), symmetrised. Standard errors, null space and

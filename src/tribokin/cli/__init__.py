@@ -42,7 +42,7 @@ def build_parser() -> argparse.ArgumentParser:
 def entry() -> int:
     """The ``tribokin`` command (``python -m tribokin``): :func:`main`, then every object it leaves frozen
     (:func:`gc.freeze`), so that the interpreter's exit does not search them for garbage before the process ends
-    (0.4 s after a 600 x 600 map); its exit handlers still run."""
+    (docs/benchmarks.md); its exit handlers still run."""
     status = main()
     gc.freeze()
     return status

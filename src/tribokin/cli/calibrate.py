@@ -12,7 +12,7 @@ def add_parser(commands) -> None:
     parser = commands.add_parser("calibrate", help="fit a study's joint model to measured data ([calibration])")
     parser.add_argument("study", help="study file (TOML) with a [calibration] section")
     parser.add_argument("--measurements", required=True, metavar="FILE",
-                           help="measurement CSV (README: Measured data), with q_<joint> or commanded positions")
+                           help="measurement CSV (docs/measurement.md), with q_<joint> or commanded positions")
     parser.add_argument("--out", default="fit", help="output folder (must not exist, unless --force)")
     parser.add_argument("--force", action="store_true", help="replace an existing output folder")
     parser.add_argument("--seed", type=int, default=9283,

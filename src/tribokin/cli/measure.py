@@ -20,7 +20,7 @@ def add_parser(commands) -> None:
 
     parser = commands.add_parser("measure", help="ISO 9283 figures of measured data (a laser tracker's CSV)")
     parser.add_argument("file", help="measurement CSV: pose, cycle, [direction,] x_m, y_m, z_m or x_mm, ... "
-                                      "(README: Measured data)")
+                                      "(docs/measurement.md)")
     parser.add_argument("--out", default="measured", help="output folder (must not exist, unless --force)")
     parser.add_argument("--force", action="store_true", help="replace an existing output folder")
     parser.add_argument("--seed", type=int, default=BOOTSTRAP_SEED,

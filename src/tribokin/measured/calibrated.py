@@ -328,7 +328,7 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
 
     Args:
         study: the study's file (TOML) with a ``[calibration]`` section.
-        measurements: the measurement file (README: Measured data).
+        measurements: the measurement file (docs/measurement.md).
         seed: seed of the predictions' simulated tests.
         out: the folder ``calibrated.toml`` will be written in, from which the calibrated study is read and checked
             (default: the study's folder); :meth:`CalibrationResult.write` writes its paths for the folder it writes.

@@ -57,7 +57,7 @@ def register(measured_m: np.ndarray, commanded_m: np.ndarray, poses: tuple[str, 
     singular = np.linalg.svd(commanded_m - commanded_centre, compute_uv=False)
     if singular[1] <= COLLINEAR_RATIO * singular[0]:
         return None
-    from scipy.spatial.transform import Rotation  # here: scipy.spatial takes 0.15 s to import, for every command
+    from scipy.spatial.transform import Rotation  # here: scipy.spatial's import is not free (benchmarks/startup.py)
 
     rotation = Rotation.align_vectors(commanded_m - commanded_centre, measured_m - measured_centre)[0].as_matrix()
     translation = commanded_centre - rotation @ measured_centre
