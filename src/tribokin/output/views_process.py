@@ -1,9 +1,9 @@
 """The views of a run (figures, report, scene) drawn by a process of its own, forked when the command starts.
 
 While the command's serial start (its imports, the study, the robot, a map's row heads) keeps one core busy, this
-process imports what draws (matplotlib, meshcat: their cost is in benchmarks/startup.py; a core that would otherwise
-compete with the map's workers for it), loads the study's robot and reads the meshes its report draws. It then draws the results it is sent
-into the output folder (:func:`~tribokin.viz.contents.write_views`). The map's summary, which the report shows, is sent
+process imports what draws (matplotlib, meshcat: benchmarks/startup.py measures them) on the core that would
+otherwise compete with the map's workers for it, loads the study's robot and reads the meshes its report draws. It
+then draws the results it is sent into the output folder (:func:`~tribokin.viz.contents.write_views`). The map's summary, which the report shows, is sent
 after them when a local worker computes it (:meth:`ViewsProcess.send_summary`); else this process computes it and
 sends it back. The same files as drawn by the writing process: the same code, the same inputs.
 
