@@ -1,11 +1,11 @@
 """The views of a run (figures, report, scene) drawn by a process of its own, forked when the command starts.
 
 While the command's serial start (its imports, the study, the robot, a map's row heads) keeps one core busy, this
-process imports what draws (matplotlib, meshcat: benchmarks/startup.py measures them) on the core that would
-otherwise compete with the map's workers for it, loads the study's robot and reads the meshes its report draws. It
-then draws the results it is sent into the output folder (:func:`~tribokin.viz.contents.write_views`). The map's summary, which the report shows, is sent
-after them when a local worker computes it (:meth:`ViewsProcess.send_summary`); else this process computes it and
-sends it back. The same files as drawn by the writing process: the same code, the same inputs.
+process imports what draws (matplotlib, meshcat: benchmarks/startup.py measures them) on the core that would otherwise
+compete with the map's workers for it, loads the study's robot and reads the meshes its report draws. It then draws the
+results it is sent into the output folder (:func:`~tribokin.viz.contents.write_views`). The map's summary, which the
+report shows, is sent after them when a local worker computes it (:meth:`ViewsProcess.send_summary`); else this process
+computes it and sends it back. The same files as drawn by the writing process: the same code, the same inputs.
 
 Forked only on Linux-like systems (``fork``), with two cores or more for this process, and while the command runs no
 other thread; else (and through the Python API) the views are drawn by the writing process
