@@ -3,6 +3,7 @@ server), ``figures()`` the output folder's figures as matplotlib Figures (saved,
 
 from __future__ import annotations
 
+import dataclasses
 import html
 import re
 
@@ -49,9 +50,9 @@ def test_a_pose_and_a_map_show_their_own_scenes_and_none_without_a_robot(written
     pose_page, map_page = frame_page(pose._repr_html_()), frame_page(workspace._repr_html_())
     assert pose_page == static_scene(robot, pose.q, [pose])[0] != static_scene(robot, pose.q, [])[0]  # its cloud
     assert map_page == static_scene(robot, workspace.first_reachable_q(), [], map_scene_layers(workspace))[0]
-    pose.robot = None
-    assert pose._repr_html_() is None
-    pose.robot = robot
+    assert dataclasses.replace(pose, robot=None)._repr_html_() is None
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        pose.robot = None
 
 
 def test_the_figures_are_the_folder_s_pngs(written, tmp_path):

@@ -12,7 +12,7 @@ from tribokin.kinematics.robot import Robot
 from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 
-@dataclass
+@dataclass(frozen=True)
 class PoseResult:
     """Everything sampled and measured at one commanded pose, from each of its approach directions.
 

@@ -247,7 +247,7 @@ class PoseRunner:
         result = self.measure(task, pose_stream(self.settings.seed, index))
         if task.friction is not None:
             result.extra["friction"] = task.friction.describe()
-        result.direction_extra = self.beyond_iso(task, result.normal_forces_N, result, index)
+        result = replace(result, direction_extra=self.beyond_iso(task, result.normal_forces_N, result, index))
         if self.settings.engine == "fast":  # the bound of the engine used, over every cycle it computed
             used = engine_bound(self.robot, task.q, result.dq)
             result.extra["engine_used"] = used.engine if used.engine == "exact" else f"fast, order {used.order}"
