@@ -104,3 +104,19 @@ def test_a_map_to_xarray_and_parquet_prints_the_numbers_of_the_file_it_wrote(tmp
     by_v = raw.groupby(raw["v_m"].round(6))["RP_l_um"].mean()
     assert [float(v) for _, v in numbers(r"v = ([\d.]+) m: ([\d.]+)", printed)] == [round(x, 3) for x in by_v]
     assert "same numbers as the Dataset: True" in printed
+
+
+def test_placement_prints_the_ranking_and_the_best_base_s_p95_is_that_of_the_tray_mapped_from_it(tmp_path):
+    """The best candidate's p95 RP_l equals numpy's percentile of a plain map of the tray with the base set there."""
+    printed = run_example("placement.py", tmp_path)
+    ranked = [(tuple(map(float, xyz.split(", "))), float(yaw), float(p95)) for xyz, yaw, p95 in
+              numbers(r"#\d: base at \(([^)]*)\) m, yaw (\S+) deg: p95 RP_l = ([\d.]+) um over 9 targets", printed)]
+    assert len(ranked) == 3 and [r[2] for r in ranked] == sorted(r[2] for r in ranked)
+    (x, y, z), yaw, p95 = ranked[0]
+    study = {"study": {"name": "tray", "cycles": 30, "seed": 9283},
+             "robot": {**GANTRY["robot"], "base_xyz_m": [x, y, z], "base_rpy_deg": [0.0, 0.0, yaw]},
+             "joints": GANTRY["joints"],
+             "map": {"kind": "plane", "origin_m": [0.5, 0.3, 0.4], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
+                     "extent_u_m": [0.0, 0.2], "extent_v_m": [0.0, 0.2], "resolution": [3, 3]}}
+    rp_l = next(iter(tribokin.run_study(study, meshes=False).map.scenarios.values())).figure("RP_l_um")
+    assert np.isfinite(rp_l).all() and p95 == round(float(np.percentile(rp_l, 95)), 3)
