@@ -22,10 +22,11 @@ def test_example_robots_load_with_one_dof_chains(name):
     assert robot.tool_frame == [f.name for f in robot.model.frames][-1] or robot.tool_frame
 
 
-@pytest.mark.parametrize("name", TESTED_ROBOTS + ("panda_collision",))
+@pytest.mark.parametrize("name", TESTED_ROBOTS + ("panda_collision", "a1", "anymal_kinova"))
 def test_example_robots_are_read_as_example_robot_datas_loader_reads_them(name):
-    """The arms (read from their loader's attributes, no mesh read), so100 (a free flyer) and panda_collision (a loader
-    of its own), both run whole: the same whole model, reference posture and geometry objects as the loader gives."""
+    """The arms and the free flyers (so100, a1, anymal_kinova), read from their loader's attributes with no mesh read,
+    and panda_collision (a loader of its own, run whole): the same whole model (the free flyer's limits included),
+    reference posture and geometry objects as the loader gives."""
     from example_robot_data.robots_loader import loader
 
     model, read_geometry, reference_q = robot_module._read_example_robot(name)

@@ -574,19 +574,20 @@ def _example_robot(name: str):
 def _read_example_robot(name: str):
     """:func:`_example_robot` uncached and unchecked.
 
-    A fixed-base robot whose loader is example-robot-data's plain URDF loader (``RobotLoader``'s ``__init__``, no
-    free flyer: the arms) is read as that loader reads it, from its class's attributes: the URDF through Pinocchio,
-    the reference posture from its SRDF (example-robot-data's ``readParamsFromSrdf``), but no mesh; each kind of
-    geometry is read when first asked for (the visual meshes take a third of a second). Its meshes must lie inside
-    example-robot-data's ``robots`` folder, checked before any is read. Any other loader (its own ``__init__``, a
-    free flyer, an SDF file) is run whole, meshes included, and its meshes checked after (its own files, named by no
-    user input).
+    A robot whose loader is example-robot-data's plain URDF loader (``RobotLoader``'s ``__init__``: the arms, and the
+    legged robots and humanoids with a free flyer) is read as that loader reads it, from its class's attributes: the
+    URDF through Pinocchio (with a free-flyer root joint, its 7 coordinates limited to ±1, as the loader's
+    ``addFreeFlyerJointLimits``), the reference posture from its SRDF (example-robot-data's ``readParamsFromSrdf``),
+    but no mesh; each kind of geometry is read when first asked for (a floating-base robot, refused, never reads
+    one). Its meshes must lie inside example-robot-data's ``robots`` folder, checked before any is read. Any other
+    loader (its own ``__init__``, an SDF file) is run whole, meshes included, and its meshes checked after (its own
+    files, named by no user input).
     """
     from example_robot_data.robots_loader import ROBOTS, loader
     from example_robot_data.utils import RobotLoader, getModelPath, readParamsFromSrdf
 
     attributes = ROBOTS[name]  # the loader's class
-    if attributes.__init__ is not RobotLoader.__init__ or attributes.free_flyer or not attributes.urdf_filename:
+    if attributes.__init__ is not RobotLoader.__init__ or not attributes.urdf_filename:
         robot_loader = _quiet(loader, name)
         wrapper = robot_loader.robot
         _confine_example_meshes(Path(robot_loader.df_path), Path(robot_loader.model_path))
@@ -598,12 +599,19 @@ def _read_example_robot(name: str):
     robots = Path(attributes.model_path or getModelPath(description))
     urdf = robots / description
     _confine_example_meshes(urdf, robots)
-    model = _quiet(pin.buildModelFromUrdf, str(urdf))
+    if attributes.free_flyer:
+        model = _quiet(pin.buildModelFromUrdf, str(urdf), pin.JointModelFreeFlyer())
+    else:
+        model = _quiet(pin.buildModelFromUrdf, str(urdf))
     reference_q = pin.neutral(model)
     if attributes.srdf_filename:
         srdf = robots / attributes.path / attributes.srdf_subpath / attributes.srdf_filename
         reference_q = readParamsFromSrdf(model, str(srdf), False, attributes.has_rotor_parameters,
                                          attributes.ref_posture)
+    if attributes.free_flyer:  # the loader's addFreeFlyerJointLimits: the free flyer's 7 coordinates within ±1
+        upper, lower = model.upperPositionLimit, model.lowerPositionLimit
+        upper[:7], lower[:7] = 1, -1
+        model.upperPositionLimit, model.lowerPositionLimit = upper, lower
 
     @functools.cache
     def read_geometry(geometry_type: pin.GeometryType) -> pin.GeometryModel:
