@@ -11,7 +11,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from conftest import ROOT
-from helpers.command import tribokin, tribokin_here
+from helpers.command import tribokin
 from helpers.folders import assert_frame_matches_csv, assert_frozen, assert_same_files
 
 STUDY = ROOT / "studies" / "ur5-calibrate.toml"
@@ -63,7 +63,7 @@ def study_with_small_map(folder) -> Path:
 def calibrated(tmp_path_factory):
     folder = tmp_path_factory.mktemp("calibrate")
     study = study_with_small_map(folder)
-    done = tribokin_here("calibrate", study, "--measurements", DATA, "--out", folder / "fit")
+    done = tribokin("calibrate", study, "--measurements", DATA, "--out", folder / "fit")
     assert done.returncode == 0, done.stderr
     return folder / "fit", done.stdout, study
 
@@ -73,7 +73,7 @@ def registered(tmp_path_factory) -> tuple[Path, Path]:
     """The study without its map, and its fit to the tracker file (no report)."""
     folder = tmp_path_factory.mktemp("registered")
     study = study_without_map(folder)
-    done = tribokin_here("calibrate", study, "--measurements", DATA, "--out", folder / "fit", "--report", "none")
+    done = tribokin("calibrate", study, "--measurements", DATA, "--out", folder / "fit", "--report", "none")
     assert done.returncode == 0, done.stderr
     return study, folder / "fit"
 
@@ -171,8 +171,8 @@ def test_rotating_and_shifting_the_measurements_changes_no_fitted_value(register
         point = rotation @ [float(row[k]) for k in ("x_m", "y_m", "z_m")] + np.array([-3.2, 1.7, 0.9])
         row.update({k: repr(float(v)) for k, v in zip(("x_m", "y_m", "z_m"), point, strict=True)})
     write_rows(tmp_path / "moved.csv", header, rows)
-    done = tribokin_here("calibrate", study, "--measurements", tmp_path / "moved.csv", "--out", tmp_path / "moved",
-                         "--report", "none")
+    done = tribokin("calibrate", study, "--measurements", tmp_path / "moved.csv", "--out", tmp_path / "moved",
+                    "--report", "none")
     assert done.returncode == 0, done.stderr
     first, moved = parameters(fitted), parameters(tmp_path / "moved")
     for name, entry in first.items():
@@ -185,15 +185,15 @@ def test_too_few_poses_name_the_parameters_they_cannot_determine_and_tying_the_j
     comments, header, rows = read_rows(DATA)
     write_rows(tmp_path / "two.csv", header, [r for r in rows if r["pose"] in ("P1", "P2")])
     per_joint = study_without_map(tmp_path, fit=["stiffness", "noise_floor"])
-    done = tribokin_here("calibrate", per_joint, "--measurements", tmp_path / "two.csv", "--out",
-                         tmp_path / "per-joint", "--report", "none")
+    done = tribokin("calibrate", per_joint, "--measurements", tmp_path / "two.csv", "--out", tmp_path / "per-joint",
+                    "--report", "none")
     assert done.returncode == 0, done.stderr
     found = parameters(tmp_path / "per-joint")
     blind = [n for n, p in found.items() if n.endswith("stiffness") and not p["identifiable"]]
     assert blind and all(n in done.stdout for n in blind)
     tied = study_without_map(tmp_path, fit=["stiffness", "noise_floor"], tie="all")
-    done = tribokin_here("calibrate", tied, "--measurements", tmp_path / "two.csv", "--out", tmp_path / "tied",
-                         "--report", "none")
+    done = tribokin("calibrate", tied, "--measurements", tmp_path / "two.csv", "--out", tmp_path / "tied",
+                    "--report", "none")
     assert done.returncode == 0, done.stderr
     assert parameters(tmp_path / "tied")["joints.stiffness_factor"]["identifiable"]
 
@@ -255,8 +255,8 @@ def test_configurations_from_commanded_positions_by_ik(tmp_path):
     cube_rpy = next(line for line in read_rows(DATA)[0] if "rpy_deg" in line).split("rpy_deg=[")[1].split("]")[0]
     rpy = [float(v) for v in cube_rpy.split(",")]
     study = study_without_map(tmp_path, fit=["stiffness", "backlash", "noise_floor"], tool_rpy_deg=rpy)
-    done = tribokin_here("calibrate", study, "--measurements", tmp_path / "commanded.csv", "--out", tmp_path / "ik",
-                         "--report", "none")
+    done = tribokin("calibrate", study, "--measurements", tmp_path / "commanded.csv", "--out", tmp_path / "ik",
+                    "--report", "none")
     assert done.returncode == 0, done.stderr
     summary = json.loads((tmp_path / "ik" / "calibration.json").read_text(encoding="utf-8"))
     assert summary["settings"]["configurations"]["source"].startswith("inverse kinematics")
@@ -282,8 +282,8 @@ def test_without_a_registration_the_frame_is_fitted_and_the_output_says_so(regis
     kept = [h for h in header if not h.startswith(("cx_", "cy_", "cz_"))]
     write_rows(tmp_path / "unregistered.csv", kept, [{k: r[k] for k in kept} for r in rows])
     study, fitted = registered
-    done = tribokin_here("calibrate", study, "--measurements", tmp_path / "unregistered.csv", "--out",
-                         tmp_path / "unknown", "--report", "none")
+    done = tribokin("calibrate", study, "--measurements", tmp_path / "unregistered.csv", "--out", tmp_path / "unknown",
+                    "--report", "none")
     assert done.returncode == 0, done.stderr
     assert "frame: not registered" in done.stdout
     summary = json.loads((tmp_path / "unknown" / "calibration.json").read_text(encoding="utf-8"))
@@ -351,8 +351,8 @@ def gantry_measurements(path, backlash_m: float = 0.0, noise_m: float = 1e-6) ->
 @pytest.mark.parametrize("layout", JOINTS_LAYOUTS)
 def test_every_layout_of_joints_calibrates_and_the_calibrated_study_runs(layout, tmp_path):
     gantry_measurements(tmp_path / "data.csv")
-    done = tribokin_here("calibrate", gantry_study(tmp_path, layout), "--measurements", tmp_path / "data.csv", "--out",
-                         tmp_path / "fit", "--report", "none")
+    done = tribokin("calibrate", gantry_study(tmp_path, layout), "--measurements", tmp_path / "data.csv", "--out",
+                    tmp_path / "fit", "--report", "none")
     assert done.returncode == 0, done.stderr
     text = (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8")
     found = parameters(tmp_path / "fit")
@@ -408,8 +408,8 @@ def test_a_fit_beyond_the_study_s_range_is_held_at_its_end_said_so_and_the_calib
     study = gantry_study(tmp_path, "joint-tables-out-of-order", 'fit = ["backlash"]\nnoise_floor_m = 1e-3')
     text = study.read_text(encoding="utf-8")
     study.write_text(text.replace("stiffness = 2.0e6", "stiffness = 2.0e6\nbacklash = 0.09"), encoding="utf-8")
-    done = tribokin_here("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
-                         "--report", "none")
+    done = tribokin("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
+                    "--report", "none")
     assert done.returncode == 0, done.stderr
     text = (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8")
     for joint in "xyz":
