@@ -599,10 +599,8 @@ def _read_example_robot(name: str):
     robots = Path(attributes.model_path or getModelPath(description))
     urdf = robots / description
     _confine_example_meshes(urdf, robots)
-    if attributes.free_flyer:
-        model = _quiet(pin.buildModelFromUrdf, str(urdf), pin.JointModelFreeFlyer())
-    else:
-        model = _quiet(pin.buildModelFromUrdf, str(urdf))
+    root_joint = [pin.JointModelFreeFlyer()] if attributes.free_flyer else []
+    model = _quiet(pin.buildModelFromUrdf, str(urdf), *root_joint)
     reference_q = pin.neutral(model)
     if attributes.srdf_filename:
         srdf = robots / attributes.path / attributes.srdf_subpath / attributes.srdf_filename

@@ -11,7 +11,7 @@ from tribokin.measured.calibrated import PARITY_FIGURE, CalibrationResult
 from tribokin.measured.iso_figures import MeasurementResult
 from tribokin.measurement.figures import pose_clouds
 from tribokin.output.folder import atomic_folder
-from tribokin.output.tribology import write_json
+from tribokin.output.json_files import write_json
 from tribokin.output.writers import write_rows
 from tribokin.study.names import cloud_figure_file, pose_figure_file
 

@@ -3,18 +3,13 @@ and ``tribokin surface`` (``surface.json``, ``profile.png``, ``p_z_R.png``), eac
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from tribokin.output.folder import atomic_folder
+from tribokin.output.json_files import write_json
 from tribokin.tribology.friction_fit import FrictionFitResult
 from tribokin.tribology.surface_result import SurfaceResult
 from tribokin.tribology.surfaces import find_peaks
-
-
-def write_json(content: dict, path: Path) -> None:
-    """``content`` as indented JSON with a final newline (``fit.json``, ``surface.json``, ``summary.json``...)."""
-    path.write_text(json.dumps(content, indent=2) + "\n", encoding="utf-8")
 
 
 def write_friction_fit(result: FrictionFitResult, out, force: bool = False) -> Path:

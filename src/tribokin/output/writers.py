@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import shutil
 from collections.abc import Callable, Iterator
 from concurrent.futures import Executor
@@ -22,6 +21,7 @@ from tribokin.maps.result import MapResult, ScenarioMap
 from tribokin.maps.streaming import blocks
 from tribokin.maps.table import map_table_columns, map_table_name
 from tribokin.output.folder import atomic_folder
+from tribokin.output.json_files import write_json
 from tribokin.output.placed_study import BEST_STUDY, best_study_text
 from tribokin.output.views_process import ViewsProcess
 from tribokin.placement.result import PlacementResult
@@ -32,7 +32,7 @@ from tribokin.study.names import TABLE_FORMATS
 
 def write_summary(result: StudyResult, folder: Path) -> None:
     """``summary.json``: settings and per-pose figures."""
-    (folder / "summary.json").write_text(json.dumps(result.summary(), indent=2) + "\n", encoding="utf-8")
+    write_json(result.summary(), folder / "summary.json")
 
 
 def write_rows(rows: list[dict], joints: list[str], path: Path) -> None:
