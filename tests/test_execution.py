@@ -1,9 +1,12 @@
 """Where chunks run: one executor, checked and built once, shut down with its block (results: test_map_execution.py)."""
 
+import os
+import signal
 import subprocess
 import sys
 import threading
-from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+import time
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor, process
 
 import pytest
 
@@ -77,3 +80,24 @@ def test_chunks_not_started_when_the_block_ends_are_cancelled():
         finally:
             release.set()
     assert started == [0]  # chunks 1 and 2 waited behind it on the pool's one thread
+
+
+def test_a_pool_whose_worker_dies_after_its_chunks_were_left_ends_cleanly(monkeypatch):
+    """Ctrl-C ends the workers while the command leaves the block: the chunks left are not cancelled from here before
+    the pool learns that a worker died (on Python 3.11 its thread then stopped on ``InvalidStateError``, and the
+    command hung at exit)."""
+    errors = []
+    monkeypatch.setattr(threading, "excepthook", errors.append)
+    with executor_for(workers=2) as pool:
+        with pytest.raises(KeyboardInterrupt):
+            with run_chunks(time.sleep, {k: (30,) for k in range(10)}, pool):
+                queued = 2 + process.EXTRA_QUEUED_CALLS  # the chunks the pool sends its workers' queue at once
+                while sum(item.future.running() for item in pool._pending_work_items.values()) < queued:
+                    time.sleep(0.01)
+                workers, manager = list(pool._processes), pool._executor_manager_thread
+                raise KeyboardInterrupt
+        for pid in workers:  # after the block: what it left is decided before the pool learns of it
+            os.kill(pid, signal.SIGKILL)
+        manager.join(timeout=30)  # the pool's thread learns that they died, and ends
+        assert not manager.is_alive()
+    assert errors == []

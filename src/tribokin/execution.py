@@ -137,6 +137,11 @@ def run_chunks(function: Callable, chunks: dict, executor: Executor | None = Non
     for; those not started when the block ends are cancelled. ``None``: run here, in key order. What this process
     holds when they are submitted is frozen first (:func:`gc.freeze`, as the gc module advises before a fork: a local
     pool forks its workers at its first chunk), so that no collection here walks it while they run.
+
+    A :class:`~concurrent.futures.ProcessPoolExecutor` left with chunks not done (an error, Ctrl-C) is shut down: its
+    own thread cancels them. Cancelling them from here races with that thread's handling of a worker that died (Ctrl-C
+    ends the workers too): before Python 3.12 it then stops with ``InvalidStateError`` and the process hangs at exit
+    (CPython gh-107219).
     """
     if executor is None:
         yield ((key, function(*arguments)) for key, arguments in chunks.items())
@@ -146,5 +151,8 @@ def run_chunks(function: Callable, chunks: dict, executor: Executor | None = Non
     try:  # a future is let go once its result is out: local memory and a cluster's hold no finished chunk
         yield ((futures.pop(future), future.result()) for future in as_completed(futures))
     finally:
-        for future in futures:
-            future.cancel()
+        if futures and isinstance(executor, ProcessPoolExecutor):
+            executor.shutdown(wait=False, cancel_futures=True)
+        else:
+            for future in futures:
+                future.cancel()
