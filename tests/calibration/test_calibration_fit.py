@@ -5,8 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+from scipy.stats import chi2
 
 from helpers.calibration_arm import BACKLASH, NOISE_FLOOR_M, STIFFNESS, arm_kinematics, arm_model, simulate
+from helpers.profile_deviance import profile_deviance
+from tribokin.calibration.data import stack
 from tribokin.calibration.fit import fit, profile_interval
 
 TRUTH = dict(zip(arm_model().names(), np.concatenate([STIFFNESS, BACKLASH, [NOISE_FLOOR_M]]), strict=True))
@@ -111,3 +114,13 @@ def test_a_fit_is_held_within_the_model_ranges_and_says_so_at_their_ends():
     free = named["joints.j4.stiffness"]  # truth 1.2e4, inside the range: determined as without it
     unbounded = {p.name: p for p in fit(replace(model, ranges=ParameterRanges()), poses).parameters}
     assert free.identifiable and free.value == pytest.approx(unbounded["joints.j4.stiffness"].value, rel=0.2)
+
+
+def test_profile_interval_ends_are_where_the_profile_deviance_reaches_the_chi2_quantile():
+    """At each end, the other parameters re-fitted by another optimiser give 2·(log L̂ - log L) = χ²₁(0.95)."""
+    poses = simulate(arm_kinematics(), np.random.default_rng(1))
+    calibration = fit(arm_model(), poses)
+    for estimate in calibration.parameters:
+        for end in profile_interval(calibration, poses, estimate.name) if estimate.identifiable else ():
+            deviance = profile_deviance(calibration, stack(poses), estimate.name, end)
+            assert deviance == pytest.approx(chi2.ppf(0.95, 1), abs=2e-3), (estimate.name, end)
