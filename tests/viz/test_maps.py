@@ -73,28 +73,29 @@ def plane_grid(origin_m, axis_u, axis_v, u_values, v_values):
                       np.array([axis_u, axis_v, [0, 0, 0]], dtype=float))
 
 
-def test_plane_heat_maps_are_labelled_in_base_frame_coordinates_and_mark_the_base():
-    from tribokin.viz.maps import panel_frame
+def test_plane_heat_maps_are_labelled_in_world_frame_coordinates_and_mark_the_base():
+    from tribokin.viz.maps import BaseMark, panel_frame
 
     # a horizontal plane at z = 0.1 m: u along +y, v along -x; offsets u -0.6..0.6, v -0.2..0.6 (steps 0.2)
     grid = plane_grid([0.0, 0.0, 0.1], [0, 1, 0], [-1, 0, 0], np.linspace(-0.6, 0.6, 7), np.linspace(-0.2, 0.6, 5))
     frame = panel_frame(grid, *grid.axes[:2])
-    assert (frame.xlabel, frame.ylabel, frame.plane) == ("y [m]", "x [m]", "z = 0.1 m")
+    assert (frame.xlabel, frame.ylabel, frame.plane) == ("y (world) [m]", "x (world) [m]", "z (world) = 0.1 m")
     # y = u from -0.6 to 0.6; x = -v from 0.2 down to -0.6; cells 0.2 wide around each target
     assert frame.extent == pytest.approx((-0.7, 0.7, 0.3, -0.7))
-    assert frame.base == (0.0, 0.0)
+    assert frame.bases == (BaseMark("robot base", (0.0, 0.0, 0.0), (0.0, 0.0)),)
 
     away = plane_grid([0.2, -0.5, 0.3], [1, 0, 0], [0, 0, 1], [0.0, 0.2, 0.4], [0.0, 0.1])
     frame = panel_frame(away, *away.axes[:2])
-    assert (frame.xlabel, frame.ylabel, frame.plane) == ("x [m]", "z [m]", "y = -0.5 m")
+    assert (frame.xlabel, frame.ylabel, frame.plane) == ("x (world) [m]", "z (world) [m]", "y (world) = -0.5 m")
     assert frame.extent == pytest.approx((0.1, 0.7, 0.25, 0.45))  # x 0.2..0.6, z 0.3..0.4
-    assert frame.base is None  # the base (x 0, z 0) lies outside
+    assert frame.bases == (BaseMark("robot base", (0.0, 0.0, 0.0), None),)  # the base (x 0, z 0) lies outside
 
     # an oblique axis keeps the offset u from the origin; the base lies 0.5 m behind the origin along it
     oblique = plane_grid([0.3, 0.4, 0.5], [0.6, 0.8, 0], [0, 0, 1], [-1.0, 1.0], [-1.0, 0.0])
     frame = panel_frame(oblique, *oblique.axes[:2])
-    assert frame.xlabel == "u [m] along (0.6, 0.8, 0) from (0.3, 0.4, 0.5) m" and frame.ylabel == "z [m]"
-    assert frame.base == pytest.approx((-0.5, 0.0)) and frame.extent == pytest.approx((-2.0, 2.0, -1.0, 1.0))
+    assert frame.xlabel == "u [m] along (0.6, 0.8, 0) from (0.3, 0.4, 0.5) m (world)"
+    assert frame.ylabel == "z (world) [m]"
+    assert frame.bases[0].at == pytest.approx((-0.5, 0.0)) and frame.extent == pytest.approx((-2.0, 2.0, -1.0, 1.0))
 
 
 def test_box_and_joint_grids_keep_their_axes():
@@ -104,11 +105,97 @@ def test_box_and_joint_grids_keep_their_axes():
     box = TargetGrid("box", (GridAxis("x", "m", np.array([-0.2, 0.2])), GridAxis("y", "m", np.array([-0.1, 0.3])),
                              GridAxis("z", "m", np.array([0.5]))), None, np.zeros(3), np.zeros(3), np.eye(3))
     frame = panel_frame(box, *box.axes[:2])
-    assert (frame.xlabel, frame.ylabel, frame.plane) == ("x [m]", "y [m]", "")
-    assert frame.extent == pytest.approx((-0.4, 0.4, -0.3, 0.5)) and frame.base == (0.0, 0.0)
+    assert (frame.xlabel, frame.ylabel, frame.plane, frame.layer) == ("x (world) [m]", "y (world) [m]", "",
+                                                                      "z (world)")
+    assert frame.extent == pytest.approx((-0.4, 0.4, -0.3, 0.5)) and frame.bases[0].at == (0.0, 0.0)
     joint = TargetGrid("joint", (GridAxis("shoulder", "rad", np.array([0.0, 1.0])), None, None), None, np.zeros(2))
     frame = panel_frame(joint, joint.axes[0], None)
-    assert (frame.xlabel, frame.ylabel, frame.base) == ("shoulder [rad]", None, None)
+    assert (frame.xlabel, frame.ylabel, frame.bases) == ("shoulder [rad]", None, ())
+
+
+#: A UR5 placed at (0.3, 0.2, 0) m and turned 30° about the world's z, mapped over a horizontal plane around its base
+#: (the middle target, right over the base, out of reach).
+PLACED_XYZ_M, PLACED_RPY_DEG = [0.3, 0.2, 0.0], [0.0, 0.0, 30.0]
+PLACED = {
+    "study": {"name": "placed", "cycles": 10, "seed": 3},
+    "robot": {"name": "ur5", "base_xyz_m": PLACED_XYZ_M, "base_rpy_deg": PLACED_RPY_DEG},
+    "joints": {"friction": {"preset": "42CD4-treated"}, "stiffness": 1.0e5},
+    "map": {"kind": "plane", "origin_m": [0.3, 0.2, 0.1], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
+            "extent_u_m": [-0.5, 0.5], "extent_v_m": [-0.5, 0.5], "resolution": [3, 3], "rpy_deg": [180, 0, 90]},
+}
+
+
+def test_the_heat_maps_mark_a_placed_base_where_it_is_and_name_world_axes():
+    """The marker sits at robot.base_xyz_m's x and y (main's code drew it at the world's origin, (0, 0))."""
+    from tribokin.viz.maps import map_figures_drawn
+
+    workspace_map = run_study(PLACED).map
+    assert not workspace_map.reachable[4] and workspace_map.reachable.sum() == 8  # the grey hole over the base
+    for name, figure in map_figures_drawn(workspace_map, "placed").items():
+        panel = figure.axes[0]
+        (marker,) = panel.lines
+        assert np.array(marker.get_data()).ravel().tolist() == PLACED_XYZ_M[:2], name
+        assert [text.get_text() for text in panel.texts] == ["robot base"]
+        assert (panel.get_xlabel(), panel.get_ylabel(), panel.get_title()) == (
+            "x (world) [m]", "y (world) [m]", "plane z (world) = 0.1 m")
+
+
+def test_a_turned_base_is_projected_onto_an_oblique_panel_and_one_outside_is_named():
+    """A vertical plane along the turned base's own x axis, 0.4 m out and 0.3 m up: the base's origin lies
+    0.4 m behind the plane's origin along u (scipy's rotation of the study's numbers, not tribokin's), at the world's
+    z = 0 (a world axis shows its world coordinate)."""
+    from scipy.spatial.transform import Rotation
+
+    from tribokin.maps.grid import make_grid
+    from tribokin.study.assembly import load_robot
+    from tribokin.study.reading import load_study
+    from tribokin.viz.maps import grid_image, panel_frame
+
+    turn = Rotation.from_euler("xyz", PLACED_RPY_DEG, degrees=True).as_matrix()
+    along = turn @ [1.0, 0.0, 0.0]
+    origin = np.array(PLACED_XYZ_M) + turn @ [0.4, 0.0, 0.3]
+    study = load_study({**PLACED, "map": {"kind": "plane", "origin_m": origin.tolist(), "axis_u": along.tolist(),
+                                          "axis_v": [0, 0, 1], "extent_u_m": [-0.6, 0.2], "extent_v_m": [-0.4, 0.2],
+                                          "resolution": [5, 4]}})
+    robot = load_robot(study, meshes=False)
+    grid = make_grid(robot, study.map)
+    frame = panel_frame(grid, *grid.axes[:2])
+    offset = np.array(PLACED_XYZ_M) - origin
+    assert frame.bases[0].at == pytest.approx((offset @ along, PLACED_XYZ_M[2]), abs=1e-12)
+    assert frame.bases[0].at == pytest.approx((-0.4, 0.0), abs=1e-12)
+    assert frame.xlabel.startswith("u [m] along (0.866, 0.5, 0) from") and frame.xlabel.endswith(" m (world)")
+    assert frame.ylabel == "z (world) [m]"
+
+    study = load_study({**PLACED, "map": {**PLACED["map"], "origin_m": [1.0, 1.0, 0.1], "extent_u_m": [0.0, 0.2],
+                                          "extent_v_m": [0.0, 0.2]}})
+    grid = make_grid(robot, study.map)
+    assert panel_frame(grid, *grid.axes[:2]).bases[0].at is None
+    figure = grid_image(grid, lambda shown: np.ones(len(shown)), "RP_l [µm]", "far")
+    assert "robot base at (0.3, 0.2, 0) m (world), outside the panels" in figure.get_suptitle()
+    assert not figure.axes[0].lines
+
+
+def test_a_scenario_with_another_base_marks_its_own_and_comparisons_mark_both(monkeypatch, tmp_path):
+    from tribokin.viz import maps
+
+    study = gantry_map_study()
+    study["map"]["resolution"] = [3, 2]
+    study["scenarios"] = [{"name": "here"}, {"name": "moved", "robot": {"base_xyz_m": [0.05, -0.1, 0.0]}},
+                          {"name": "same", "joints": {"friction": {"law": "constant", "mu": 0.03}}}]
+    workspace_map = run_study(study).map
+    saved = {}
+    monkeypatch.setattr(maps, "save_grid_image", lambda grid, values, path, label, title, **options:
+                        saved.update({path.name: options.get("bases")}))
+    maps.save_map_figures(workspace_map, tmp_path, "study")
+    as_lists = {name: None if bases is None else {k: v.tolist() for k, v in bases.items()}
+                for name, bases in saved.items()}
+    assert as_lists["map_RP_l.png"] is None  # the reference's grid's own base, at the origin
+    assert as_lists["map_RP_l_moved.png"] == {"robot base": [0.05, -0.1, 0.0]}
+    assert as_lists["map_RP_l_same.png"] == {"robot base": [0.0, 0.0, 0.0]}
+    both = {"here base": [0.0, 0.0, 0.0], "moved base": [0.05, -0.1, 0.0]}
+    assert as_lists["map_RP_l_ratio_moved.png"] == as_lists["map_RP_l_diff_moved.png"] == both
+    assert as_lists["map_RP_l_ratio_same.png"] == {"robot base": [0.0, 0.0, 0.0]}
+    assert as_lists["map_winner.png"] == {"here, same base": [0.0, 0.0, 0.0], "moved base": [0.05, -0.1, 0.0]}
 
 
 def scenario_map():

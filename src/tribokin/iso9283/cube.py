@@ -14,7 +14,7 @@ from tribokin.kinematics.robot import Robot
 from tribokin.streams import posture_search
 
 #: Cartesian approach directions of a cube pose, each followed by its opposite: label -> the tool's
-#: direction of travel along the base axes. Unidirectional tests use the + ones (ISO 9283's three
+#: direction of travel along the world axes. Unidirectional tests use the + ones (ISO 9283's three
 #: directions for vAP), bidirectional and random tests all six.
 APPROACH_DIRECTIONS = {f"{sign}{axis}": sign_value * row for axis, row in zip("xyz", np.eye(3), strict=True)
                        for sign, sign_value in (("+", 1.0), ("-", -1.0))}

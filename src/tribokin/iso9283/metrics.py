@@ -3,7 +3,7 @@
 RP and AP are figures of one unidirectional series (:func:`pose_metrics`); a pose approached from
 several directions has them per direction, and vAP across directions (:func:`directional_metrics`).
 Positions in [m], angles in [rad]. Orientation deviations a, b, c are the
-components, about the base x, y, z axes, of the rotation vector taking the
+components, about the world x, y, z axes, of the rotation vector taking the
 commanded orientation to the reached one (``log3(R_j R_c^T)``). They agree with
 the roll-pitch-yaw angles of that deviation rotation ``R_j R_c^T`` to first order:
 each component differs by at most about theta²/4 [rad], theta its angle (under 3e-9 rad
@@ -209,7 +209,7 @@ DIAGONAL_PLANE_CORNERS = np.array([[-1, -1, 1], [1, 1, 1], [1, 1, -1], [-1, -1, 
 
 
 def cube_test_positions(center_m, side_m: float) -> dict[str, np.ndarray]:
-    """ISO 9283 test positions P1-P5 [m] of a cube with edges parallel to the base axes.
+    """ISO 9283 test positions P1-P5 [m] of a cube with edges parallel to the world axes.
 
     P1 is the centre; P2-P5 lie on a diagonal plane at 10 % of the cube's
     diagonal from its corners: P = c + 0.8 (C - c), C a corner of that plane.

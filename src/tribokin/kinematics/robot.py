@@ -110,6 +110,8 @@ class Robot:
         motion_axes: (nv, 3) unit motion axis of each joint in its own frame (linear or angular).
         origin: where it came from, as ``summary.json`` records it (``robot_spec``): a study's ``[robot]`` table
             for a robot a study loads, else :func:`model_origin`'s (``source = "pinocchio model"``).
+        base: the base's placement in the world, which ``model`` already carries (:func:`_place_base`); ``None``:
+            the base at the world's origin (:attr:`base_m`).
 
     Construct it with :meth:`from_pinocchio`, :meth:`from_urdf` or :meth:`from_example_robot_data`. Pickled, it
     keeps its kinematics only (:meth:`__reduce__`).
@@ -122,6 +124,7 @@ class Robot:
     read_geometry: Callable[[pin.GeometryType], pin.GeometryModel] | None = None
     missing_meshes: tuple[str, ...] = ()
     origin: dict | None = None
+    base: pin.SE3 | None = None
 
     def __post_init__(self):
         self._geometries = {}
@@ -146,10 +149,15 @@ class Robot:
             self.origin = model_origin(self.model, self.tool_frame, self.label)
 
     def __reduce__(self):
-        """Pickled as its kinematics (model, tool frame, label, reference posture, missing meshes, origin), without
-        its geometry: what a map's workers measure with."""
+        """Pickled as its kinematics (model, tool frame, label, reference posture, missing meshes, origin, base),
+        without its geometry: what a map's workers measure with."""
         return Robot, (self.model, self.tool_frame, self.label, self.reference_q, None, self.missing_meshes,
-                       self.origin)
+                       self.origin, self.base)
+
+    @property
+    def base_m(self) -> np.ndarray:
+        """(3,) where the base's origin lies in the world [m] (zero when the base is not placed)."""
+        return np.zeros(3) if self.base is None else self.base.translation.copy()
 
     @classmethod
     def from_pinocchio(cls, model: pin.Model, tool_frame: str | None = None,
@@ -430,7 +438,7 @@ def reduce_to_chain(model: pin.Model, reference_q: np.ndarray, tool_frame: str |
         return geometry if base is None else _placed_geometry(geometry, base)
 
     robot = Robot(model, tool_frame, label, kept_q, None if read_geometry is None else reduced_geometry,
-                  missing_meshes)
+                  missing_meshes, base=base)
     for name, low, high in zip(robot.joint_names, robot.lower_limits, robot.upper_limits, strict=True):
         if not high > low:
             raise RobotDescriptionError(f"joint '{name}' moves the tool, but its limits [{low:g}, {high:g}] leave it "

@@ -7,7 +7,7 @@ and *grid row* ``layer * rows + row``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import pinocchio as pin
@@ -57,13 +57,15 @@ class TargetGrid:
             cannot hold it (position-only IK) and for joint grids.
         start_q: (nv,) start posture of the IK (Cartesian) or posture of the other joints (joint grids).
         origin_m: (3,) position of the target at axis values 0 [m] (Cartesian grids).
-        directions: (3, 3) base-frame direction of the column, row and layer axes, one per row
+        directions: (3, 3) world-frame direction of the column, row and layer axes, one per row
             (Cartesian grids): a target's position is ``origin_m + (column, row, layer values) @ directions``.
         joint_columns: index in ``q`` of the joint of each axis present (joint grids).
         reach: bounds of the robot's reach (Cartesian grids; none for joint grids): a sphere the tool point never
             leaves (:func:`tribokin.kinematics.reach.reach_sphere`), then, when the grid holds the tool's
             orientation, one the origin of the last joint's frame never leaves
             (:func:`tribokin.kinematics.reach.last_joint_sphere`); no IK is tried for a target beyond either.
+        base_m: (3,) where the robot's base origin lies in the world [m] (:attr:`Robot.base_m
+            <tribokin.kinematics.robot.Robot.base_m>`; Cartesian grids), which heat maps mark.
     """
 
     kind: str
@@ -74,6 +76,7 @@ class TargetGrid:
     directions: np.ndarray | None = None
     joint_columns: tuple[int, ...] = ()
     reach: tuple[ReachSphere, ...] = ()
+    base_m: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -194,10 +197,10 @@ def make_grid(robot: Robot, spec: MapSpec, like: TargetGrid | None = None) -> Ta
         v = GridAxis("v", "m", _grid_values(spec.extent_v_m, spec.resolution[1]))
         directions = np.array([spec.axis_u, spec.axis_v, [0.0, 0.0, 0.0]], dtype=float)
         return TargetGrid("plane", (u, v, None), rotation, start, np.asarray(spec.origin_m, dtype=float),
-                          directions, reach=reach)
+                          directions, reach=reach, base_m=robot.base_m)
     x, y, z = (GridAxis(name, "m", _grid_values([low, high], count)) for name, low, high, count
                in zip("xyz", spec.min_m, spec.max_m, spec.resolution, strict=True))
-    return TargetGrid("box", (x, y, z), rotation, start, np.zeros(3), np.eye(3), reach=reach)
+    return TargetGrid("box", (x, y, z), rotation, start, np.zeros(3), np.eye(3), reach=reach, base_m=robot.base_m)
 
 
 def _joint_grid(robot: Robot, spec: JointMap, start: np.ndarray) -> TargetGrid:

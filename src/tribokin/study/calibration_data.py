@@ -68,7 +68,7 @@ class CalibrationInput:
             series.
         configurations: (n_poses, nv) the configuration of each of ``poses`` [rad or m].
         configuration_source: how they were found (the file's ``q_`` columns, or IK of commanded positions).
-        registration: of the measuring frame to the base, or None (the points are in the measuring frame).
+        registration: of the measuring frame to the world, or None (the points are in the measuring frame).
         left_out: series without a known approach, not used.
     """
 

@@ -424,7 +424,7 @@ class CalibrationSpec:
     ``"backlash"``, ``"noise_floor"``), for which ``joints`` (``"all"`` or names), ``tie`` (``"all"``: one common
     stiffness factor for the fitted joints), the instrument's ``noise_floor_m`` [m] (its value when not fitted, the
     start when fitted; ``None``: not given), and ``tool_rpy_deg`` [deg], the tool's orientation (roll, pitch, yaw in
-    the base frame) for solving configurations from commanded positions (``None``: position only)."""
+    the world frame) for solving configurations from commanded positions (``None``: position only)."""
 
     fit: tuple[str, ...]
     joints: str | tuple[str, ...]

@@ -1,7 +1,7 @@
 """Figures of a calibration (``tribokin calibrate``): measured clouds beside the model's predicted ellipses, and
 a parity plot of measured against predicted ISO 9283 figures with their prediction intervals.
 
-Clouds are drawn in µm about the pose's pooled measured barycentre, in three projections of the robot base
+Clouds are drawn in µm about the pose's pooled measured barycentre, in three projections of the world
 frame; an ellipse is the 95 % region of the projected 2-D Gaussian, at Mahalanobis radius
 ``sqrt(chi2.ppf(0.95, 2))`` (:data:`RADIUS_95_2D`).
 """

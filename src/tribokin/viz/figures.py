@@ -19,14 +19,14 @@ DIRECTION_COLOURS = ("#e63946", "#457b9d", "#8338ec", "#fb8500", "#6a994e", "#b5
 
 
 def field_axes(deviations_um: np.ndarray) -> tuple[int, int]:
-    """The two base axes along which the cloud spreads most (ties keep x, y, z order)."""
+    """The two world axes along which the cloud spreads most (ties keep x, y, z order)."""
     spread = np.ptp(deviations_um, axis=0) if len(deviations_um) else np.zeros(3)
     order = np.argsort(-spread, kind="stable")
     return tuple(sorted(order[:2]))
 
 
 def frame_field(axes: Axes, i: int, j: int, reach_um: float) -> None:
-    """Square ``axes`` of base axes ``i`` (horizontal) and ``j`` (vertical), ±``reach_um`` [µm] about 0 at equal
+    """Square ``axes`` of world axes ``i`` (horizontal) and ``j`` (vertical), ±``reach_um`` [µm] about 0 at equal
     scale, labelled as deviations in µm, with a light grid."""
     axes.set_xlim(-reach_um, reach_um)
     axes.set_ylim(-reach_um, reach_um)

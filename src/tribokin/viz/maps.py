@@ -33,62 +33,89 @@ def _span(values: np.ndarray | None) -> tuple[float, float]:
 
 
 @dataclass(frozen=True)
+class BaseMark:
+    """A robot base on a heat map: its ``label``, its origin's position in the world ``world_m`` (3,) [m] and where
+    that, projected onto the panel, lies in the panel's coordinates ``at`` [m] (``None``: outside the panel)."""
+
+    label: str
+    world_m: tuple[float, float, float]
+    at: tuple[float, float] | None
+
+
+@dataclass(frozen=True)
 class PanelFrame:
     """How a heat-map panel is laid out.
 
     Attributes:
-        xlabel, ylabel: axis labels with units (``ylabel`` ``None``: the grid has one row).
+        xlabel, ylabel: axis labels with units, naming world-frame axes (``ylabel`` ``None``: the grid has one row).
         extent: (left, right, bottom, top) of the image in axis coordinates, first to last target (a
             decreasing coordinate gives left > right; the axes are then shown increasing).
-        base: where the robot base's origin, projected onto the panel, lies [m] (``None``: outside the
-            extent, or a joint grid).
-        plane: the coordinate a plane keeps constant, e.g. ``"z = 0.1 m"`` (``""`` if none).
+        bases: the robot bases to mark (:class:`BaseMark`; none for a joint grid).
+        plane: the coordinate a plane keeps constant, e.g. ``"z (world) = 0.1 m"`` (``""`` if none).
+        layer: the name of the coordinate a box's layers keep constant, e.g. ``"z (world)"`` (a joint grid's: the
+            joint's name).
     """
 
     xlabel: str
     ylabel: str | None
     extent: tuple[float, float, float, float]
-    base: tuple[float, float] | None
+    bases: tuple[BaseMark, ...]
     plane: str = ""
+    layer: str = ""
 
 
-def _base_axis(direction: np.ndarray) -> int | None:
-    """Index of the base axis (x, y, z) ``direction`` runs along, either way; ``None`` for an oblique one."""
+#: How the axis labels name the world frame's axes: ``x (world) [m]``.
+WORLD = " (world)"
+
+
+def _world_axis(direction: np.ndarray) -> int | None:
+    """Index of the world axis (x, y, z) ``direction`` runs along, either way; ``None`` for an oblique one."""
     along = np.flatnonzero(np.abs(direction) > 1e-12)
     return int(along[0]) if len(along) == 1 else None
 
 
-def _shown_axis(axis: GridAxis, direction: np.ndarray, origin_m: np.ndarray) -> tuple[str, np.ndarray, float]:
+def _shown_axis(axis: GridAxis, direction: np.ndarray, origin_m: np.ndarray,
+                bases_m: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
     """A Cartesian grid axis as a panel shows it: its label, the coordinates of its targets, and the
-    coordinate of the base origin projected onto it [m]."""
-    k = _base_axis(direction)
+    coordinates of the points ``bases_m`` (k, 3) [m] of the world projected onto it [m]."""
+    k = _world_axis(direction)
     if k is None:
         label = (f"{axis.label} along ({', '.join(f'{c:.3g}' for c in direction)}) from "
-                 f"({', '.join(f'{c:.4g}' for c in origin_m)}) m")
-        return label, axis.values, -float(origin_m @ direction)
-    return f"{'xyz'[k]} [{axis.unit}]", origin_m[k] + direction[k] * axis.values, 0.0
+                 f"({', '.join(f'{c:.4g}' for c in origin_m)}) m{WORLD}")
+        return label, axis.values, (bases_m - origin_m) @ direction
+    return f"{'xyz'[k]}{WORLD} [{axis.unit}]", origin_m[k] + direction[k] * axis.values, bases_m[:, k]
 
 
-def panel_frame(grid: TargetGrid, columns: GridAxis, rows: GridAxis | None) -> PanelFrame:
-    """The labels, extent and base marker of panels showing ``columns`` and ``rows`` of ``grid``.
+def panel_frame(grid: TargetGrid, columns: GridAxis, rows: GridAxis | None,
+                bases: dict[str, np.ndarray] | None = None) -> PanelFrame:
+    """The labels, extent and base markers of panels showing ``columns`` and ``rows`` of ``grid``.
 
-    A Cartesian grid's axes are shown in the coordinates of the frame its targets are given in (the
-    world frame): an axis along a world axis is labelled by it (``x [m]``) and shows that coordinate,
-    ``origin_m`` included; an oblique one shows the offset from ``origin_m`` along its direction."""
+    A Cartesian grid's axes are shown in the coordinates of the world frame, which its targets are given in: an
+    axis along a world axis is labelled by it (``x (world) [m]``) and shows that coordinate, ``origin_m`` included;
+    an oblique one shows the offset from ``origin_m`` along its direction. ``bases``: label -> (3,) world position
+    [m] of each robot base to mark (default: ``{"robot base": grid.base_m}``)."""
     if grid.kind == "joint":
         return PanelFrame(columns.label, None if rows is None else rows.label,
-                          (*_span(columns.values), *_span(None if rows is None else rows.values)), None)
+                          (*_span(columns.values), *_span(None if rows is None else rows.values)), (),
+                          layer="" if grid.axes[2] is None else grid.axes[2].name)
+    bases = {"robot base": grid.base_m} if bases is None else bases
+    bases_m = np.array(list(bases.values()), dtype=float).reshape(-1, 3)
     # grid.directions has the layer axis's row too: a panel shows the first two
-    (xlabel, x, base_x), (ylabel, y, base_y) = (_shown_axis(axis, direction, grid.origin_m)
+    (xlabel, x, base_x), (ylabel, y, base_y) = (_shown_axis(axis, direction, grid.origin_m, bases_m)
                                                 for axis, direction
                                                 in zip((columns, rows), grid.directions, strict=False))
     extent = (*_span(x), *_span(y))
-    inside = min(extent[:2]) <= base_x <= max(extent[:2]) and min(extent[2:]) <= base_y <= max(extent[2:])
-    plane = ""
+    inside = ((min(extent[:2]) <= base_x) & (base_x <= max(extent[:2]))
+              & (min(extent[2:]) <= base_y) & (base_y <= max(extent[2:])))
+    marks = tuple(BaseMark(label, tuple(float(c) for c in world), (float(bx), float(by)) if within else None)
+                  for label, world, bx, by, within in zip(bases, bases_m, base_x, base_y, inside, strict=True))
+    plane = layer = ""
     if grid.kind == "plane":
-        k = _base_axis(np.cross(*grid.directions[:2]))
-        plane = "" if k is None else f"{'xyz'[k]} = {grid.origin_m[k]:.4g} m"
-    return PanelFrame(xlabel, ylabel, extent, (base_x, base_y) if inside else None, plane)
+        k = _world_axis(np.cross(*grid.directions[:2]))
+        plane = "" if k is None else f"{'xyz'[k]}{WORLD} = {grid.origin_m[k]:.4g} m"
+    elif grid.axes[2] is not None:
+        layer = f"{grid.axes[2].name}{WORLD}"
+    return PanelFrame(xlabel, ylabel, extent, marks, plane, layer)
 
 
 def value_norm(values: np.ndarray, centre: float | None = None) -> Normalize:
@@ -144,7 +171,7 @@ def save_grid_image(grid: TargetGrid, values, path: Path, label: str, title: str
 @matplotlib.rc_context(NO_MATH)
 def grid_image(grid: TargetGrid, values, label: str, title: str, cmap="viridis", norm: Normalize | None = None,
                centre: float | None = None, categories: list[str] | None = None, marks: Marks | None = None,
-               grey: str = "unreachable") -> Figure:
+               grey: str = "unreachable", bases: dict[str, np.ndarray] | None = None) -> Figure:
     """``values`` as images over the grid's columns and rows, one panel per layer, for the targets
     :func:`shown_targets` picks.
 
@@ -155,6 +182,8 @@ def grid_image(grid: TargetGrid, values, label: str, title: str, cmap="viridis",
         categories: names of the integer values -1, 0, 1, ... (a categorical colour bar).
         marks: targets drawn in colours of their own, named in a legend (:class:`Marks`).
         grey: what the grey targets (no value, not marked) are, for the title.
+        bases: the robot bases to mark, label -> (3,) world position [m] (:func:`panel_frame`; one outside the
+            panels is said so in the title).
     """
     shown, strides = shown_targets(grid)
     columns, rows, layers = (None if axis is None else GridAxis(axis.name, axis.unit, axis.values[::stride])
@@ -171,7 +200,7 @@ def grid_image(grid: TargetGrid, values, label: str, title: str, cmap="viridis",
     width_in = 1.5 + 4.6 * panels_across
     fig = agg_figure(figsize=(width_in, 0.8 + 3.9 * panels_down), constrained_layout=True)
     axes = fig.subplots(panels_down, panels_across, squeeze=False)
-    frame = panel_frame(grid, columns, rows)
+    frame = panel_frame(grid, columns, rows, bases)
     mesh = None
     for layer, ax in enumerate(axes.flat):
         if layer >= n_layers:
@@ -190,12 +219,13 @@ def grid_image(grid: TargetGrid, values, label: str, title: str, cmap="viridis",
             ax.set_ylabel(frame.ylabel)
         else:
             ax.set_yticks([])
-        if frame.base is not None:
-            ax.plot(*frame.base, marker="P", ms=11, color="black", mec="white", mew=1.2, ls="none")
-            ax.annotate("robot base", frame.base, xytext=(8, 8), textcoords="offset points", fontsize=8,
-                        bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.8})
+        for base in frame.bases:
+            if base.at is not None:
+                ax.plot(*base.at, marker="P", ms=11, color="black", mec="white", mew=1.2, ls="none")
+                ax.annotate(base.label, base.at, xytext=(8, 8), textcoords="offset points", fontsize=8,
+                            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.8})
         if layers is not None:
-            ax.set_title(f"{layers.name} = {layers.values[layer]:.4g} {layers.unit}", fontsize=9)
+            ax.set_title(f"{frame.layer} = {layers.values[layer]:.4g} {layers.unit}", fontsize=9)
         elif frame.plane:
             ax.set_title(f"plane {frame.plane}", fontsize=9)
     bar = fig.colorbar(mesh, ax=axes, label=label, shrink=0.9)
@@ -211,6 +241,8 @@ def grid_image(grid: TargetGrid, values, label: str, title: str, cmap="viridis",
         grey_cells &= np.ma.getmaskarray(marked)
     unreachable = int(grey_cells.sum())
     note = f" (grey: {unreachable} {grey}{' of those shown' if thinned else ''})" if unreachable else ""
+    note += "".join(f"; {base.label} at ({', '.join(f'{c:.4g}' for c in base.world_m)}) m{WORLD}, outside the "
+                    "panels" for base in frame.bases if base.at is None)
     if thinned:
         note += (f"; shown: {shown.size:,} of {grid.size:,} targets, 1 in {strides[2]} along rows and columns"
                  + (f", 1 in {strides[0]} layers" if strides[0] > 1 else "") + "; map.csv has them all")
@@ -265,17 +297,20 @@ def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | No
                     for file, name, label, title in EXPECTED_HEAT_MAPS if reference.has(name)})
     for s in others:
         figures[map_figure_file("RP_l", s.name)] = (lambda shown, s=s: s.figure("RP_l_um", shown), "RP_l [µm]",
-                                             f"RP_l, {s.name}{shared}", {"norm": norm})
+                                             f"RP_l, {s.name}{shared}",
+                                             {"norm": norm, "bases": _bases(workspace_map, s)})
     for s in others:
         figures[map_figure_file("RP_l_ratio", s.name)] = (
             lambda shown, s=s: workspace_map.ratio_RP_l(s, shown), f"RP_l {s.name} / {reference.name} [-]",
             f"RP_l ratio {s.name} / {reference.name}",
-            {"cmap": "RdBu_r", "centre": 1.0, **_reach_marks(workspace_map, s)})
+            {"cmap": "RdBu_r", "centre": 1.0, "bases": _bases(workspace_map, reference, s),
+             **_reach_marks(workspace_map, s)})
     for s in others:
         figures[map_figure_file("RP_l_diff", s.name)] = (
             lambda shown, s=s: workspace_map.diff_RP_l_um(s, shown), f"RP_l {s.name} − {reference.name} [µm]",
             f"RP_l difference {s.name} − {reference.name}",
-            {"cmap": "RdBu_r", "centre": 0.0, **_reach_marks(workspace_map, s)})
+            {"cmap": "RdBu_r", "centre": 0.0, "bases": _bases(workspace_map, reference, s),
+             **_reach_marks(workspace_map, s)})
     if others:
         names = list(workspace_map.scenarios)
         several = workspace_map.robot_count > 1
@@ -284,8 +319,20 @@ def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | No
             "scenario with the smallest RP_l", "which scenario has the smallest RP_l" + (
                 ", among those whose robot reaches the target" if several else ""),
             {"cmap": _categorical(len(names)), "norm": BoundaryNorm(np.arange(-1.5, len(names)), len(names) + 1),
-             "categories": ["tie"] + names, **({"grey": "reached by no scenario"} if several else {})})
+             "categories": ["tie"] + names, "bases": _bases(workspace_map, *workspace_map.scenarios.values()),
+             **({"grey": "reached by no scenario"} if several else {})})
     return figures
+
+
+def _bases(workspace_map: MapResult, *scenarios: ScenarioMap) -> dict[str, np.ndarray]:
+    """Where the bases of the robots ``scenarios`` are measured with lie in the world, label -> (3,) [m]: one
+    ``"robot base"`` when they all share one place, else ``"<scenario>, ... base"`` per place."""
+    places: dict[tuple[float, ...], list[str]] = {}
+    for s in scenarios:
+        places.setdefault(tuple(workspace_map.grids[s.robot].base_m), []).append(s.name)
+    if len(places) == 1:
+        return {"robot base": np.array(next(iter(places)))}
+    return {f"{', '.join(names)} base": np.array(place) for place, names in places.items()}
 
 
 def _reach_marks(workspace_map: MapResult, scenario: ScenarioMap) -> dict:

@@ -104,8 +104,8 @@ def placement_figure(placement: PlacementResult, title: str) -> Figure:
         ax.set_xlim(low[0] - margin, high[0] + margin)
         ax.set_ylim(low[1] - margin, high[1] + margin)
         ax.set_aspect("equal")
-        ax.set_xlabel("base x [m]")
-        ax.set_ylabel("base y [m]")
+        ax.set_xlabel("base x (world) [m]")
+        ax.set_ylabel("base y (world) [m]")
         if panel_title:
             ax.set_title(panel_title, fontsize=9)
     for ax in list(axes.flat)[len(drawn):]:

@@ -90,7 +90,7 @@ class MapLayer:
 
 @dataclass(frozen=True)
 class Cube:
-    """An ISO 9283 test cube with edges parallel to the base axes.
+    """An ISO 9283 test cube with edges parallel to the world axes.
 
     Attributes:
         centre_m: (3,) centre [m]. edge_m: edge length [m].
