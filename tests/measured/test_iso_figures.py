@@ -15,7 +15,7 @@ from tribokin.cli import main
 from tribokin.errors import InputError, SettingsError
 from tribokin.measured.iso_figures import Segmenting
 
-#: Three poses' commanded positions in the base frame [m]; the tracker frame is rotated and shifted.
+#: Three poses' commanded positions in the world frame [m]; the tracker frame is rotated and shifted.
 COMMANDED_M = np.array([[0.5, 0.0, 0.3], [0.3, 0.4, 0.3], [0.4, 0.1, 0.6]])
 TRACKER = Rotation.from_euler("xyz", [10, -20, 35], degrees=True)
 SHIFT_M = np.array([1.0, -2.0, 0.5])
@@ -23,7 +23,7 @@ CYCLES_UM = np.array([[3, 0, 0], [-3, 0, 0], [0, 4, 0], [0, -4, 0]])
 
 
 def tracker_file(folder, retaught_um: float = 0.0, times: bool = False):
-    """Each pose measured 4 times exactly at its commanded position plus CYCLES_UM (base frame), written in the
+    """Each pose measured 4 times exactly at its commanded position plus CYCLES_UM (world frame), written in the
     tracker frame; with ``retaught_um`` the last cycle of each pose is commanded (and reached) that much
     further along x; with ``times``, a ``t_s`` column."""
     lines = ["pose,cycle,x_m,y_m,z_m,cx_m,cy_m,cz_m" + (",t_s" if times else "")]
@@ -47,7 +47,7 @@ def test_three_poses_register_the_tracker_frame(tmp_path):
     assert np.array(registration["rotation"]) == pytest.approx(TRACKER.as_matrix(), abs=1e-9)
     assert summary["settings"]["commanded_correction"] == {
         "made": False, "why": "the commanded positions of each pose agree", "largest_spread_um": 0.0}
-    # registered: AP_p is the distance of the barycentre from the commanded position in the base frame, 0 here
+    # registered: AP_p is the distance of the barycentre from the commanded position in the world frame, 0 here
     assert summary["poses"][0]["directions"]["+"]["AP_p_um"] == pytest.approx(0.0, abs=1e-6)
     result.write(tmp_path / "out", report="none")
     assert json.loads((tmp_path / "out" / "summary.json").read_text()) == summary
