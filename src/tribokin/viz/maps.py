@@ -241,7 +241,7 @@ def grid_image(grid: TargetGrid, values, label: str, title: str, cmap="viridis",
         grey_cells &= np.ma.getmaskarray(marked)
     unreachable = int(grey_cells.sum())
     note = f" (grey: {unreachable} {grey}{' of those shown' if thinned else ''})" if unreachable else ""
-    note += "".join(f"; {base.label} at ({', '.join(f'{c:.4g}' for c in base.world_m)}) m{WORLD}, outside the "
+    note += "".join(f"; {base.label} at ({', '.join(f'{c + 0.0:.4g}' for c in base.world_m)}) m{WORLD}, outside the "
                     "panels" for base in frame.bases if base.at is None)
     if thinned:
         note += (f"; shown: {shown.size:,} of {grid.size:,} targets, 1 in {strides[2]} along rows and columns"
