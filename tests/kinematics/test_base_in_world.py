@@ -62,3 +62,12 @@ def test_reach_spheres_hold_for_a_placed_base():
     points = np.array([placed.tool_placement(placed.random_configuration(rng)).translation for _ in range(2000)])
     assert np.all(sphere.distances_m(points) <= sphere.radius_m + 1e-12)
     assert np.linalg.norm(sphere.centre_m - BASE.translation) < sphere.radius_m  # the sphere came with the base
+
+
+def test_a_placed_robot_knows_where_its_base_is_pickled_too():
+    import pickle
+
+    placed, plain = load_example_robot("ur5", base=BASE), load_example_robot("ur5")
+    assert placed.base_m.tolist() == [0.7, -0.4, 0.25] and plain.base is None and plain.base_m.tolist() == [0.0] * 3
+    copy = pickle.loads(pickle.dumps(placed))
+    assert np.array_equal(copy.base.homogeneous, BASE.homogeneous) and pickle.loads(pickle.dumps(plain)).base is None
