@@ -9,8 +9,9 @@ What users touch: :func:`run_study` and :func:`load_study`, the :class:`Study` t
 ``from_urdf``, ``from_example_robot_data``), its :func:`joint_models` and friction laws (:class:`Gaussian`...,
 :func:`preset`), a pose's ISO test (:func:`pose_test`) and a workspace map (:func:`workspace_map`, its
 :class:`MapScenario`); measured data: a measurement file's ISO figures (:func:`measure`), a study fitted to it
-(:func:`calibrate`), friction laws fitted to a tribometer log (:func:`fit_friction`) and a surface profile's
-asperities (:func:`analyse_surface`), each a frozen result that writes its command's folder. The errors and
+(:func:`calibrate`), both in the measuring frame kept, registered by a best fit or turned by a :class:`Transform`,
+friction laws fitted to a tribometer log (:func:`fit_friction`) and a surface profile's asperities
+(:func:`analyse_surface`), each a frozen result that writes its command's folder. The errors and
 ``__version__`` load with the package; the rest on first use (PEP 562), so ``tribokin --version`` and a refused
 command line do not import the physics chain.
 """
@@ -39,6 +40,7 @@ if TYPE_CHECKING:
     from tribokin.maps.result import MapResult
     from tribokin.measured.calibrated import CalibrationResult, calibrate
     from tribokin.measured.iso_figures import MeasurementResult, Segmenting, measure
+    from tribokin.measurement.registration import RegistrationWarning, Transform
     from tribokin.run import StudyResult, run_study
     from tribokin.simulation.joint_errors import JointErrorModel, joint_models
     from tribokin.simulation.pose_result import PoseResult
@@ -68,6 +70,7 @@ _LAZY = {"MapResult": "tribokin.maps.result", "StudyResult": "tribokin.run", "ru
          "preset": "tribokin.tribology.presets", "GridError": "tribokin.maps.grid",
          "measure": "tribokin.measured.iso_figures", "MeasurementResult": "tribokin.measured.iso_figures",
          "Segmenting": "tribokin.measured.iso_figures", "calibrate": "tribokin.measured.calibrated",
+         "Transform": "tribokin.measurement.registration", "RegistrationWarning": "tribokin.measurement.registration",
          "CalibrationResult": "tribokin.measured.calibrated", "fit_friction": "tribokin.tribology.friction_fit",
          "FrictionFitResult": "tribokin.tribology.friction_fit", "analyse_surface": "tribokin.tribology.surface_result",
          "SurfaceResult": "tribokin.tribology.surface_result"}
@@ -77,7 +80,8 @@ __all__ = ["run_study", "load_study", "Study", "RobotSpec", "JointSpec", "PoseSp
            "JointErrorModel", "TestSettings", "pose_test", "workspace_map", "MapScenario", "FrictionLaw", "Constant",
            "Uniform", "Gaussian", "Lognormal", "Empirical", "preset", "TribokinError", "InputError",
            "ConfigurationError", "RobotDescriptionError", "LawError", "JointRangeError", "SettingsError",
-           "JointModelError", "GridError", "measure", "MeasurementResult", "Segmenting", "calibrate",
+           "JointModelError", "GridError", "measure", "MeasurementResult", "Segmenting", "Transform",
+           "RegistrationWarning", "calibrate",
            "CalibrationResult", "fit_friction", "FrictionFitResult", "analyse_surface", "SurfaceResult", "__version__"]
 
 

@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from conftest import AXIS_STUDY_TOML, AXIS_URDF, GANTRY_MAP_TOML, ROOT
+from helpers.measurement_files import GANTRY_CALIBRATE
 from tribokin.cli import main
 from tribokin.simulation.pose_test import PoseRunner
 
@@ -359,23 +360,6 @@ XACRO_ATTACKS = [
                     "number"), id="xacro-argument-5000-digits"),
 ]
 
-#: The gantry with a [calibration] of its stiffness (the noise floor given).
-GANTRY_CALIBRATE = f"""[study]
-name = "gantry-calibrate"
-cycles = 5
-
-[robot]
-urdf = "{ROOT / 'urdf' / 'cartesian_xyz.urdf'}"
-tool_frame = "tool"
-
-[joints]
-stiffness = 2.0e6
-friction_force_N = {{ law = "gaussian", mean = 20.0, std = 5.0 }}
-
-[calibration]
-fit = ["stiffness"]
-noise_floor_m = 1e-6
-"""
 
 
 def gantry_measurements(poses=("P1", "P2", "P3")) -> str:
@@ -857,6 +841,57 @@ ROBUSTNESS_CASES = [
           at_fault="law.toml", expected=("line 1", "nested 10000 deep"), id="law-file-nested-10000-deep"),
 ]
 
+#: A transform file of the measuring frame (``--transform``), ``{rotation}`` its rotation's line.
+FRAME = "{rotation}\ntranslation_m = [0.1, 0.2, 0.3]\n"
+IDENTITY = "rotation = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]"
+
+
+def framed(text: str, *options, expected, id, at_fault="{tmp}/frame.toml"):
+    """A `tribokin measure` case of six rows of the UR5 tracker file with ``--transform frame.toml`` holding ``text``
+    (then ``options``)."""
+    return measurement("measure", tracker(TRACKER_ROWS[:6]), "--transform", "{tmp}/frame.toml", *options,
+                       files={"frame.toml": text}, at_fault=at_fault, expected=expected, id=id)
+
+
+# issue 37: the measuring frame is a choice (--registration, --transform), checked before any work
+REGISTRATION_CASES = [
+    measurement("measure", tracker(TRACKER_ROWS[:6]), "--registration", "bestfit", at_fault="command line",
+                expected=("--registration", "invalid choice: 'bestfit'", "'auto', 'none', 'best-fit'"),
+                id="measure-registration-unknown"),
+    measurement("measure", MEASURED, "--registration", "best-fit", at_fault="{tmp}/in.csv: cx_m",
+                expected=("--registration best-fit needs commanded positions (cx, cy, cz)", "no commanded"),
+                id="measure-best-fit-without-commanded-positions"),
+    pytest.param({"study.toml": GANTRY_CALIBRATE, "data.csv": gantry_measurements()},
+                 ["calibrate", "{tmp}/study.toml", "--measurements", "{tmp}/data.csv", "--out", "{tmp}/out",
+                  "--report", "none", "--registration", "best-fit"],
+                 ("{tmp}/data.csv: cx_m", "--registration best-fit needs commanded positions"),
+                 id="calibrate-best-fit-without-commanded-positions"),
+    measurement("measure", tracker(TRACKER_ROWS[:6]), "--transform", "{tmp}/nowhere.toml", at_fault="command line",
+                expected=("--transform", "nowhere.toml", "file not found"), id="measure-transform-missing"),
+    measurement("measure", tracker(TRACKER_ROWS[:6]), "--transform", "/proc/self/environ", at_fault="command line",
+                expected=("--transform", "system file"), id="measure-transform-proc-environ"),
+    framed(FRAME.format(rotation=IDENTITY), "--registration", "none", at_fault="command line: --transform",
+           expected=("leave out one of them",), id="measure-transform-and-registration"),
+    framed(FRAME.format(rotation="rotation = [[1, 0, 0], [0, 1, 0], [0, 0, 1.01]]"),
+           expected=("rotation: not a rotation", "orthonormal to 1e-06"), id="measure-transform-not-a-rotation"),
+    framed(FRAME.format(rotation="rotation = [[1, 0, 0], [0, 1, 0], [0, 0, -1]]"),
+           expected=("rotation: not a rotation", "determinant +1 (it is -1)"), id="measure-transform-reflection"),
+    framed(FRAME.format(rotation="rotation = [[1, 0, 0], [0, 1, 0]]"), expected=("rotation", "3 rows of 3"),
+           id="measure-transform-two-rows"),
+    framed(FRAME.format(rotation=IDENTITY + "\nrpy_deg = [0, 0, 90]"), expected=("rotation", "either"),
+           id="measure-transform-rotation-and-rpy"),
+    framed(FRAME.format(rotation=IDENTITY).replace("translation_m", "translation"),
+           expected=("translation: unknown key", "did you mean 'translation_m'"), id="measure-transform-unknown-key"),
+    framed(FRAME.format(rotation=IDENTITY).replace("0.3]", "nan]"),
+           expected=("translation_m", "3 finite numbers"), id="measure-transform-translation-nan"),
+    framed(FRAME.format(rotation=IDENTITY)[:-3], expected=("not valid TOML",), id="measure-transform-not-toml"),
+    pytest.param({"study.toml": CALIBRATE_STUDY, "in.csv": tracker(TRACKER_ROWS),
+                  "frame.toml": FRAME.format(rotation="rpy_deg = [0, 90]")},
+                 ["calibrate", "{tmp}/study.toml", "--measurements", "{tmp}/in.csv", "--out", "{tmp}/out",
+                  "--transform", "{tmp}/frame.toml"], ("{tmp}/frame.toml: rpy_deg", "needs 3 values, roll, pitch, yaw"),
+                 id="calibrate-transform-rpy-two-values"),
+]
+
 
 def _create(tmp: Path, files: dict) -> None:
     for name, content in files.items():
@@ -877,7 +912,7 @@ def _tree(folder: Path) -> dict[str, bytes | str | None]:
 
 
 def test_bad_input_table_is_large_and_unambiguous():
-    ids = [case.id for case in CASES + ROBUSTNESS_CASES]
+    ids = [case.id for case in CASES + ROBUSTNESS_CASES + REGISTRATION_CASES]
     assert len(ids) >= 40 and len(set(ids)) == len(ids)
 
 
@@ -902,7 +937,7 @@ def _run_refused(tmp: Path, capsys, monkeypatch, files, argv, expected) -> None:
     _assert_refused(tmp, before, status, captured.out, captured.err, expected)
 
 
-@pytest.mark.parametrize("files, argv, expected", CASES + ROBUSTNESS_CASES)
+@pytest.mark.parametrize("files, argv, expected", CASES + ROBUSTNESS_CASES + REGISTRATION_CASES)
 def test_bad_input_is_one_line_exit_2_nothing_written(tmp_path, capsys, monkeypatch, files, argv, expected):
     _run_refused(tmp_path, capsys, monkeypatch, files, argv, expected)
 

@@ -108,7 +108,15 @@ def test_calibrate_writes_its_folder_and_names_what_it_fitted(calibrated):
         assert low < found[name]["value"] < high
     wrist_3 = found["joints.wrist_3_joint.stiffness"]
     assert not wrist_3["identifiable"] and wrist_3["value"] is None and "axis" in wrist_3["hint"]
-    assert "not identifiable" in stdout and "registered" in stdout
+    assert "not identifiable" in stdout
+    assert "frame: registered (auto): best fit on 5 poses (6 of their 15 coordinates), rms residual" in stdout
+    registration = json.loads((out / "calibration.json").read_text(encoding="utf-8"))["registration"]
+    assert registration["choice"] == "auto" and registration["made"] and registration["warning"] is None
+    assert registration["coordinates_used"] == [6, 15] and registration["largest_share"] == pytest.approx(0.45)
+    assert registration["rotation_angle_mdeg"] == pytest.approx(
+        np.degrees(Rotation.from_matrix(registration["rotation"]).magnitude()) * 1e3, rel=1e-9)
+    assert registration["translation_um"] == pytest.approx(np.linalg.norm(registration["translation_m"]) * 1e6,
+                                                           rel=1e-12)
 
 
 def test_comparison_holds_measured_and_predicted_figures_of_every_pose(calibrated):
@@ -291,18 +299,17 @@ def test_run_refuses_a_study_with_nothing_but_calibration(tmp_path):
 
 
 def test_without_a_registration_the_frame_is_fitted_and_the_output_says_so(registered, tmp_path):
-    """No commanded positions: the tracker frame's rotation is profiled out; the determined stiffnesses agree with
-    the registered fit's within their standard errors."""
-    _, header, rows = read_rows(DATA)
-    kept = [h for h in header if not h.startswith(("cx_", "cy_", "cz_"))]
-    write_rows(tmp_path / "unregistered.csv", kept, [{k: r[k] for k in kept} for r in rows])
+    """--registration none (the same fit as a file without commanded positions, whose series' points are the same):
+    the tracker frame's rotation is profiled out; the determined stiffnesses agree with the registered fit's within
+    their standard errors."""
     study, fitted = registered
-    done = tribokin("calibrate", study, "--measurements", tmp_path / "unregistered.csv", "--out", tmp_path / "unknown",
-                    "--report", "none")
+    done = tribokin("calibrate", study, "--measurements", DATA, "--out", tmp_path / "unknown", "--report", "none",
+                    "--registration", "none")
     assert done.returncode == 0, done.stderr
-    assert "frame: not registered" in done.stdout
+    assert "frame: not registered (none)" in done.stdout
     summary = json.loads((tmp_path / "unknown" / "calibration.json").read_text(encoding="utf-8"))
     assert not summary["registration"]["made"] and "profiled out" in summary["registration"]["why"]
+    assert summary["registration"]["choice"] == "none"
     rotation = np.array(summary["registration"]["fitted_rotation"])
     truth = Rotation.from_euler("xyz", [3.0, -2.0, 130.0], degrees=True).as_matrix()  # the file's tracker frame
     assert np.degrees(Rotation.from_matrix(rotation @ truth.T).magnitude()) < 5.0  # 2.4° here: shapes fix it loosely

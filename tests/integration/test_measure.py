@@ -86,7 +86,7 @@ def test_known_points_give_the_hand_computed_figures(measured):
     assert float(rows[1]["vAP_p_um"]) == pytest.approx(12.0, rel=1e-6)
     assert {"RP_l_95_low_um", "RP_l_95_high_um", "ellipsoid_semi_axis_1_um", "barycenter_x_m",
             "RP_l_all_directions_um"} <= set(rows[0])
-    assert "P1" in stdout and "registration: the measuring frame is not registered" in stdout
+    assert "P1" in stdout and "registration (auto): the measuring frame is not registered" in stdout
 
 
 def test_one_cycle_series_is_reported_too_short_not_refused(measured):

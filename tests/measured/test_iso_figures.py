@@ -14,6 +14,7 @@ from tribokin import MeasurementResult, measure
 from tribokin.cli import main
 from tribokin.errors import InputError, SettingsError
 from tribokin.measured.iso_figures import Segmenting
+from tribokin.measurement.registration import RegistrationWarning, Transform
 
 #: Three poses' commanded positions in the world frame [m]; the tracker frame is rotated and shifted.
 COMMANDED_M = np.array([[0.5, 0.0, 0.3], [0.3, 0.4, 0.3], [0.4, 0.1, 0.6]])
@@ -38,11 +39,16 @@ def tracker_file(folder, retaught_um: float = 0.0, times: bool = False):
     return path
 
 
-def test_three_poses_register_the_tracker_frame(tmp_path):
-    result = measure(tracker_file(tmp_path))
+def test_three_poses_keep_the_tracker_frame_unless_a_best_fit_is_asked_for_which_warns(tmp_path):
+    kept = measure(tracker_file(tmp_path)).summary()["settings"]["registration"]
+    assert kept["choice"] == "auto" and not kept["made"] and "uses 6 of their 9 coordinates" in kept["why"]
+    with pytest.warns(RegistrationWarning, match="a best fit on 3 poses uses 6 of their 9 coordinates"):
+        result = measure(tracker_file(tmp_path), registration="best-fit")
     summary = result.summary()
     registration = summary["settings"]["registration"]
     assert registration["made"] and registration["rms_residual_um"] < 1e-6
+    assert registration["coordinates_used"] == [6, 9] and "absorbs" in registration["warning"]
+    assert registration["rotation_angle_mdeg"] == pytest.approx(np.degrees(TRACKER.magnitude()) * 1e3, rel=1e-9)
     assert result.registration.rms_residual_m < 1e-12
     assert np.array(registration["rotation"]) == pytest.approx(TRACKER.as_matrix(), abs=1e-9)
     assert summary["settings"]["commanded_correction"] == {
@@ -53,8 +59,9 @@ def test_three_poses_register_the_tracker_frame(tmp_path):
     assert json.loads((tmp_path / "out" / "summary.json").read_text()) == summary
 
 
+@pytest.mark.filterwarnings("ignore::tribokin.measurement.registration.RegistrationWarning")
 def test_retaught_points_are_corrected_under_a_registration(tmp_path):
-    result = measure(tracker_file(tmp_path, retaught_um=50.0))
+    result = measure(tracker_file(tmp_path, retaught_um=50.0), registration="best-fit")
     correction = result.summary()["settings"]["commanded_correction"]
     assert correction["made"] and correction["largest_spread_um"] == pytest.approx(50.0, rel=1e-6)
     assert result.correction.made and result.correction.largest_spread_um == correction["largest_spread_um"]
@@ -88,3 +95,81 @@ def test_a_bad_seed_or_segmenting_names_the_argument_not_a_file(tmp_path):
     with pytest.raises(SettingsError) as error:
         measure(path, segmenting=Segmenting(min_duration_s=0.0))
     assert error.value.argument == "min_duration_s"
+
+
+#: Five poses (the ISO cube's P1-P5 shape) in the world frame [m], and each one's barycentre offset [µm] (its accuracy).
+CUBE_M = np.array([[0.5, 0.0, 0.4], [0.6, 0.1, 0.5], [0.4, 0.1, 0.5], [0.4, -0.1, 0.3], [0.6, -0.1, 0.3]])
+OFFSETS_UM = np.array([[12, -5, 3], [-8, 20, 1], [4, 4, -15], [-10, -6, 9], [2, -13, -4]])
+
+
+def cube_file(folder, shift_um=(0.0, 0.0, 0.0), to_tracker=lambda p: p, name="cube.csv"):
+    """The five poses, 4 cycles each about commanded + OFFSETS_UM (world frame), their readings moved by ``shift_um``
+    in the tracker frame, which ``to_tracker`` makes of the world frame's points."""
+    lines = ["pose,cycle,x_m,y_m,z_m,cx_m,cy_m,cz_m"]
+    for k, commanded in enumerate(CUBE_M):
+        for cycle, offset in enumerate(CYCLES_UM, start=1):
+            reading = to_tracker(commanded + (OFFSETS_UM[k] + offset) * 1e-6) + np.asarray(shift_um) * 1e-6
+            lines.append(",".join([f"P{k + 1}", str(cycle), *(repr(float(v)) for v in (*reading, *commanded))]))
+    path = folder / name
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def ap_um(result) -> np.ndarray:
+    return np.array([pose["directions"]["+"]["AP_p_um"] for pose in result.summary()["poses"]])
+
+
+def test_none_measures_ap_in_the_tracker_frame_and_a_best_fit_absorbs_a_shift(tmp_path):
+    """Adding 50 µm to every x reading moves each AP_p to |offset + 50 µm x| with registration 'none' (the tracker
+    frame taken as the world frame), and leaves it unchanged under a best fit (auto on these five poses)."""
+    plain, shifted = cube_file(tmp_path), cube_file(tmp_path, shift_um=(50, 0, 0), name="shifted.csv")
+    np.testing.assert_allclose(ap_um(measure(plain, registration="none")), np.linalg.norm(OFFSETS_UM, axis=1),
+                               rtol=1e-9)
+    np.testing.assert_allclose(ap_um(measure(shifted, registration="none")),
+                               np.linalg.norm(OFFSETS_UM + [50, 0, 0], axis=1), rtol=1e-9)
+    auto, moved = measure(plain), measure(shifted)
+    assert auto.registration is not None and auto.frame.choice == "auto" and auto.frame.warning is None
+    np.testing.assert_allclose(ap_um(moved), ap_um(auto), rtol=1e-6)
+    np.testing.assert_allclose(moved.registration.rotation, auto.registration.rotation, atol=1e-12)
+    np.testing.assert_allclose(auto.registration.translation_m - moved.registration.translation_m,
+                               auto.registration.rotation @ [50e-6, 0, 0], atol=1e-12)  # t' = t - R s
+    assert auto.summary()["settings"]["registration"]["coordinates_used"] == [6, 15]
+
+
+def test_a_given_transform_is_applied_exactly(tmp_path):
+    """Readings in a tracker frame turned and shifted from the world; the transform given back: barycentres, AP_p and
+    the residual as computed here from the readings."""
+    rotation, shift = TRACKER.as_matrix(), SHIFT_M
+    path = cube_file(tmp_path, to_tracker=lambda p: (p - shift) @ rotation)
+    result = measure(path, registration=Transform(rotation, shift, "frame.toml"))
+    readings = np.loadtxt(path, delimiter=",", skiprows=1, usecols=(2, 3, 4)).reshape(5, 4, 3)
+    barycentres = readings.mean(axis=1) @ rotation.T + shift  # p_world = R p + t, by hand
+    for pose, expected, commanded in zip(result.summary()["poses"], barycentres, CUBE_M, strict=True):
+        direction = pose["directions"]["+"]
+        np.testing.assert_allclose(direction["barycenter_m"], expected, rtol=0, atol=1e-15)
+        assert direction["AP_p_um"] == pytest.approx(np.linalg.norm(expected - commanded) * 1e6, rel=1e-9)
+    registration = result.summary()["settings"]["registration"]
+    assert registration["choice"] == "given" and registration["method"] == "given" and registration["warning"] is None
+    assert registration["rotation"] == rotation.tolist() and registration["translation_m"] == shift.tolist()
+    assert registration["rms_residual_um"] == pytest.approx(
+        np.sqrt(np.mean(np.sum((barycentres - CUBE_M) ** 2, axis=1))) * 1e6, rel=1e-9)
+
+
+def test_the_command_prints_what_the_registration_absorbed_and_warns_once(tmp_path, capsys):
+    path = tracker_file(tmp_path)
+    assert main(["measure", path, "--out", tmp_path / "fit", "--registration", "best-fit", "--report", "none"]) == 0
+    out, err = capsys.readouterr()
+    assert err.splitlines() == [err.strip()] and err.startswith(
+        "tribokin: warning: registration by best fit: a best fit on 3 poses uses 6 of their 9 coordinates")
+    angle = np.degrees(TRACKER.magnitude()) * 1e3
+    assert (f"registration (best-fit): best fit on 3 poses (6 of their 9 coordinates), rms residual 0.000 µm; rigid "
+            f"motion: rotation {angle:.6g} mdeg, translation {np.linalg.norm(SHIFT_M) * 1e6:.6g} µm") in out
+    (tmp_path / "frame.toml").write_text(f"rpy_deg = {TRACKER.as_euler('xyz', degrees=True).tolist()}\n"
+                                         f"translation_m = {SHIFT_M.tolist()}\n")
+    assert main(["measure", path, "--out", tmp_path / "given", "--transform", tmp_path / "frame.toml",
+                 "--report", "none"]) == 0
+    out, err = capsys.readouterr()
+    assert err == "" and f"registration (given): the transform given in {tmp_path / 'frame.toml'}" in out
+    summary = json.loads((tmp_path / "given" / "summary.json").read_text())
+    np.testing.assert_allclose(summary["settings"]["registration"]["rotation"], TRACKER.as_matrix(), atol=1e-12)
+    assert summary["poses"][0]["directions"]["+"]["AP_p_um"] == pytest.approx(0.0, abs=1e-6)

@@ -2,7 +2,14 @@
 
 from __future__ import annotations
 
-from tribokin.cli.options import claimed, options_located
+from tribokin.cli.options import (
+    add_registration_options,
+    claimed,
+    options_located,
+    registration_choice,
+    registration_noted,
+    warn_registration,
+)
 from tribokin.cli.progress import kernels_to_compile, map_progress
 from tribokin.units import um
 
@@ -21,6 +28,7 @@ def add_parser(commands) -> None:
                            help="report.html with the tables and figures (full, default) or no report")
     parser.add_argument("--workers", type=int, default=1,
                            help="local processes computing the calibrated study's map, if it has one (default 1)")
+    add_registration_options(parser)
     parser.set_defaults(handler=calibrate)
 
 
@@ -31,11 +39,13 @@ def calibrate(args) -> None:
     from tribokin.measured.calibrated import calibrate
     from tribokin.output.measured import write_calibration
 
+    registration = registration_choice(args)
     with executor_for(args.workers, None) as executor, claimed(args.out, args.force), \
             map_progress(warm_up=args.workers, compiling=kernels_to_compile()) as progress:
-        with options_located({"seed": "--seed"}):
+        with options_located({"seed": "--seed"}), registration_noted():
             result = calibrate(args.study, args.measurements, args.seed, out=args.out, executor=executor,
-                               progress=progress)
+                               progress=progress, registration=registration)
+        warn_registration(result.inputs.frame)
         write_calibration(result, args.out, args.force, args.report)
     _print(result, args)
 
@@ -43,9 +53,9 @@ def calibrate(args) -> None:
 def _print(result, args) -> None:
     """The frame, the series left out, the parameters with their intervals, the fit's figures and the held-out
     predictions."""
-    registration, calibration = result.inputs.registration, result.calibration
-    print(f"frame: registered, rms residual {um(registration.rms_residual_m):.1f} µm (the robot's geometric error)"
-          if registration is not None else f"frame: not registered; {result.registration_why}")
+    frame, calibration = result.inputs.frame, result.calibration
+    print(f"frame: registered ({frame.choice}): {frame.describe()} (the residual: the robot's geometric error)"
+          if frame.registration is not None else f"frame: not registered ({frame.choice}); {result.registration_why}")
     for item in result.inputs.left_out:
         print(f"left out: {item.pose} '{item.direction}' ({item.cycles} cycles): {item.why}")
     width = max(len(p.name) for p in calibration.parameters)

@@ -4,7 +4,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from tribokin.cli.options import claimed, options_located
+from tribokin.cli.options import (
+    add_registration_options,
+    claimed,
+    options_located,
+    registration_choice,
+    registration_noted,
+    warn_registration,
+)
 from tribokin.errors import InputError
 from tribokin.units import um
 
@@ -38,6 +45,7 @@ def add_parser(commands) -> None:
                          help=f"with --segment: dwells this close are one pose (default {MATCH_RADIUS_M:g} m)")
     parser.add_argument("--report", choices=("full", "none"), default="full",
                          help="report.html with the table and figures (full, default) or no report")
+    add_registration_options(parser)
     parser.set_defaults(handler=measure)
 
 
@@ -54,9 +62,11 @@ def measure(args) -> None:
     segmenting = None
     if args.segment:
         segmenting = Segmenting(**{key: value for key, value in given.items() if value is not None})
+    registration = registration_choice(args)
     with claimed(args.out, args.force):
-        with options_located({"seed": "--seed", **SEGMENTING_OPTIONS}):
-            result = measure(args.file, args.seed, segmenting, args.noise_floor)
+        with options_located({"seed": "--seed", **SEGMENTING_OPTIONS}), registration_noted():
+            result = measure(args.file, args.seed, segmenting, args.noise_floor, registration=registration)
+        warn_registration(result.frame)
         write_measurement(result, args.out, args.force, args.report)
     _print(result, args)
 
@@ -81,9 +91,8 @@ def _print(result, args) -> None:
         interval = "too short" if d.RP_l_ci95_m is None else f"{um(d.RP_l_ci95_m[0]):.3f}-{um(d.RP_l_ci95_m[1]):.3f}"
         print(f"{pose.pose:<{width}} {d.direction:<15} {d.cycles:>6} {number(d.RP_l_m, 10)} {interval:>17} "
               f"{number(d.AP_p_m, 10)} {number(pose.vAP_p_m, 11)} {number(pose.RP_l_all_directions_m, 14)}")
-    registration, correction = result.registration, result.correction
-    print(f"registration: rms residual {um(registration.rms_residual_m):.3f} µm over {len(registration.poses)} poses"
-          if registration is not None else f"registration: {result.registration_why}")
+    correction = result.correction
+    print(f"registration ({result.frame.choice}): {result.frame.describe()}")
     if correction.largest_spread_um is not None:
         print(f"re-taught points: {correction.why} (largest spread {correction.largest_spread_um:.3f} µm)")
     flags = [f"{pose.pose} {d.direction} {name}" for pose, d in rows

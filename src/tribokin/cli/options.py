@@ -3,6 +3,8 @@ cleared) and a library's error told in the command's words (its options)."""
 
 from __future__ import annotations
 
+import sys
+import warnings
 from contextlib import contextmanager
 
 from tribokin.errors import InputError, SettingsError
@@ -47,3 +49,46 @@ def options_located(options: dict[str, str]):
         if name not in options:
             raise
         raise InputError(error.message, "command line", options[name] + bracket + index) from None
+
+
+def add_registration_options(parser) -> None:
+    """``--registration`` and ``--transform`` of ``measure`` and ``calibrate`` (the measuring frame)."""
+    from tribokin.measurement.registration import AUTO_MIN_POSES, CHOICES
+
+    parser.add_argument("--registration", choices=CHOICES,
+                        help="the measuring frame: auto (default) registers it by a best fit of the barycentres to "
+                             f"the commanded positions only where that is harmless ({AUTO_MIN_POSES} or more "
+                             "well-spread poses), none keeps it as measured, best-fit registers it")
+    parser.add_argument("--transform", metavar="FILE",
+                        help="apply this transform to the measuring frame instead: a TOML file with rotation (3 rows) "
+                             "or rpy_deg, and translation_m (p_world = rotation · p + translation_m)")
+
+
+def registration_choice(args):
+    """``--registration`` (default ``auto``), or the transform ``--transform`` names, read and checked; both given
+    are refused."""
+    if args.transform is None:
+        return args.registration or "auto"
+    if args.registration is not None:
+        raise InputError("gives the measuring frame's transform, which --registration would choose otherwise; leave "
+                         "out one of them", "command line", "--transform")
+    from tribokin.measurement.registration import read_transform
+
+    return read_transform(args.transform)
+
+
+@contextmanager
+def registration_noted():
+    """Within the block, the library's registration warnings are held back (:func:`warn_registration` prints the
+    result's once) and its refusal of ``registration 'best-fit'`` names ``--registration best-fit``."""
+    from tribokin.measurement.registration import RegistrationWarning
+
+    with warnings.catch_warnings(), option_named("registration 'best-fit'", "--registration best-fit"):
+        warnings.simplefilter("ignore", RegistrationWarning)
+        yield
+
+
+def warn_registration(frame) -> None:
+    """The frame's warning (a best fit that absorbs accuracy) as one line on stderr, if it has one."""
+    if frame.warning is not None:
+        print(f"tribokin: warning: {frame.warning}", file=sys.stderr)

@@ -39,6 +39,7 @@ from tribokin.maps.result import MapResult
 from tribokin.maps.schema import MapLayout
 from tribokin.measured.written import Written
 from tribokin.measurement.contract import file_size
+from tribokin.measurement.registration import Choice, Transform, checked_choice
 from tribokin.output.provenance import software_versions
 from tribokin.run import run_study
 from tribokin.study.assembly import check_names, joint_models, load_robot, map_robots, pose_tasks, study_runner
@@ -166,20 +167,19 @@ def _noise_text(calibration: Calibration, intervals: dict) -> str | None:
     return f"{estimate.value * UM_PER_M:.4g} µm, 95 % interval [{shown}] µm"
 
 
-#: Why a calibration's measuring frame is not registered.
-UNREGISTERED = ("no commanded positions at three or more poses not on one line: the measuring frame's rotation is "
-                "fitted with the model and profiled out (the fit uses the clouds' shapes and the differences of their "
-                "barycentres, which do not depend on the frame)")
+#: What a calibration does with a measuring frame that is not registered.
+UNREGISTERED = ("the measuring frame's rotation is fitted with the model and profiled out (the fit uses the clouds' "
+                "shapes and the differences of their barycentres, which do not depend on the frame)")
+#: What a registration's residual is to a calibration.
+RESIDUAL_NOTE = ("the residual is the robot's geometric error (absolute accuracy), which friction does not explain: "
+                 "barycentres serve only to register the frame, never as terms of the fit")
 
 
 def _registration_entry(inputs: CalibrationInput, calibration: Calibration) -> dict:
-    registration = inputs.registration
-    if registration is None:
-        return {"made": False, "why": UNREGISTERED, "fitted_rotation": calibration.rotation.tolist()}
-    return {"made": True, "rms_residual_um": um(registration.rms_residual_m),
-            "rotation": registration.rotation.tolist(), "translation_m": registration.translation_m.tolist(),
-            "note": "the residual is the robot's geometric error (absolute accuracy), which friction does not "
-                    "explain: barycentres serve only to register the frame, never as terms of the fit"}
+    entry = inputs.frame.summary()
+    if inputs.registration is None:
+        return {**entry, "why": f"{entry['why']}; {UNREGISTERED}", "fitted_rotation": calibration.rotation.tolist()}
+    return {**entry, "note": RESIDUAL_NOTE}
 
 
 def _in_base_frame(pose: PoseData, calibration: Calibration) -> PoseData:
@@ -273,7 +273,7 @@ class CalibrationResult(Written):
     @property
     def registration_why(self) -> str | None:
         """Why the measuring frame is not registered (``None``: it is)."""
-        return None if self.inputs.registration is not None else UNREGISTERED
+        return None if self.inputs.registration is not None else f"{self.inputs.frame.why}; {UNREGISTERED}"
 
     @property
     def compared(self) -> tuple[Compared, ...]:
@@ -323,7 +323,8 @@ class CalibrationResult(Written):
         }
 
 
-def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None, progress=None) -> CalibrationResult:
+def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None, progress=None,
+              registration: Choice | Transform = "auto") -> CalibrationResult:
     """Fit the study's joint model to the measurements (module docstring).
 
     Args:
@@ -334,15 +335,20 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
             (default: the study's folder); :meth:`CalibrationResult.write` writes its paths for the folder it writes.
         executor: where the calibrated study's map's chunks run (``run_study``).
         progress: the map's progress callback (``run_study``).
+        registration: the measuring frame: ``"auto"`` registers it by a best fit only where that is harmless
+            (:mod:`tribokin.measurement.registration`), ``"none"`` fits its rotation with the model (profiled out),
+            ``"best-fit"`` registers it (a :class:`~tribokin.measurement.registration.RegistrationWarning` where that
+            absorbs accuracy), a :class:`~tribokin.measurement.registration.Transform` is applied as given.
 
     Returns:
-        the fit, its intervals and predictions, and the calibrated study (and its map). A bad ``seed`` is a
-        :class:`~tribokin.errors.SettingsError` naming it; bad files, an :class:`~tribokin.errors.InputError` naming
-        the file and key.
+        the fit, its intervals and predictions, and the calibrated study (and its map). A bad ``seed`` or
+        ``registration`` is a :class:`~tribokin.errors.SettingsError` naming it; bad files, an
+        :class:`~tribokin.errors.InputError` naming the file and key.
     """
     study_path, measurements_path = Path(study), measurements
     out = study_path.parent if out is None else Path(out)
     seed = argument(seed_int, seed, "seed")
+    registration = checked_choice(registration)
     study = read_study_file(study_path)
     if study.calibration is None:
         raise InputError("no [calibration] section: add one naming what to fit (fit = [\"stiffness\", ...])",
@@ -357,7 +363,7 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
     measurements = read_robot_measurements(measurements_path, robot)
     check_measured_pose_names([pose.name for pose in measurements.poses], measurements_path, cloud_figure_file)
     names = _written_pose_names(study, [pose.name for pose in measurements.poses], measurements_path)
-    inputs = calibration_input(study, robot, models, measurements)
+    inputs = calibration_input(study, robot, models, measurements, registration)
     if not inputs.model.names():
         raise InputError("nothing to fit for these joints", study.source, "calibration.joints")
 

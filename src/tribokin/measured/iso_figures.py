@@ -25,7 +25,7 @@ from tribokin.measurement.figures import (
     measurement_figures,
 )
 from tribokin.measurement.noise import Flag, NoiseFloor, flag_figures, noise_floor
-from tribokin.measurement.registration import UNAVAILABLE, Registration, register_measurements
+from tribokin.measurement.registration import Choice, Frame, Registration, Transform, checked_choice, choose_frame
 from tribokin.measurement.segmentation import (
     DWELL_MIN_DURATION_S,
     DWELL_RADIUS_M,
@@ -126,7 +126,7 @@ class MeasurementResult(Written):
         sha256: its SHA-256 digest.
         measurements: its poses (for a raw stream, the dwells' cycles).
         segmentation: how a raw stream was cut into dwells, or ``None`` (a measurement file).
-        registration: the measuring frame registered to the world frame, or ``None``.
+        frame: the measuring frame as ``registration=`` left it: registered to the world frame, or kept.
         figures: per pose, its figures.
         seed: seed of the bootstrap intervals of RP_l.
         noise_file: the noise-floor readings' file, or ``None``.
@@ -140,7 +140,7 @@ class MeasurementResult(Written):
     sha256: str
     measurements: Measurements
     segmentation: Segmentation | None
-    registration: Registration | None
+    frame: Frame
     figures: tuple[PoseFigures, ...]
     seed: int
     noise_file: str | None
@@ -155,13 +155,14 @@ class MeasurementResult(Written):
         return CommandedCorrection.of(self.figures)
 
     @property
+    def registration(self) -> Registration | None:
+        """The measuring frame's registration to the world frame, or ``None`` (kept as measured)."""
+        return self.frame.registration
+
+    @property
     def registration_why(self) -> str | None:
         """Why the frame is not registered (``None``: it is)."""
-        if self.registration is not None:
-            return None
-        has_commanded = self.measurements.poses[0].pooled("commanded_m") is not None
-        return UNAVAILABLE if has_commanded else \
-            "the measuring frame is not registered: the file has no commanded positions (cx, cy, cz)"
+        return None if self.registration is not None else self.frame.why
 
     @property
     def timed(self) -> bool:
@@ -185,11 +186,6 @@ class MeasurementResult(Written):
 
     def summary(self) -> dict:
         """The content of ``summary.json``."""
-        registration = self.registration
-        registered = {"made": True, "rms_residual_um": um(registration.rms_residual_m),
-                      "rotation": registration.rotation.tolist(),
-                      "translation_m": registration.translation_m.tolist(), "poses": list(registration.poses)} \
-            if registration is not None else {"made": False, "why": self.registration_why}
         floor = None if self.floor is None else {
             "file": self.noise_file, "readings": self.floor.readings, "RP_l_um": um(self.floor.RP_l_m),
             "std_um": (self.floor.std_m * UM_PER_M).tolist(), "flag_factor": 2.0, "rule": FLAG_RULE}
@@ -212,7 +208,7 @@ class MeasurementResult(Written):
                 "file": self.file, "sha256": self.sha256,
                 "columns": list(self.measurements.columns) if self.segmentation is None else ["t_s", "x, y, z"],
                 "segmentation": None if self.segmentation is None else self.segmentation.summary(),
-                "registration": registered,
+                "registration": self.frame.summary(),
                 "commanded_correction": {"made": correction.made, "why": correction.why,
                                          "largest_spread_um": correction.largest_spread_um},
                 "bootstrap": {"resamples": BOOTSTRAP_RESAMPLES, "seed": self.seed, "interval": "percentile, 95 %"},
@@ -247,7 +243,7 @@ def check_memory(path, noise_path=None, available: int | None = None) -> None:
 
 
 def measure(path, seed: int = BOOTSTRAP_SEED, segmenting: Segmenting | None = None,
-            noise_path=None) -> MeasurementResult:
+            noise_path=None, *, registration: Choice | Transform = "auto") -> MeasurementResult:
     """ISO 9283 figures of a measurement file (module docstring).
 
     Args:
@@ -255,24 +251,30 @@ def measure(path, seed: int = BOOTSTRAP_SEED, segmenting: Segmenting | None = No
         seed: seed of the bootstrap intervals of RP_l.
         segmenting: find the dwells of a raw stream with these options.
         noise_path: readings of the robot standing still: figures within 2x of that spread are flagged.
+        registration: the measuring frame: ``"auto"`` registers it by a best fit only where that is harmless
+            (:mod:`tribokin.measurement.registration`), ``"none"`` keeps it, ``"best-fit"`` registers it (a
+            :class:`~tribokin.measurement.registration.RegistrationWarning` where that absorbs accuracy), a
+            :class:`~tribokin.measurement.registration.Transform` is applied as given.
 
     Returns:
-        the figures and what they were computed from. A bad ``seed`` or ``segmenting`` field is a
+        the figures and what they were computed from. A bad ``seed``, ``segmenting`` field or ``registration`` is a
         :class:`~tribokin.errors.SettingsError` naming it; a bad file, an :class:`~tribokin.errors.InputError`
         naming it.
     """
     seed = argument(seed_int, seed, "seed")
     segmenting = None if segmenting is None else segmenting.checked()
+    registration = checked_choice(registration)
     check_memory(path, noise_path)
     measurements, segmentation = read_input(path, segmenting)
     floor = None if noise_path is None else noise_floor(read_stream(noise_path, require_time=False))
     check_measured_pose_names([pose.name for pose in measurements.poses], path, pose_figure_file)
 
-    registration = register_measurements(measurements)
+    frame = choose_frame(measurements, registration)
+    registration = frame.registration
     figures = measurement_figures(measurements, registration, seed=seed)
     flags = () if floor is None else tuple(flag_figures(figures, floor))
     drifts = tuple(tuple(pose_drift(pose, registration)) for pose in measurements.poses)
     return MeasurementResult(str(path), hashlib.sha256(Path(path).read_bytes()).hexdigest(), measurements,
-                             segmentation, registration, tuple(figures), seed,
+                             segmentation, frame, tuple(figures), seed,
                              None if noise_path is None else str(noise_path), floor, flags, drifts,
                              software_versions())

@@ -9,9 +9,9 @@ For each measured pose:
 - the position Jacobian of the tool point there, and the mean and standard deviation of every joint's friction
   torque (force) under the bearing loads at that configuration
   (:func:`~tribokin.simulation.joint_errors.friction_torque_moments`);
-- its series: measured points in the world frame when the measuring frame is registered
-  (:func:`~tribokin.measurement.registration.register_measurements`, re-taught commanded positions corrected as
-  ``measure`` does), else as measured; each with its joints' approach signs, from its direction label:
+- its series: measured points in the world frame when the measuring frame is registered (as ``registration=`` chooses,
+  :func:`~tribokin.measurement.registration.choose_frame`: re-taught commanded positions corrected as ``measure``
+  does), else as measured; each with its joints' approach signs, from its direction label:
 
   :func:`~tribokin.iso9283.cube.label_approach_signs` (``+x``, ``-y``, ... or ``+0.58+0.58+0.58``: the tool point
   approached along that direction of the world frame with the tool's orientation held, a joint that does not move
@@ -34,7 +34,7 @@ from tribokin.kinematics.ik import solve_ik_with_restarts
 from tribokin.kinematics.robot import Robot
 from tribokin.measurement.contract import Measurements, Pose, read_measurements
 from tribokin.measurement.figures import pose_clouds
-from tribokin.measurement.registration import Registration, register_measurements
+from tribokin.measurement.registration import Choice, Frame, Registration, Transform, choose_frame
 from tribokin.simulation.joint_errors import JointErrorModel, friction_torque_moments
 from tribokin.streams import posture_search
 from tribokin.study.assembly import study_runner
@@ -68,7 +68,8 @@ class CalibrationInput:
             series.
         configurations: (n_poses, nv) the configuration of each of ``poses`` [rad or m].
         configuration_source: how they were found (the file's ``q_`` columns, or IK of commanded positions).
-        registration: of the measuring frame to the world, or None (the points are in the measuring frame).
+        frame: the measuring frame as ``registration=`` left it: registered to the world, or kept (the points are
+            then in the measuring frame).
         left_out: series without a known approach, not used.
     """
 
@@ -76,8 +77,13 @@ class CalibrationInput:
     poses: tuple[PoseData, ...]
     configurations: np.ndarray
     configuration_source: str
-    registration: Registration | None
+    frame: Frame
     left_out: tuple[LeftOut, ...]
+
+    @property
+    def registration(self) -> Registration | None:
+        """The measuring frame's registration to the world, or ``None``."""
+        return self.frame.registration
 
 
 def read_robot_measurements(path, robot: Robot) -> Measurements:
@@ -162,12 +168,14 @@ def _position_column(measurements: Measurements) -> str:
     return next((name for name in measurements.columns if name.startswith("x_")), "x_m")
 
 
-def calibration_input(study: Study, robot: Robot, models: list[JointErrorModel],
-                      measurements: Measurements) -> CalibrationInput:
-    """The calibration's data and model (module docstring); errors name the file and key at fault."""
+def calibration_input(study: Study, robot: Robot, models: list[JointErrorModel], measurements: Measurements,
+                      registration: Choice | Transform = "auto") -> CalibrationInput:
+    """The calibration's data and model (module docstring), the measuring frame as ``registration`` (checked) chooses;
+    errors name the file and key at fault."""
     model = calibration_model(study, robot, models)
     qs, how = configurations(study, robot, measurements)
-    registration = register_measurements(measurements)
+    frame = choose_frame(measurements, registration)
+    registration = frame.registration
     runner = study_runner(study, robot, models)
     poses, kept, left_out = [], [], []
     for pose, q in zip(measurements.poses, qs, strict=True):
@@ -196,4 +204,4 @@ def calibration_input(study: Study, robot: Robot, models: list[JointErrorModel],
     if not any(len(s.points_m) > 1 for p in poses for s in p.series):
         raise InputError("no series of two or more cycles has a known approach direction; label directions +x, -y, "
                          "..., +0.58+0.58+0.58, + or -", measurements.source, "direction")
-    return CalibrationInput(model, tuple(poses), np.array(kept), how, registration, tuple(left_out))
+    return CalibrationInput(model, tuple(poses), np.array(kept), how, frame, tuple(left_out))

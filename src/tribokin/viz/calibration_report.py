@@ -37,6 +37,17 @@ def _parameter_rows(parameters: list[dict]) -> list[list]:
     return rows
 
 
+def _frame_text(registration: dict) -> str:
+    """The measuring frame's line: registered (by a best fit, or a transform given) and its residual, or why not;
+    its warning after it."""
+    if not registration["made"]:
+        return registration["why"]
+    rms = registration["rms_residual_um"]
+    head = "registered to the base" if registration["method"] == "best-fit" else registration["why"]
+    text = head + ("" if rms is None else f", rms residual {rms:.1f} µm ({registration['note']})")
+    return text if registration["warning"] is None else f"{text} (warning: {registration['warning']})"
+
+
 def calibration_report_html(summary: dict, rows: list[dict], folder: Path, figure_names: list[str]) -> str:
     """The page: inputs, parameters, fit, the comparison table of ``rows`` (``comparison.csv``), figures."""
     settings, registration, information = summary["settings"], summary["registration"], summary["information"]
@@ -46,8 +57,7 @@ def calibration_report_html(summary: dict, rows: list[dict], folder: Path, figur
         "robot": f"{settings['robot']}, tool frame {settings['tool_frame']}",
         "fitted": f"{', '.join(settings['fit'])} of joints {settings['fitted_joints']}, tie = {settings['tie']}",
         "configurations": settings["configurations"]["source"],
-        "measuring frame": (f"registered to the base, rms residual {registration['rms_residual_um']:.1f} µm "
-                            f"({registration['note']})" if registration["made"] else registration["why"]),
+        "measuring frame": _frame_text(registration),
         "series left out": "; ".join(f"{s['pose']} '{s['direction']}' ({s['cycles']} cycles): {s['why']}"
                                      for s in settings["left_out"]) or "none",
         "intervals": settings["intervals"],

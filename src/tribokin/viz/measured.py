@@ -99,6 +99,20 @@ def _interval(value) -> str | None:
     return None if value is None else f"{value[0]:.3f}–{value[1]:.3f}"
 
 
+def registration_text(registration: dict) -> str:
+    """The report's line of ``summary.json``'s registration entry: the best fit's poses and residual, the transform
+    given, or why the frame was kept; its warning after it."""
+    if not registration["made"]:
+        text = registration["why"]
+    elif registration["method"] == "best-fit":
+        text = f"made on {len(registration['poses'])} poses, rms residual {registration['rms_residual_um']:.3f} µm"
+    else:
+        rms = registration["rms_residual_um"]
+        text = registration["why"] + ("" if rms is None else f", rms residual {rms:.3f} µm")
+    warning = registration.get("warning")
+    return text if warning is None else f"{text} (warning: {warning})"
+
+
 def measurement_report_html(summary: dict, rows: list[dict], folder: Path, figure_names: list[str]) -> str:
     """The report page: settings, the ISO table of ``rows`` (``poses.csv`` rows before flattening), figures."""
     settings = summary["settings"]
@@ -107,8 +121,7 @@ def measurement_report_html(summary: dict, rows: list[dict], folder: Path, figur
     floor = settings["noise_floor"]
     inputs = {
         "file": settings["file"], "sha256": settings["sha256"], "columns": ", ".join(settings["columns"]),
-        "registration": (f"made on {len(registration['poses'])} poses, rms residual "
-                         f"{registration['rms_residual_um']:.3f} µm" if registration["made"] else registration["why"]),
+        "registration": registration_text(registration),
         "re-taught points": correction["why"] + ("" if correction["largest_spread_um"] is None else
                                                  f" (largest spread {correction['largest_spread_um']:.3f} µm)"),
         "bootstrap": json.dumps(settings["bootstrap"], ensure_ascii=False),
