@@ -54,8 +54,11 @@ def _print(result, args) -> None:
     """The frame, the series left out, the parameters with their intervals, the fit's figures and the held-out
     predictions."""
     frame, calibration = result.inputs.frame, result.calibration
-    print(f"frame: registered ({frame.choice}): {frame.describe()} (the residual: the robot's geometric error)"
-          if frame.registration is not None else f"frame: not registered ({frame.choice}); {result.registration_why}")
+    if frame.registration is None:
+        print(f"frame: not registered ({frame.choice}); {result.registration_why}")
+    else:
+        residual = "" if frame.registration.rms_residual_m is None else " (the residual: the robot's geometric error)"
+        print(f"frame: registered ({frame.choice}): {frame.describe()}{residual}")
     for item in result.inputs.left_out:
         print(f"left out: {item.pose} '{item.direction}' ({item.cycles} cycles): {item.why}")
     width = max(len(p.name) for p in calibration.parameters)
