@@ -9,7 +9,7 @@ unregistered frame: the likelihood with the frame's rotation as a nuisance param
 :mod:`.cross_validation` (predicted RP_l and vAP with prediction intervals, leave-one-pose-out).
 
 Points and Jacobians in the same frame: ``fit(..., frame="registered")``. Points in a measuring
-frame (a laser tracker's) not registered to the base: ``frame="unknown"`` fits the frame's
+frame (a laser tracker's) not registered to the world: ``frame="unknown"`` fits the frame's
 rotation with θ, so only what does not depend on the frame informs θ (the ellipsoids' shapes and
 their relative orientations, the barycentre differences' lengths and angles), and θ's standard
 errors account for the rotation being estimated.

@@ -43,7 +43,7 @@ def _frame_text(registration: dict) -> str:
     if not registration["made"]:
         return registration["why"]
     rms = registration["rms_residual_um"]
-    head = "registered to the base" if registration["method"] == "best-fit" else registration["why"]
+    head = "registered to the world" if registration["method"] == "best-fit" else registration["why"]
     text = head + ("" if rms is None else f", rms residual {rms:.1f} µm ({registration['note']})")
     return text if registration["warning"] is None else f"{text} (warning: {registration['warning']})"
 
