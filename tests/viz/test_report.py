@@ -154,7 +154,11 @@ def test_map_statistics_are_those_of_summary_json(map_only):
     for name, spread, change in (("raw", raw, "+0.0 %"),
                                  ("heavy", heavy, f"{100 * (heavy['median'] / raw['median'] - 1):+.1f} %")):
         cells = "".join(f"<td>{spread[key]:.3f}</td>" for key in ("min", "median", "max"))
-        assert f"<td>{name}</td><td>{summary['reachable']} / {summary['count']}</td>{cells}<td>{change}</td>" in page
+        computed = summary["computed"][name]
+        engines = ", ".join(f"{engine} {count}" for engine, count in computed["engine_targets"].items() if count)
+        bounds = f"{computed['engine_max_deviation_nm']:.3g}, {computed['engine_max_angle_deviation_nrad']:.3g}"
+        assert (f"<td>{name}</td><td>{summary['reachable']} / {summary['count']}</td>{cells}<td class=\"text\">"
+                f"{engines}</td><td>{bounds}</td><td>{change}</td>") in page
 
 
 def test_map_only_report_has_no_pose_table_and_no_cloud_magnification(map_only):

@@ -46,9 +46,10 @@ from tribokin.iso9283.gaussian_tests import (
     standardised_shape,
 )
 from tribokin.iso9283.metrics import orientation_repeatability, position_repeatability, position_spread
+from tribokin.kinematics.se3_log import log3, skew
 from tribokin.maps.schema import map_figures
-from tribokin.propagation.exact import tool_deviations_at_poses, tool_frames
-from tribokin.propagation.poe import DEFAULT_TOLERANCE, truncation_bound
+from tribokin.propagation.exact import engine_orders, tool_deviations_at_poses, tool_frames, tool_rotations
+from tribokin.propagation.poe import composition_bound, truncation_bound
 from tribokin.simulation.joint_errors import TAIL_STDS, JointErrorModel, approach_signs, friction_lever, friction_loads
 from tribokin.simulation.pose_test import PoseRunner
 from tribokin.streams import expected_stream
@@ -68,11 +69,14 @@ TEST_FIGURES = ("RP_l_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg", "la
 VAP_DRAWS = 4_000
 #: Truncation of a Gaussian law below this probability counts as none: its tests are computed analytically.
 NEGLIGIBLE_TRUNCATION_SIGMAS = 6.0
-#: The first-order model serves where its bound is within this fraction of the deviation's size (or within
-#: ``DEFAULT_TOLERANCE``). The bound is a worst case (every joint at its extreme at once): RP_l moves by at most
-#: about 8 bounds, 1.5 % of it; measured against the fast engine on the same draws (ur5-calibrate, bound 1.1e-3 of
-#: the size), the figures moved by 1.2e-5 relative at most.
-LINEAR_TOLERANCE = 5e-3
+#: The first-order model serves a target only where its bound guarantees each figure it gives (:func:`figure_errors`)
+#: to within this fraction of the figure, or within ``FIGURE_FLOOR`` (µm or mdeg) for figures near zero; otherwise
+#: the target falls back to the fast engine.
+FIGURE_TOLERANCE, FIGURE_FLOOR = 1e-3, 1e-6
+#: The engines a target's figures rest on, least exact first (its ``engine`` column: an index here): the first-order
+#: model, the fast engine truncated at order 2 or 3 (a fallback, never order 1), exact forward kinematics.
+TARGET_ENGINES = ("first-order", "fast-2", "fast-3", "exact")
+FIRST_ORDER = 0
 #: The approach directions of vAP_p: +x, +y, +z of the world frame.
 VAP_DIRECTIONS = ("+x", "+y", "+z")
 
@@ -124,9 +128,14 @@ class LinearModel:
 
     Attributes:
         mean_dq: (k, nv) E[dq] [m or rad]. position_m: (k, 3) tool position at q″ = q + E[dq] [m].
-        jacobian: (k, 6, nv) tool Jacobian at q″. lever: (k, nv) lost motion per unit draw L.
+        jacobian: (k, 6, nv) tool Jacobian at q″, its angle rows (I - ĉ / 2) J_ω: the angle from the commanded
+            orientation is log(e^x̂ e^ĉ) = c + x + x × c / 2 + ..., c that of q″'s orientation, x the deviation's.
+        lever: (k, nv) lost motion per unit draw L.
         deviation_variance: (k, nv) var(dq) [m² or rad²].
-        bound: (k, 2) the order-1 truncation bound [m, rad] over deviations within the laws' supports.
+        bound: (k, 2) its bound [m, rad] on |model - exact FK| over deviations within the laws' supports: the
+            order-1 truncation bound, in angle times |I - ĉ / 2| plus :func:`~tribokin.propagation.poe.
+            composition_bound` of the deviation and the mean deviation: the model's angles are
+            c + (I - ĉ / 2) J_ω (dq - E[dq]).
     """
 
     mean_dq: np.ndarray
@@ -157,14 +166,6 @@ class LinearModel:
         part = self.jacobian[:, first:first + 3]
         return np.einsum("kin,kn,kjn->kij", part, self.deviation_variance, part)
 
-    @cached_property
-    def met(self) -> np.ndarray:
-        """(k,) the bound is within ``DEFAULT_TOLERANCE``, or ``LINEAR_TOLERANCE`` of the deviation's own size (the
-        root of its covariance's trace), in position [m] and in angle [rad]."""
-        sizes = np.sqrt(np.stack([np.trace(covariance, axis1=1, axis2=2)
-                                  for covariance in (self.position_covariance, self.angle_covariance)], axis=1))
-        return (self.bound <= np.maximum(DEFAULT_TOLERANCE, LINEAR_TOLERANCE * sizes)).all(axis=1)
-
 
 def linear_model(robot, moments: JointMoments, qs: np.ndarray, lever: np.ndarray, signs: np.ndarray,
                  mixed: bool) -> LinearModel:
@@ -183,8 +184,14 @@ def linear_model(robot, moments: JointMoments, qs: np.ndarray, lever: np.ndarray
     departure = ((1 + np.abs(signs)) * (lost + lever * moments.departure) if mixed
                  else np.abs(signs) * lever * moments.departure) + TAIL_STDS * moments.noise_std
     bound = truncation_bound(twists, departure[:, None, :], order=1)
-    return LinearModel(mean_dq, positions, twists, lever, variance,
-                       np.column_stack([bound.position_m, bound.angle_rad]).reshape(len(qs), 2))
+    rates = np.linalg.norm(twists[:, 3:], axis=1)  # (k, nv) |ω_i| at q″
+    turn = log3(tool_rotations(robot, qs + mean_dq) @ np.swapaxes(tool_rotations(robot, qs), 1, 2))  # c (k, 3)
+    jacobian = twists.copy()
+    jacobian[:, 3:] = (np.eye(3) - skew(turn) / 2) @ twists[:, 3:]  # x + x × c / 2 = (I - ĉ / 2) x
+    angle = (np.sqrt(1 + np.sum(turn ** 2, axis=1) / 4) * bound.angle_rad
+             + composition_bound(np.sum(rates * departure, axis=1), np.sum(rates * np.abs(mean_dq), axis=1)))
+    return LinearModel(mean_dq, positions, jacobian, lever, variance,
+                       np.column_stack([bound.position_m, angle]).reshape(len(qs), 2))
 
 
 @lru_cache(maxsize=4)
@@ -253,16 +260,76 @@ def sampled_tests(model: LinearModel, moments: JointMoments, chosen: np.ndarray,
     return np.moveaxis(moved, 2, 0) + shift[:, None, None, :]
 
 
+def figure_errors(bound: np.ndarray, cycles: int) -> dict[str, np.ndarray]:
+    """Each figure's largest change [µm, mdeg] (k,) when every sample's position and angle move by at most ``bound``
+    (k, 2) [m, rad] (the engine's bound against exact FK), for tests of ``cycles`` cycles (the module's docstring
+    derives them)."""
+    spread = math.sqrt(cycles / (cycles - 1)) if cycles > 1 else 1.0
+    position, angle = bound[:, 0] * UM_PER_M, bound[:, 1] * MDEG_PER_RAD
+    repeatability = (1 + 3 * spread) * position
+    return {"RP_l_um": repeatability, "RP_l_lo_um": repeatability, "RP_l_hi_um": repeatability, "AP_p_um": position,
+            "vAP_p_um": 2 * position, "RP_l_multi_um": repeatability,
+            **{f"RP_{axis}_mdeg": 3 * spread * angle for axis in "abc"}, "largest_semi_axis_um": spread * position}
+
+
+#: The figures each model gives, which its bound must guarantee (:data:`FIGURE_TOLERANCE`): the test's, vAP_p's and
+#: RP_l_multi's.
+SERVED_FIGURES = {"test": ("RP_l_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg"), "vap": ("vAP_p_um",),
+                  "multi": ("RP_l_multi_um",)}
+
+
+def serves(bound: np.ndarray, cycles: int, figures: dict[str, np.ndarray], served: str) -> np.ndarray:
+    """(k,) where a model of bound ``bound`` (k, 2) [m, rad] guarantees each of the ``figures`` [µm, mdeg] of its
+    kind ``served`` (:data:`SERVED_FIGURES`) to within ``FIGURE_TOLERANCE`` of it, or ``FIGURE_FLOOR``."""
+    errors = figure_errors(bound, cycles)
+    ok = np.ones(len(bound), dtype=bool)
+    for name in SERVED_FIGURES[served]:
+        ok &= errors[name] <= np.maximum(FIGURE_TOLERANCE * np.abs(figures[name]), FIGURE_FLOOR)  # NaN: not served
+    return ok
+
+
+@dataclass(frozen=True)
+class EngineUsed:
+    """The engine that computed a model's figures at k targets: ``engine`` (k,) an index in ``TARGET_ENGINES``,
+    ``bound`` (k, 2) its bound [m, rad] on |engine - exact FK| over every sample it computed (exact FK: 0)."""
+
+    engine: np.ndarray
+    bound: np.ndarray
+
+    @classmethod
+    def first_order(cls, model: LinearModel) -> EngineUsed:
+        return cls(np.full(len(model.bound), FIRST_ORDER), model.bound.copy())
+
+    @classmethod
+    def of(cls, used) -> EngineUsed:
+        """One target's engine chosen by :func:`engine_tests` (a :class:`~tribokin.propagation.poe.TruncationBound`
+        of one pose, order 0: exact FK)."""
+        order, position, angle = (np.atleast_1d(value)[0] for value in used)
+        return cls(np.array([TARGET_ENGINES.index(f"fast-{order}" if order else "exact")]),
+                   np.array([[position, angle]]))
+
+    def fall_back(self, k: int, other: EngineUsed) -> None:
+        """Target ``k``'s figures computed again by ``other``'s (one target's) engine."""
+        self.engine[k], self.bound[k] = other.engine[0], other.bound[0]
+
+    @classmethod
+    def combined(cls, used: list[EngineUsed]) -> EngineUsed:
+        """Of several models at the same targets: the least exact engine, the largest bound."""
+        return cls(np.min([u.engine for u in used], axis=0), np.max([u.bound for u in used], axis=0))
+
+
 def engine_tests(runner: PoseRunner, model: LinearModel, moments: JointMoments, k: int, q: np.ndarray,
-                 numbers: np.ndarray, shape: tuple) -> tuple[np.ndarray, np.ndarray]:
+                 numbers: np.ndarray, shape: tuple) -> tuple[np.ndarray, np.ndarray, tuple]:
     """Positions [m] and angle deviations [rad] (tests, cycles, 3) of target ``k`` at configuration ``q`` through the
-    fast engine (orders 2-3, else exact FK): where the first-order model's bound is not met."""
+    fast engine (orders 2-3, else exact FK): where the first-order model does not serve; and the engine used, the
+    :class:`~tribokin.propagation.poe.TruncationBound` of :func:`~tribokin.propagation.exact.engine_orders`."""
     nv = len(q)
     signed_mu, signs, noise = numbers[:, :nv], numbers[:, nv:2 * nv], numbers[:, 2 * nv:]
     dq = moments.offset + signed_mu * model.lever[k] + signs * moments.half_backlash + noise * moments.noise_std
-    positions, angles = tool_deviations_at_poses(runner.robot, q[None], dq[None], "fast",
-                                                 *tool_frames(runner.robot, q[None]))
-    return positions.reshape(*shape, 3), angles.reshape(*shape, 3)
+    twists, translations = tool_frames(runner.robot, q[None])
+    used = engine_orders(twists, dq[None], lowest_order=2)
+    positions, angles = tool_deviations_at_poses(runner.robot, q[None], dq[None], "fast", twists, translations, used)
+    return positions.reshape(*shape, 3), angles.reshape(*shape, 3), used
 
 
 def blocks_of(indices: np.ndarray, cycles_each: int) -> list[np.ndarray]:
@@ -278,37 +345,46 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
 
     Returns:
         ``figures`` (k, figures) in the order of :func:`~tribokin.maps.schema.map_figures` of ``setup.figure_set``,
-        ``dominant_joint`` (k,) (-1: none), ``method`` (k,) (``ANALYTIC`` or ``SAMPLED``), ``fallbacks`` (k,) how many
-        of the models (the test's; vAP_p's, RP_l_multi's) did not meet the bound and went through the fast engine,
-        ``engine_bound`` (k, 2) [m, rad] the largest bound of the first-order models used, ``band_error`` (k,) the
-        RP_l band's relative Monte Carlo error.
+        ``figure_errors`` (k, figures) each figure's largest change [µm, mdeg] from the engine's bound
+        (:func:`figure_errors`; NaN for ``dominant_share``), ``dominant_joint`` (k,) (-1: none), ``method`` (k,)
+        (``ANALYTIC`` or ``SAMPLED``), ``fallbacks`` (k,) how many of the models (the test's; vAP_p's, RP_l_multi's)
+        the first-order model did not serve and went through the fast engine, ``engine`` (k,) the least exact engine
+        of the models (an index in ``TARGET_ENGINES``), ``engine_bound`` (k, 2) [m, rad] their largest bound on
+        |engine - exact FK| (exact FK: 0), ``band_error`` (k,) the RP_l band's relative Monte Carlo error.
     """
-    models, robot, moments = runner.models, runner.robot, setup.moments
+    models, robot, moments, n = runner.models, runner.robot, setup.moments, setup.cycles
     lever = friction_loads(models, forces) * friction_lever(models, robot.joint_is_prismatic)
     columns = {figure.name: k for k, figure in enumerate(map_figures(setup.figure_set))}
     figures = np.full((len(qs), len(columns)), np.nan)
+    errors = np.full((len(qs), len(columns)), np.nan)
     unidirectional = runner.settings.approach == "unidirectional"
     model = linear_model(robot, moments, qs, lever, np.broadcast_to(setup.mean_signs, lever.shape),
                          mixed=not unidirectional)
-    analytic = model.met & moments.gaussian & unidirectional
-    out = {"figures": figures, "method": np.where(analytic, ANALYTIC, SAMPLED),
-           "fallbacks": (~model.met).astype(int), "engine_bound": np.where(model.met[:, None], model.bound, 0.0),
-           "band_error": np.full(len(qs), 0.0 if setup.table is None else setup.table.band_error)}
-    if analytic.any():
-        for name, values in _analytic(model, analytic, setup, translations[analytic]).items():
-            figures[analytic, columns[name]] = values
-    if not analytic.all():
-        signs = test_signs(runner, sampled_shape(SAMPLED_CYCLES, setup.cycles))
-        sampled = _sampled(runner, setup, model, ~analytic, signs, qs, translations)
-        out["band_error"][~analytic] = sampled.pop("band_error")
-        for name, values in sampled.items():
-            figures[~analytic, columns[name]] = values
+    everywhere, closed_form = np.ones(len(qs), dtype=bool), moments.gaussian and unidirectional
+    values = (_analytic(model, everywhere, setup, translations) if closed_form
+              else _sampled(runner, setup, model, everywhere, qs, translations))
+    band_error = values.pop("band_error", np.full(len(qs), 0.0 if setup.table is None else setup.table.band_error))
+    served = serves(model.bound, n, values, "test")
+    used = EngineUsed.first_order(model)
+    if not served.all():
+        for name, again in _sampled(runner, setup, model, ~served, qs, translations, used).items():
+            (band_error if name == "band_error" else values[name])[~served] = again
+    for name, value in values.items():
+        figures[:, columns[name]] = value
+    out = {"figures": figures, "figure_errors": errors, "method": np.where(served & closed_form, ANALYTIC, SAMPLED),
+           "fallbacks": (~served).astype(int), "band_error": band_error}
+    parts = {"test": used}
     if setup.figure_set == "directional":
-        for name, (values, bounds, fallbacks) in {"vAP_p_um": _vap(runner, moments, qs, lever, twists, setup.cycles),
-                                                  "RP_l_multi_um": _multi(runner, setup, qs, lever)}.items():
-            figures[:, columns[name]] = values
+        for name, (value, part, fallbacks) in {"vAP_p_um": _vap(runner, moments, qs, lever, twists, n),
+                                               "RP_l_multi_um": _multi(runner, setup, qs, lever)}.items():
+            figures[:, columns[name]] = value
             out["fallbacks"] += fallbacks
-            out["engine_bound"] = np.maximum(out["engine_bound"], bounds)
+            parts[name] = part
+    for name, column in columns.items():
+        if name != "dominant_share":
+            errors[:, column] = figure_errors(parts.get(name, used).bound, n)[name]
+    combined = EngineUsed.combined(list(parts.values()))
+    out["engine"], out["engine_bound"] = combined.engine, combined.bound
     parts = model.deviation_variance * np.sum(model.jacobian[:, :3] ** 2, axis=1)
     total = parts.sum(axis=1)
     out["dominant_joint"] = np.where(total > 0, np.argmax(parts, axis=1), -1)
@@ -337,25 +413,29 @@ def test_signs(runner: PoseRunner, shape: tuple[int, int]) -> np.ndarray:
     return approach_signs(mode, math.prod(shape), directions, rng)[0].reshape(*shape, nv)
 
 
-def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chosen: np.ndarray, signs: np.ndarray,
-             qs: np.ndarray, commanded: np.ndarray) -> dict[str, np.ndarray]:
-    """The figures of targets ``chosen`` (mask) over the sampled tests, and their RP_l band's ``band_error``."""
+def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chosen: np.ndarray, qs: np.ndarray,
+             commanded: np.ndarray, used: EngineUsed | None = None) -> dict[str, np.ndarray]:
+    """The figures of targets ``chosen`` (mask) over the sampled tests, and their RP_l band's ``band_error``: through
+    the first-order ``model``, or with ``used``, through the fast engine (each target's engine recorded there)."""
     n, moments = setup.cycles, setup.moments
     shape = sampled_shape(SAMPLED_CYCLES, n)
+    signs = test_signs(runner, shape)
     numbers = common_numbers(runner, np.broadcast_to(signs, (*shape, signs.shape[2])) if len(signs) == 1 else signs,
                              shape[0], "tests")
     summarise = partial(_summarise_cycles, cycles=n) if n >= ASYMPTOTIC_CYCLES else _summarise_tests
     indices = np.flatnonzero(chosen)
     values = {name: np.empty(len(indices)) for name in (*TEST_FIGURES, "RP_l_lo_um", "RP_l_hi_um", "band_error")}
-    place = {k: i for i, k in enumerate(indices)}
-    linear = indices[model.met[indices]]
-    for block in blocks_of(linear, math.prod(shape)):
-        positions = sampled_tests(model, moments, block, numbers, shape, slice(0, 3))
-        angles = sampled_tests(model, moments, block, numbers, shape, slice(3, 6))
-        summarise(values, [place[k] for k in block], positions, angles, commanded[block])
-    for k in indices[~model.met[indices]]:
-        positions, angles = engine_tests(runner, model, moments, k, qs[k], numbers, shape)
-        summarise(values, [place[k]], positions[None], angles[None], commanded[[k]])
+    if used is None:
+        for block in blocks_of(np.arange(len(indices)), math.prod(shape)):
+            targets = indices[block]
+            positions = sampled_tests(model, moments, targets, numbers, shape, slice(0, 3))
+            angles = sampled_tests(model, moments, targets, numbers, shape, slice(3, 6))
+            summarise(values, list(block), positions, angles, commanded[targets])
+        return values
+    for slot, k in enumerate(indices):
+        positions, angles, engine = engine_tests(runner, model, moments, k, qs[k], numbers, shape)
+        used.fall_back(k, EngineUsed.of(engine))
+        summarise(values, [slot], positions[None], angles[None], commanded[[k]])
     return values
 
 
@@ -461,8 +541,10 @@ def _analytic(model: LinearModel, chosen: np.ndarray, setup: ExpectedSetup, comm
 
 
 def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.ndarray, twists: np.ndarray,
-         cycles: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """vAP_p [µm] (k,), the bound [m, rad] (k, 2) of its first-order models and their fallbacks (k,)."""
+         cycles: int) -> tuple[np.ndarray, EngineUsed, np.ndarray]:
+    """vAP_p [µm] (k,), the engine that computed it (:class:`EngineUsed`: the three directions' least exact, their
+    largest bound) and its fallbacks (k,): where the directions' first-order models do not serve it,
+    :func:`_vap_tests`."""
     directions = np.array([APPROACH_DIRECTIONS[label] for label in VAP_DIRECTIONS])
     signs = approach_signs_from_jacobians(twists, directions)  # (k, 3, nv)
     models = [linear_model(runner.robot, moments, qs, lever, signs[:, d], mixed=False) for d in range(len(directions))]
@@ -489,13 +571,37 @@ def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.nd
             barycentres = [centres[close[block], d, :, None] + roots[block, d] @ z[d] for d in range(len(directions))]
             distances = [np.sqrt(np.sum((barycentres[a] - barycentres[b]) ** 2, axis=1)) for a, b in pairs]
             vap[close[block]] = np.max(distances, axis=0).mean(axis=1)  # (block, draws) -> (block,)
-    bounds = np.max([np.where(m.met[:, None], m.bound, 0.0) for m in models], axis=0)
-    return vap * UM_PER_M, bounds, np.sum([~m.met for m in models], axis=0).clip(max=1)
+    used = EngineUsed.combined([EngineUsed.first_order(m) for m in models])
+    vap *= UM_PER_M
+    fallen = ~serves(used.bound, cycles, {"vAP_p_um": vap}, "vap")
+    for k in np.flatnonzero(fallen):
+        vap[k] = _vap_tests(runner, models, moments, k, qs[k], signs[k], cycles, used) * UM_PER_M
+    return vap, used, fallen.astype(int)
+
+
+def _vap_tests(runner: PoseRunner, models: list[LinearModel], moments: JointMoments, k: int, q: np.ndarray,
+               signs: np.ndarray, cycles: int, used: EngineUsed) -> float:
+    """vAP_p [m] of target ``k`` through the fast engine (:func:`engine_tests`): the mean over ``tests_for``
+    sampled tests (common random numbers) of the largest distance between the barycentres of ``cycles`` cycles
+    approached with each direction's joint signs ``signs`` (3, nv); the directions' engines recorded in ``used``."""
+    tests = tests_for(SAMPLED_CYCLES, cycles)
+    nv = len(q)
+    unsigned = common_numbers(runner, np.ones((1, cycles, nv)), len(signs) * tests, "vap tests")
+    barycentres, engines = [], []
+    for d, part in enumerate(np.split(unsigned, len(signs))):
+        numbers = np.concatenate([part[:, :nv] * signs[d], np.broadcast_to(signs[d], (len(part), nv)),
+                                  part[:, 2 * nv:]], axis=1)
+        positions, _, engine = engine_tests(runner, models[d], moments, k, q, numbers, (tests, cycles))
+        barycentres.append(positions.mean(axis=1))
+        engines.append(EngineUsed.of(engine))
+    used.fall_back(k, EngineUsed.combined(engines))
+    pairs = [(0, 1), (0, 2), (1, 2)]
+    return float(np.max([np.linalg.norm(barycentres[a] - barycentres[b], axis=1) for a, b in pairs], axis=0).mean())
 
 
 def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, lever: np.ndarray
-           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """RP_l_multi [µm] (k,), the bound [m, rad] (k, 2) of its first-order model and its fallbacks (k,)."""
+           ) -> tuple[np.ndarray, EngineUsed, np.ndarray]:
+    """RP_l_multi [µm] (k,), the engine that computed it (:class:`EngineUsed`) and its fallbacks (k,)."""
     n, moments = setup.cycles, setup.moments
     shape = sampled_shape(MULTI_CYCLES, n, MIN_MULTI_TESTS)
     rng = expected_stream(runner.settings.seed, "multi signs")
@@ -509,8 +615,13 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, lever: np.n
         return position_repeatability(positions)[0].mean(axis=1)
 
     rp = np.empty(len(qs))
-    for block in blocks_of(np.flatnonzero(model.met), math.prod(shape)):
+    for block in blocks_of(np.arange(len(qs)), math.prod(shape)):
         rp[block] = repeatability(sampled_tests(model, moments, block, numbers, shape, slice(0, 3)))
-    for k in np.flatnonzero(~model.met):
-        rp[k] = repeatability(engine_tests(runner, model, moments, k, qs[k], numbers, shape)[0][None])[0]
-    return rp * UM_PER_M, np.where(model.met[:, None], model.bound, 0.0), (~model.met).astype(int)
+    rp *= UM_PER_M
+    used = EngineUsed.first_order(model)
+    fallen = ~serves(model.bound, n, {"RP_l_multi_um": rp}, "multi")
+    for k in np.flatnonzero(fallen):
+        positions, _, engine = engine_tests(runner, model, moments, k, qs[k], numbers, shape)
+        used.fall_back(k, EngineUsed.of(engine))
+        rp[k] = repeatability(positions[None])[0] * UM_PER_M
+    return rp, used, fallen.astype(int)

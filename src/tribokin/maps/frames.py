@@ -13,7 +13,7 @@ from tribokin.errors import import_extra
 from tribokin.maps.table import map_table_columns
 
 #: A column's unit, by the suffix of its name in ``map.csv`` (none of these: dimensionless, or text).
-UNITS = {"_um": "µm", "_mdeg": "mdeg", "_m": "m", "_N": "N"}
+UNITS = {"_um": "µm", "_mdeg": "mdeg", "_nm": "nm", "_nrad": "nrad", "_m": "m", "_N": "N"}
 #: ``map.csv``'s columns that are coordinates of the grid's targets in the Dataset, not variables.
 POSITION_COLUMNS = ("x_m", "y_m", "z_m")
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tribokin.kinematics.robot import Robot
-from tribokin.maps.expected_figures import ANALYTIC, SAMPLED
+from tribokin.maps.expected_figures import ANALYTIC, SAMPLED, TARGET_ENGINES
 from tribokin.maps.frames import map_dataset, map_frame
 from tribokin.maps.grid import TargetGrid
 from tribokin.maps.rows import IK_ROUTES, unreachable_reasons
@@ -55,7 +55,8 @@ class ScenarioMap:
         :meth:`~tribokin.maps.store.ChunkStore.read`): ``figures`` (k, len(map_figures(figure_set))),
         ``normal_forces_N`` (k, nv) bearing loads [N], ``dominant_joint`` (k,) index in ``joint_names`` of the joint
         with the largest share of the position variance (-1: none); an expected map's ``method``, ``fallbacks``,
-        ``engine_bound``, ``band_error`` (:func:`~tribokin.maps.expected_figures.expected_targets`)."""
+        ``engine``, ``engine_bound``, ``figure_errors``, ``band_error``
+        (:func:`~tribokin.maps.expected_figures.expected_targets`)."""
         return self.store.read(scenario_column(self.number, name), targets, item)
 
     def figure(self, name: str, targets=slice(None)) -> np.ndarray:
@@ -276,9 +277,11 @@ class MapResult:
         return block
 
     def _computed(self, scenario: ScenarioMap) -> dict:
-        """How an expected map's figures were computed: targets per method, fallbacks, the largest engine bound and
-        RP_l band error (:mod:`tribokin.maps.expected_figures`)."""
+        """How an expected map's figures were computed: targets per method and per engine (the least exact its figures
+        rest on), fallbacks, the largest bound of the engines used against exact FK and the RP_l band's largest
+        Monte Carlo error (:mod:`tribokin.maps.expected_figures`)."""
         analytic = sampled = fallback = 0
+        engines = np.zeros(len(TARGET_ENGINES), dtype=int)
         bound, band_error = np.zeros(2), 0.0
         for part in self.blocks():
             flags = scenario.read_robot("reachable", part)
@@ -286,9 +289,11 @@ class MapResult:
             analytic += int(np.sum(method == ANALYTIC))
             sampled += int(np.sum(method == SAMPLED))
             fallback += int(np.count_nonzero(scenario.read("fallbacks", part)[flags]))
+            engines += np.bincount(scenario.read("engine", part)[flags], minlength=len(TARGET_ENGINES))
             bound = np.fmax(bound, np.nanmax(scenario.read("engine_bound", part)[flags], axis=0, initial=0.0))
             band_error = max(band_error, float(np.nanmax(scenario.read("band_error", part)[flags], initial=0.0)))
         return {"analytic_targets": analytic, "sampled_targets": sampled, "fallback_targets": fallback,
+                "engine_targets": {name: int(count) for name, count in zip(TARGET_ENGINES, engines, strict=True)},
                 "engine_max_deviation_nm": float(bound[0] * 1e9),
                 "engine_max_angle_deviation_nrad": float(bound[1] * 1e9),
                 "RP_l_band_max_mc_error": band_error}

@@ -94,7 +94,9 @@ ROBOT_COLUMNS = (MapColumn("q", "joints", "f8"), MapColumn("reachable", None, "?
 #: say how its figures were computed (:func:`~tribokin.maps.expected_figures.expected_targets`).
 SCENARIO_COLUMNS = (MapColumn("figures", "figures", "f8"), MapColumn("normal_forces_N", "joints", "f8"),
                     MapColumn("dominant_joint", None, "i8"), MapColumn("method", None, "i8", _EXPECTED),
-                    MapColumn("fallbacks", None, "i8", _EXPECTED), MapColumn("engine_bound", 2, "f8", _EXPECTED),
+                    MapColumn("fallbacks", None, "i8", _EXPECTED), MapColumn("engine", None, "i1", _EXPECTED),
+                    MapColumn("engine_bound", 2, "f8", _EXPECTED),
+                    MapColumn("figure_errors", "figures", "f8", _EXPECTED),
                     MapColumn("band_error", None, "f8", _EXPECTED))
 
 

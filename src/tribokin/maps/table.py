@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from tribokin.maps.expected_figures import TARGET_ENGINES
 from tribokin.maps.schema import figure_index, table_figures
 from tribokin.study.names import map_table_file
 
@@ -34,6 +35,13 @@ def map_table_columns(workspace_map, scenario, targets: slice) -> dict[str, np.n
     columns.update({name: scenario.dominant_joint_names(targets) if name == "dominant_joint"
                     else figures[:, figure_index(name, scenario.figure_set)]
                     for name in table_figures(scenario.figure_set)})
+    if scenario.figure_set != "one-test":
+        engines = scenario.read("engine", targets)
+        bound = scenario.read("engine_bound", targets) * 1e9
+        reachable = columns["reachable"]
+        columns["engine"] = np.where(reachable, np.array([*TARGET_ENGINES], dtype=object)[engines], "").astype(object)
+        columns["engine_bound_nm"] = np.where(reachable, bound[:, 0], np.nan)
+        columns["engine_bound_nrad"] = np.where(reachable, bound[:, 1], np.nan)
     if scenario is not workspace_map.reference:
         columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
         columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario, targets)

@@ -9,7 +9,13 @@ import pinocchio as pin
 
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
-from tribokin.propagation.poe import DEFAULT_TOLERANCE, evaluate_polynomial, tool_twists, truncation_bound
+from tribokin.propagation.poe import (
+    DEFAULT_TOLERANCE,
+    TruncationBound,
+    evaluate_polynomial,
+    tool_twists,
+    truncation_bound,
+)
 
 
 def tool_deviations_exact(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -69,27 +75,53 @@ def tool_frames(robot: Robot, qs: np.ndarray, placements: np.ndarray | None = No
             np.array([robot.tool_placement(q).translation for q in qs]).reshape(len(qs), 3))
 
 
+def tool_rotations(robot: Robot, qs: np.ndarray) -> np.ndarray:
+    """(poses, 3, 3) the tool frame's orientation in the world frame at configurations ``qs`` (poses, nv)."""
+    chain = serial_chain(robot)
+    if chain is not None:
+        return chain.tool_in_joint(np.asarray(qs, dtype=float).reshape(-1, robot.model.nv))[:, 0, :3, :3]
+    return np.array([robot.tool_placement(q).rotation for q in qs]).reshape(len(qs), 3, 3)
+
+
+def engine_orders(twists: np.ndarray, dq: np.ndarray, engine: str = "fast", lowest_order: int = 1) -> TruncationBound:
+    """The engine :func:`tool_deviations_at_poses` uses at each pose, and its bound over every sample of the pose.
+
+    Args:
+        twists: (poses, 6, nv) the poses' joint twists; dq: (poses, n, nv) deviations [m or rad].
+        engine: ``"fast"``: the lowest truncation order from ``lowest_order`` on whose bound is within
+            ``DEFAULT_TOLERANCE``, else exact FK; ``"exact"``: exact FK.
+
+    Returns:
+        (poses,) arrays: the order (0: exact FK) and its bounds [m, rad] on |engine - exact| (0 for exact FK).
+    """
+    if engine != "fast":
+        return TruncationBound(np.zeros(len(twists), dtype=int), np.zeros(len(twists)), np.zeros(len(twists)))
+    bound = truncation_bound(twists, dq, lowest_order=lowest_order)
+    fast = (bound.position_m <= DEFAULT_TOLERANCE) & (bound.angle_rad <= DEFAULT_TOLERANCE)
+    return TruncationBound(np.where(fast, bound.order, 0), np.where(fast, bound.position_m, 0.0),
+                           np.where(fast, bound.angle_rad, 0.0))
+
+
 def tool_deviations_at_poses(robot: Robot, qs: np.ndarray, dq: np.ndarray, engine: str, twists: np.ndarray,
-                             translations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                             translations: np.ndarray, used: TruncationBound | None = None
+                             ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`tool_deviations` at several poses at once; each pose's values depend on its own inputs only.
 
     Args:
         qs: (poses, nv) commanded configurations; dq: (poses, n, nv) deviations [m or rad].
         twists, translations: the poses' :func:`tool_frames`.
+        used: the engine of each pose (:func:`engine_orders`), when already chosen.
 
     Returns:
         positions [m] and angles [rad], (poses, n, 3) each (views of (poses, 3, n) arrays).
     """
     poses, n = dq.shape[:2]  # outputs: (poses, n, 3) views of (poses, 3, n) memory, as the fast engine gives
     positions, angles = np.swapaxes(np.empty((poses, 3, n)), 1, 2), np.swapaxes(np.empty((poses, 3, n)), 1, 2)
-    exact = np.ones(len(qs), dtype=bool)
-    if engine == "fast":
-        bound = truncation_bound(twists, dq)
-        exact = (bound.position_m > DEFAULT_TOLERANCE) | (bound.angle_rad > DEFAULT_TOLERANCE)
-        fast = ~exact
-        positions[fast], angles[fast] = evaluate_polynomial(twists[fast], translations[fast], dq[fast],
-                                                            np.atleast_1d(bound.order)[fast])
-    for p in np.flatnonzero(exact):
+    orders = np.atleast_1d((engine_orders(twists, dq, engine) if used is None else used).order)
+    fast = orders > 0
+    if fast.any():
+        positions[fast], angles[fast] = evaluate_polynomial(twists[fast], translations[fast], dq[fast], orders[fast])
+    for p in np.flatnonzero(~fast):
         positions[p], angles[p] = tool_deviations_exact(robot, qs[p], dq[p])
     return positions, angles
 
@@ -112,8 +144,6 @@ class EngineBound(NamedTuple):
 
 def engine_bound(robot: Robot, q: np.ndarray, dq: np.ndarray, engine: str = "fast") -> EngineBound:
     """The engine ``tool_deviations(robot, q, dq, engine)`` uses for every sample of ``dq`` (n, nv), and its bound."""
-    if engine == "fast":
-        bound = truncation_bound(tool_twists(robot, q), np.asarray(dq, dtype=float))
-        if bound.position_m <= DEFAULT_TOLERANCE and bound.angle_rad <= DEFAULT_TOLERANCE:
-            return EngineBound("fast", bound.order, bound.position_m, bound.angle_rad)
-    return EngineBound("exact", 0, 0.0, 0.0)
+    used = engine_orders(tool_twists(robot, q)[None], np.asarray(dq, dtype=float)[None], engine)
+    order = int(used.order[0])
+    return EngineBound("fast" if order else "exact", order, float(used.position_m[0]), float(used.angle_rad[0]))

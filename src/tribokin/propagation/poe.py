@@ -196,16 +196,16 @@ def _order_bounds(twists: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, np.nd
 
 
 def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = None,
-                     tolerance_m: float = DEFAULT_TOLERANCE, tolerance_rad: float = DEFAULT_TOLERANCE
-                     ) -> TruncationBound:
+                     tolerance_m: float = DEFAULT_TOLERANCE, tolerance_rad: float = DEFAULT_TOLERANCE,
+                     lowest_order: int = 1) -> TruncationBound:
     """Truncation order and error bounds of the fast engine for a batch of deviations at one pose,
     or for batches at several poses (then each field is an array over the poses).
 
     Args:
         twists: (6, nv) joint twists about the tool origin (:func:`tool_twists`), or (poses, 6, nv).
         dq: (n, nv) joint deviations [m or rad], or (poses, n, nv).
-        order: force this order (1 to ``MAX_ORDER``); by default the lowest order whose bounds
-            meet both tolerances, or ``MAX_ORDER`` when none does (check the returned bound).
+        order: force this order (1 to ``MAX_ORDER``); by default the lowest order from ``lowest_order`` on whose
+            bounds meet both tolerances, or ``MAX_ORDER`` when none does (check the returned bound).
         tolerance_m: tolerated position error [m].
         tolerance_rad: tolerated orientation error [rad].
     """
@@ -213,7 +213,7 @@ def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = Non
         raise ValueError(f"order must be 1 to {MAX_ORDER}, got {order}")
     position, angle = _order_bounds(np.asarray(twists, dtype=float), np.asarray(dq, dtype=float))
     if order is None:  # the lowest order meeting both tolerances, else the highest
-        met = (position <= tolerance_m) & (angle <= tolerance_rad)
+        met = (position <= tolerance_m) & (angle <= tolerance_rad) & (np.arange(1, MAX_ORDER + 1) >= lowest_order)
         chosen = np.where(met.any(axis=-1), met.argmax(axis=-1), MAX_ORDER - 1)
     else:
         chosen = np.full(position.shape[:-1], order - 1)
@@ -222,6 +222,19 @@ def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = Non
     if np.ndim(bound.order) == 0:
         return TruncationBound(int(bound.order), float(bound.position_m), float(bound.angle_rad))
     return bound
+
+
+def composition_bound(first_rad, second_rad) -> np.ndarray:
+    """Bound [rad] on |log(R_x R_c) - x - c - x × c / 2| for rotations R_x, R_c that are each a product of joint
+    rotations exp(ω̂_i dq_i) of weighted sums Σ |ω_i| |dq_i| <= ``first_rad``, ``second_rad`` (element-wise; ``inf``
+    past ln 2). Their rotation vectors x, c are at most u, v, the sums' series M(w) = -log(2 - e^w) (the orientation
+    bound's majorant). In log(e^x̂ e^ĉ) = x̂ + ĉ + [x̂, ĉ] / 2 + ... the words of x̂ alone sum to x̂ and those of ĉ
+    alone to ĉ; the other words of degree 3 and more are bounded by the same terms of M(u + v), less those of M(u)
+    and M(v)."""
+    u, v = _log_tail(first_rad, 1), _log_tail(second_rad, 1)
+    with np.errstate(invalid="ignore"):
+        mixed = _log_tail(u + v, 3) - _log_tail(u, 3) - _log_tail(v, 3)
+    return np.where(np.isfinite(u + v), np.maximum(mixed, 0.0), np.inf)
 
 
 # --- the polynomial -----------------------------------------------------------------------------

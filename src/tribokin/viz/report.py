@@ -87,10 +87,12 @@ def iso_table(result: StudyResult) -> str:
 
 def map_statistics(workspace_map: MapResult) -> str:
     """Per scenario: reachable targets and the min, exact median and max of RP_l [µm] over every target, as
-    ``summary.json`` gives them (:meth:`~tribokin.maps.result.MapResult.summary`); with several scenarios, the
-    change of the median from the first (the reference)."""
+    ``summary.json`` gives them (:meth:`~tribokin.maps.result.MapResult.summary`); an expected map's engines (targets
+    per engine) and their largest bound against exact FK; with several scenarios, the change of the median from the
+    first (the reference)."""
     summary = workspace_map.summary()
     scenarios = summary.get("scenarios") or [{"RP_l_um": summary["RP_l_um"]}]
+    computed = summary.get("computed")
     baseline = scenarios[0]["RP_l_um"]["median"]
     rows = []
     for name, scenario in zip(workspace_map.scenarios, scenarios, strict=True):
@@ -98,12 +100,25 @@ def map_statistics(workspace_map: MapResult) -> str:
         change = (None if spread["median"] is None or not baseline
                   else f"{100 * (spread['median'] / baseline - 1):+.1f} %")
         reachable = scenario.get("reachable", summary["reachable"])  # its robot's, when the robots differ
-        rows.append([name, f"{reachable} / {summary['count']}", spread["min"], spread["median"], spread["max"], change])
+        engines = [] if computed is None else [engine_counts(computed[name]), engine_bounds(computed[name])]
+        rows.append([name, f"{reachable} / {summary['count']}", spread["min"], spread["median"], spread["max"],
+                     *engines, change])
     headers = ["scenario", "reachable targets", "min RP_l [µm]", "median RP_l [µm]", "max RP_l [µm]",
+               *(["engines (targets)", "largest engine bound [nm, nrad]"] if computed is not None else []),
                "median vs first"]
     if len(rows) < 2:
         headers, rows = headers[:-1], [row[:-1] for row in rows]
-    return html_table(headers, rows)
+    return html_table(headers, rows, text_columns=(5,) if computed is not None else ())
+
+
+def engine_counts(computed: dict) -> str:
+    """``first-order 120, fast-2 3``: the targets per engine their figures rest on (those with any)."""
+    return ", ".join(f"{engine} {count}" for engine, count in computed["engine_targets"].items() if count)
+
+
+def engine_bounds(computed: dict) -> str:
+    """The largest bound of the engines used against exact FK, in position [nm] and angle [nrad]."""
+    return f"{computed['engine_max_deviation_nm']:.3g}, {computed['engine_max_angle_deviation_nrad']:.3g}"
 
 
 def thinning_note(layers: dict[str, MapLayer]) -> str:
