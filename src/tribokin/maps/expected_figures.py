@@ -4,14 +4,25 @@
 The joint deviations of a cycle are dq = offset + s ⊙ (L ⊙ μ + backlash / 2) + noise (:mod:`~tribokin.simulation.
 joint_errors`; L the lost motion per unit of the law's draw μ). About q″ = q + E[dq] the tool deviates by
 J(q″) (dq - E[dq]) to first order (:func:`linear_model`); its error for every deviation within each law's support
-(a Gaussian's mean ± ``TAIL_STDS`` standard deviations) is the fast engine's order-1 truncation bound, kept per
-target as ``engine_bound``. The mean deviation itself goes through exact forward kinematics.
+(a Gaussian's mean ± ``TAIL_STDS`` standard deviations) is the fast engine's order-1 truncation bound b [m], β [rad].
+The mean deviation itself goes through exact forward kinematics.
+
+Figure-level error (:func:`figure_errors`): if every sample's position moves by at most b, a test's barycentre moves by
+at most b and each distance l_j to it by at most |e_j - ē| (e_j the samples' errors), whose mean is at most b and
+whose root mean square about ē is at most b; so l̄ moves by at most b, S_l (n - 1 in its denominator) by at most
+b √(n / (n - 1)), and RP_l = l̄ + 3 S_l by at most (1 + 3 √(n / (n - 1))) b; each percentile of RP_l (the band) as
+much; AP_p by at most b; RP_a/b/c = 3 S of an angle's component by at most 3 √(n / (n - 1)) β; the largest semi-axis
+(the largest standard deviation along a direction) by at most √(n / (n - 1)) b; vAP_p, the largest distance between
+two barycentres, by at most 2 b; RP_l_multi as RP_l. A model serves a target only where these are within
+``FIGURE_TOLERANCE`` of each figure it gives (or ``FIGURE_FLOOR``); else its tests go through the fast engine (a
+fallback: orders 2-3, else exact FK), whose own bound then takes b's place. Per target: the least exact engine used
+(``engine``), the largest bound (``engine_bound``) and each figure's error (``figure_errors``).
 
 - **analytic** (every law Gaussian, truncation negligible, or constant; unidirectional approach): the figures of
   :mod:`tribokin.iso9283.gaussian_tests` from the covariance of J(q″) dq.
-- **sampled** (other laws, approach modes, or a target whose bound exceeds ``DEFAULT_TOLERANCE``): common random
+- **sampled** (other laws, approach modes, or a target the first-order model does not serve): common random
   numbers: the same ``sampled_tests`` tests of drawn μ at every target (and scenario), through the linear model,
-  or through the fast engine where the bound is not met (a *fallback*). The RP_l band's Monte Carlo error is kept.
+  or through the fast engine where it does not serve (a *fallback*). The RP_l band's Monte Carlo error is kept.
 - ``vAP_p_um``: the largest distance between the barycentres reached along +x, +y, +z of the world frame (joint
   signs as the measured cube's, :func:`~tribokin.iso9283.cube.held_approach_signs`); each barycentre by exact
   forward kinematics of its mean deviation plus a Gaussian of covariance Σ_d / n (the mean of n cycles); its

@@ -1,0 +1,139 @@
+"""The engine each expected-map target's figures rest on, its bound against exact Pinocchio FK, and the figure-level
+errors derived from it (:func:`~tribokin.maps.expected_figures.figure_errors`), for fallbacks forced to the fast
+engine (tolerance 0) and to exact FK (joints so soft that the fast engine's bound exceeds its tolerance), and for
+the first-order model where it serves. Few sampled cycles: the comparisons are on the same samples, so no Monte
+Carlo error enters them."""
+
+import numpy as np
+import pytest
+
+import tribokin.maps.expected_figures as expected
+from tribokin.iso9283.gaussian_tests import ShapeTable
+from tribokin.maps.schema import map_figures
+from tribokin.propagation.exact import tool_deviations_exact, tool_frames
+from tribokin.simulation.pose_test import PoseRunner
+from tribokin.streams import expected_stream
+from tribokin.study.assembly import joint_models, load_robot
+from tribokin.study.reading import load_study
+
+CYCLES = 30
+#: UR5 targets away from singularities (rad).
+TARGETS = np.array([[0.3, -1.2, 1.4, -1.8, -1.5, 0.4], [-0.5, -1.6, 1.1, -1.2, -1.4, -0.3]])
+NAMES = [figure.name for figure in map_figures("directional")]
+
+
+def runner_with(stiffness: float) -> PoseRunner:
+    study = load_study({"study": {"name": "bounds", "cycles": CYCLES, "seed": 4},
+                        "robot": {"name": "ur5", "payload_kg": 2.0},
+                        "joints": {"friction": {"law": "uniform", "low": 0.09, "high": 0.16}, "stiffness": stiffness,
+                                   "friction_radius_m": 0.02, "bearing_span_m": 0.08},
+                        "poses": [{"name": "target", "q": TARGETS[0].tolist()}]})
+    robot = load_robot(study)
+    return PoseRunner(study, robot, joint_models(study, robot))
+
+
+@pytest.fixture
+def few_samples(monkeypatch):
+    """Sampled tests of 1 500 cycles (50 tests), the random-direction mixture's of 600."""
+    monkeypatch.setattr(expected, "SAMPLED_CYCLES", 1500)
+    monkeypatch.setattr(expected, "MIN_TESTS", 20)
+    monkeypatch.setattr(expected, "MULTI_CYCLES", 600)
+
+
+def targets(runner: PoseRunner) -> dict:
+    table = ShapeTable.simulate(CYCLES, expected_stream(runner.settings.seed, "table"))
+    return expected.expected_targets(runner, expected.ExpectedSetup.build(runner, table, "directional"), TARGETS,
+                                      runner.normal_forces_at(TARGETS), *tool_frames(runner.robot, TARGETS))
+
+
+def recorded_engine(monkeypatch) -> list:
+    """Every call of the fallbacks' engine: its configuration, deviations, outputs and the engine it chose."""
+    calls, engine = [], expected.tool_deviations_at_poses
+
+    def recording(robot, qs, dq, name, twists, translations, used):
+        positions, angles = engine(robot, qs, dq, name, twists, translations, used)
+        calls.append((qs[0], dq[0], positions[0], angles[0], used))
+        return positions, angles
+
+    monkeypatch.setattr(expected, "tool_deviations_at_poses", recording)
+    return calls
+
+
+def through_exact_fk(monkeypatch) -> None:
+    """Every model falls back, and every fallback goes through exact FK: the figures of the same samples."""
+    monkeypatch.setattr(expected, "serves", lambda bound, *args: np.zeros(len(bound), dtype=bool))
+    monkeypatch.setattr(expected, "tool_deviations_at_poses",
+                        lambda robot, qs, dq, name, twists, translations, used: tool_deviations_exact(robot, qs[0],
+                                                                                                      dq[0]))
+
+
+def worst_samples(dq: np.ndarray, count: int = 300) -> np.ndarray:
+    """The ``count`` samples of largest deviation (where the truncation errs most) and as many others at random."""
+    size = np.abs(dq).sum(axis=1)
+    chosen = np.argsort(-size)[:count]
+    return np.union1d(chosen, np.random.default_rng(0).choice(len(dq), count, replace=False))
+
+
+def assert_figures_within_their_errors(out: dict, exact: dict, names) -> None:
+    """Each figure within its derived error of exact FK's, and of rounding: 1e-9 µm (1e-15 m: positions of about a
+    metre, summed in another order) or mdeg."""
+    for name in names:
+        column = NAMES.index(name)
+        difference = np.abs(out["figures"][:, column] - exact["figures"][:, column])
+        assert np.all(difference <= out["figure_errors"][:, column] * (1 + 1e-9) + 1e-9), name
+
+
+@pytest.mark.parametrize("stiffness, engines", [(1.0e5, ("fast-2", "fast-3")), (25.0, ("exact",))])
+def test_a_forced_fallback_reports_the_bound_of_the_engine_it_used(stiffness, engines, few_samples, monkeypatch):
+    """Tolerance 0 (every model falls back) at ordinary joints: the fast engine, its bound > 0 and at least |fast -
+    exact FK| over the samples it computed (the largest deviations among them), and every figure within its derived
+    error of the same samples' figures through exact FK; joints 4 000 times softer: exact FK, bound 0, the figures
+    those of exact FK."""
+    monkeypatch.setattr(expected, "FIGURE_TOLERANCE", 0.0)
+    monkeypatch.setattr(expected, "FIGURE_FLOOR", 0.0)
+    runner = runner_with(stiffness)
+    calls = recorded_engine(monkeypatch)
+    out = targets(runner)
+    assert [expected.TARGET_ENGINES[e] for e in out["engine"]] and all(
+        expected.TARGET_ENGINES[e] in engines for e in out["engine"])
+    assert np.all(out["fallbacks"] == 3)
+    assert len(calls) == len(TARGETS) * 5  # per target: the test's, three vAP_p directions', RP_l_multi's
+    for k, q in enumerate(TARGETS):
+        own = [call for call in calls if np.array_equal(call[0], q)]
+        for _, dq, positions, angles, used in own:
+            order, position_m, angle_rad = (np.atleast_1d(value)[0] for value in used)
+            assert (order > 0) == (engines != ("exact",))
+            assert (position_m > 0 and angle_rad > 0) if order else (position_m == angle_rad == 0)
+            assert out["engine_bound"][k, 0] >= position_m and out["engine_bound"][k, 1] >= angle_rad
+            chosen = worst_samples(dq)
+            exact_positions, exact_angles = tool_deviations_exact(runner.robot, q, dq[chosen])
+            assert np.linalg.norm(positions[chosen] - exact_positions, axis=1).max() <= position_m + 1e-15
+            assert np.linalg.norm(angles[chosen] - exact_angles, axis=1).max() <= angle_rad + 1e-15
+    exact = pytest.MonkeyPatch.context()
+    with exact as patch:
+        through_exact_fk(patch)
+        reference = targets(runner)
+    assert_figures_within_their_errors(out, reference, [name for name in NAMES if name != "dominant_share"])
+    if engines == ("exact",):
+        assert np.all(out["engine_bound"] == 0) and np.all(out["figure_errors"][:, :-1] == 0)
+    else:
+        assert np.all(out["figure_errors"][:, :-1] > 0)
+
+
+def test_where_the_first_order_model_serves_each_figure_is_within_its_derived_error_of_exact_fk(few_samples,
+                                                                                               monkeypatch):
+    """Stiff joints: the first-order model serves every model at both targets (engine first-order, no fallback), its
+    bound is within 0.1 % of each figure it serves, and each figure of the sampled tests (RP_l and its band, AP_p,
+    RP_a/b/c, the semi-axis, RP_l_multi) is within its derived error of the same samples through exact FK."""
+    runner = runner_with(1.0e6)
+    out = targets(runner)
+    assert np.all(out["engine"] == expected.FIRST_ORDER) and np.all(out["fallbacks"] == 0)
+    served = ("RP_l_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg", "vAP_p_um", "RP_l_multi_um")
+    for name in served:
+        column = NAMES.index(name)
+        assert np.all(out["figure_errors"][:, column] <= 1e-3 * out["figures"][:, column])
+    with pytest.MonkeyPatch.context() as patch:
+        through_exact_fk(patch)
+        reference = targets(runner)
+    assert_figures_within_their_errors(out, reference, [name for name in NAMES if name not in (
+        "vAP_p_um", "dominant_share")])  # vAP_p's first-order form is not sampled: no same samples to compare
