@@ -82,7 +82,10 @@ def test_expected_figures_agree_with_a_monte_carlo_through_exact_kinematics(robo
     runner = runner_for(robot_name, law)
     q = np.array(TARGETS[robot_name])
     expected = expected_at(runner, q)
-    assert expected["method"] == (ANALYTIC if law == "gaussian" else SAMPLED) and expected["fallbacks"] == 0
+    # the first-order model serves the Gaussian and uniform laws' targets; the lognormal's long tail (its support to
+    # 6 standard deviations) makes a model's bound exceed 0.1 % of a figure at the Panda's: a fallback, tested too
+    assert expected["method"] == (ANALYTIC if law == "gaussian" else SAMPLED)
+    assert expected["fallbacks"] == (law == "lognormal" and robot_name == "panda")
     simulated = monte_carlo(runner, q, np.random.default_rng(2024))
     for name in ("RP_l_um", "AP_p_um", "vAP_p_um", "RP_l_multi_um"):
         assert expected[name] == pytest.approx(simulated[name], rel=0.01), name

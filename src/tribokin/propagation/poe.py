@@ -224,6 +224,18 @@ def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = Non
     return bound
 
 
+def first_order_angle_bound(twists: np.ndarray, departure: np.ndarray) -> np.ndarray:
+    """(k,) bound [rad] on |log(Π exp(ω̂_i dq_i)) - Σ ω_i dq_i| over deviations |dq_i| <= ``departure`` (k, nv), of
+    (k, 6, nv) twists: tighter than :func:`truncation_bound`'s order 1 where axes are (nearly) parallel. The
+    logarithm's degree-2 part is ½ Σ_{i<j} (ω_i × ω_j) dq_i dq_j exactly (``[ω̂_i, ω̂_j]`` is ``(ω_i × ω_j)^``), at
+    most ½ Σ_{i<j} |ω_i × ω_j| d_i d_j; its parts from degree 3 on are bounded by the majorant's tail at
+    w = Σ |ω_i| d_i (``inf`` past ln 2)."""
+    rates = np.swapaxes(twists[:, 3:], 1, 2)  # (k, nv, 3)
+    crossed = np.linalg.norm(np.cross(rates[:, :, None, :], rates[:, None, :, :]), axis=-1)  # (k, nv, nv)
+    second = 0.25 * np.einsum("ki,kij,kj->k", departure, crossed, departure)  # ½ Σ_{i<j}: ¼ Σ_{i≠j}
+    return second + _log_tail(np.sum(np.linalg.norm(rates, axis=-1) * departure, axis=1), 3)
+
+
 def composition_bound(first_rad, second_rad) -> np.ndarray:
     """Bound [rad] on |log(R_x R_c) - x - c - x × c / 2| for rotations R_x, R_c that are each a product of joint
     rotations exp(ω̂_i dq_i) of weighted sums Σ |ω_i| |dq_i| <= ``first_rad``, ``second_rad`` (element-wise; ``inf``
