@@ -60,7 +60,7 @@ from tribokin.iso9283.metrics import orientation_repeatability, position_repeata
 from tribokin.kinematics.se3_log import log3, skew
 from tribokin.maps.schema import map_figures
 from tribokin.propagation.exact import engine_orders, tool_deviations_at_poses, tool_frames, tool_rotations
-from tribokin.propagation.poe import composition_bound, first_order_angle_bound, truncation_bound
+from tribokin.propagation.poe import composition_bound, first_order_bounds, truncation_bound
 from tribokin.simulation.joint_errors import TAIL_STDS, JointErrorModel, approach_signs, friction_lever, friction_loads
 from tribokin.simulation.pose_test import PoseRunner
 from tribokin.streams import expected_stream
@@ -144,8 +144,8 @@ class LinearModel:
         lever: (k, nv) lost motion per unit draw L.
         deviation_variance: (k, nv) var(dq) [m² or rad²].
         bound: (k, 2) its bound [m, rad] on |model - exact FK| over deviations within the laws' supports: the
-            order-1 truncation bound (in angle, the smaller of it and :func:`~tribokin.propagation.poe.
-            first_order_angle_bound`), in angle times |I - ĉ / 2| plus :func:`~tribokin.propagation.poe.
+            order-1 truncation bound (the smaller of it and :func:`~tribokin.propagation.poe.first_order_bounds`),
+            in angle times |I - ĉ / 2| plus :func:`~tribokin.propagation.poe.
             composition_bound` of the deviation and the mean deviation: the model's angles are
             c + (I - ĉ / 2) J_ω (dq - E[dq]).
     """
@@ -200,11 +200,12 @@ def linear_model(robot, moments: JointMoments, qs: np.ndarray, lever: np.ndarray
     turn = log3(tool_rotations(robot, qs + mean_dq) @ np.swapaxes(tool_rotations(robot, qs), 1, 2))  # c (k, 3)
     jacobian = twists.copy()
     jacobian[:, 3:] = (np.eye(3) - skew(turn) / 2) @ twists[:, 3:]  # x + x × c / 2 = (I - ĉ / 2) x
-    truncation = np.minimum(bound.angle_rad, first_order_angle_bound(twists, departure))
+    position, truncation = (np.minimum(a, b) for a, b in zip((bound.position_m, bound.angle_rad),
+                                                             first_order_bounds(twists, departure), strict=True))
     angle = (np.sqrt(1 + np.sum(turn ** 2, axis=1) / 4) * truncation
              + composition_bound(np.sum(rates * departure, axis=1), np.sum(rates * np.abs(mean_dq), axis=1)))
     return LinearModel(mean_dq, positions, jacobian, lever, variance,
-                       np.column_stack([bound.position_m, angle]).reshape(len(qs), 2))
+                       np.column_stack([position, angle]).reshape(len(qs), 2))
 
 
 @lru_cache(maxsize=4)

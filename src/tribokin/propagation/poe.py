@@ -224,16 +224,25 @@ def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = Non
     return bound
 
 
-def first_order_angle_bound(twists: np.ndarray, departure: np.ndarray) -> np.ndarray:
-    """(k,) bound [rad] on |log(Π exp(ω̂_i dq_i)) - Σ ω_i dq_i| over deviations |dq_i| <= ``departure`` (k, nv), of
-    (k, 6, nv) twists: tighter than :func:`truncation_bound`'s order 1 where axes are (nearly) parallel. The
-    logarithm's degree-2 part is ½ Σ_{i<j} (ω_i × ω_j) dq_i dq_j exactly (``[ω̂_i, ω̂_j]`` is ``(ω_i × ω_j)^``), at
-    most ½ Σ_{i<j} |ω_i × ω_j| d_i d_j; its parts from degree 3 on are bounded by the majorant's tail at
-    w = Σ |ω_i| d_i (``inf`` past ln 2)."""
-    rates = np.swapaxes(twists[:, 3:], 1, 2)  # (k, nv, 3)
-    crossed = np.linalg.norm(np.cross(rates[:, :, None, :], rates[:, None, :, :]), axis=-1)  # (k, nv, nv)
-    second = 0.25 * np.einsum("ki,kij,kj->k", departure, crossed, departure)  # ½ Σ_{i<j}: ¼ Σ_{i≠j}
-    return second + _log_tail(np.sum(np.linalg.norm(rates, axis=-1) * departure, axis=1), 3)
+def first_order_bounds(twists: np.ndarray, departure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(k,) bounds [m], [rad] on the position's and the rotation vector's errors after order 1 over deviations
+    |dq_i| <= ``departure`` (k, nv), of (k, 6, nv) twists: tighter than :func:`truncation_bound`'s order 1, whose
+    degree-2 terms count every pair of joints at its largest, where axes are (nearly) parallel or pass near the tool.
+
+    The product's degree-2 part is exact: Σ_i X_i² dq_i² / 2 + Σ_{i<j} X_i X_j dq_i dq_j, which moves the tool origin
+    by Σ_i (ω_i × v_i) dq_i² / 2 + Σ_{i<j} (ω_i × v_j) dq_i dq_j; its logarithm's, ½ Σ_{i<j} (ω_i × ω_j) dq_i dq_j
+    (``[ω̂_i, ω̂_j]`` is ``(ω_i × ω_j)^``). Each is bounded term by term; the parts from degree 3 on by the tails of
+    the module's majorants after order 2 (``inf`` past ln 2 in angle)."""
+    linear, rates = np.swapaxes(twists[:, :3], 1, 2), np.swapaxes(twists[:, 3:], 1, 2)  # (k, nv, 3) each
+    moved = np.linalg.norm(np.cross(rates[:, :, None, :], linear[:, None, :, :]), axis=-1)  # |ω_i × v_j|
+    turned = np.linalg.norm(np.cross(rates[:, :, None, :], rates[:, None, :, :]), axis=-1)  # |ω_i × ω_j|
+    later = np.triu(np.ones(moved.shape[1:]), 1)  # i < j
+    position = (0.5 * np.einsum("ki,kii,ki->k", departure, moved, departure)
+                + np.einsum("ki,kij,kj->k", departure, moved * later, departure))
+    angle = 0.5 * np.einsum("ki,kij,kj->k", departure, turned * later, departure)
+    norms = _batch_norms(twists, departure[:, None, :])
+    return (position + np.minimum(_exp_tail(norms.full, 3), norms.linear * _exp_tail(norms.angular, 2)),
+            angle + _log_tail(norms.angular, 3))
 
 
 def composition_bound(first_rad, second_rad) -> np.ndarray:
