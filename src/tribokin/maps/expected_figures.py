@@ -4,7 +4,8 @@
 The joint deviations of a cycle are dq = offset + s ⊙ (L ⊙ μ + backlash / 2) + noise (:mod:`~tribokin.simulation.
 joint_errors`; L the lost motion per unit of the law's draw μ). About q″ = q + E[dq] the tool deviates by
 J(q″) (dq - E[dq]) to first order (:func:`linear_model`); its error for every deviation within each law's support
-(a Gaussian's mean ± ``TAIL_STDS`` standard deviations) is the fast engine's order-1 truncation bound b [m], β [rad].
+(a Gaussian's mean ± ``TAIL_STDS`` standard deviations) is bounded by b [m], β [rad]
+(:func:`~tribokin.propagation.poe.first_order_bounds`, or the fast engine's order-1 truncation bound if smaller).
 The mean deviation itself goes through exact forward kinematics.
 
 Figure-level error (:func:`figure_errors`): if every sample's position moves by at most b, a test's barycentre moves by
