@@ -137,3 +137,35 @@ def test_where_the_first_order_model_serves_each_figure_is_within_its_derived_er
         reference = targets(runner)
     assert_figures_within_their_errors(out, reference, [name for name in NAMES if name not in (
         "vAP_p_um", "dominant_share")])  # vAP_p's first-order form is not sampled: no same samples to compare
+
+
+def test_a_map_with_soft_joints_reports_its_fallbacks_engines_and_bounds_in_its_table_and_summary(few_samples):
+    """ur5-map-horizontal's robot and loads with stiffness 2 000 N·m/rad on a 3 × 2 plane: the first-order model
+    does not serve, the targets fall back to the fast engine (or exact FK where its bound exceeds 0.1 nm); map.csv's
+    engine, engine_bound_nm and _nrad (through to_pandas) and summary.json's computed block say so, the fast ones'
+    bounds above 0 (they were 0 before), each figure's error (figure_error) its RP_l error from the bound."""
+    from tribokin import run_study
+
+    study = {"study": {"name": "soft", "cycles": CYCLES, "seed": 3}, "robot": {"name": "ur5", "payload_kg": 3.0},
+             "joints": {"friction": {"law": "uniform", "low": 0.09, "high": 0.16}, "stiffness": 2000.0,
+                        "friction_radius_m": 0.02, "bearing_span_m": 0.08},
+             "map": {"kind": "plane", "origin_m": [0.0, -0.55, 0.1], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
+                     "extent_u_m": [-0.3, 0.3], "extent_v_m": [-0.2, 0.2], "resolution": [3, 2],
+                     "rpy_deg": [180, 0, 90]}}
+    workspace_map = run_study(study).map
+    computed = workspace_map.summary()["computed"]["soft"]
+    table = workspace_map.to_pandas()
+    reached = table[table["reachable"]]
+    fast = reached["engine"].isin(["fast-2", "fast-3"])
+    assert fast.any() and set(reached["engine"]) <= {"fast-2", "fast-3", "exact"}
+    assert computed["fallback_targets"] == len(reached)
+    assert {name: int((reached["engine"] == name).sum()) for name in ("fast-2", "fast-3", "exact")} == {
+        name: computed["engine_targets"][name] for name in ("fast-2", "fast-3", "exact")}
+    assert (reached.loc[fast, "engine_bound_nm"] > 0).all() and (reached.loc[fast, "engine_bound_nrad"] > 0).all()
+    assert (reached.loc[~fast, ["engine_bound_nm", "engine_bound_nrad"]] == 0).all().all()
+    assert computed["engine_max_deviation_nm"] == reached["engine_bound_nm"].max()
+    assert computed["engine_max_angle_deviation_nrad"] == reached["engine_bound_nrad"].max()
+    assert (table.loc[~table["reachable"], "engine"] == "").all()
+    errors = workspace_map.reference.figure_error("RP_l_um")[workspace_map.reachable]
+    np.testing.assert_allclose(errors, (1 + 3 * np.sqrt(CYCLES / (CYCLES - 1))) * reached["engine_bound_nm"] * 1e-3,
+                               rtol=1e-12)

@@ -64,6 +64,12 @@ class ScenarioMap:
         column only for small maps)."""
         return self.read("figures", targets, figure_index(name, self.figure_set))
 
+    def figure_error(self, name: str, targets=slice(None)) -> np.ndarray:
+        """An expected map's bound [µm, mdeg] on how far figure ``name`` at ``targets`` may lie from the same figure
+        through exact FK, derived from the bound of the engine that computed it
+        (:func:`~tribokin.maps.expected_figures.figure_errors`)."""
+        return self.read("figure_errors", targets, figure_index(name, self.figure_set))
+
     def has(self, name: str) -> bool:
         """Whether the map has figure ``name``."""
         return name in [figure.name for figure in map_figures(self.figure_set)]
