@@ -59,11 +59,6 @@ def _log3(rotations: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np
     return vectors, angles, trace, squared
 
 
-def log3(rotations: np.ndarray) -> np.ndarray:
-    """Rotation vectors (k, 3) [rad] of ``rotations`` (k, 3, 3) (``pin.log3``)."""
-    return _log3(rotations)[0]
-
-
 def log6(rotations: np.ndarray, translations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Logarithms (k, 6) of the rigid motions ``rotations`` (k, 3, 3), ``translations`` (k, 3) [m] (``pin.log6``),
     and the angles (k,) [rad] of their rotations (as ``log3`` finds them, for :func:`jlog6`)."""

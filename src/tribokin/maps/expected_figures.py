@@ -58,10 +58,10 @@ from tribokin.iso9283.gaussian_tests import (
     standardised_shape,
 )
 from tribokin.iso9283.metrics import orientation_repeatability, position_repeatability, position_spread
-from tribokin.kinematics.se3_log import log3, skew
+from tribokin.kinematics.se3_log import skew
 from tribokin.maps.schema import map_figures
-from tribokin.propagation.exact import engine_orders, tool_deviations_at_poses, tool_frames, tool_rotations
-from tribokin.propagation.poe import composition_bound, first_order_bounds, truncation_bound
+from tribokin.propagation.exact import engine_orders, tool_deviations_at_poses, tool_frames
+from tribokin.propagation.poe import composition_bound, first_order_bounds, rotation_bounds, truncation_bound
 from tribokin.simulation.joint_errors import TAIL_STDS, JointErrorModel, approach_signs, friction_lever, friction_loads
 from tribokin.simulation.pose_test import PoseRunner
 from tribokin.streams import expected_stream
@@ -197,14 +197,16 @@ def linear_model(robot, moments: JointMoments, qs: np.ndarray, lever: np.ndarray
     departure = ((1 + np.abs(signs)) * (lost + lever * moments.departure) if mixed
                  else np.abs(signs) * lever * moments.departure) + TAIL_STDS * moments.noise_std
     bound = truncation_bound(twists, departure[:, None, :], order=1)
-    rates = np.linalg.norm(twists[:, 3:], axis=1)  # (k, nv) |ω_i| at q″
-    turn = log3(tool_rotations(robot, qs + mean_dq) @ np.swapaxes(tool_rotations(robot, qs), 1, 2))  # c (k, 3)
-    jacobian = twists.copy()
-    jacobian[:, 3:] = (np.eye(3) - skew(turn) / 2) @ twists[:, 3:]  # x + x × c / 2 = (I - ĉ / 2) x
     position, truncation = (np.minimum(a, b) for a, b in zip((bound.position_m, bound.angle_rad),
                                                              first_order_bounds(twists, departure), strict=True))
-    angle = (np.sqrt(1 + np.sum(turn ** 2, axis=1) / 4) * truncation
-             + composition_bound(np.sum(rates * departure, axis=1), np.sum(rates * np.abs(mean_dq), axis=1)))
+    rates = np.linalg.norm(twists[:, 3:], axis=1)  # (k, nv) |ω_i| at q″
+    spread, mean = np.sum(rates * departure, axis=1), np.sum(rates * np.abs(mean_dq), axis=1)
+    turn = np.einsum("kin,kn->ki", twists[:, 3:], mean_dq)  # c to first order: R(q″) R(q)ᵀ = Π exp(ω̂_i(q″) E[dq_i])
+    jacobian = twists.copy()
+    jacobian[:, 3:] = (np.eye(3) - skew(turn) / 2) @ twists[:, 3:]  # x + x × c / 2 = (I - ĉ / 2) x
+    size, miss = rotation_bounds(np.stack([spread, mean]))  # |x|, |c| and |x - J_ω δ|, |c - c̃|
+    angle = (np.sqrt(1 + np.sum(turn ** 2, axis=1) / 4) * truncation + composition_bound(spread, mean)
+             + size[0] * miss[1] / 2)  # |(c - c̃) × x| / 2: c̃ in place of c
     return LinearModel(mean_dq, positions, jacobian, lever, variance,
                        np.column_stack([position, angle]).reshape(len(qs), 2))
 

@@ -75,14 +75,6 @@ def tool_frames(robot: Robot, qs: np.ndarray, placements: np.ndarray | None = No
             np.array([robot.tool_placement(q).translation for q in qs]).reshape(len(qs), 3))
 
 
-def tool_rotations(robot: Robot, qs: np.ndarray) -> np.ndarray:
-    """(poses, 3, 3) the tool frame's orientation in the world frame at configurations ``qs`` (poses, nv)."""
-    chain = serial_chain(robot)
-    if chain is not None:
-        return chain.tool_in_joint(np.asarray(qs, dtype=float).reshape(-1, robot.model.nv))[:, 0, :3, :3]
-    return np.array([robot.tool_placement(q).rotation for q in qs]).reshape(len(qs), 3, 3)
-
-
 def engine_orders(twists: np.ndarray, dq: np.ndarray, engine: str = "fast", lowest_order: int = 1) -> TruncationBound:
     """The engine :func:`tool_deviations_at_poses` uses at each pose, and its bound over every sample of the pose.
 

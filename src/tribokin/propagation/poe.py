@@ -124,14 +124,21 @@ _LOG_COEFFICIENTS = _log_majorant_coefficients()
 _EXP_RADIUS, _LOG_RADIUS = 10.0, 0.3
 
 
-def _series_tail(coefficients: np.ndarray, closed_form, radius: float, s, start) -> np.ndarray:
+def _series_tail(coefficients: np.ndarray, closed_form, radius: float, s, start, horner: bool = False) -> np.ndarray:
     """Σ_{m >= start} c_m s^m of a series with non-negative coefficients, without cancellation: term by term up to
-    |s| = ``radius``, else ``closed_form(s)`` less the first terms (``s``: any array shape, element-wise; ``start``: an
-    int, or a 1-D array of them, giving a last axis)."""
+    |s| = ``radius`` (with ``horner``, an int ``start``: by Horner's rule, some 50 times faster), else
+    ``closed_form(s)`` less the first terms (``s``: any array shape, element-wise; ``start``: an int, or a 1-D array
+    of them, giving a last axis)."""
     s = np.asarray(s, dtype=float)
     terms = np.arange(_TERMS)
     kept = terms[:, None] >= np.atleast_1d(start)  # (_TERMS, starts)
-    small = np.minimum(s, radius)[..., None] ** terms @ np.where(kept, coefficients[:, None], 0.0)
+    if horner:
+        clipped, small = np.minimum(s, radius), np.zeros(s.shape)
+        for coefficient in coefficients[start:][::-1]:
+            small = small * clipped + coefficient
+        small = (small * clipped ** start)[..., None]
+    else:
+        small = np.minimum(s, radius)[..., None] ** terms @ np.where(kept, coefficients[:, None], 0.0)
     if np.all(s <= radius):
         tail = small
     else:
@@ -143,18 +150,18 @@ def _series_tail(coefficients: np.ndarray, closed_form, radius: float, s, start)
     return tail if np.ndim(start) else tail[..., 0]
 
 
-def _exp_tail(s, start) -> np.ndarray:
+def _exp_tail(s, start, horner: bool = False) -> np.ndarray:
     """Σ_{m >= start} s^m / m!."""
-    return _series_tail(_EXP_COEFFICIENTS, np.exp, _EXP_RADIUS, s, start)
+    return _series_tail(_EXP_COEFFICIENTS, np.exp, _EXP_RADIUS, s, start, horner)
 
 
-def _log_tail(w, start) -> np.ndarray:
+def _log_tail(w, start, horner: bool = False) -> np.ndarray:
     """Σ_{m >= start} of the series of -log(2 - e^w); ``inf`` for w >= ln 2 (no convergence)."""
     w = np.asarray(w, dtype=float)
     converging = w < math.log(2.0)
     with np.errstate(divide="ignore", invalid="ignore"):
         tail = _series_tail(_LOG_COEFFICIENTS, lambda x: -np.log(2.0 - np.exp(x)), _LOG_RADIUS,
-                            np.where(converging, w, 0.0), start)
+                            np.where(converging, w, 0.0), start, horner)
     return np.where(converging if np.ndim(start) == 0 else converging[..., None], tail, np.inf)
 
 
@@ -224,6 +231,13 @@ def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = Non
     return bound
 
 
+def _cross_norms(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(k, n, m) |a_i × b_j| of (k, n, 3) and (k, m, 3) vectors, from |a|²|b|² - (a·b)², with 3e-8 |a||b| added:
+    the square root of that difference's rounding, so never below the exact value."""
+    lengths = np.sqrt(np.sum(a * a, axis=-1))[:, :, None] * np.sqrt(np.sum(b * b, axis=-1))[:, None, :]
+    return np.sqrt(np.maximum(lengths ** 2 - (a @ np.swapaxes(b, 1, 2)) ** 2, 0.0)) + 3e-8 * lengths
+
+
 def first_order_bounds(twists: np.ndarray, departure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(k,) bounds [m], [rad] on the position's and the rotation vector's errors after order 1 over deviations
     |dq_i| <= ``departure`` (k, nv), of (k, 6, nv) twists: tighter than :func:`truncation_bound`'s order 1, whose
@@ -234,15 +248,20 @@ def first_order_bounds(twists: np.ndarray, departure: np.ndarray) -> tuple[np.nd
     (``[ω̂_i, ω̂_j]`` is ``(ω_i × ω_j)^``). Each is bounded term by term; the parts from degree 3 on by the tails of
     the module's majorants after order 2 (``inf`` past ln 2 in angle)."""
     linear, rates = np.swapaxes(twists[:, :3], 1, 2), np.swapaxes(twists[:, 3:], 1, 2)  # (k, nv, 3) each
-    moved = np.linalg.norm(np.cross(rates[:, :, None, :], linear[:, None, :, :]), axis=-1)  # |ω_i × v_j|
-    turned = np.linalg.norm(np.cross(rates[:, :, None, :], rates[:, None, :, :]), axis=-1)  # |ω_i × ω_j|
-    later = np.triu(np.ones(moved.shape[1:]), 1)  # i < j
-    position = (0.5 * np.einsum("ki,kii,ki->k", departure, moved, departure)
-                + np.einsum("ki,kij,kj->k", departure, moved * later, departure))
-    angle = 0.5 * np.einsum("ki,kij,kj->k", departure, turned * later, departure)
+    later = np.triu(np.ones((twists.shape[-1],) * 2), 1)  # i < j
+    moved = _cross_norms(rates, linear) * (later + 0.5 * np.eye(len(later)))  # |ω_i × v_j|, halved on the diagonal
+    turned = _cross_norms(rates, rates) * (0.5 * later)
+    position, angle = (np.einsum("ki,kij,kj->k", departure, weights, departure) for weights in (moved, turned))
     norms = _batch_norms(twists, departure[:, None, :])
-    return (position + np.minimum(_exp_tail(norms.full, 3), norms.linear * _exp_tail(norms.angular, 2)),
-            angle + _log_tail(norms.angular, 3))
+    rest = np.minimum(_exp_tail(norms.full, 3, True), norms.linear * _exp_tail(norms.angular, 2, True))
+    return position + rest, angle + _log_tail(norms.angular, 3, True)
+
+
+def rotation_bounds(weighted_rad) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds [rad] on the rotation vector r = log(Π exp(ω̂_i dq_i)) of a product of joint rotations whose weighted sum
+    Σ |ω_i| |dq_i| is at most ``weighted_rad`` (element-wise): on |r|, and on |r - Σ ω_i dq_i| (the majorant
+    -log(2 - e^w) from degree 1, and from degree 2; ``inf`` past ln 2)."""
+    return _log_tail(weighted_rad, 1, True), _log_tail(weighted_rad, 2, True)
 
 
 def composition_bound(first_rad, second_rad) -> np.ndarray:
@@ -252,10 +271,10 @@ def composition_bound(first_rad, second_rad) -> np.ndarray:
     bound's majorant). In log(e^x̂ e^ĉ) = x̂ + ĉ + [x̂, ĉ] / 2 + ... the words of x̂ alone sum to x̂ and those of ĉ
     alone to ĉ; the other words of degree 3 and more are bounded by the same terms of M(u + v), less those of M(u)
     and M(v)."""
-    u, v = _log_tail(first_rad, 1), _log_tail(second_rad, 1)
+    u, v = _log_tail(np.stack([first_rad, second_rad]), 1, True)
     with np.errstate(invalid="ignore"):
-        mixed = _log_tail(u + v, 3) - _log_tail(u, 3) - _log_tail(v, 3)
-    return np.where(np.isfinite(u + v), np.maximum(mixed, 0.0), np.inf)
+        both, first, second = _log_tail(np.stack([u + v, u, v]), 3, True)
+        return np.where(np.isfinite(u + v), np.maximum(both - first - second, 0.0), np.inf)
 
 
 # --- the polynomial -----------------------------------------------------------------------------
