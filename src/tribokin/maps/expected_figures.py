@@ -140,15 +140,16 @@ class LinearModel:
 
     Attributes:
         mean_dq: (k, nv) E[dq] [m or rad]. position_m: (k, 3) tool position at q″ = q + E[dq] [m].
-        jacobian: (k, 6, nv) tool Jacobian at q″, its angle rows (I - ĉ / 2) J_ω: the angle from the commanded
-            orientation is log(e^x̂ e^ĉ) = c + x + x × c / 2 + ..., c that of q″'s orientation, x the deviation's.
+        jacobian: (k, 6, nv) tool Jacobian at q″, its angle rows (I - c̃^ / 2) J_ω: the angle from the commanded
+            orientation is log(e^x̂ e^ĉ) = c + x + x × c / 2 + ..., c that of q″'s orientation (c̃ = J_ω E[dq] to first
+            order), x the deviation's.
         lever: (k, nv) lost motion per unit draw L.
         deviation_variance: (k, nv) var(dq) [m² or rad²].
-        bound: (k, 2) its bound [m, rad] on |model - exact FK| over deviations within the laws' supports: the
-            order-1 truncation bound (the smaller of it and :func:`~tribokin.propagation.poe.first_order_bounds`),
-            in angle times |I - ĉ / 2| plus :func:`~tribokin.propagation.poe.
-            composition_bound` of the deviation and the mean deviation: the model's angles are
-            c + (I - ĉ / 2) J_ω (dq - E[dq]).
+        bound: (k, 2) its bound [m, rad] on |model - exact FK| over deviations within the laws' supports, the model's
+            angles c + (I - c̃^ / 2) J_ω (dq - E[dq]): the smaller of the order-1 truncation bound and
+            :func:`~tribokin.propagation.poe.first_order_bounds`; in angle that times |I - c̃^ / 2|, plus
+            :func:`~tribokin.propagation.poe.composition_bound` of the deviation and the mean deviation and
+            |x| |c - c̃| / 2 (:func:`~tribokin.propagation.poe.rotation_bounds`).
     """
 
     mean_dq: np.ndarray
