@@ -132,9 +132,11 @@ def _series_tail(coefficients: np.ndarray, closed_form, radius: float, s, start,
     s = np.asarray(s, dtype=float)
     terms = np.arange(_TERMS)
     kept = terms[:, None] >= np.atleast_1d(start)  # (_TERMS, starts)
-    if horner:
+    if horner:  # the terms past where s^m (the coefficients grow at most about 1.5^m) falls 40 decades are dropped
         clipped, small = np.minimum(s, radius), np.zeros(s.shape)
-        for coefficient in coefficients[start:][::-1]:
+        largest = 1.5 * float(np.max(clipped, initial=0.0))
+        stop = _TERMS if largest >= 0.1 else min(_TERMS, start + 1 + math.ceil(40 / -math.log10(max(largest, 1e-300))))
+        for coefficient in coefficients[start:stop][::-1]:
             small = small * clipped + coefficient
         small = (small * clipped ** start)[..., None]
     else:
@@ -231,10 +233,10 @@ def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = Non
     return bound
 
 
-def _cross_norms(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """(k, n, m) |a_i × b_j| of (k, n, 3) and (k, m, 3) vectors, from |a|²|b|² - (a·b)², with 3e-8 |a||b| added:
-    the square root of that difference's rounding, so never below the exact value."""
-    lengths = np.sqrt(np.sum(a * a, axis=-1))[:, :, None] * np.sqrt(np.sum(b * b, axis=-1))[:, None, :]
+def _cross_norms(a: np.ndarray, b: np.ndarray, a_lengths: np.ndarray, b_lengths: np.ndarray) -> np.ndarray:
+    """(k, n, m) |a_i × b_j| of (k, n, 3) and (k, m, 3) vectors of lengths (k, n) and (k, m), from |a|²|b|² - (a·b)²,
+    with 3e-8 |a||b| added: the square root of that difference's rounding, so never below the exact value."""
+    lengths = a_lengths[:, :, None] * b_lengths[:, None, :]
     return np.sqrt(np.maximum(lengths ** 2 - (a @ np.swapaxes(b, 1, 2)) ** 2, 0.0)) + 3e-8 * lengths
 
 
@@ -248,13 +250,15 @@ def first_order_bounds(twists: np.ndarray, departure: np.ndarray) -> tuple[np.nd
     (``[ω̂_i, ω̂_j]`` is ``(ω_i × ω_j)^``). Each is bounded term by term; the parts from degree 3 on by the tails of
     the module's majorants after order 2 (``inf`` past ln 2 in angle)."""
     linear, rates = np.swapaxes(twists[:, :3], 1, 2), np.swapaxes(twists[:, 3:], 1, 2)  # (k, nv, 3) each
+    speeds, turns = (np.sqrt(np.einsum("kni,kni->kn", v, v)) for v in (linear, rates))  # |v_i|, |ω_i|
     later = np.triu(np.ones((twists.shape[-1],) * 2), 1)  # i < j
-    moved = _cross_norms(rates, linear) * (later + 0.5 * np.eye(len(later)))  # |ω_i × v_j|, halved on the diagonal
-    turned = _cross_norms(rates, rates) * (0.5 * later)
-    position, angle = (np.einsum("ki,kij,kj->k", departure, weights, departure) for weights in (moved, turned))
-    norms = _batch_norms(twists, departure[:, None, :])
-    rest = np.minimum(_exp_tail(norms.full, 3, True), norms.linear * _exp_tail(norms.angular, 2, True))
-    return position + rest, angle + _log_tail(norms.angular, 3, True)
+    moved = _cross_norms(rates, linear, turns, speeds) * (later + 0.5 * np.eye(len(later)))  # |ω_i × v_j|, i <= j
+    turned = _cross_norms(rates, rates, turns, turns) * (0.5 * later)
+    position, angle = (np.sum((departure[:, None, :] @ weights)[:, 0] * departure, axis=1)
+                       for weights in (moved, turned))
+    full, speed, turn = (np.sum(norm * departure, axis=1) for norm in (np.hypot(speeds, turns), speeds, turns))
+    rest = np.minimum(_exp_tail(full, 3, True), speed * _exp_tail(turn, 2, True))
+    return position + rest, angle + _log_tail(turn, 3, True)
 
 
 def rotation_bounds(weighted_rad) -> tuple[np.ndarray, np.ndarray]:
