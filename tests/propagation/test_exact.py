@@ -261,13 +261,17 @@ def test_deviations_too_large_for_any_series_are_bounded_by_infinity_not_nan(rob
     assert engine_bound(robot, np.zeros(robot.model.nv), np.full((2, robot.model.nv), 1e200)).engine == "exact"
 
 
+@pytest.mark.parametrize("kernels", ["numpy", "compiled"])
 @pytest.mark.parametrize("name", ["ur5", "panda"])
-def test_the_first_order_bounds_hold_against_exact_fk_and_are_tighter_than_the_majorants(robots, name):
-    """At 20 random configurations, deviations at every corner of a box of ±2e-4 rad per joint (and random points in
-    it): |first order - exact FK| within :func:`first_order_bounds` in position and rotation vector, and those bounds
-    within the order-1 truncation bound, several times below it on both robots' parallel or offset axes."""
-    from tribokin.propagation.poe import first_order_bounds, truncation_bound
+def test_the_first_order_bounds_hold_against_exact_fk_and_are_tighter_than_the_majorants(robots, name, kernels,
+                                                                                        monkeypatch):
+    """On both kernel paths, at 20 random configurations, deviations at every corner of a box of ±2e-4 rad per joint
+    (and random points in it): |first order - exact FK| within :func:`first_order_model_bounds` in position and
+    rotation vector, and those within the order-1 truncation bound, several times below it on both robots' parallel
+    or offset axes."""
+    from tribokin.propagation.poe import first_order_model_bounds, truncation_bound
 
+    monkeypatch.setenv("TRIBOKIN_KERNELS", kernels)
     robot, rng = robots[name], np.random.default_rng(12)
     nv = robot.model.nv
     corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * nv)).reshape(nv, -1).T
@@ -277,7 +281,8 @@ def test_the_first_order_bounds_hold_against_exact_fk_and_are_tighter_than_the_m
         deltas = np.vstack([corners, rng.uniform(-1, 1, (64, nv))]) * departure
         twists = tool_twists(robot, q)
         positions, angles = tool_deviations_exact(robot, q, deltas)
-        position_bound, angle_bound = (value[0] for value in first_order_bounds(twists[None], departure[None]))
+        position_bound, angle_bound, _ = (value[0] for value in first_order_model_bounds(
+            twists[None], departure[None], np.zeros((1, nv))))
         linear = robot.tool_placement(q).translation + deltas @ twists[:3].T
         assert np.linalg.norm(positions - linear, axis=1).max() <= position_bound
         assert np.linalg.norm(angles - deltas @ twists[3:].T, axis=1).max() <= angle_bound + 1e-18

@@ -5,7 +5,8 @@ The joint deviations of a cycle are dq = offset + s ⊙ (L ⊙ μ + backlash / 2
 joint_errors`; L the lost motion per unit of the law's draw μ). About q″ = q + E[dq] the tool deviates by
 J(q″) (dq - E[dq]) to first order (:func:`linear_model`); its error for every deviation within each law's support
 (a Gaussian's mean ± ``TAIL_STDS`` standard deviations) is bounded by b [m], β [rad]
-(:func:`~tribokin.propagation.poe.first_order_bounds`, or the fast engine's order-1 truncation bound if smaller).
+(:func:`~tribokin.propagation.poe.first_order_model_bounds`, or the fast engine's order-1 truncation bound if
+smaller).
 The mean deviation itself goes through exact forward kinematics.
 
 Figure-level error (:func:`figure_errors`): if every sample's position moves by at most b, a test's barycentre moves by
@@ -61,7 +62,7 @@ from tribokin.iso9283.metrics import orientation_repeatability, position_repeata
 from tribokin.kinematics.se3_log import skew
 from tribokin.maps.schema import map_figures
 from tribokin.propagation.exact import engine_orders, tool_deviations_at_poses, tool_frames
-from tribokin.propagation.poe import composition_bound, first_order_bounds, rotation_bounds, truncation_bound
+from tribokin.propagation.poe import first_order_model_bounds, truncation_bound
 from tribokin.simulation.joint_errors import TAIL_STDS, JointErrorModel, approach_signs, friction_lever, friction_loads
 from tribokin.simulation.pose_test import PoseRunner
 from tribokin.streams import expected_stream
@@ -147,9 +148,8 @@ class LinearModel:
         deviation_variance: (k, nv) var(dq) [m² or rad²].
         bound: (k, 2) its bound [m, rad] on |model - exact FK| over deviations within the laws' supports, the model's
             angles c + (I - c̃^ / 2) J_ω (dq - E[dq]): the smaller of the order-1 truncation bound and
-            :func:`~tribokin.propagation.poe.first_order_bounds`; in angle that times |I - c̃^ / 2|, plus
-            :func:`~tribokin.propagation.poe.composition_bound` of the deviation and the mean deviation and
-            |x| |c - c̃| / 2 (:func:`~tribokin.propagation.poe.rotation_bounds`).
+            :func:`~tribokin.propagation.poe.first_order_model_bounds`; in angle that times |I - c̃^ / 2|, plus
+            the composition's terms (the same function's third value).
     """
 
     mean_dq: np.ndarray
@@ -198,16 +198,12 @@ def linear_model(robot, moments: JointMoments, qs: np.ndarray, lever: np.ndarray
     departure = ((1 + np.abs(signs)) * (lost + lever * moments.departure) if mixed
                  else np.abs(signs) * lever * moments.departure) + TAIL_STDS * moments.noise_std
     bound = truncation_bound(twists, departure[:, None, :], order=1)
-    position, truncation = (np.minimum(a, b) for a, b in zip((bound.position_m, bound.angle_rad),
-                                                             first_order_bounds(twists, departure), strict=True))
-    rates = np.linalg.norm(twists[:, 3:], axis=1)  # (k, nv) |ω_i| at q″
-    spread, mean = np.sum(rates * departure, axis=1), np.sum(rates * np.abs(mean_dq), axis=1)
-    turn = np.einsum("kin,kn->ki", twists[:, 3:], mean_dq)  # c to first order: R(q″) R(q)ᵀ = Π exp(ω̂_i(q″) E[dq_i])
+    position, truncation, composition = first_order_model_bounds(twists, departure, mean_dq)
+    turn = np.einsum("kin,kn->ki", twists[:, 3:], mean_dq)  # c̃: R(q″) R(q)ᵀ = Π exp(ω̂_i(q″) E[dq_i]) to first order
     jacobian = twists.copy()
-    jacobian[:, 3:] = (np.eye(3) - skew(turn) / 2) @ twists[:, 3:]  # x + x × c / 2 = (I - ĉ / 2) x
-    size, miss = rotation_bounds(np.stack([spread, mean]))  # |x|, |c| and |x - J_ω δ|, |c - c̃|
-    angle = (np.sqrt(1 + np.sum(turn ** 2, axis=1) / 4) * truncation + composition_bound(spread, mean)
-             + size[0] * miss[1] / 2)  # |(c - c̃) × x| / 2: c̃ in place of c
+    jacobian[:, 3:] = (np.eye(3) - skew(turn) / 2) @ twists[:, 3:]  # x + x × c̃ / 2 = (I - c̃^ / 2) x
+    angle = np.sqrt(1 + np.sum(turn ** 2, axis=1) / 4) * np.minimum(bound.angle_rad, truncation) + composition
+    position = np.minimum(bound.position_m, position)
     return LinearModel(mean_dq, positions, jacobian, lever, variance,
                        np.column_stack([position, angle]).reshape(len(qs), 2))
 

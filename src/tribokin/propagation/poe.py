@@ -233,39 +233,47 @@ def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = Non
     return bound
 
 
-def _cross_norms(a: np.ndarray, b: np.ndarray, a_lengths: np.ndarray, b_lengths: np.ndarray) -> np.ndarray:
-    """(k, n, m) |a_i × b_j| of (k, n, 3) and (k, m, 3) vectors of lengths (k, n) and (k, m), from |a|²|b|² - (a·b)²,
-    with 3e-8 |a||b| added: the square root of that difference's rounding, so never below the exact value."""
-    lengths = a_lengths[:, :, None] * b_lengths[:, None, :]
-    return np.sqrt(np.maximum(lengths ** 2 - (a @ np.swapaxes(b, 1, 2)) ** 2, 0.0)) + 3e-8 * lengths
+def _cross_norms(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(k, n, m) |a_i × b_j| of (k, n, 3) and (k, m, 3) vectors."""
+    a, b = a[:, :, None, :], b[:, None, :, :]
+    x = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
+    y = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
+    z = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+    return np.sqrt(x * x + y * y + z * z)
 
 
-def first_order_bounds(twists: np.ndarray, departure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(k,) bounds [m], [rad] on the position's and the rotation vector's errors after order 1 over deviations
-    |dq_i| <= ``departure`` (k, nv), of (k, 6, nv) twists: tighter than :func:`truncation_bound`'s order 1, whose
-    degree-2 terms count every pair of joints at its largest, where axes are (nearly) parallel or pass near the tool.
+def first_order_model_bounds(twists: np.ndarray, departure: np.ndarray, mean_dq: np.ndarray
+                             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(k,) bounds of the first-order model about q″ = q + E[dq] with (k, 6, nv) twists at q″, over deviations from
+    E[dq] within ``departure`` (k, nv), E[dq] = ``mean_dq`` (k, nv): on the position's [m] and the rotation vector's
+    [rad] errors after order 1 (tighter than :func:`truncation_bound`'s order 1, whose degree-2 terms count every pair
+    of joints at its largest, where axes are (nearly) parallel or pass near the tool), and the angle's further terms
+    [rad] when the rotation x of a deviation is composed with c, that from q's orientation to q″'s, as
+    c + x + x × c̃ / 2, c̃ = Σ ω_i E[dq_i]: :func:`composition_bound` and |x| |c - c̃| / 2. Compiled where
+    :func:`~tribokin.compiled.use_compiled`.
 
     The product's degree-2 part is exact: Σ_i X_i² dq_i² / 2 + Σ_{i<j} X_i X_j dq_i dq_j, which moves the tool origin
     by Σ_i (ω_i × v_i) dq_i² / 2 + Σ_{i<j} (ω_i × v_j) dq_i dq_j; its logarithm's, ½ Σ_{i<j} (ω_i × ω_j) dq_i dq_j
     (``[ω̂_i, ω̂_j]`` is ``(ω_i × ω_j)^``). Each is bounded term by term; the parts from degree 3 on by the tails of
     the module's majorants after order 2 (``inf`` past ln 2 in angle)."""
+    if use_compiled():
+        from tribokin.propagation import poe_kernels
+
+        return poe_kernels.first_order_model_bounds(*(np.ascontiguousarray(a, dtype=float) for a in (
+            twists, departure, mean_dq)), _EXP_COEFFICIENTS, _LOG_COEFFICIENTS, _EXP_RADIUS, _LOG_RADIUS)
     linear, rates = np.swapaxes(twists[:, :3], 1, 2), np.swapaxes(twists[:, 3:], 1, 2)  # (k, nv, 3) each
     speeds, turns = (np.sqrt(np.einsum("kni,kni->kn", v, v)) for v in (linear, rates))  # |v_i|, |ω_i|
     later = np.triu(np.ones((twists.shape[-1],) * 2), 1)  # i < j
-    moved = _cross_norms(rates, linear, turns, speeds) * (later + 0.5 * np.eye(len(later)))  # |ω_i × v_j|, i <= j
-    turned = _cross_norms(rates, rates, turns, turns) * (0.5 * later)
+    moved = _cross_norms(rates, linear) * (later + 0.5 * np.eye(len(later)))  # |ω_i × v_j|, i <= j
+    turned = _cross_norms(rates, rates) * (0.5 * later)
     position, angle = (np.sum((departure[:, None, :] @ weights)[:, 0] * departure, axis=1)
                        for weights in (moved, turned))
     full, speed, turn = (np.sum(norm * departure, axis=1) for norm in (np.hypot(speeds, turns), speeds, turns))
+    mean = np.sum(turns * np.abs(mean_dq), axis=1)
     rest = np.minimum(_exp_tail(full, 3, True), speed * _exp_tail(turn, 2, True))
-    return position + rest, angle + _log_tail(turn, 3, True)
-
-
-def rotation_bounds(weighted_rad) -> tuple[np.ndarray, np.ndarray]:
-    """Bounds [rad] on the rotation vector r = log(Π exp(ω̂_i dq_i)) of a product of joint rotations whose weighted sum
-    Σ |ω_i| |dq_i| is at most ``weighted_rad`` (element-wise): on |r|, and on |r - Σ ω_i dq_i| (the majorant
-    -log(2 - e^w) from degree 1, and from degree 2; ``inf`` past ln 2)."""
-    return _log_tail(weighted_rad, 1, True), _log_tail(weighted_rad, 2, True)
+    size, miss = _log_tail(turn, 1, True), _log_tail(mean, 2, True)  # |x|, |c - c̃|
+    return (position + rest, angle + _log_tail(turn, 3, True),
+            composition_bound(turn, mean) + size * miss / 2)
 
 
 def composition_bound(first_rad, second_rad) -> np.ndarray:

@@ -82,3 +82,60 @@ def _tails(coefficients, radius, logarithm, s, first, terms, out):
             out[m - first] = math.inf if math.isinf(head) else closed - head  # s^m overflows too
         head += coefficients[m] * power
         power *= s
+
+
+@kernel
+def first_order_model_bounds(twists, departure, mean_dq, exp_coefficients, log_coefficients, exp_radius, log_radius):
+    """``poe.first_order_model_bounds`` target by target: (k,) each, the position's [m] and the rotation vector's [rad]
+    bounds after order 1 over deviations within ``departure`` (k, nv) about (k, 6, nv) twists, and the angle's terms
+    of composing with the mean deviation ``mean_dq`` (k, nv)'s rotation."""
+    count, joints = departure.shape
+    position, angle, extra = np.empty(count), np.empty(count), np.empty(count)
+    speeds, turns = np.empty(joints), np.empty(joints)
+    terms, out = np.empty(exp_coefficients.shape[0]), np.empty(1)
+    ln2 = math.log(2.0)
+    for k in range(count):
+        full, speed_sum, turn_sum, mean_sum = 0.0, 0.0, 0.0, 0.0
+        for i in range(joints):
+            speeds[i] = math.sqrt(twists[k, 0, i] ** 2 + twists[k, 1, i] ** 2 + twists[k, 2, i] ** 2)
+            turns[i] = math.sqrt(twists[k, 3, i] ** 2 + twists[k, 4, i] ** 2 + twists[k, 5, i] ** 2)
+            full += math.hypot(speeds[i], turns[i]) * departure[k, i]
+            speed_sum += speeds[i] * departure[k, i]
+            turn_sum += turns[i] * departure[k, i]
+            mean_sum += turns[i] * abs(mean_dq[k, i])
+        moved, turned = 0.0, 0.0
+        for i in range(joints):
+            wx, wy, wz = twists[k, 3, i], twists[k, 4, i], twists[k, 5, i]
+            for j in range(i, joints):
+                vx, vy, vz = twists[k, 0, j], twists[k, 1, j], twists[k, 2, j]
+                size = math.sqrt((wy * vz - wz * vy) ** 2 + (wz * vx - wx * vz) ** 2 + (wx * vy - wy * vx) ** 2)
+                moved += (0.5 if i == j else 1.0) * size * departure[k, i] * departure[k, j]
+                if j > i:
+                    ux, uy, uz = twists[k, 3, j], twists[k, 4, j], twists[k, 5, j]
+                    size = math.sqrt((wy * uz - wz * uy) ** 2 + (wz * ux - wx * uz) ** 2 + (wx * uy - wy * ux) ** 2)
+                    turned += 0.5 * size * departure[k, i] * departure[k, j]
+        _tails(exp_coefficients, exp_radius, False, full, 3, terms, out)
+        rest = out[0]
+        _tails(exp_coefficients, exp_radius, False, turn_sum, 2, terms, out)
+        position[k] = moved + min(rest, speed_sum * out[0])
+        angle[k] = turned + _log_tail(log_coefficients, log_radius, turn_sum, 3, terms, out)
+        u = _log_tail(log_coefficients, log_radius, turn_sum, 1, terms, out)
+        v = _log_tail(log_coefficients, log_radius, mean_sum, 1, terms, out)
+        miss = _log_tail(log_coefficients, log_radius, mean_sum, 2, terms, out)
+        if u + v >= ln2:
+            extra[k] = math.inf
+        else:
+            mixed = (_log_tail(log_coefficients, log_radius, u + v, 3, terms, out)
+                     - _log_tail(log_coefficients, log_radius, u, 3, terms, out)
+                     - _log_tail(log_coefficients, log_radius, v, 3, terms, out))
+            extra[k] = max(mixed, 0.0) + u * miss / 2
+    return position, angle, extra
+
+
+@kernel
+def _log_tail(coefficients, radius, w, first, terms, out):
+    """Σ_{m >= first} of the series of -log(2 - e^w) (``inf`` from w = ln 2 on), through :func:`_tails`."""
+    if w >= math.log(2.0):
+        return math.inf
+    _tails(coefficients, radius, True, w, first, terms, out)
+    return out[0]
