@@ -20,9 +20,20 @@ default ``map.statistic = "expected"``) with only ``map.resolution`` and ``study
   found another configuration, and elsewhere the largest differences);
 * ``fk_loop``: a single-core loop of Pinocchio frame forward kinematics per sample (``pin.forwardKinematics`` and
   ``pin.updateFramePlacement`` at UR5 configurations), its time per sample, and the command's rate over it: the
-  loop's time for reachable targets × cycles samples over the command's wall time: the best run over the best loop,
-  and (``paired``) each 2-worker run over the loop timed right after it, whose median the goal (100× on 2 workers)
-  is judged on, since a shared machine's speed drifts in the minutes between the loop and the runs;
+  loop's time for reachable targets × cycles × the test's approach series (1, or 2 for ``bidirectional`` and
+  ``random``: ``series``) samples over the command's wall time: the best run over the best loop, and (``paired``)
+  each 2-worker run over the loop timed right after it, whose median the goal (100× on 2 workers) is judged on, since
+  a shared machine's speed drifts in the minutes between the loop and the runs;
+* ``directional``: the plane (``--directional-side``, the big plane's by default) on 2 workers with
+  ``map.directional = false``, then ``true``, in turn (``--directional-repeats``), the FK loop timed after each run:
+  the map's ratio to the loop with the directional figures on (``on_over_loop``, the goal of 100×) and off (each
+  the median of the runs over their own loops; vAP_p's and RP_l_multi's series are not counted in the loop's
+  equivalent), and what the directional figures cost (``cost_ratio``: each run with them over the run without them
+  just before it); ``profile``: where a directional map's time goes, from cProfile of one in-process run on 1 worker
+  of a ``--profile-side`` plane: the expected figures, RP_l_multi's sampled cycles over random sign patterns (their
+  random numbers, the cycles through the first-order model, RP_l from the cycles' moments, fast-engine fallbacks),
+  vAP_p (its close pairs, whose barycentres are drawn, and the rest), the rest of the expected figures and of the
+  command;
 * ``one_test``: the same command with ``map.statistic = "one-test"`` (one simulated test per target: the engine
   before expected maps) on a ``--one-test-side`` plane (a 600 × 600 one would take minutes), beside the expected
   map on the same plane; its time per reachable target scaled to the big plane's reachable targets (``scaled``) for
@@ -50,6 +61,9 @@ compiled again by every command (about 0.06 s of its serial start).
 
 Timings are wall clock on whatever machine runs this, which may be shared (``machine.load_average`` before and after
 the run says how busy it was): read them as orders of magnitude, and compare ratios measured in the same run.
+``machine.cpu`` names the processor (its model, and the vector extensions /proc/cpuinfo lists on Linux or ``sysctl``
+on macOS), the SIMD extensions NumPy was built for and dispatches to there, and the CPU and vector features numba
+compiles the kernels for: the FK loop and the kernels gain from them differently (AVX-512 against AVX2 only).
 """
 
 from __future__ import annotations
@@ -62,6 +76,7 @@ import importlib
 import json
 import os
 import platform
+import re
 import shutil
 import statistics
 import subprocess
@@ -69,6 +84,7 @@ import sys
 import tempfile
 import threading
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 START = time.perf_counter()
@@ -79,14 +95,18 @@ STUDY = ROOT / "studies" / "ur5-map-horizontal.toml"
 #: Goals of the issue: the command on 2 workers over the FK loop, a 10^6-target map's computation and command [s],
 #: and the memory growth per target from 10^6 to 2·10^6 targets [B].
 GOAL_FK_RATIO, GOAL_MILLION_COMPUTED_S, GOAL_MILLION_COMMAND_S, GOAL_GROWTH_B = 100, 10.0, 20.0, 1.0
+#: The approach series of a map target's test under each ``study.approach``: what the FK loop's equivalent counts
+#: (reachable targets x cycles x series; vAP_p's and RP_l_multi's series are not counted).
+APPROACH_SERIES = {"unidirectional": 1, "bidirectional": 2, "random": 2}
 #: Runs of each command on the big plane, the best kept (as the FK loop's best of 3): one run moves by 10-20 % with
 #: whatever else the machine does.
 PLANE_REPEATS = 3
 
 
-def study_text(side_u: int, side_v: int, cycles: int, statistic: str = "expected") -> str:
+def study_text(side_u: int, side_v: int, cycles: int, statistic: str = "expected",
+               directional: bool | None = None) -> str:
     """The shipped study's text with ``map.resolution = [side_u, side_v]``, ``study.cycles`` and, unless
-    ``"expected"`` (the default), ``map.statistic``."""
+    ``"expected"`` (the default), ``map.statistic``; ``map.directional`` set unless ``None`` (the study's own)."""
     import tomlkit
 
     study = tomlkit.parse(STUDY.read_text())
@@ -94,12 +114,16 @@ def study_text(side_u: int, side_v: int, cycles: int, statistic: str = "expected
     study["map"]["resolution"] = [side_u, side_v]
     if statistic != "expected":
         study["map"]["statistic"] = statistic
+    if directional is not None:
+        study["map"]["directional"] = directional
     return tomlkit.dumps(study)
 
 
-def write_study(folder: Path, side_u: int, side_v: int, cycles: int, statistic: str = "expected") -> Path:
-    path = folder / f"map-{side_u}x{side_v}-{cycles}-{statistic}.toml"
-    path.write_text(study_text(side_u, side_v, cycles, statistic))
+def write_study(folder: Path, side_u: int, side_v: int, cycles: int, statistic: str = "expected",
+                directional: bool | None = None) -> Path:
+    kind = "" if directional is None else "-directional" if directional else "-plain"
+    path = folder / f"map-{side_u}x{side_v}-{cycles}-{statistic}{kind}.toml"
+    path.write_text(study_text(side_u, side_v, cycles, statistic, directional))
     return path
 
 
@@ -149,8 +173,9 @@ def command(study: Path, out: Path, workers: int = 1, kernels: str = "compiled",
     summary = json.loads((out / "summary.json").read_text())
     assert summary["reproduce"]["kernels"].startswith(kernels), summary["reproduce"]["kernels"]
     return {"workers": workers, "kernels": kernels, "seconds": min(runs), "runs_s": runs,
-            "targets": summary["map"]["count"], "reachable": summary["map"]["reachable"]} | (
-        {"loop_s": loops} if loops else {})
+            "targets": summary["map"]["count"], "reachable": summary["map"]["reachable"],
+            "directional": summary["map"].get("directional", False),
+            "series": APPROACH_SERIES[summary["study"]["approach"]]} | ({"loop_s": loops} if loops else {})
 
 
 def compile_times(study: Path, folder: Path) -> dict:
@@ -172,14 +197,40 @@ def paired_ratios(run: dict, cycles: int) -> dict:
     """Each run of ``run`` (:func:`command` with ``loop_samples``) over the FK loop timed right after it, and their
     median: unlike the best run over the best loop, timed minutes apart, this ratio does not move with the speed of
     a shared machine between the two."""
-    ratios = [run["reachable"] * cycles * loop / seconds
+    ratios = [run["reachable"] * cycles * run["series"] * loop / seconds
               for seconds, loop in zip(run["runs_s"], run["loop_s"], strict=True)]
-    return {"how": "each 2-worker run's loop-equivalent time (reachable targets x cycles x the loop's time per sample, "
-                   "the loop timed right after that run, best of 3) over its wall time; the goal is judged on the "
-                   "median",
+    return {"how": "each 2-worker run's loop-equivalent time (reachable targets x cycles x the test's approach "
+                   "series x the loop's time per sample, the loop timed right after that run, best of 3) over its "
+                   "wall time; the goal is judged on the median",
             "runs": [{"command_s": seconds, "loop_s_per_sample": loop, "ratio": ratio}
                      for seconds, loop, ratio in zip(run["runs_s"], run["loop_s"], ratios, strict=True)],
             "median_ratio": float(statistics.median(ratios))}
+
+
+def directional_cost(folder: Path, side: int, cycles: int, repeats: int, loop_samples: int) -> dict:
+    """The ``side`` x ``side`` plane on 2 workers with ``map.directional = true`` and ``false``, in turn ``repeats``
+    times (each run followed by the FK loop: :func:`command` with ``loop_samples``): the map's ratio to the FK loop
+    with the directional figures on and off (each run over its own loop, the median), and what they cost (each
+    run with them over the run without them just before it, the median)."""
+    runs = {True: [], False: []}
+    studies = {on: write_study(folder, side, side, cycles, directional=on) for on in runs}
+    for _ in range(repeats):
+        for on in (False, True):
+            runs[on].append(command(studies[on], folder / f"directional-{on}", workers=2, loop_samples=loop_samples))
+    merged = {on: {**done[0], "seconds": min(r["seconds"] for r in done),
+                   "runs_s": [r["runs_s"][0] for r in done], "loop_s": [r["loop_s"][0] for r in done]}
+              for on, done in runs.items()}
+    for run in merged.values():
+        run["paired"] = paired_ratios(run, cycles)
+    costs = [on / off for on, off in zip(merged[True]["runs_s"], merged[False]["runs_s"], strict=True)]
+    return {"how": "the plane on 2 workers with map.directional = false, then true, in turn; the FK loop timed right "
+                   "after each run; its equivalent: reachable targets x cycles x the test's approach series (vAP_p's "
+                   "and RP_l_multi's series not counted)",
+            "resolution": [side, side], "cycles": cycles, "series": merged[True]["series"],
+            "on": merged[True], "off": merged[False],
+            "on_over_loop": merged[True]["paired"]["median_ratio"],
+            "off_over_loop": merged[False]["paired"]["median_ratio"],
+            "cost_ratio": {"runs": costs, "median": float(statistics.median(costs))}}
 
 
 def rates(run: dict, cycles: int) -> dict:
@@ -209,6 +260,51 @@ def fk_loop_seconds_per_sample(samples: int, repeats: int = 3) -> float:
             out[j] = pin.updateFramePlacement(model, data, frame).translation
         best = min(best, (time.perf_counter() - start) / samples)
     return best
+
+
+# --- the machine's processor -----------------------------------------------------------------------------------
+
+#: The flags of /proc/cpuinfo (x86: ``flags``; ARM: ``Features``) that name vector extensions: SSE to AVX-512 and
+#: AMX, FMA and F16C on x86 (``pni`` is SSE3), NEON (``asimd``) and SVE on ARM, VSX / AltiVec on POWER.
+VECTOR_FLAG = re.compile(r"^(sse|ssse3|pni|avx|fma|f16c|amx|asimd|sve|neon|vsx|altivec)")
+
+
+def cpu() -> dict:
+    """The processor the benchmark ran on: its model and vector extensions as the operating system reports them
+    (/proc/cpuinfo on Linux, ``sysctl`` on macOS; elsewhere ``platform.processor()`` and no flags), NumPy's view
+    (``numpy.show_config(mode="dicts")``: the SIMD baseline it was built for and the extensions it dispatches to
+    here) and numba's (the host CPU llvmlite compiles the kernels for, and the vector features it enables)."""
+    model, flags = platform.processor() or None, None
+    if sys.platform.startswith("linux") and Path("/proc/cpuinfo").is_file():
+        fields = {}
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            key, _, value = line.partition(":")
+            fields.setdefault(key.strip(), value.strip())
+        model = fields.get("model name") or fields.get("Hardware") or fields.get("cpu") or model
+        flags = (fields.get("flags") or fields.get("Features") or "").split()
+    elif sys.platform == "darwin":
+        def sysctl(name):
+            done = subprocess.run(["sysctl", "-n", name], capture_output=True, text=True)
+            return done.stdout.strip() if done.returncode == 0 else ""
+        model = sysctl("machdep.cpu.brand_string") or model
+        flags = " ".join(sysctl(f"machdep.cpu.{name}") for name in ("features", "leaf7_features")).lower().split()
+    import numpy as np
+
+    try:
+        numpy_simd = np.show_config(mode="dicts").get("SIMD Extensions")
+    except TypeError:  # NumPy before 1.26 prints only
+        numpy_simd = None
+    try:
+        import llvmlite.binding as llvm
+
+        features = llvm.get_host_cpu_features()
+        numba = {"cpu": llvm.get_host_cpu_name(),
+                 "vector_features": sorted(name for name, on in features.items() if on and VECTOR_FLAG.match(name))}
+    except (ImportError, RuntimeError):
+        numba = None
+    return {"model": model, "cores": os.cpu_count(),
+            "vector_extensions": None if flags is None else sorted({flag for flag in flags if VECTOR_FLAG.match(flag)}),
+            "numpy_simd": numpy_simd, "numba_host": numba}
 
 
 # --- stages: one in-process run of the command, timed by hooks --------------------------------------------------
@@ -304,6 +400,88 @@ def stages(study: Path, out: Path) -> dict:
     seconds = dict(sorted(timed["seconds"].items(), key=lambda item: -item[1]))
     return {"targets": targets, "process_seconds": timed["process_seconds"], "cpu_seconds": timed["cpu_seconds"],
             "seconds": seconds, "us_per_target": {name: s / targets * 1e6 for name, s in seconds.items()}}
+
+
+# --- where a directional map spends its time: cProfile of one in-process run ---------------------------------------
+
+def profiled(stats, function: str, caller: str | None = None) -> float:
+    """Cumulative seconds in ``function`` of maps/expected_figures.py (a name, or a built-in method's whose name
+    holds it), in all or (``caller``, a function of that module) from that caller only, from ``pstats`` ``stats``."""
+    def ours(key, name):
+        return key[0].replace(os.sep, "/").endswith("maps/expected_figures.py") and key[2] == name
+    total = 0.0
+    for key, (_, _, _, cumulative, callers) in stats.stats.items():
+        if not (ours(key, function) or (key[0] == "~" and function in key[2])):
+            continue
+        if caller is None:
+            total += cumulative
+        else:
+            total += sum(entry[3] for who, entry in callers.items() if ours(who, caller))
+    return total
+
+
+def vap_close_pairs(stats) -> float | None:
+    """Seconds in ``_vap``'s close pairs (its barycentres over ``VAP_DRAWS`` draws): the comprehensions of that block,
+    and the draws and roots it makes; ``None`` where the comprehensions run inline (Python 3.12 on, PEP 709)."""
+    if sys.version_info >= (3, 12):
+        return None
+    import inspect
+
+    from tribokin.maps import expected_figures
+
+    lines, first = inspect.getsourcelines(expected_figures._vap)
+    start = first + next(i for i, line in enumerate(lines) if "if len(close):" in line)
+    end = first + next(i for i, line in enumerate(lines) if line.strip().startswith("bounds ="))
+    inside = sum(cumulative for key, (_, _, _, cumulative, _) in stats.stats.items()
+                 if key[0].replace(os.sep, "/").endswith("maps/expected_figures.py") and start < key[1] < end)
+    return inside + sum(profiled(stats, name, "_vap") for name in ("standard_normal", "ascontiguousarray"))
+
+
+def profile_child(study: str, out: str) -> None:
+    """In a child process: ``tribokin run study --out out --report light --workers 1`` in this process under
+    cProfile; print where its directional figures' time went as one JSON line (seconds)."""
+    import cProfile
+    import pstats
+
+    from tribokin.cli import main
+
+    profiler = cProfile.Profile()
+    start = time.perf_counter()
+    profiler.enable()
+    status = main(["run", study, "--out", out, "--report", "light", "--workers", "1"])
+    profiler.disable()
+    seconds = time.perf_counter() - start
+    assert status == 0, status
+    stats = pstats.Stats(profiler)
+    multi = {"cycles sampled (sampled_tests)": profiled(stats, "sampled_tests", "_multi"),
+             "random numbers (common_numbers)": profiled(stats, "common_numbers", "_multi"),
+             "RP_l from the cycles (cycle_moments)": profiled(stats, "repeatability", "_multi"),
+             "fast-engine fallbacks (engine_tests)": profiled(stats, "engine_tests", "_multi"),
+             "first-order model (linear_model)": profiled(stats, "linear_model", "_multi")}
+    multi["other"] = profiled(stats, "_multi") - sum(multi.values())
+    vap_total, close = profiled(stats, "_vap"), vap_close_pairs(stats)
+    vap = {"close pairs (draws)": close, "other": None if close is None else vap_total - close}
+    expected = profiled(stats, "expected_targets")
+    print(json.dumps({"command_s": seconds, "expected_figures_s": expected,
+                      "RP_l_multi_s": profiled(stats, "_multi"), "RP_l_multi": multi,
+                      "vAP_p_s": vap_total, "vAP_p": vap,
+                      "rest_of_expected_figures_s": expected - profiled(stats, "_multi") - vap_total,
+                      "rest_of_command_s": seconds - expected}))
+
+
+def profile(study: Path, out: Path) -> dict:
+    """Where a directional map's time goes (:func:`profile_child`), with shares of the whole command."""
+    shutil.rmtree(out, ignore_errors=True)
+    timed = child("--profile-child", study, out)
+    summary = json.loads((out / "summary.json").read_text())["map"]
+    shares = {name: timed[name] / timed["command_s"] for name in
+              ("expected_figures_s", "RP_l_multi_s", "vAP_p_s", "rest_of_expected_figures_s", "rest_of_command_s")}
+    return {"how": "cProfile of tribokin run --workers 1 --report light in one process (the views drawn by their own "
+                   "process, waited for in the rest of the command); cumulative seconds of maps/expected_figures.py's "
+                   "functions, RP_l_multi's and vAP_p's parts by caller",
+            "resolution": summary["shape"][1:], "cycles": summary["cycles"], "targets": summary["count"],
+            "reachable": summary["reachable"], "directional": summary["directional"], **timed,
+            "shares_of_command": shares}
 
 
 # --- a 10^6-target map's computation on 2 workers ----------------------------------------------------------------
@@ -416,17 +594,33 @@ def path_agreement(compiled: Path, numpy_path: Path, row_length: int) -> dict:
             "largest_relative_figure_difference": figure_max, "dominant_joint_differs": dominant_differs}
 
 
-def benchmark(side: int, cycles: int, one_test_side: int, million_side: int, memory_sides: list[tuple[int, int]],
-              fk_samples: int, quick: bool) -> dict:
+@dataclass(frozen=True)
+class Sizes:
+    """The maps of one run: sides of the big plane, the one-test plane, the 10^6-target plane, the directional runs'
+    plane (their repeats) and the profiled plane; cycles; the memory runs' planes; the FK loop's samples."""
+
+    side: int
+    cycles: int
+    one_test_side: int
+    million_side: int
+    memory_sides: list[tuple[int, int]]
+    fk_samples: int
+    directional_side: int
+    directional_repeats: int
+    profile_side: int
+
+
+def benchmark(sizes: Sizes, quick: bool) -> dict:
     folder = Path(tempfile.mkdtemp(prefix="tribokin-bench-"))
     try:
-        return measure(folder, side, cycles, one_test_side, million_side, memory_sides, fk_samples, quick)
+        return measure(folder, sizes, quick)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
 
 
-def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_side: int,
-            memory_sides: list[tuple[int, int]], fk_samples: int, quick: bool) -> dict:
+def measure(folder: Path, sizes: Sizes, quick: bool) -> dict:
+    side, cycles, one_test_side, million_side = sizes.side, sizes.cycles, sizes.one_test_side, sizes.million_side
+    memory_sides, fk_samples = sizes.memory_sides, sizes.fk_samples
     load_before = os.getloadavg()
     tiny = write_study(folder, 3, 3, cycles)
     command(tiny, folder / "warm-up", kernels="numpy")  # the files read once, into the page cache
@@ -457,12 +651,16 @@ def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_si
     million_numpy = command(million_study, folder / "million-numpy", workers=2, kernels="numpy")
     kernels.update({"numpy_million_command_s": million_numpy["seconds"],
                     "compiled_over_numpy_million": million_numpy["seconds"] / million_command["seconds"]})
+    directional = directional_cost(folder, sizes.directional_side, cycles, sizes.directional_repeats, fk_samples)
+    directional["profile"] = profile(write_study(folder, sizes.profile_side, sizes.profile_side, cycles,
+                                                 directional=True), folder / "profile")
     memory = [child("--memory-child", write_study(folder, u, v, cycles)) for u, v in memory_sides]
     growth = ((memory[-1]["peak_rss_growth_MiB"] - memory[-2]["peak_rss_growth_MiB"]) * 2**20
               / (memory[-1]["targets"] - memory[-2]["targets"]))
 
     results = {
         "machine": {"python": platform.python_version(), "cpus": os.cpu_count(), "platform": platform.platform(),
+                    "cpu": cpu(),
                     "OPENBLAS_NUM_THREADS": os.environ.get("OPENBLAS_NUM_THREADS"),
                     "load_average": {"before": load_before[0], "after": os.getloadavg()[0]}},
         "quick": quick,
@@ -473,9 +671,9 @@ def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_si
                     "identical_map_csv": identical},
         "kernels": kernels,
         "fk_loop": {"seconds_per_sample": loop_s, "samples_per_s": loop_rate,
-                    "equivalent_seconds": two["reachable"] * cycles * loop_s,
-                    "one_worker_over_loop": serial["target_cycles_per_s"] / loop_rate,
-                    "two_workers_over_loop": two["target_cycles_per_s"] / loop_rate,
+                    "series": two["series"], "equivalent_seconds": two["reachable"] * cycles * two["series"] * loop_s,
+                    "one_worker_over_loop": serial["target_cycles_per_s"] * serial["series"] / loop_rate,
+                    "two_workers_over_loop": two["target_cycles_per_s"] * two["series"] / loop_rate,
                     "paired": paired_ratios(two, cycles)},
         "one_test": {"resolution": [one_test_side, one_test_side], "workers": 2, "run": one_test,
                      "expected_same_plane": expected_small,
@@ -485,6 +683,7 @@ def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_si
                                        f"would take minutes)",
                                 "one_test_seconds": one_test_scaled_s,
                                 "one_test_over_expected": one_test_scaled_s / two["seconds"]}},
+        "directional": directional,
         "stages": stage_run,
         "million": {"resolution": [million_side, million_side], "cycles": cycles, "workers": 2,
                     "targets": million_command["targets"], "reachable": million_command["reachable"],
@@ -495,6 +694,7 @@ def measure(folder: Path, side: int, cycles: int, one_test_side: int, million_si
     million_measured = million_command["targets"] >= 10**6
     results["goals"] = {
         "100x_fk_loop_two_workers": results["fk_loop"]["paired"]["median_ratio"] >= GOAL_FK_RATIO,
+        "100x_fk_loop_two_workers_directional": directional["on_over_loop"] >= GOAL_FK_RATIO,
         "million_computed_under_10_s": million_computed["seconds"] < GOAL_MILLION_COMPUTED_S if million_measured
         else None,
         "million_command_under_20_s": million_command["seconds"] < GOAL_MILLION_COMMAND_S if million_measured else None,
@@ -512,13 +712,22 @@ def main() -> None:
     parser.add_argument("--cycles", type=int, default=1000, help="cycles per target (default 1000)")
     parser.add_argument("--one-test-side", type=int, default=200,
                         help="targets per side of the one-test map's plane (default 200)")
+    parser.add_argument("--directional-side", type=int,
+                        help="targets per side of the plane run with and without directional figures (default "
+                             "--side)")
+    parser.add_argument("--directional-repeats", type=int, default=2,
+                        help="runs with and without directional figures, in turn (default 2)")
+    parser.add_argument("--profile-side", type=int, default=150,
+                        help="targets per side of the directional map profiled (default 150)")
     parser.add_argument("--quick", action="store_true",
                         help="a small run (120 x 120, one-test 60 x 60, 10^5 targets for the million, memory at "
-                             "10^4, 4·10^4 and 8·10^4 targets); printed, written only with --results")
+                             "10^4, 4·10^4 and 8·10^4 targets, directional 60 x 60 once, profiled 40 x 40); printed, "
+                             "written only with --results")
     parser.add_argument("--results", type=Path, help=f"where to write the JSON (default {RESULTS.relative_to(ROOT)})")
     parser.add_argument("--memory-child", help=argparse.SUPPRESS)
     parser.add_argument("--stages-child", nargs=2, help=argparse.SUPPRESS)
     parser.add_argument("--computed-child", nargs=2, help=argparse.SUPPRESS)
+    parser.add_argument("--profile-child", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.memory_child:
         return memory_child(args.memory_child)
@@ -526,15 +735,18 @@ def main() -> None:
         return stages_child(*args.stages_child)
     if args.computed_child:
         return computed_child(args.computed_child[0], int(args.computed_child[1]))
+    if args.profile_child:
+        return profile_child(*args.profile_child)
 
     compileall.compile_dir(ROOT / "src", quiet=1)  # as installing tribokin does: see the module's last paragraph
     os.environ[NUMBA_CACHE_VARIABLE] = tempfile.mkdtemp(prefix="tribokin-bench-numba-")
     try:
         if args.quick:
-            results = benchmark(120, args.cycles, 60, 316, [(100, 100), (200, 200), (200, 400)], 20_000, quick=True)
+            sizes = Sizes(120, args.cycles, 60, 316, [(100, 100), (200, 200), (200, 400)], 20_000, 60, 1, 40)
         else:
-            results = benchmark(args.side, args.cycles, args.one_test_side, 1000,
-                                [(100, 100), (1000, 1000), (1000, 2000)], 200_000, quick=False)
+            sizes = Sizes(args.side, args.cycles, args.one_test_side, 1000, [(100, 100), (1000, 1000), (1000, 2000)],
+                          200_000, args.directional_side or args.side, args.directional_repeats, args.profile_side)
+        results = benchmark(sizes, quick=args.quick)
     finally:
         shutil.rmtree(numba_cache(), ignore_errors=True)
     results["benchmark_seconds"] = time.perf_counter() - START
