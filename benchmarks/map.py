@@ -29,7 +29,8 @@ default ``map.statistic = "expected"``) with only ``map.resolution`` and ``study
   the map's ratio to the loop with the directional figures on (``on_over_loop``, the goal of 100×) and off (each
   the median of the runs over their own loops; vAP_p's and RP_l_multi's series are not counted in the loop's
   equivalent), and what the directional figures cost (``cost_ratio``: each run with them over the run without them
-  just before it); ``profile``: where a directional map's time goes, from cProfile of one in-process run on 1 worker
+  just before it, in wall time; ``cpu_cost_ratio``: in processor time, which a shared machine's load moves less);
+  ``profile``: where a directional map's time goes, from cProfile of one in-process run on 1 worker
   of a ``--profile-side`` plane: the expected figures, RP_l_multi's sampled cycles over random sign patterns (their
   random numbers, the cycles through the first-order model, RP_l from the cycles' moments, fast-engine fallbacks),
   vAP_p (its close pairs, whose barycentres are drawn, and the rest), the rest of the expected figures and of the
@@ -153,26 +154,41 @@ def child(*arguments) -> dict:
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
+def children_cpu_seconds() -> float | None:
+    """User and system time [s] of this process's finished children (and theirs, where they waited for them), or
+    ``None`` without the ``resource`` module (Windows)."""
+    try:
+        import resource
+    except ImportError:
+        return None
+    used = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return used.ru_utime + used.ru_stime
+
+
 def command(study: Path, out: Path, workers: int = 1, kernels: str = "compiled", repeats: int = 1,
             loop_samples: int | None = None) -> dict:
     """Wall time of ``tribokin run study --out out --report light --workers N`` in a child process (``kernels``: the
     kernels' path, ``TRIBOKIN_KERNELS``): the best of ``repeats`` runs (``runs_s``: each run's), and the map's targets
     and reachable targets (its summary.json). With ``loop_samples``, the FK loop is timed right after each run
     (:func:`fk_loop_seconds_per_sample`, ``loop_s``: each run's), so that each run has a loop time taken while the
-    machine ran at the same speed."""
-    runs, loops = [], []
+    machine ran at the same speed. ``cpu_s``: each run's processor time (user and system, its workers' and views'
+    processes included; where ``resource`` exists), which moves less than the wall time with a shared machine's
+    load."""
+    runs, loops, cpu = [], [], []
     for _ in range(repeats):
         shutil.rmtree(out, ignore_errors=True)
+        used = children_cpu_seconds()
         start = time.perf_counter()
         subprocess.run([sys.executable, "-m", "tribokin", "run", str(study), "--out", str(out), "--report", "light",
                         "--workers", str(workers)], check=True, env=child_env(kernels), stdout=subprocess.DEVNULL,
                        stderr=subprocess.DEVNULL)
         runs.append(time.perf_counter() - start)
+        cpu.append(None if used is None else children_cpu_seconds() - used)
         if loop_samples is not None:
             loops.append(fk_loop_seconds_per_sample(loop_samples))
     summary = json.loads((out / "summary.json").read_text())
     assert summary["reproduce"]["kernels"].startswith(kernels), summary["reproduce"]["kernels"]
-    return {"workers": workers, "kernels": kernels, "seconds": min(runs), "runs_s": runs,
+    return {"workers": workers, "kernels": kernels, "seconds": min(runs), "runs_s": runs, "cpu_s": cpu,
             "targets": summary["map"]["count"], "reachable": summary["map"]["reachable"],
             "directional": summary["map"].get("directional", False),
             "series": APPROACH_SERIES[summary["study"]["approach"]]} | ({"loop_s": loops} if loops else {})
@@ -218,11 +234,13 @@ def directional_cost(folder: Path, side: int, cycles: int, repeats: int, loop_sa
         for on in (False, True):
             runs[on].append(command(studies[on], folder / f"directional-{on}", workers=2, loop_samples=loop_samples))
     merged = {on: {**done[0], "seconds": min(r["seconds"] for r in done),
-                   "runs_s": [r["runs_s"][0] for r in done], "loop_s": [r["loop_s"][0] for r in done]}
+                   **{key: [r[key][0] for r in done] for key in ("runs_s", "cpu_s", "loop_s")}}
               for on, done in runs.items()}
     for run in merged.values():
         run["paired"] = paired_ratios(run, cycles)
     costs = [on / off for on, off in zip(merged[True]["runs_s"], merged[False]["runs_s"], strict=True)]
+    cpu_costs = [on / off for on, off in zip(merged[True]["cpu_s"], merged[False]["cpu_s"], strict=True)
+                 if on is not None]
     return {"how": "the plane on 2 workers with map.directional = false, then true, in turn; the FK loop timed right "
                    "after each run; its equivalent: reachable targets x cycles x the test's approach series (vAP_p's "
                    "and RP_l_multi's series not counted)",
@@ -230,7 +248,8 @@ def directional_cost(folder: Path, side: int, cycles: int, repeats: int, loop_sa
             "on": merged[True], "off": merged[False],
             "on_over_loop": merged[True]["paired"]["median_ratio"],
             "off_over_loop": merged[False]["paired"]["median_ratio"],
-            "cost_ratio": {"runs": costs, "median": float(statistics.median(costs))}}
+            "cost_ratio": {"runs": costs, "median": float(statistics.median(costs))},
+            "cpu_cost_ratio": {"runs": cpu_costs, "median": float(statistics.median(cpu_costs)) if cpu_costs else None}}
 
 
 def rates(run: dict, cycles: int) -> dict:
