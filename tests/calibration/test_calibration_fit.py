@@ -117,10 +117,11 @@ def test_a_fit_is_held_within_the_model_ranges_and_says_so_at_their_ends():
 
 
 def test_profile_interval_ends_are_where_the_profile_deviance_reaches_the_chi2_quantile():
-    """At each end, the other parameters re-fitted by another optimiser give 2·(log L̂ - log L) = χ²₁(0.95)."""
+    """At each end, the other parameters re-fitted by another optimiser give 2·(log L̂ - log L) = χ²₁(0.95): a
+    weakly and a well determined stiffness, and the least determined identifiable backlash."""
     poses = simulate(arm_kinematics(), np.random.default_rng(1))
     calibration = fit(arm_model(), poses)
-    for estimate in calibration.parameters:
-        for end in profile_interval(calibration, poses, estimate.name) if estimate.identifiable else ():
-            deviance = profile_deviance(calibration, stack(poses), estimate.name, end)
-            assert deviance == pytest.approx(chi2.ppf(0.95, 1), abs=2e-3), (estimate.name, end)
+    for name in ("joints.j1.stiffness", "joints.j5.stiffness", "joints.j2.backlash"):
+        for end in profile_interval(calibration, poses, name):
+            deviance = profile_deviance(calibration, stack(poses), name, end)
+            assert deviance == pytest.approx(chi2.ppf(0.95, 1), abs=2e-3), (name, end)
