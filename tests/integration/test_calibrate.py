@@ -374,7 +374,7 @@ def gantry_measurements(path, backlash_m: float = 0.0, noise_m: float = 1e-6) ->
 def test_every_layout_of_joints_calibrates_and_the_calibrated_study_runs(layout, tmp_path):
     gantry_measurements(tmp_path / "data.csv")
     done = tribokin("calibrate", gantry_study(tmp_path, layout), "--measurements", tmp_path / "data.csv", "--out",
-                    tmp_path / "fit", "--report", "none")
+                    tmp_path / "fit", "--report", "none", "--registration", "best-fit")  # registered, as before auto
     assert done.returncode == 0, done.stderr
     text = (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8")
     found = parameters(tmp_path / "fit")
@@ -413,7 +413,8 @@ def test_fitted_values_run_would_refuse_are_one_line_naming_the_fit_and_nothing_
                         lambda *args: [WrittenValue("x", "stiffness", 1.0, "forced by the test")])
     gantry_measurements(tmp_path / "data.csv")
     status = main(["calibrate", str(gantry_study(tmp_path, "joint-tables-out-of-order")), "--measurements",
-                   str(tmp_path / "data.csv"), "--out", str(tmp_path / "fit"), "--report", "none"])
+                   str(tmp_path / "data.csv"), "--out", str(tmp_path / "fit"), "--report", "none", "--registration",
+                   "best-fit"])
     error = capsys.readouterr().err
     assert status == 2 and len(error.strip().splitlines()) == 1, error
     assert error.startswith(f"tribokin: error: {tmp_path / 'data.csv'}: calibration: the fitted values make a study "
