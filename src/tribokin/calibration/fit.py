@@ -546,17 +546,16 @@ def profile_interval(calibration: Calibration, poses: list[PoseData] | tuple[Pos
 
     variance = calibration.covariance[i, i]
     wald = Z95 * float(np.sqrt(variance)) if np.isfinite(variance) and variance > 0 else np.inf
-    ends = []
-    for edge in calibration.bounds[i]:
-        inner, step = calibration.theta[i], wald
+    def end_towards(edge: float) -> float | None:
+        theta = calibration.theta[i]
+        inner, step, reach = theta, wald, abs(edge - theta)
         while True:
-            outer = calibration.theta[i] + np.sign(edge - calibration.theta[i]) * step
-            outer = edge if (outer - edge) * np.sign(edge - calibration.theta[i]) >= 0 else float(outer)
+            outer = edge if step >= reach else theta + np.sign(edge - theta) * step
             if excess(outer) > 0:
-                ends.append(float(np.exp(brentq(signed_root, inner, outer, xtol=1e-6))))
-                break
+                return float(np.exp(brentq(signed_root, inner, outer, xtol=1e-6)))
             if outer == edge:
-                ends.append(None)
-                break
+                return None
             inner, step = outer, 2.0 * step
-    return ends[0], ends[1]
+
+    low, high = calibration.bounds[i]
+    return end_towards(low), end_towards(high)

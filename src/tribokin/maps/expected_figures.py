@@ -387,17 +387,18 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
         figures[:, columns[name]] = value
     out = {"figures": figures, "figure_errors": errors, "method": np.where(served & closed_form, ANALYTIC, SAMPLED),
            "fallbacks": (~served).astype(int), "band_error": band_error}
-    parts = {"test": used}
+    engines = {"test": used}  # the engine of each model: the test's, and vAP_p's and RP_l_multi's by their figure
     if setup.figure_set == "directional":
-        for name, (value, part, fallbacks) in {"vAP_p_um": _vap(runner, moments, qs, lever, twists, n),
-                                               "RP_l_multi_um": _multi(runner, setup, qs, lever)}.items():
+        for name, (value, engine, fallbacks) in {"vAP_p_um": _vap(runner, moments, qs, lever, twists, n),
+                                                 "RP_l_multi_um": _multi(runner, setup, qs, lever)}.items():
             figures[:, columns[name]] = value
             out["fallbacks"] += fallbacks
-            parts[name] = part
+            engines[name] = engine
+    bounded = {model_name: figure_errors(engine.bound, n) for model_name, engine in engines.items()}
     for name, column in columns.items():
         if name != "dominant_share":
-            errors[:, column] = figure_errors(parts.get(name, used).bound, n)[name]
-    combined = EngineUsed.combined(list(parts.values()))
+            errors[:, column] = bounded.get(name, bounded["test"])[name]
+    combined = EngineUsed.combined(list(engines.values()))
     out["engine"], out["engine_bound"] = combined.engine, combined.bound
     parts = model.deviation_variance * np.sum(model.jacobian[:, :3] ** 2, axis=1)
     total = parts.sum(axis=1)
