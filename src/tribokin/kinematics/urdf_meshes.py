@@ -82,7 +82,9 @@ def confine_meshes(urdf: ET.Element, urdf_path: Path, package_dirs: list[Path],
 
     Args:
         urdf: the root element of the URDF at ``urdf_path``.
+        urdf_path: the URDF file (named in errors).
         package_dirs: the folders Pinocchio searches, in order.
+        allowed_dirs: the folders meshes may lie in (default: ``package_dirs``).
         required: every mesh must be a file; else one that is missing is returned (and left to Pinocchio, which
             reads nothing there).
 

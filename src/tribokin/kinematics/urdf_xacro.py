@@ -242,7 +242,7 @@ def expand_xacro(path, xacro_args: dict[str, str] | None = None, package_dirs=()
 
     Args:
         path: the ``.xacro`` file (symlinks followed; includes resolve from its real folder).
-        xacro_args: values of the xacro's ``<xacro:arg>``\\ s by name; each must be one the xacro declares or reads.
+        xacro_args: the xacro's ``<xacro:arg>`` values by name; each must be one the xacro declares or reads.
         package_dirs: folders that ``$(find pkg)`` resolves against (each holding package folders), and with the
             xacro's folder the only folders xacro may read files from.
         limits: when the expansion is stopped (:class:`~tribokin.kinematics.xacro_guard.XacroLimits`).

@@ -280,6 +280,8 @@ def fill_from_neighbours(robot: Robot, grid: TargetGrid, read,
     the outcome depends on the grid only (not on how rows were split into chunks).
 
     Args:
+        robot: the robot whose IK solves the retries.
+        grid: the map's targets.
         read: ``read(column, index)`` of the rows' results: ``"reachable"`` (N,) flags and ``"q"``
             (N, nv) configurations [m or rad] (e.g. :meth:`~tribokin.maps.store.ChunkStore.read`).
         solved: the IK of some ``(target, neighbour)`` tries from a neighbour reached along the rows, solved

@@ -31,7 +31,8 @@ def placed_study_text(study_text: str, source_dir: Path, out: Path, header: list
         source_dir: the folder its relative paths resolve against.
         out: the folder ``best.toml`` is written to.
         header: comment lines (without ``#``) put first.
-        base_xyz_m: the base's position in the world [m]. base_rpy_deg: its roll, pitch, yaw [deg].
+        base_xyz_m: the base's position in the world [m].
+        base_rpy_deg: its roll, pitch, yaw [deg].
     """
     document = moved_study_document(study_text, source_dir, out)
     document.pop("placement", None)

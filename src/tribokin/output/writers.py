@@ -86,7 +86,7 @@ def float_lines(values: np.ndarray) -> list[bytes]:
 
 
 def header_line(names) -> bytes:
-    """The CSV header line (UTF-8, ``\\r\\n``-terminated) of columns ``names``, as ``csv.writer`` writes it."""
+    r"""The CSV header line (UTF-8, ``\r\n``-terminated) of columns ``names``, as ``csv.writer`` writes it."""
     text = io.StringIO(newline="")
     csv.writer(text).writerow(names)
     return text.getvalue().encode()
@@ -108,7 +108,7 @@ def column_cells(values: np.ndarray) -> list[bytes]:
 
 
 def table_lines(columns: dict[str, np.ndarray], rows: int = 4096) -> Iterator[bytes]:
-    """The CSV lines (UTF-8, ``\\r\\n``-terminated, as ``csv.writer``) of equally long ``columns``, ``rows`` lines at
+    r"""The CSV lines (UTF-8, ``\r\n``-terminated, as ``csv.writer``) of equally long ``columns``, ``rows`` lines at
     a time: consecutive float columns together (:func:`float_lines`), the others a column at a time
     (:func:`column_cells`)."""
     runs = [(floating, list(run)) for floating, run in groupby(columns.values(), key=lambda v: v.dtype.kind == "f")]

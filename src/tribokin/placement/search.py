@@ -87,7 +87,8 @@ def run_placement(study: Study, executor: Executor | None = None, checkpoint=Non
     Args:
         study: a checked study with ``placement`` and ``map``.
         executor: where candidates run (:func:`~tribokin.execution.executor_for`; ``None``: here).
-        checkpoint, resume: the folder of finished candidates, and whether to reuse an interrupted run's.
+        checkpoint: the folder of finished candidates.
+        resume: whether to reuse an interrupted run's.
         progress: called ``progress(done_targets, total_targets)``, the task's targets times the candidates done and
             in all, before the candidates run and as each finishes.
     """

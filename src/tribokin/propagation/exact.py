@@ -79,9 +79,11 @@ def engine_orders(twists: np.ndarray, dq: np.ndarray, engine: str = "fast", lowe
     """The engine :func:`tool_deviations_at_poses` uses at each pose, and its bound over every sample of the pose.
 
     Args:
-        twists: (poses, 6, nv) the poses' joint twists; dq: (poses, n, nv) deviations [m or rad].
+        twists: (poses, 6, nv) the poses' joint twists.
+        dq: (poses, n, nv) deviations [m or rad].
         engine: ``"fast"``: the lowest truncation order from ``lowest_order`` on whose bound is within
             ``DEFAULT_TOLERANCE``, else exact FK; ``"exact"``: exact FK.
+        lowest_order: the lowest truncation order ``"fast"`` may choose.
 
     Returns:
         (poses,) arrays: the order (0: exact FK) and its bounds [m, rad] on |engine - exact| (0 for exact FK).
@@ -100,8 +102,12 @@ def tool_deviations_at_poses(robot: Robot, qs: np.ndarray, dq: np.ndarray, engin
     """:func:`tool_deviations` at several poses at once; each pose's values depend on its own inputs only.
 
     Args:
-        qs: (poses, nv) commanded configurations; dq: (poses, n, nv) deviations [m or rad].
-        twists, translations: the poses' :func:`tool_frames`.
+        robot: the robot.
+        qs: (poses, nv) commanded configurations.
+        dq: (poses, n, nv) deviations [m or rad].
+        engine: ``"fast"`` or ``"exact"`` (:func:`engine_orders`).
+        twists: the poses' joint twists (:func:`tool_frames`).
+        translations: the poses' tool positions (:func:`tool_frames`).
         used: the engine of each pose (:func:`engine_orders`), when already chosen.
 
     Returns:

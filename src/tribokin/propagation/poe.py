@@ -217,6 +217,7 @@ def truncation_bound(twists: np.ndarray, dq: np.ndarray, order: int | None = Non
             bounds meet both tolerances, or ``MAX_ORDER`` when none does (check the returned bound).
         tolerance_m: tolerated position error [m].
         tolerance_rad: tolerated orientation error [rad].
+        lowest_order: the lowest order chosen by default.
     """
     if order is not None and not 1 <= order <= MAX_ORDER:
         raise ValueError(f"order must be 1 to {MAX_ORDER}, got {order}")

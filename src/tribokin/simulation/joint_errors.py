@@ -175,7 +175,11 @@ def check_travel(models: list[JointErrorModel], prismatic: np.ndarray, forces_N:
     """Refuse a joint whose deviation could exceed its range ``travel`` [m or rad], with the figures.
 
     Args:
+        models: the joints' error models (nv,).
+        prismatic: (nv,) which joints are prismatic.
         forces_N: (..., nv) bearing loads [N] the joints will carry.
+        travel: (nv,) each joint's range [m or rad].
+        names: the joints' names, for the error.
 
     Raises:
         JointRangeError: naming the first such joint and its largest part (a key of ``DEVIATION_PARTS``).

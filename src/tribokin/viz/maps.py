@@ -176,9 +176,13 @@ def grid_image(grid: TargetGrid, values, label: str, title: str, cmap="viridis",
     :func:`shown_targets` picks.
 
     Args:
+        grid: the map's targets.
         values: ``values(indices)`` of the targets ``indices`` (an integer array of any shape).
         label: colour-bar label with its unit, e.g. ``"RP_l [µm]"``.
+        title: the figure's title.
+        cmap: the colour map.
         norm: colour scale (default: the shown finite values' range, centred on ``centre`` when they straddle it).
+        centre: the value a default colour scale is centred on.
         categories: names of the integer values -1, 0, 1, ... (a categorical colour bar).
         marks: targets drawn in colours of their own, named in a legend (:class:`Marks`).
         grey: what the grey targets (no value, not marked) are, for the title.

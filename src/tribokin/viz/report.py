@@ -372,7 +372,8 @@ def write_report(result: StudyResult, robot: Robot, folder, figures: list[str] =
         robot: the robot the study ran.
         folder: the output folder.
         figures: its PNG figures to embed, in this order (those that exist).
-        map_layers: RP_l maps by scenario. cube: the ISO 9283 test cube.
+        map_layers: RP_l maps by scenario.
+        cube: the ISO 9283 test cube.
         variant: ``"full"`` (visual meshes) or ``"light"`` (collision meshes).
     """
     folder = Path(folder)

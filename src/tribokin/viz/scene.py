@@ -365,7 +365,8 @@ def build_scene(vis, robot: Robot, q, poses, map_layers: dict[str, MapLayer] | N
 
     Args:
         vis: a ``meshcat.Visualizer`` (live, or static: :func:`tribokin.viz.static.static_visualizer`).
-        robot: the robot; q: its configuration [m or rad] for the drawing.
+        robot: the robot.
+        q: its configuration [m or rad] for the drawing.
         poses: objects with ``name``, ``positions_m`` (n, 3) [m]
             (e.g. :class:`~tribokin.simulation.pose_result.PoseResult`).
         map_layers: map figures (RP_l by scenario, directional figures) by label, each toggled on its own in the GUI,
