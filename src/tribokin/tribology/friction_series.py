@@ -7,8 +7,9 @@ law's marginal exactly; r is solved so that corr(F⁻¹(Φ(z₁)), F⁻¹(Φ(z�
 For a Gaussian law with mean >= 6σ the map is linear to 1e-9 (its truncation at 0 holds 1e-9 of the mass), so the
 series is a Gaussian AR(1) and r = ``ar1``. For an empirical law the quantile function is a step function (each
 measured value drawn with probability 1/n exactly): the values keep their frequencies, and the correlation, solved
-exactly for steps, is reached by a path that dwells on a value while z stays within its step; few distinct values
-mean a lag-one correlation nearer 1 needs a latent one nearer still (two values: ``ar1`` = (2/π)·arcsin r).
+exactly for steps (as many Hermite terms as the latent correlation needs), is reached by a path that dwells on a
+value while z stays within its step; few distinct values mean a lag-one correlation nearer 1 needs a latent one
+nearer still (two values: ``ar1`` = (2/π)·arcsin r).
 
 On the steady state: ``steady_mean_std``, a per-test Gaussian offset of its mean (the test-to-test spread of a
 tribometer campaign's steady means); ``run_in``, the mean approached from ``start``,
@@ -37,8 +38,9 @@ GAUSSIAN_UNTRUNCATED_SIGMAS = 6.0
 #: Gauss-Hermite nodes and Hermite terms of a continuous law's copula correlation (its coefficients fall fast).
 _NODES, _CONTINUOUS_TERMS = 240, 160
 #: Hermite terms of an empirical law's copula correlation (its coefficients fall as k^(-3/4); the rest is summed as
-#: the tail the series must have, see :func:`_step_correlation`).
-_STEP_TERMS = 4000
+#: the tail the series must have, see :func:`_step_correlation`): at first, and at most (a latent correlation r
+#: needs about 25/(1 − r) terms for r^terms < 1e-9).
+_STEP_TERMS, _MAX_STEP_TERMS = 4000, 100_000
 
 
 @dataclass(frozen=True)
@@ -155,19 +157,19 @@ def _step_coefficients(law: Empirical, terms: int) -> np.ndarray:
     return rows / np.sqrt(np.arange(1, terms))
 
 
-def copula_correlation(law: FrictionLaw):
+def copula_correlation(law: FrictionLaw, terms: int = _STEP_TERMS):
     """μ's lag-one correlation as a function of the latent one, corr(g(Z₁), g(Z₂)) for (Z₁, Z₂) standard normals
     of correlation r, g = F⁻¹∘Φ; r in [−1, 1], vectorised. ``None`` for a law of zero width.
 
     Continuous laws: Σₖ rᵏ c_k² / Σₖ c_k² (Mehler), coefficients by Gauss-Hermite quadrature. Empirical laws: the
-    step function's exact coefficients up to ``_STEP_TERMS``, the rest of the variance (known exactly) spread over
+    step function's exact coefficients up to ``terms``, the rest of the variance (known exactly) spread over
     the higher terms as their k^(−3/2) decay, their sum weighted by rᵏ; at r = −1, the exact correlation of the
-    sorted values with their reverse."""
+    sorted values with their reverse; ``terms`` of them."""
     law = _base(law)
     if law.std() == 0:
         return None
     if isinstance(law, Empirical):
-        return _step_correlation(law)
+        return _step_correlation(law, terms)
     squares = _continuous_coefficients(law) ** 2
     variance, powers = squares.sum(), np.arange(1, squares.size + 1)
 
@@ -177,20 +179,20 @@ def copula_correlation(law: FrictionLaw):
     return correlation
 
 
-def _step_correlation(law: Empirical):
-    squares = _step_coefficients(law, _STEP_TERMS) ** 2
+def _step_correlation(law: Empirical, terms: int):
+    squares = _step_coefficients(law, terms) ** 2
     variance = float(law.values.var())
     rest = max(variance - squares.sum(), 0.0)
     powers = np.arange(1, squares.size + 1)
     ordered = np.sort(law.values)
     lowest = float(np.mean((ordered - ordered.mean()) * (ordered[::-1] - ordered.mean())) / variance)
-    tail_total = float(special.zeta(1.5, _STEP_TERMS))
+    tail_total = float(special.zeta(1.5, terms))
 
     def tail(r: float) -> float:
         if abs(r) < 1e-300:
             return 0.0
         count = int(min(max(60.0 / max(1.0 - abs(r), 1e-12), 10.0), 2e6))
-        k = _STEP_TERMS + np.arange(count, dtype=float)
+        k = terms + np.arange(count, dtype=float)
         return float(np.sum(np.sign(r) ** k * np.exp(k * math.log(abs(r)) - 1.5 * np.log(k)))) / tail_total
 
     def correlation(r):
@@ -219,12 +221,21 @@ def latent_correlation(law: FrictionLaw, ar1: float) -> float:
         raise LawError(f"a law of zero width ({base!r}) has no spread to correlate: remove ar1", "ar1")
     if isinstance(base, Gaussian) and base.params["mean"] >= GAUSSIAN_UNTRUNCATED_SIGMAS * base.params["std"]:
         return float(ar1)
-    correlation = copula_correlation(base)
+    terms = _STEP_TERMS
+    while True:
+        r = _solved(copula_correlation(base, terms), ar1, base.law)
+        if not isinstance(base, Empirical) or abs(r) ** terms < 1e-9 or terms >= _MAX_STEP_TERMS:
+            return r
+        terms = min(math.ceil(25 / (1 - abs(r))), _MAX_STEP_TERMS)  # a step law's terms until r^terms is negligible
+
+
+def _solved(correlation, ar1: float, law: str) -> float:
+    """The r in [−1, 1] where ``correlation(r)`` = ``ar1``, or a :class:`LawError` when ``ar1`` lies below its
+    value at −1."""
     lowest = float(correlation(-1.0))
     if ar1 <= lowest:
-        raise LawError(f"{ar1:g} is below {lowest:.4g}, the most negative lag-one correlation a {base.law} law of "
-                       "these parameters can have (its values reversed through the copula): use a larger ar1",
-                       "ar1")
+        raise LawError(f"{ar1:g} is below {lowest:.4g}, the most negative lag-one correlation a {law} law of these "
+                       "parameters can have (its values reversed through the copula): use a larger ar1", "ar1")
     return float(brentq(lambda r: float(correlation(r)) - ar1, -1.0, 1.0, xtol=1e-13, rtol=1e-13))
 
 
