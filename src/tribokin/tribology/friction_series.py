@@ -19,6 +19,7 @@ the joint's temperature (:mod:`~tribokin.tribology.thermal`). Values are never b
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -137,11 +138,18 @@ def _hermite_rows(x: np.ndarray, terms: int):
         previous, current = current, (x * current - math.sqrt(k) * previous) / math.sqrt(k + 1)
 
 
+@functools.cache
+def _gauss_hermite() -> tuple[np.ndarray, np.ndarray]:
+    """``_NODES`` Gauss-Hermite nodes and weights of the standard normal density (the weights sum to 1)."""
+    nodes, weights = np.polynomial.hermite_e.hermegauss(_NODES)
+    return nodes, weights / math.sqrt(2 * math.pi)
+
+
 def _continuous_coefficients(law: FrictionLaw) -> np.ndarray:
     """c_k = E[g(Z)·h_k(Z)], k >= 1, g = F⁻¹∘Φ, by Gauss-Hermite quadrature: cov(g(Z₁), g(Z₂)) = Σ r^k c_k²
     (Mehler's expansion of the bivariate normal density)."""
-    nodes, weights = np.polynomial.hermite_e.hermegauss(_NODES)
-    weighted = weights / math.sqrt(2 * math.pi) * normal_quantile(law, nodes)
+    nodes, weights = _gauss_hermite()
+    weighted = weights * normal_quantile(law, nodes)
     return np.array([weighted @ h for h in _hermite_rows(nodes, _CONTINUOUS_TERMS)])[1:]
 
 
