@@ -14,7 +14,8 @@ nearer still (two values: ``ar1`` = (2/π)·arcsin r).
 On the steady state: ``steady_mean_std``, a per-test Gaussian offset of its mean (the test-to-test spread of a
 tribometer campaign's steady means); ``run_in``, the mean approached from ``start``,
 μ∞ + (start − μ∞)·exp(−cycle/τ), cycle counted from ``age_cycles`` at a test's first cycle; ``thermal``, a factor of
-the joint's temperature (:mod:`~tribokin.tribology.thermal`). Values are never below 0.
+the joint's temperature (:mod:`~tribokin.tribology.thermal`). Values are never below 0. SciPy is imported where a
+function needs it: a study without time keys imports none of it (``tests/test_package.py``).
 """
 
 from __future__ import annotations
@@ -24,8 +25,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import special
-from scipy.optimize import brentq
 
 from tribokin.errors import LawError
 from tribokin.tribology.laws import Empirical, FrictionLaw, Gaussian, Lognormal, Scaled, Uniform
@@ -107,6 +106,8 @@ def normal_quantile(law: FrictionLaw, z: np.ndarray) -> np.ndarray:
 
     Closed forms, stable in both tails, for the registered laws; the law's scipy ``ppf`` for any other. An
     empirical law's values each take 1/n of the probability (the step function of its sorted values)."""
+    from scipy import special
+
     z = np.asarray(z, dtype=float)
     if isinstance(law, Scaled):
         return law.scale * normal_quantile(law.inner, z)
@@ -156,6 +157,8 @@ def _continuous_coefficients(law: FrictionLaw) -> np.ndarray:
 def _step_coefficients(law: Empirical, terms: int) -> np.ndarray:
     """c_k, k >= 1, of an empirical law's step function g = Σ d_j·1{z > t_j} (+ its least value): jumps d_j between
     consecutive sorted values at t_j = Φ⁻¹(j/n); E[1{Z > t}·h_k(Z)] = φ(t)·h_{k−1}(t)/√k, exactly."""
+    from scipy import special
+
     ordered = np.sort(law.values)
     jumps = np.diff(ordered)
     at = np.flatnonzero(jumps > 0)
@@ -188,6 +191,8 @@ def copula_correlation(law: FrictionLaw, terms: int = _STEP_TERMS):
 
 
 def _step_correlation(law: Empirical, terms: int):
+    from scipy import special
+
     squares = _step_coefficients(law, terms) ** 2
     variance = float(law.values.var())
     rest = max(variance - squares.sum(), 0.0)
@@ -240,6 +245,8 @@ def latent_correlation(law: FrictionLaw, ar1: float) -> float:
 def _solved(correlation, ar1: float, law: str) -> float:
     """The r in [−1, 1] where ``correlation(r)`` = ``ar1``, or a :class:`LawError` when ``ar1`` lies below its
     value at −1."""
+    from scipy.optimize import brentq
+
     lowest = float(correlation(-1.0))
     if ar1 <= lowest:
         raise LawError(f"{ar1:g} is below {lowest:.4g}, the most negative lag-one correlation a {law} law of these "
