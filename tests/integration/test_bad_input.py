@@ -493,6 +493,8 @@ CASES = [
              expected=("joints.friction.run_in.tau_cycles", "must be > 0"), id="run-in-tau-negative"),
     friction('{ preset = "42CD4-raw", run_in = { tau_cycles = 5 } }',
              expected=("joints.friction.run_in.start", "required"), id="run-in-start-missing"),
+    friction('{ preset = "42CD4-raw", age_cycles = 500 }', expected=("joints.friction.age_cycles", "give run_in"),
+             id="age-without-run-in"),
     friction('{ preset = "42CD4-raw", steady_mean_std = -0.01 }',
              expected=("joints.friction.steady_mean_std", "never negative"), id="steady-mean-std-negative"),
     friction('{ preset = "42CD4-raw", thermal = { time_constant_s = 0, mu_per_K = -0.005 } }',

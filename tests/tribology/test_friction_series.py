@@ -173,7 +173,7 @@ def test_independent_series_are_the_laws_own_draws():
 
 @pytest.mark.parametrize("values, parameter", [
     ({"ar1": 1.0}, "ar1"), ({"ar1": float("nan")}, "ar1"), ({"age_cycles": -1.0}, "age_cycles"),
-    ({"steady_mean_std": -0.1}, "steady_mean_std"),
+    ({"steady_mean_std": -0.1}, "steady_mean_std"), ({"age_cycles": 100.0}, "age_cycles"),
 ])
 def test_bad_series_values_are_refused_naming_them(values, parameter):
     with pytest.raises(LawError) as error:

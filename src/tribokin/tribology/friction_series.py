@@ -85,6 +85,9 @@ class FrictionSeries:
             value = getattr(self, key)
             if not (math.isfinite(value) and value >= 0):
                 raise LawError(f"must be a finite number >= 0 (got {value})", key)
+        if self.age_cycles and self.run_in is None:
+            raise LawError("places a test on its running-in, and there is none: give run_in, or remove age_cycles",
+                           "age_cycles")
 
     @property
     def independent(self) -> bool:
