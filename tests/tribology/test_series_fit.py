@@ -68,6 +68,17 @@ def test_run_in_fitted_with_ar1_errors_covers_tau_and_mu_inf(phi):
         assert np.mean([fit.tau_cycles.covers(TAU) for fit in naive]) < 0.6
 
 
+def test_a_log_without_running_in_has_none_to_write():
+    """Flat logs (independent noise, no running-in): the fit's τ often runs to an end of its range (a running-in
+    shorter than a cycle, or a slow drift), which is not identified, and run_in is written for at most a tenth of
+    them (a 5 % test's false alarms)."""
+    cycle, logs = synthetic_logs(0.0, 40, seed=3, excess=0.0)
+    fits = [fit_run_in(cycle, mu) for mu in logs]
+    assert np.mean([fit.significant for fit in fits]) <= 0.1
+    assert all(fit.identified or not fit.significant for fit in fits)
+    assert all(0.5 <= fit.tau_cycles.value <= CYCLES / 2 and math.isfinite(fit.mu_inf.value) for fit in fits)
+
+
 def test_fit_friction_writes_time_keys_only_where_the_log_supports_them():
     """A log of independent cycles without running-in gains only fit.json's new fields; one with AR(1) noise and a
     running-in gains ar1 (the Ljung-Box test rejects independence) and run_in in its inline law."""

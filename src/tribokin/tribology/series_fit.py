@@ -22,6 +22,8 @@ from scipy import optimize, stats
 Z95 = float(stats.norm.ppf(0.975))
 #: The Ljung-Box test's lags: min(10, cycles // 5) (Box, Jenkins & Reinsel's common choice for short series).
 LJUNG_BOX_LAGS = 10
+#: The running-in's τ is sought from this many cycles to this share of the log's length.
+TAU_RANGE = (0.5, 0.5)
 #: Below this p-value the steady cycles are not consistent with independence: ``ar1`` is written.
 INDEPENDENCE_LEVEL = 0.05
 
@@ -80,7 +82,8 @@ def fit_ar1(x: np.ndarray) -> Estimate:
 @dataclass(frozen=True)
 class RunInFit:
     """A running-in curve fitted with AR(1) errors: μ∞, start and τ [cycles] with 95 % intervals, the noise's
-    lag-one correlation ``noise_ar1`` and its innovations' standard deviation ``innovation_std`` [-]."""
+    lag-one correlation ``noise_ar1`` and its innovations' standard deviation ``innovation_std`` [-], the log's
+    ``cycles``, and whether τ was ``identified`` (found within its range, not at an end of it)."""
 
     mu_inf: Estimate
     start: Estimate
@@ -88,11 +91,13 @@ class RunInFit:
     noise_ar1: float
     innovation_std: float
     cycles: int
+    identified: bool = True
 
     @property
     def significant(self) -> bool:
-        """The start differs from the steady mean beyond its interval: there is a running-in to write."""
-        return not self.start.covers(self.mu_inf.value)
+        """τ lies within its range and the start differs from the steady mean beyond its interval: there is a
+        running-in to write."""
+        return self.identified and not self.start.covers(self.mu_inf.value)
 
     def summary(self) -> dict:
         """As ``fit.json`` gives it."""
@@ -119,7 +124,9 @@ def _profile(c: np.ndarray, mu: np.ndarray, tau: float, phi: float):
 
 def fit_run_in(cycle: np.ndarray, mu: np.ndarray, autocorrelated: bool = True) -> RunInFit:
     """Fit μ∞ + (start − μ∞)·exp(−c/τ) to a log (``cycle``, ``mu`` [-]) with AR(1) errors (``autocorrelated``;
-    ``False``: independent errors, φ = 0, what intervals that ignore the autocorrelation give).
+    ``False``: independent errors, φ = 0, what intervals that ignore the autocorrelation give). τ is sought within
+    [``TAU_RANGE[0]``, ``TAU_RANGE[1]``·n]: a running-in shorter than a cycle, or longer than half the log, is not
+    told from noise or a drift by the log; one at either end is not ``identified``.
 
     Returns:
         the estimates with their 95 % intervals; c counts from the log's first cycle, so ``start`` is mu there.
@@ -127,7 +134,8 @@ def fit_run_in(cycle: np.ndarray, mu: np.ndarray, autocorrelated: bool = True) -
     c = np.asarray(cycle, dtype=float) - cycle[0]
     mu = np.asarray(mu, dtype=float)
     n = c.size
-    taus = np.geomspace(0.5, max(n, 2.0), 48)
+    low, high = math.log(TAU_RANGE[0]), math.log(TAU_RANGE[1] * n)
+    taus = np.exp(np.linspace(low, high, 48))
     tau0 = taus[int(np.argmin([_profile(c, mu, tau, 0.0)[2] for tau in taus]))]
     if autocorrelated:
         beta, _, _ = _profile(c, mu, tau0, 0.0)
@@ -135,14 +143,16 @@ def fit_run_in(cycle: np.ndarray, mu: np.ndarray, autocorrelated: bool = True) -
         phi0 = float(np.clip(autocorrelations(residual, 1)[0], -0.95, 0.95))
 
         def objective(theta):
-            return _profile(c, mu, math.exp(theta[0]), math.tanh(theta[1]))[2]
+            inside = low <= theta[0] <= high and abs(theta[1]) < 10
+            return _profile(c, mu, math.exp(theta[0]), math.tanh(theta[1]))[2] if inside else math.inf
         best = optimize.minimize(objective, [math.log(tau0), math.atanh(phi0)], method="Nelder-Mead",
                                  options={"xatol": 1e-4, "fatol": 1e-9, "maxiter": 2000})
         tau, phi = math.exp(best.x[0]), math.tanh(best.x[1])
     else:
-        best = optimize.minimize_scalar(lambda t: _profile(c, mu, math.exp(t), 0.0)[2],
-                                        bracket=(math.log(tau0) - 0.1, math.log(tau0) + 0.1))
+        best = optimize.minimize_scalar(lambda t: _profile(c, mu, math.exp(t), 0.0)[2], bounds=(low, high),
+                                        method="bounded", options={"xatol": 1e-6})
         tau, phi = math.exp(best.x), 0.0
+    identified = low + 0.01 < math.log(tau) < high - 0.01
     (mu_inf, excess), rss, _ = _profile(c, mu, tau, phi)
     decay = np.exp(-c / tau)
     jacobian = _whiten(np.column_stack([np.ones_like(c), decay, excess * c / tau ** 2 * decay]), phi)
@@ -154,7 +164,7 @@ def fit_run_in(cycle: np.ndarray, mu: np.ndarray, autocorrelated: bool = True) -
     start = mu_inf + excess
     z = float(stats.t.ppf(0.975, max(n * (1 - max(phi, 0.0)) / (1 + max(phi, 0.0)) - 3, 1.0)))
     return RunInFit(
-        Estimate(float(mu_inf), mu_inf - z * se_inf, mu_inf + z * se_inf),
-        Estimate(float(start), start - z * se_start, start + z * se_start),
+        Estimate(float(mu_inf), float(mu_inf - z * se_inf), float(mu_inf + z * se_inf)),
+        Estimate(float(start), float(start - z * se_start), float(start + z * se_start)),
         Estimate(tau, tau * math.exp(-z * se_log_tau), tau * math.exp(z * se_log_tau)),
-        phi, math.sqrt(variance), n)
+        phi, math.sqrt(variance), n, identified)
