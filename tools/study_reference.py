@@ -17,7 +17,7 @@ from functools import partial
 from pathlib import Path
 from types import CodeType, FunctionType
 
-from tribokin.study import spec
+from tribokin.study import series_spec, spec
 from tribokin.study.key_docs import KEY_DOCS
 
 PAGE = Path(__file__).resolve().parent.parent / "docs" / "reference" / "study-file.md"
@@ -27,6 +27,9 @@ SECTIONS = {
     "study": ("[study]", spec.STUDY_KEYS),
     "robot": ("[robot]", spec.ROBOT_KEYS),
     "joints": ("[joints], [joints.<joint>]", spec.JOINT_KEYS),
+    "friction": ("friction = { ..., <time keys> }", series_spec.SERIES_KEYS),
+    "friction.run_in": ("run_in = { start, tau_cycles }", series_spec.RUN_IN_KEYS),
+    "friction.thermal": ("thermal = { ... }", series_spec.THERMAL_KEYS),
     "poses": ("[[poses]]", spec.POSE_KEYS),
     "iso_cube": ("[iso_cube]", spec.ISO_CUBE_KEYS),
     "map": ("[map]", None),

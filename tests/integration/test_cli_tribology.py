@@ -19,6 +19,10 @@ def test_fit_friction_writes_law_usable_by_a_study(tmp_path):
     report = json.loads((out / "fit.json").read_text())
     assert report["chosen"] == "gaussian" and {f["law"] for f in report["fits"]} == {"gaussian", "lognormal", "uniform"}
     assert report["mean"] == pytest.approx(0.1375, abs=0.001)
+    # the shipped log's cycles are independent (Ljung-Box) after a running-in from 0.1375 + 0.04·e^(−1/60) over 60
+    assert "consistent with independent cycles" in done.stdout and report["ljung_box"]["independent"]
+    assert set(report["time_keys"]) == {"run_in"} and "run_in = { start = 0.17" in report["inline"]
+    assert report["run_in_fit"]["tau_cycles"]["low"] <= 60 <= report["run_in_fit"]["tau_cycles"]["high"]
     for png in ("mu_cycles.png", "mu_histogram.png"):
         assert (out / png).stat().st_size > 10_000
     study = tmp_path / "study.toml"

@@ -29,5 +29,14 @@ def fit_friction(args) -> None:
     print(f"{'law':<10} {'AIC':>12} {'KS p':>8}")
     for fit in result.fits:
         print(f"{fit.law:<10} {fit.aic:>12.2f} {fit.ks_pvalue:>8.3g}")
+    ar1, box, run_in = result.ar1, result.ljung_box, result.run_in_fit
+    print(f"steady cycles: lag-one autocorrelation {ar1.value:.3g} (95 % {ar1.low:.3g} to {ar1.high:.3g}); Ljung-Box "
+          f"Q = {box.q:.4g} over {box.lags} lags, p = {box.pvalue:.3g}: "
+          f"{'consistent' if box.independent else 'not consistent'} with independent cycles")
+    if run_in is not None:
+        print(f"running-in (AR(1) noise, phi = {run_in.noise_ar1:.3g}): start = {run_in.start.value:.4g} "
+              f"({run_in.start.low:.4g} to {run_in.start.high:.4g}), mu_inf = {run_in.mu_inf.value:.4g} "
+              f"({run_in.mu_inf.low:.4g} to {run_in.mu_inf.high:.4g}), tau = {run_in.tau_cycles.value:.3g} cycles "
+              f"({run_in.tau_cycles.low:.3g} to {run_in.tau_cycles.high:.3g}), 95 % intervals")
     print(f"chosen: friction = {result.inline}")
     print(f"results in {args.out}/ (law.toml, fit.json, mu_cycles.png, mu_histogram.png)")

@@ -11,7 +11,9 @@ from tribokin.simulation.joint_errors import JointErrorModel
 from tribokin.simulation.joint_errors import joint_models as joint_error_models
 from tribokin.simulation.pose_test import PoseRunner, PoseTask, TestSettings, pose_task
 from tribokin.study.names import check_file_name_part, check_files_apart, check_name, pose_figure_file, scenario_files
-from tribokin.study.spec import FRICTION_KEYS, FRICTION_SCALE, RobotSpec, Study
+from tribokin.study.series_spec import law_table
+from tribokin.study.spec import FRICTION_KEYS, FRICTION_SCALE, RobotSpec, Study, check_motion
+from tribokin.tribology.friction_series import TIME_KEYS, FrictionSeries, latent_correlation
 from tribokin.tribology.spec import law_from_spec, scaled_law_from_spec
 
 
@@ -84,6 +86,7 @@ def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
     defaults with ``[joints.<name>]`` overrides; a joint's friction is the one its override gives (any of
     ``FRICTION_KEYS``), else the defaults'."""
     names = robot.joint_names
+    check_motion(study, names)
     for joint in study.joint_overrides:
         if joint not in names:
             raise InputError(f"unknown joint '{joint}'{closest_hint(joint, names)}; joints of {robot.label}: "
@@ -102,13 +105,33 @@ def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
         if given not in ("friction", own):
             raise InputError(f"joint '{name}' is {'prismatic' if prismatic else 'revolute'}: give its friction as "
                              f"joints.{name}.{own} [{'N' if prismatic else 'N·m'}]", study.source, key)
+        table = law_table(getattr(spec, given))
         if given == "friction":
-            law = law_from_spec(spec.friction, study.source, key, study.base_dir, study.data_roots)
+            law = law_from_spec(table, study.source, key, study.base_dir, study.data_roots)
         else:
-            law = scaled_law_from_spec(getattr(spec, given), FRICTION_SCALE[given], given, study.source, key)
-        values[name] = {"friction": law, **{k: v for k, v in asdict(spec).items() if k not in FRICTION_KEYS}}
+            law = scaled_law_from_spec(table, FRICTION_SCALE[given], given, study.source, key)
+        check_series(law, spec.series, study.source, key)
+        values[name] = {"friction": law, **{k: v for k, v in asdict(spec).items() if k not in JOINT_MOTION_KEYS}}
     with located(study.source, JointKeys(study)):
         return joint_error_models(robot, joints=values)
+
+
+#: A joint's keys that are not its error model's: its friction's (the law made of them) and its motion.
+JOINT_MOTION_KEYS = (*FRICTION_KEYS, "travel_per_cycle")
+
+
+def check_series(law, series: FrictionSeries | None, source, key: str) -> None:
+    """Refuse the time keys of a joint's friction ``law`` (at ``key``) that it cannot take (an ``ar1`` it cannot
+    reach, :func:`~tribokin.tribology.friction_series.latent_correlation`); then, since ``run`` does not yet draw
+    friction as a time series, refuse them all rather than ignore them."""
+    if series is None:
+        return
+    with located(source, f"{key}.ar1"):
+        latent_correlation(law, series.ar1)
+    given = next(k for k in TIME_KEYS if getattr(series, k) != getattr(FrictionSeries(), k))
+    raise InputError("friction time keys are checked but not yet simulated by `tribokin run` (issue 38: its maps "
+                     "and poses draw every cycle independently): remove the key to run the study", source,
+                     f"{key}.{given}")
 
 
 @dataclass(frozen=True)

@@ -27,6 +27,8 @@ KEY_DOCS = {
     "study.data_dirs": "folders, relative to the study file, from which the files its friction laws name (`file`, "
                        "`log`, `surface`) may also be read (else only the study file's folder), symlinks followed; "
                        "never under `/proc`, `/sys` or `/dev`, nor FIFOs, sockets or devices",
+    "study.cycle_time_s": "duration of one ISO cycle (one approach to a pose) [s]: with each joint's "
+                          "`travel_per_cycle`, the friction power that `thermal` heats the joint by",
     # [robot]
     "robot.urdf": "URDF file, relative to the study file (give this or `robot.name`); one ending `.xacro` is "
                   "expanded by xacro first, under the checks of the [security model](../security.md)",
@@ -66,6 +68,32 @@ KEY_DOCS = {
     "joints.noise_std": "standard deviation of extra Gaussian noise per cycle (m or rad)",
     "joints.bearing_span_m": "span L between the joint's guide pads or bearings, for the tilting-moment part of the "
                              "load",
+    "joints.travel_per_cycle": "the joint's travel in one cycle, both ways summed (m or rad): the friction power is "
+                               "the friction force (torque) × this / `study.cycle_time_s`; required with `thermal`",
+    # time keys of a joint's friction (friction, friction_torque_Nm, friction_force_N)
+    "friction.ar1": "lag-one autocorrelation of the friction's values from cycle to cycle (what a log shows), in "
+                    "(−1, 1): a Gaussian-copula AR(1) whose marginal is the law; one the law cannot reach (a "
+                    "lognormal's most negative) is refused; [time series](../tribology.md#friction-as-a-time-series)",
+    "friction.run_in": "the running-in: the steady mean approached from `start`, μ∞ + (start − μ∞)·exp(−cycle/τ)",
+    "friction.age_cycles": "cycles the joint has run before a test's first cycle (a tribometer cycle counts as one "
+                           "robot cycle): where on the running-in the test starts",
+    "friction.steady_mean_std": "standard deviation of each test's steady mean about the law's (the test-to-test "
+                                "spread of the source paper's Fig. 6), in the law's quantity",
+    "friction.thermal": "the joint's warm-up by its own friction power (first-order model) and the friction's "
+                        "dependence on its temperature; needs `study.cycle_time_s` and `joints.travel_per_cycle`",
+    "friction.run_in.start": "the friction at the running-in's first cycle, in the law's quantity (μ; N·m or N for "
+                             "a torque or force law)",
+    "friction.run_in.tau_cycles": "cycles over which the excess over the steady mean falls by e",
+    "friction.thermal.time_constant_s": "τ of the joint's temperature; default estimated: R·C with C ≈ 2 kg of "
+                                        "aluminium × 900 J/(kg·K) (a size-25 gear unit's housing)",
+    "friction.thermal.resistance_K_per_W": "the temperature rise per watt once settled; default estimated: "
+                                           "1/(h·A), natural convection h ≈ 10 W/(m²·K) over A ≈ 0.1 m²",
+    "friction.thermal.ambient_C": "the surroundings' temperature, where the law holds (the cold start); default: "
+                                  "ISO 9283:1998 §6.3's test temperature",
+    "friction.thermal.mu_per_K": "relative change of the friction per kelvin above ambient (−0.005: 0.5 % less "
+                                 "per kelvin); give this or `mu_table`",
+    "friction.thermal.mu_table": "`[[temperature_C, factor], ...]`: the friction's factor against its value at "
+                                 "ambient, linear between rows, constant beyond; temperatures increasing",
     # [[poses]]
     "poses[].name": "pose name, which names files (`field_<pose>.png`, folders of `samples.npz`); default `P1`, `P2`, "
                     "…; at most 100 printable characters, no `/`, no leading `.`, no two differing only in case",

@@ -35,6 +35,16 @@ from tribokin.kinematics.urdf_xacro import XACRO_SUFFIX, is_xacro
 from tribokin.simulation.joint_errors import APPROACH_MODES
 from tribokin.study.map_spec import MAP_SPECS, STATISTICS, MapSpec
 from tribokin.study.placement_spec import OBJECTIVES, PlacementSpec
+from tribokin.study.schema import REQUIRED, check_table
+from tribokin.study.series_spec import (
+    cycle_time,
+    friction_series,
+    law_and_time_keys,
+    travel,
+    without_time_keys,
+)
+from tribokin.tribology.friction_series import FrictionSeries
+from tribokin.tribology.laws import coefficient
 
 # -- ranges: physically meaningful bounds, each with the reason a value outside is refused ---------------------
 
@@ -67,9 +77,7 @@ joint_value = within(finite, -1e3, 1e3, "m or rad", "no joint travels a kilometr
 angle_deg = within(finite, -360.0, 360.0, "deg", "write each angle within one turn either way")
 
 
-# -- schema: key -> (check, default); REQUIRED marks keys without a default -------------------------------------
-
-REQUIRED = object()
+# -- schema: key -> (check, default); REQUIRED marks keys without a default (study.schema) ----------------------
 
 STUDY_KEYS = {
     "name": (text, None),
@@ -78,6 +86,7 @@ STUDY_KEYS = {
     "approach": (one_of(*APPROACH_MODES), "unidirectional"),
     "engine": (one_of("fast", "exact"), "fast"),
     "data_dirs": (string_list, []),
+    "cycle_time_s": (cycle_time, None),
 }
 
 
@@ -101,9 +110,9 @@ FRICTION_KEYS = ("friction", "friction_torque_Nm", "friction_force_N")
 #: Torque and force laws are held as these powers of two (exact) times a law of values within mu's range.
 FRICTION_SCALE = {"friction_torque_Nm": 2 ** 10, "friction_force_N": 2 ** 14}
 JOINT_KEYS = {
-    "friction": (table, None),
-    "friction_torque_Nm": (law_of(friction_torque), None),
-    "friction_force_N": (law_of(friction_force), None),
+    "friction": (law_and_time_keys(table, coefficient), None),
+    "friction_torque_Nm": (law_and_time_keys(law_of(friction_torque), friction_torque), None),
+    "friction_force_N": (law_and_time_keys(law_of(friction_force), friction_force), None),
     "normal_force_N": (normal_force, None),
     "stiffness": (stiffness, None),
     "friction_radius_m": (friction_radius, 0.02),
@@ -111,6 +120,7 @@ JOINT_KEYS = {
     "offset": (offset, 0.0),
     "noise_std": (noise_std, 0.0),
     "bearing_span_m": (bearing_span, 0.1),
+    "travel_per_cycle": (travel, None),
 }
 def vector3(value, source, key, element=finite) -> list[float]:
     values = number_list(value, source, key, element)
@@ -195,7 +205,7 @@ POSE_KEYS = {
     "name": (text, None),
     "q": (partial(number_list, element=joint_value), REQUIRED),
     "normal_force_N": (normal_force, None),
-    "friction": (table, None),
+    "friction": (without_time_keys, None),
     "directions": (approach_labels, None),
 }
 MAP_KINDS = {
@@ -301,27 +311,6 @@ ROBOT_IDENTITY_KEYS = ("urdf", "name", "xacro_args", "package_dirs", "tool_frame
 TOP_KEYS = ("study", "robot", "joints", "poses", "iso_cube", "map", "scenarios", "calibration", "placement")
 
 
-def check_table(mapping: dict, schema: dict, source, prefix: str, extra_ok=()) -> dict:
-    """Validate ``mapping`` against ``schema``; return every key with its value or default.
-
-    Keys in ``extra_ok`` are left for the caller; any other unknown key is an error.
-    """
-    for key in mapping:
-        if key not in schema and key not in extra_ok:
-            valid = list(schema) + list(extra_ok)
-            raise InputError(f"unknown key '{key}'{closest_hint(key, valid)}; valid keys: {', '.join(valid)}",
-                             source, f"{prefix}.{key}")
-    clean = {}
-    for key, (check, default) in schema.items():
-        if key in mapping:
-            clean[key] = check(mapping[key], source, f"{prefix}.{key}")
-        elif default is REQUIRED:
-            raise InputError("missing: this key is required", source, f"{prefix}.{key}")
-        else:
-            clean[key] = default
-    return clean
-
-
 def _frozen(values):
     """Lists (of lists) as tuples, for a frozen spec; any other value as it is."""
     return tuple(_frozen(v) for v in values) if isinstance(values, list) else values
@@ -371,8 +360,9 @@ class JointSpec:
     """One joint's keys of ``[joints]`` (see :class:`~tribokin.simulation.joint_errors.JointErrorModel`):
     its friction as one of ``friction`` (a law's table of mu), ``friction_torque_Nm`` (of the torque [N·m], revolute)
     or ``friction_force_N`` (of the force [N], prismatic), ``normal_force_N`` [N], ``stiffness`` [N/m or N·m/rad],
-    ``friction_radius_m`` [m], ``backlash``, ``offset``, ``noise_std`` [m or rad], ``bearing_span_m`` [m]; ``None``
-    where not set."""
+    ``friction_radius_m`` [m], ``backlash``, ``offset``, ``noise_std`` [m or rad], ``bearing_span_m`` [m],
+    ``travel_per_cycle`` [m or rad] (what ``thermal`` heats by); ``None`` where not set. The friction's table holds
+    its law and its time keys (:attr:`series`)."""
 
     friction: dict | None
     friction_torque_Nm: dict | None
@@ -384,11 +374,18 @@ class JointSpec:
     offset: float
     noise_std: float
     bearing_span_m: float
+    travel_per_cycle: float | None = None
 
     @property
     def friction_key(self) -> str | None:
         """Which of ``FRICTION_KEYS`` gives the joint's friction (``None``: none does)."""
         return next((key for key in FRICTION_KEYS if getattr(self, key) is not None), None)
+
+    @property
+    def series(self) -> FrictionSeries | None:
+        """The time keys of the joint's friction as a :class:`FrictionSeries` (``None``: none given)."""
+        key = self.friction_key
+        return None if key is None else friction_series(getattr(self, key))
 
 
 @dataclass(frozen=True)
@@ -473,6 +470,7 @@ class Study:
     calibration: CalibrationSpec | None = None
     placement: PlacementSpec | None = None
     data_dirs: tuple[str, ...] = ()
+    cycle_time_s: float | None = None
 
     @property
     def has_tests(self) -> bool:
@@ -571,7 +569,7 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         raise InputError(f"pose name '{duplicate}' is used twice; names must be unique", source, "poses.name")
     if "scenarios" in mapping and map_spec is None:
         raise InputError("scenarios compare maps: add a [map] section", source, "scenarios")
-    return Study(
+    parsed = Study(
         name=study["name"] or Path(source).stem,
         cycles=study["cycles"],
         seed=study["seed"],
@@ -590,7 +588,33 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         calibration=calibration,
         placement=placement,
         data_dirs=_frozen(study["data_dirs"]),
+        cycle_time_s=study["cycle_time_s"],
     )
+    check_motion(parsed, list(joint_overrides) or [None])  # a robot's every joint: study.assembly.joint_models
+    return parsed
+
+
+def check_motion(study: Study, joints: list[str | None]) -> None:
+    """Refuse a joint friction's time keys that do not fit together (``thermal`` without the joints' motion:
+    ``study.cycle_time_s`` and the joint's ``travel_per_cycle``), for each joint of ``joints`` (``None``: the
+    ``[joints]`` defaults)."""
+    for name in joints:
+        spec = study.joints if name is None else study.joint(name)
+        key = spec.friction_key
+        if key is None:
+            continue
+        at = "joints" if name is None else study.joint_key(name, key).rsplit(".", 1)[0]
+        series = friction_series(getattr(spec, key), study.source, f"{at}.{key}")
+        if series is None or series.thermal is None:
+            continue
+        if study.cycle_time_s is None:
+            raise InputError(f"{at}.{key}.thermal heats the joint by its friction power every cycle: give the "
+                             "cycle's duration as study.cycle_time_s [s]", study.source, "study.cycle_time_s")
+        if spec.travel_per_cycle is None:
+            where = "joints" if name is None else f"joints.{name}"
+            raise InputError(f"{at}.{key}.thermal heats the joint by its friction power every cycle: give the "
+                             f"joint's travel per cycle as {where}.travel_per_cycle [m or rad]", study.source,
+                             f"{where}.travel_per_cycle")
 
 
 def check_map(mapping: dict, source) -> MapSpec:

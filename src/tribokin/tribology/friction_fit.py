@@ -1,10 +1,12 @@
 """Friction laws fitted to a tribometer log (``tribokin fit-friction``): the steady state's maximum-likelihood fits,
-ranked by AIC, as a :class:`FrictionFitResult` that writes ``law.toml``, ``fit.json`` and its figures."""
+ranked by AIC, its lag-one autocorrelation and test of independence, and the running-in curve
+(:mod:`~tribokin.tribology.series_fit`), as a :class:`FrictionFitResult` that writes ``law.toml``, ``fit.json`` and
+its figures."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
@@ -13,6 +15,7 @@ from tribokin.errors import InputError, LawError
 from tribokin.tribology.columns import quiet_numerics
 from tribokin.tribology.fitting import Fit, fit_laws
 from tribokin.tribology.laws import LAWS, MU_MIN
+from tribokin.tribology.series_fit import Estimate, LjungBox, RunInFit, fit_ar1, fit_run_in, ljung_box
 from tribokin.tribology.tribometer import TribometerLog, read_log, steady_state
 
 #: What ``fit.json`` says of its fits.
@@ -23,10 +26,18 @@ def _toml_number(value: float) -> str:
     return repr(float(f"{value:.6g}"))
 
 
-def inline_law(fit: Fit) -> str:
-    """The fitted law as a study-file inline table, e.g. ``{ law = "gaussian", mean = 0.1375, std = 0.0075 }``."""
-    keys = ", ".join(f"{key} = {_toml_number(fit.params[key])}" for key in LAWS[fit.law].parameters)
-    return f'{{ law = "{fit.law}", {keys} }}'
+def _toml_value(value) -> str:
+    if isinstance(value, dict):
+        return "{ " + ", ".join(f"{key} = {_toml_value(v)}" for key, v in value.items()) + " }"
+    return _toml_number(value)
+
+
+def inline_law(fit: Fit, time_keys: dict | None = None) -> str:
+    """The fitted law as a study-file inline table, e.g. ``{ law = "gaussian", mean = 0.1375, std = 0.0075 }``,
+    followed by its ``time_keys`` (``ar1 = 0.8``, ``run_in = { start = ..., tau_cycles = ... }``)."""
+    keys = [f"{key} = {_toml_number(fit.params[key])}" for key in LAWS[fit.law].parameters]
+    keys += [f"{key} = {_toml_value(value)}" for key, value in (time_keys or {}).items()]
+    return f'{{ law = "{fit.law}", {", ".join(keys)} }}'
 
 
 @dataclass(frozen=True, eq=False)
@@ -40,6 +51,9 @@ class FrictionFitResult:
         running_in_cycles: cycles trimmed at the start.
         running_in: how their count was set, ``"given"`` or ``"detected"``.
         fits: the maximum-likelihood fits, best (lowest AIC) first.
+        ar1: the steady cycles' lag-one autocorrelation, with its 95 % interval (Bartlett's, for an AR(1)).
+        ljung_box: the steady cycles' Ljung-Box test of independence.
+        run_in_fit: the running-in curve fitted with AR(1) errors to the whole log (``None``: no cycle trimmed).
     """
 
     log: str
@@ -48,6 +62,9 @@ class FrictionFitResult:
     running_in_cycles: int
     running_in: str
     fits: tuple[Fit, ...]
+    ar1: Estimate | None = None
+    ljung_box: LjungBox | None = None
+    run_in_fit: RunInFit | None = None
 
     @property
     def steady(self) -> np.ndarray:
@@ -60,9 +77,21 @@ class FrictionFitResult:
         return self.fits[0]
 
     @property
+    def time_keys(self) -> dict:
+        """The time keys the log supports: ``ar1`` when its steady cycles are not consistent with independence
+        (Ljung-Box, 5 %), ``run_in`` when the fitted start differs from the steady mean beyond its interval; empty
+        when neither applies."""
+        keys = {}
+        if self.ljung_box is not None and not self.ljung_box.independent:
+            keys["ar1"] = self.ar1.value
+        if self.run_in_fit is not None and self.run_in_fit.significant:
+            keys["run_in"] = {"start": self.run_in_fit.start.value, "tau_cycles": self.run_in_fit.tau_cycles.value}
+        return keys
+
+    @property
     def inline(self) -> str:
-        """The chosen law as a study-file inline table (:func:`inline_law`)."""
-        return inline_law(self.chosen)
+        """The chosen law and its time keys as a study-file inline table (:func:`inline_law`)."""
+        return inline_law(self.chosen, self.time_keys)
 
     @property
     def name(self) -> str:
@@ -78,10 +107,28 @@ class FrictionFitResult:
                  "# the parameters were fitted to the same data.",
                  *(f"#   {f.law:<10} AIC = {f.aic:12.2f}   KS p = {f.ks_pvalue:.3g}   "
                    + ", ".join(f"{k} = {_toml_number(v)}" for k, v in f.params.items()) for f in self.fits),
+                 *self._time_key_comments(),
                  '# Use it in a study: friction = { file = "law.toml" } (path relative to the study file).',
                  f'law = "{self.chosen.law}"',
                  *(f"{key} = {_toml_number(self.chosen.params[key])}" for key in LAWS[self.chosen.law].parameters)]
         return "\n".join(lines) + "\n"
+
+    def _time_key_comments(self) -> list[str]:
+        """``law.toml``'s lines on the time keys the log supports (none when none applies): `tribokin run` does not
+        draw friction as a time series yet, so they stay comments and the file a law."""
+        keys = self.time_keys
+        if not keys:
+            return []
+        box, ar1, run_in = self.ljung_box, self.ar1, self.run_in_fit
+        lines = ["# Time keys the log supports (`tribokin run` does not simulate them yet):"]
+        if "ar1" in keys:
+            lines.append(f"#   ar1 = {_toml_number(ar1.value)}   95 % {ar1.low:.3g} to {ar1.high:.3g}; Ljung-Box Q = "
+                         f"{box.q:.4g} over {box.lags} lags, p = {box.pvalue:.3g}: not independent")
+        if "run_in" in keys:
+            lines.append(f"#   run_in = {_toml_value(keys['run_in'])}   95 %: start {run_in.start.low:.4g} to "
+                         f"{run_in.start.high:.4g}, tau {run_in.tau_cycles.low:.3g} to {run_in.tau_cycles.high:.3g} "
+                         f"cycles (AR(1) noise, phi = {run_in.noise_ar1:.3g})")
+        return lines
 
     def summary(self) -> dict:
         """The content of ``fit.json``."""
@@ -91,7 +138,12 @@ class FrictionFitResult:
                 "std": float(steady.std(ddof=1)), "chosen": self.chosen.law, "inline": self.inline,
                 "fits": [{"law": f.law, **f.params, "log_likelihood": f.log_likelihood, "aic": f.aic,
                           "ks_pvalue": f.ks_pvalue} for f in self.fits],
-                "note": FIT_NOTE}
+                "note": FIT_NOTE,
+                "ar1": None if self.ar1 is None else asdict(self.ar1),
+                "ljung_box": None if self.ljung_box is None else {**asdict(self.ljung_box),
+                                                                  "independent": self.ljung_box.independent},
+                "run_in_fit": None if self.run_in_fit is None else self.run_in_fit.summary(),
+                "time_keys": self.time_keys}
 
     def to_pandas(self):
         """The fits as a pandas DataFrame, one row per law, best first: ``law``, its parameters, ``log_likelihood``,
@@ -123,13 +175,15 @@ def fit_friction(log, running_in: int | None = None) -> FrictionFitResult:
         running_in: cycles to trim at the start (``None``: detected).
 
     Returns:
-        the fits, best first, and the log they came from.
+        the fits, best first, the steady cycles' lag-one autocorrelation and Ljung-Box test, the running-in fitted
+        with AR(1) errors when cycles were trimmed, and the log they came from.
     """
     log = log if isinstance(log, TribometerLog) else read_log(log)
     mu, trimmed = steady_state(log, running_in)
     fits = _checked_fits(mu, log.source)
     return FrictionFitResult(log.source, log.cycle, log.mu, trimmed, "given" if running_in is not None else "detected",
-                             tuple(fits))
+                             tuple(fits), fit_ar1(mu), ljung_box(mu),
+                             fit_run_in(log.cycle, log.mu) if trimmed > 0 else None)
 
 
 def _checked_fits(mu: np.ndarray, source: str) -> list[Fit]:

@@ -1,0 +1,105 @@
+"""A joint's warm-up: a first-order thermal model driven by the friction power it dissipates, and mu's dependence on
+its temperature.
+
+The joint (its gear and bearing, lumped) has one temperature T [°C]:
+
+    dT/dt = (ambient + R·P − T) / τ
+
+with τ the time constant [s], R the thermal resistance to the surroundings [K/W] and P the friction power [W]: the
+friction force [N] (torque [N·m]) times the joint's travel per cycle [m] ([rad]) over the cycle time [s]. P is held
+over a cycle, so one cycle's step is exact: T ← T∞ + (T − T∞)·exp(−Δt/τ), T∞ = ambient + R·P. The friction law holds
+at ``ambient_C``; at T, mu is the law's value times a factor: 1 + ``mu_per_K``·(T − ambient) (a relative change per
+kelvin, so it applies alike to a law of mu, of a torque or of a force), or interpolated in ``mu_table`` (pairs of
+temperature [°C] and factor, constant beyond its ends); never below 0. This is friction-induced change only: the
+thermal expansion of links and gears is not modelled.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from tribokin.errors import LawError
+
+#: Ambient temperature of an ISO 9283 test [°C]: ISO 9283:1998, §6.3 (operating and environmental
+#: conditions): its test temperature, 20 °C.
+ISO_AMBIENT_C = 20.0
+
+
+@dataclass(frozen=True)
+class Thermal:
+    """A joint's first-order thermal model and mu's dependence on its temperature.
+
+    Attributes:
+        time_constant_s: τ [s], > 0.
+        resistance_K_per_W: R [K/W], >= 0: the temperature rise per watt dissipated, once settled.
+        ambient_C: the surroundings' temperature [°C], where the friction law holds.
+        mu_per_K: relative change of mu per kelvin above ambient [1/K] (give this or ``mu_table``).
+        mu_table: ``((temperature_C, factor), ...)``, temperatures strictly increasing, factors >= 0.
+    """
+
+    time_constant_s: float
+    resistance_K_per_W: float
+    ambient_C: float = ISO_AMBIENT_C
+    mu_per_K: float | None = None
+    mu_table: tuple[tuple[float, float], ...] | None = None
+
+    def __post_init__(self):
+        numbers = {"time_constant_s": self.time_constant_s, "resistance_K_per_W": self.resistance_K_per_W,
+                   "ambient_C": self.ambient_C, "mu_per_K": 0.0 if self.mu_per_K is None else self.mu_per_K}
+        for key, value in numbers.items():
+            if not math.isfinite(value):
+                raise LawError(f"must be a finite number (got {value})", f"thermal.{key}")
+        if self.time_constant_s <= 0:
+            raise LawError(f"must be > 0 s (got {self.time_constant_s:g}): a joint cannot change temperature "
+                           "in no time", "thermal.time_constant_s")
+        if self.resistance_K_per_W < 0:
+            raise LawError(f"must be >= 0 K/W (got {self.resistance_K_per_W:g})", "thermal.resistance_K_per_W")
+        if self.ambient_C < -273.15:
+            raise LawError(f"is below absolute zero (got {self.ambient_C:g} °C)", "thermal.ambient_C")
+        if (self.mu_per_K is None) == (self.mu_table is None):
+            raise LawError("give mu's dependence on temperature: mu_per_K (relative change per kelvin) or mu_table "
+                           "([[temperature_C, factor], ...]), one of them", "thermal.mu_per_K")
+        if self.mu_table is not None:
+            table = np.asarray(self.mu_table, dtype=float)
+            if table.ndim != 2 or table.shape[1] != 2 or table.shape[0] < 2 or not np.all(np.isfinite(table)):
+                raise LawError("must be at least two [temperature_C, factor] pairs of finite numbers",
+                               "thermal.mu_table")
+            out_of_order = np.flatnonzero(np.diff(table[:, 0]) <= 0)
+            if out_of_order.size:
+                i = int(out_of_order[0]) + 1
+                raise LawError(f"temperatures must increase row by row: row {i} ({table[i, 0]:g} °C) is not above "
+                               f"row {i - 1} ({table[i - 1, 0]:g} °C)", f"thermal.mu_table[{i}]")
+            if np.any(table[:, 1] < 0):
+                raise LawError("factors must be >= 0: friction is never negative", "thermal.mu_table")
+
+    def factor(self, temperature_C: np.ndarray) -> np.ndarray:
+        """mu's factor at ``temperature_C`` [°C] against its value at ambient [-], never below 0."""
+        temperature_C = np.asarray(temperature_C, dtype=float)
+        if self.mu_table is not None:
+            table = np.asarray(self.mu_table, dtype=float)
+            return np.interp(temperature_C, table[:, 0], table[:, 1])
+        return np.maximum(1.0 + self.mu_per_K * (temperature_C - self.ambient_C), 0.0)
+
+    def step(self, temperature_C: np.ndarray, power_W: np.ndarray, duration_s: float) -> np.ndarray:
+        """The temperature [°C] after ``duration_s`` [s] of a constant dissipated ``power_W`` [W] (exact)."""
+        settled = self.ambient_C + self.resistance_K_per_W * np.asarray(power_W, dtype=float)
+        return settled + (temperature_C - settled) * math.exp(-duration_s / self.time_constant_s)
+
+    def temperature(self, time_s, power_W: float, start_C: float | None = None) -> np.ndarray:
+        """Closed form of the temperature [°C] at ``time_s`` [s] under a constant ``power_W`` [W] from ``start_C``
+        (``None``: ambient): T∞ + (T₀ − T∞)·exp(−t/τ)."""
+        start = self.ambient_C if start_C is None else start_C
+        settled = self.ambient_C + self.resistance_K_per_W * power_W
+        return settled + (start - settled) * np.exp(-np.asarray(time_s, dtype=float) / self.time_constant_s)
+
+
+def power_per_value(travel_per_cycle: float, cycle_time_s: float, lever: float = 1.0) -> float:
+    """The friction power [W] one unit of a law's value dissipates: ``lever`` (the force or torque per unit of the
+    value: N·r [N·m] for mu at a revolute joint, N [N] at a prismatic one, 1 for a law of the torque or force itself)
+    times ``travel_per_cycle`` [rad or m] over ``cycle_time_s`` [s]."""
+    if not cycle_time_s > 0:
+        raise LawError(f"must be > 0 s (got {cycle_time_s})", "cycle_time_s")
+    return lever * abs(travel_per_cycle) / cycle_time_s
