@@ -15,7 +15,7 @@ import shutil
 from pathlib import Path
 
 from tribokin.errors import InputError
-from tribokin.maps.schema import MapLayout
+from tribokin.maps.schema import MapLayout, study_approaches
 from tribokin.study.spec import Study
 from tribokin.units import gib
 
@@ -72,7 +72,7 @@ def _count(number: int, word: str) -> str:
 
 def map_layout(study: Study, nv: int, layout: MapLayout | None) -> MapLayout:
     """``layout``, or by default that of the study's scenarios all measured with its robot of ``nv`` active joints."""
-    return layout or MapLayout.shared(nv, max(1, len(study.scenarios)), study.map.figure_set)
+    return layout or MapLayout.shared(nv, max(1, len(study.scenarios)), study.map.figure_set, study_approaches(study))
 
 
 def check_disk(study: Study, nv: int, folder, layout: MapLayout | None = None) -> None:
