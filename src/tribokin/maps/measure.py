@@ -38,7 +38,8 @@ def measure_targets(runner: PoseRunner, qs: np.ndarray, indices: np.ndarray, twi
         per_joint = np.empty((len(indices[members]), qs.shape[1], cycles))  # cycles contiguous
         groups = np.empty((len(indices[members]), cycles), dtype=int)
         for k, (load, index) in enumerate(zip(forces[members], indices[members], strict=True)):
-            dq, _, groups[k] = runner.draw(task, load, cycles, study.approach, map_target_stream(study.seed, int(index)))
+            stream = map_target_stream(study.seed, int(index))
+            dq, _, groups[k] = runner.draw(task, load, cycles, study.approach, stream)
             per_joint[k] = dq.T
         arguments = runner, qs[members], np.swapaxes(per_joint, 1, 2), twists[members], translations[members]
         figures[members], dominant[members] = (directions_block_figures(*arguments, groups) if both

@@ -7,10 +7,12 @@ from __future__ import annotations
 from dataclasses import replace
 
 from tribokin.iso9283.gaussian_tests import ASYMPTOTIC_CYCLES
+from tribokin.kinematics.robot import Robot
 from tribokin.maps.expected_figures import SPLIT_FIGURES, ExpectedSetup, direction_tests, shape_table
-from tribokin.simulation.joint_errors import friction_lever, friction_loads
+from tribokin.simulation.joint_errors import JointErrorModel, friction_lever, friction_loads
 from tribokin.simulation.pose_result import PoseResult
-from tribokin.simulation.pose_test import PoseRunner, PoseTask
+from tribokin.simulation.pose_test import PoseRunner, PoseTask, TestSettings, pose_task, run_poses
+from tribokin.tribology.laws import FrictionLaw
 
 
 def expected_key(name: str) -> str:
@@ -49,3 +51,38 @@ def with_expected_figures(runner: PoseRunner, tasks: list[PoseTask], results: li
         out.append(replace(result, direction_extra=extra))
     return out
 
+
+def pose_test(robot: Robot, joints: list[JointErrorModel], q, *, name: str = "pose",
+              directions: tuple[str, ...] | None = None, normal_force_N: float | None = None,
+              friction: FrictionLaw | None = None, cycles: int = 30, seed: int = 0, approach: str = "unidirectional",
+              engine: str = "fast", payload_kg: float = 0.0, index: int = 0) -> PoseResult:
+    """A pose's ISO 9283 test: the cycles of each approach direction sampled, propagated to the tool and measured, and
+    each direction's expected figures beside them (:func:`with_expected_figures`).
+
+    Args:
+        robot: the robot (:class:`~tribokin.kinematics.robot.Robot`).
+        joints: one error model per joint (:func:`~tribokin.simulation.joint_errors.joint_models`).
+        q: (nv,) the commanded configuration [m or rad].
+        name: the pose's name.
+        directions: the pose's approach directions (``"+x"``...; ``None``: joint space; :func:`pose_task`).
+        normal_force_N: every joint's bearing load at this pose [N] (``None``: the joint models', else statics).
+        friction: every joint's friction law at this pose (``None``: the joint models').
+        cycles: cycles of each approach direction's test (:class:`TestSettings`).
+        seed: the random streams' seed.
+        approach: ``"unidirectional"``, ``"bidirectional"`` or ``"random"``.
+        engine: ``"fast"`` or ``"exact"``.
+        payload_kg: the payload at the tool point [kg].
+        index: the pose's number in a study (its random streams: a study's pose ``index`` gives the same figures).
+
+    Returns:
+        its samples and ISO 9283 figures per approach direction, the expected ones beside them (µm, mdeg in
+        :meth:`~tribokin.simulation.pose_result.PoseResult.report_row`).
+
+    Raises:
+        ConfigurationError: a bad ``q``.
+        SettingsError: a bad setting.
+        JointRangeError: a joint whose deviation could exceed its range.
+    """
+    runner = PoseRunner(TestSettings(cycles, seed, approach, engine, payload_kg), robot, joints)
+    task = pose_task(robot, name, q, directions, normal_force_N, friction)
+    return with_expected_figures(runner, [task], run_poses(runner, [task], index))[0]
