@@ -145,16 +145,18 @@ def test_a_one_test_map_measures_each_direction_s_cycles_as_a_pose_does():
         np.testing.assert_allclose(scenario.figure(name)[ok], d, rtol=1e-9)
 
 
-@pytest.mark.parametrize("friction", [{"preset": "42CD4-treated"}, {"law": "gaussian", "mean": MEAN, "std": STD}])
+@pytest.mark.parametrize("friction", [{"law": "uniform", "low": 0.09, "high": 0.16},
+                                      {"law": "gaussian", "mean": MEAN, "std": STD}])
 def test_a_pose_s_expected_figures_are_a_map_target_s_at_its_configuration(friction):
     """A UR5 pose at a map target's configuration, with the same seed and approach: the same expected figures per
-    direction to 1e-9 (sampled tests of a non-Gaussian law, and the closed form of a Gaussian one)."""
+    direction to 1e-9 (sampled tests of a uniform law, and the closed form of a Gaussian one)."""
     study = copy.deepcopy(UR5_PLANE)
     study["study"].update(approach="bidirectional", cycles=CYCLES)
     study["joints"]["friction"] = friction
     study["map"]["resolution"] = [2, 2]
     workspace_map = run_study(study).map
     k = int(np.flatnonzero(workspace_map.reachable)[0])
+    assert workspace_map.reference.read("method")[k] == (1 if friction["law"] == "uniform" else 0)
     del study["map"]
     study["poses"] = [{"name": "at-target", "q": workspace_map.q[k].tolist()}]
     pose = run_study(study).poses[0]
