@@ -20,9 +20,11 @@ two barycentres, by at most 2 b; RP_l_multi as RP_l. A model serves a target onl
 fallback: orders 2-3, else exact FK), whose own bound then takes b's place. Per target: the least exact engine used
 (``engine``), the largest bound (``engine_bound``) and each figure's error (``figure_errors``).
 
-- **analytic** (every law Gaussian, truncation negligible, or constant; unidirectional approach): the figures of
+- Each approach direction is ISO's unidirectional test of ``cycles`` cycles (every joint +; approached from both,
+  ``bidirectional`` or ``random``, every joint - too: :func:`direction_tests`, :func:`directions_figures`).
+- **analytic** (every law Gaussian, truncation negligible, or constant): the figures of
   :mod:`tribokin.iso9283.gaussian_tests` from the covariance of J(q″) dq.
-- **sampled** (other laws, approach modes, or a target the first-order model does not serve): common random
+- **sampled** (other laws, or a target the first-order model does not serve): common random
   numbers: the same ``sampled_tests`` tests of drawn μ at every target (and scenario), through the linear model,
   or through the fast engine where it does not serve (a *fallback*). The RP_l band's Monte Carlo error is kept.
 - ``vAP_p_um``: the largest distance between the barycentres reached along +x, +y, +z of the world frame (joint
