@@ -101,6 +101,9 @@ def test_a_bidirectional_map_s_plus_direction_is_the_unidirectional_map_and_each
     assert "larger of the + and - approach directions'" in summary["unsuffixed_figures"]
     assert {"RP_l_plus_um", "RP_l_minus_um", "AP_p_plus_um", "AP_p_minus_um"} <= set(summary)
     assert "unsuffixed_figures" not in run_study(study).map.summary()
+    study["scenarios"] = [{"name": "one"}, {"name": "both", "study": {"approach": "random"}}]
+    one, both = run_study(study).map.summary()["scenarios"]
+    assert "unsuffixed_figures" not in one and "larger of the + and - approach" in both["unsuffixed_figures"]
 
 
 def test_a_sampled_law_per_direction_agrees_with_iso_s_formulas():

@@ -283,6 +283,7 @@ class MapResult:
                 "name": s.name,
                 "cycles": s.cycles,
                 **(self._reach_counts(s) if self.robot_count > 1 else {}),
+                **({"unsuffixed_figures": DIRECTIONS_NOTE} if s.both_directions else {}),
                 "RP_l_um": spread(lambda part, s=s: s.figure("RP_l_um", part), size),
                 "RP_l_ratio": spread(lambda part, s=s: self.ratio_RP_l(s, part), size),
                 "RP_l_diff_um": spread(lambda part, s=s: self.diff_RP_l_um(s, part), size),
