@@ -355,7 +355,7 @@ def blocks_of(indices: np.ndarray, cycles_each: int) -> list[np.ndarray]:
 class DirectionTests(NamedTuple):
     """The test's figures at k targets approached from one direction (:func:`direction_tests`): ``values`` by name
     [µm, mdeg] (k,) each (:data:`TEST_FIGURES` and the band), the RP_l band's ``band_error`` (k,), where the first-order
-    ``model`` ``served`` (k,), and the engine ``used`` (:class:`EngineUsed`)."""
+    ``model`` (:class:`LinearModel`) ``served`` (k,), and the engine ``used`` (:class:`EngineUsed`)."""
 
     values: dict[str, np.ndarray]
     band_error: np.ndarray
@@ -386,7 +386,7 @@ def direction_tests(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, le
 
 #: The test's figures a map approached from both directions gives per direction
 #: (:attr:`~tribokin.maps.schema.MapFigure.per_direction`).
-SPLIT_FIGURES = ("RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg")
+SPLIT_FIGURES = tuple(figure.name for figure in map_figures("expected") if figure.per_direction)
 
 
 def directions_figures(tests: list[DirectionTests], cycles: int) -> tuple[dict, dict]:

@@ -89,7 +89,7 @@ def directions_block_figures(runner: PoseRunner, qs: np.ndarray, dq: np.ndarray,
                    **{f"RP_{axis}_mdeg": rp_abc[:, i] for i, axis in enumerate("abc")}}
             for name, value in own.items():
                 figures[members, columns[name]] = np.fmax(figures[members, columns[name]], value)
-                if name in columns and direction_figure(name, label) in columns:
+                if direction_figure(name, label) in columns:  # the semi-axis: the larger only
                     figures[members, columns[direction_figure(name, label)]] = value
     figures[:, columns["RP_l_all_directions_um"]] = position_spread(positions).RP_l_m * UM_PER_M
     shares = variance_contributions(twists[:, :3], centred)
