@@ -173,6 +173,8 @@ def test_a_pose_s_expected_figures_are_a_map_target_s_at_its_configuration(frict
             np.testing.assert_allclose(figures[f"expected_{name}"], map_value, rtol=1e-9, atol=1e-12)
         assert figures["RP_l_um"] != figures["expected_RP_l_um"]  # the one simulated test's, beside them
     assert figures["expected_RP_l_lo_um"] < figures["expected_RP_l_um"] < figures["expected_RP_l_hi_um"]
+    columns = list(pose.to_pandas().columns)  # poses.csv's: the expected figures under their own names
+    assert columns.count("RP_l_um") == 1 and {f"expected_{name}" for name in SPLIT_FIGURES} <= set(columns)
 
 
 def test_the_console_says_which_figure_it_shows(gaussian_x, capsys):
