@@ -108,10 +108,12 @@ def test_scenarios_need_a_map():
     assert error.value.key == "scenarios"
 
 
-def test_constant_friction_lost_motion_sets_the_gantry_ratio():
-    """Two constant-mu scenarios: the ratio map is the ratio of mu everywhere (RP_l is linear in mu)."""
-    study = with_scenarios({"name": "mu", "joints": {"friction": {"law": "constant", "mu": MU}}},
-                           {"name": "double", "joints": {"friction": {"law": "constant", "mu": 2 * MU}}})
+def test_friction_twice_as_large_doubles_the_gantry_s_rp_l():
+    """Two uniform-mu scenarios, the second's law the first's doubled: the ratio map is 2 everywhere (each direction's
+    RP_l is linear in mu on the same random numbers; constant mu would put each direction's cycles on one point)."""
+    study = with_scenarios({"name": "mu", "joints": {"friction": {"law": "uniform", "low": MU, "high": 1.5 * MU}}},
+                           {"name": "double", "joints": {"friction": {"law": "uniform", "low": 2 * MU,
+                                                                      "high": 3 * MU}}})
     study["study"]["approach"] = "bidirectional"
     workspace_map = run_study(study).map
     ratio = workspace_map.ratio_RP_l(workspace_map.scenarios["double"])[workspace_map.reachable]

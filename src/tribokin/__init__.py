@@ -37,6 +37,7 @@ if TYPE_CHECKING:
     from tribokin.kinematics.robot import Robot
     from tribokin.maps.grid import GridError
     from tribokin.maps.mapping import MapScenario, workspace_map
+    from tribokin.maps.pose_expected import pose_test
     from tribokin.maps.result import MapResult
     from tribokin.measured.calibrated import CalibrationResult, calibrate
     from tribokin.measured.iso_figures import MeasurementResult, Segmenting, measure
@@ -44,7 +45,7 @@ if TYPE_CHECKING:
     from tribokin.run import StudyResult, run_study
     from tribokin.simulation.joint_errors import JointErrorModel, joint_models
     from tribokin.simulation.pose_result import PoseResult
-    from tribokin.simulation.pose_test import TestSettings, pose_test
+    from tribokin.simulation.pose_test import TestSettings
     from tribokin.study.map_spec import BoxMap, JointMap, PlaneMap
     from tribokin.study.reading import load_study
     from tribokin.study.spec import IsoCubeSpec, JointSpec, PoseSpec, RobotSpec, ScenarioSpec, Study
@@ -63,7 +64,7 @@ _LAZY = {"MapResult": "tribokin.maps.result", "StudyResult": "tribokin.run", "ru
          "Robot": "tribokin.kinematics.robot",
          "MapScenario": "tribokin.maps.mapping", "workspace_map": "tribokin.maps.mapping",
          "JointErrorModel": "tribokin.simulation.joint_errors", "joint_models": "tribokin.simulation.joint_errors",
-         "TestSettings": "tribokin.simulation.pose_test", "pose_test": "tribokin.simulation.pose_test",
+         "TestSettings": "tribokin.simulation.pose_test", "pose_test": "tribokin.maps.pose_expected",
          "FrictionLaw": "tribokin.tribology.laws", "Constant": "tribokin.tribology.laws",
          "Uniform": "tribokin.tribology.laws", "Gaussian": "tribokin.tribology.laws",
          "Lognormal": "tribokin.tribology.laws", "Empirical": "tribokin.tribology.laws",

@@ -16,8 +16,9 @@ from tribokin.execution import local_workers
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.budget import check_disk, check_memory
 from tribokin.maps.mapping import prepare_map, run_map
+from tribokin.maps.pose_expected import with_expected_figures
 from tribokin.maps.result import MapResult
-from tribokin.maps.schema import MapLayout
+from tribokin.maps.schema import MapLayout, study_approaches
 from tribokin.output.provenance import software_versions
 from tribokin.placement.result import PlacementResult
 from tribokin.placement.search import run_placement
@@ -167,13 +168,14 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     tasks, cube = pose_tasks(study, robot)
     check_names(study, tasks)
     robots = None if study.map is None else map_robots(study, robot)
-    layout = None if robots is None else MapLayout.of(robots, study.map.figure_set)
+    layout = None if robots is None else MapLayout.of(robots, study.map.figure_set, study_approaches(study))
     check_memory(study, robot.model.nv, [len(t.tested(study.approach).labels) for t in tasks],
                  local_workers(executor), ("command line", "--cycles") if cycles is not None else None, layout=layout)
     check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None or study.placement else checkpoint,
                layout)
     prepared_map = None if robots is None else prepare_map(study, robots)  # the map's keys checked at any base
-    poses = run_poses(study_runner(study, robot, models), tasks)
+    runner = study_runner(study, robot, models)
+    poses = with_expected_figures(runner, tasks, run_poses(runner, tasks))
     workspace_map = placement = None
     if study.placement is not None:
         placement = run_placement(study, executor, checkpoint, resume, progress)

@@ -24,14 +24,17 @@ def test_gantry_with_fixed_loads_gives_a_flat_map_and_flags_unreachable_targets(
     u = workspace_map.grid.coordinates(np.arange(workspace_map.grid.size))["u_m"]
     np.testing.assert_array_equal(workspace_map.reachable, u < 0.65)
     assert all(r.startswith(("no IK solution", "beyond the robot's reach")) for r in workspace_map.reasons()[u > 0.65])
-    rp = workspace_map.reference.figure("RP_l_um")
-    assert np.all(np.isnan(rp[u > 0.65]))
-    # every axis lost mu N / k each way: cycles at x_c +/- delta (1, 1, 1), so RP_l = sqrt(3) delta everywhere
+    ap = workspace_map.reference.figure("AP_p_um")
+    assert np.all(np.isnan(ap[u > 0.65]))
+    # every axis lost mu N / k each way: each direction's cycles on one point, x_c +/- delta (1, 1, 1), so AP_p =
+    # sqrt(3) delta everywhere, from each direction, and RP_l = 0
     delta_um = MU * 500.0 / K * 1e6
-    np.testing.assert_allclose(rp[u < 0.65], math.sqrt(3) * delta_um, rtol=1e-6)
+    for name in ("AP_p_um", "AP_p_plus_um", "AP_p_minus_um"):
+        np.testing.assert_allclose(workspace_map.reference.figure(name)[u < 0.65], math.sqrt(3) * delta_um, rtol=1e-6)
+    np.testing.assert_allclose(workspace_map.reference.figure("RP_l_um")[u < 0.65], 0.0, atol=1e-9)
     summary = result.summary()["map"]
     assert (summary["count"], summary["reachable"], summary["unreachable"], summary["cycles"]) == (32, 28, 4, 10)
-    assert summary["RP_l_um"]["min"] == pytest.approx(summary["RP_l_um"]["max"], rel=1e-6)
+    assert summary["AP_p_um"]["min"] == pytest.approx(summary["AP_p_um"]["max"], rel=1e-6)
 
 
 def test_a_maps_summary_computed_on_a_worker_is_the_one_computed_here():
@@ -57,10 +60,11 @@ def test_gantry_map_with_loads_from_statics_follows_hand_statics():
     np.testing.assert_allclose(scenario.normal_forces_N[ok, 0], n_x[ok], rtol=1e-9)
     np.testing.assert_allclose(scenario.normal_forces_N[ok, 1], n_y, rtol=1e-9)
     np.testing.assert_allclose(scenario.normal_forces_N[ok, 2], n_z, atol=1e-9)
-    rp = scenario.figure("RP_l_um")
-    np.testing.assert_allclose(rp[ok], np.hypot(MU * n_x[ok] / K, MU * n_y / K) * 1e6, rtol=1e-6)
-    # the X load, hence RP_l, grows with y and does not change along x
-    by_row = rp.reshape(4, 8)[:, :7]
+    ap = scenario.figure("AP_p_um")  # each direction's cycles on one point: AP_p its distance, RP_l 0
+    np.testing.assert_allclose(ap[ok], np.hypot(MU * n_x[ok] / K, MU * n_y / K) * 1e6, rtol=1e-6)
+    np.testing.assert_allclose(scenario.figure("RP_l_um")[ok], 0.0, atol=1e-9)
+    # the X load, hence AP_p, grows with y and does not change along x
+    by_row = ap.reshape(4, 8)[:, :7]
     assert np.all(np.diff(by_row[:, 0]) > 0.05) and np.ptp(by_row, axis=1).max() < 1e-6
 
 

@@ -201,8 +201,10 @@ def test_a_scenario_with_another_base_marks_its_own_and_comparisons_mark_both(mo
 
 def scenario_map():
     study = gantry_map_study()
-    study["scenarios"] = [{"name": "raw"}, {"name": "low", "joints": {"friction": {"law": "constant", "mu": 0.03}}},
-                          {"name": "high", "joints": {"friction": {"law": "constant", "mu": 0.3}}}]
+    study["joints"]["friction"] = {"law": "uniform", "low": 0.1, "high": 0.14}  # each direction's cloud spreads
+    study["scenarios"] = [{"name": "raw"}, {"name": "low", "joints": {"friction": {"law": "uniform", "low": 0.025,
+                                                                                  "high": 0.035}}},
+                          {"name": "high", "joints": {"friction": {"law": "uniform", "low": 0.25, "high": 0.35}}}]
     return run_study(study).map
 
 
@@ -214,10 +216,12 @@ def test_rp_l_maps_of_all_scenarios_share_one_colour_scale_and_ratios_keep_their
     norm = maps.rp_l_norm(workspace_map)
     assert (norm.vmin, norm.vmax) == (min(np.nanmin(v) for v in values), max(np.nanmax(v) for v in values))
     assert norm.vmin == np.nanmin(values[1]) and norm.vmax == np.nanmax(values[2])  # from two other scenarios
-    saved = {}
+    saved, titles = {}, {}
     monkeypatch.setattr(maps, "save_grid_image", lambda grid, values, path, label, title, **options:
-                        saved.update({path.name: options}))
+                        saved.update({path.name: options}) or titles.update({path.name: title}))
     maps.save_map_figures(workspace_map, tmp_path, "study")
+    for name in ("map_RP_l.png", "map_RP_l_low.png"):  # bidirectional: the titles say which direction's RP_l
+        assert "RP_l (the larger of the + and − approach directions')" in titles[name]
     rp_l = [saved[name]["norm"] for name in ("map_RP_l.png", "map_RP_l_low.png", "map_RP_l_high.png")]
     assert all((n.vmin, n.vmax) == (norm.vmin, norm.vmax) for n in rp_l)
     assert saved["map_RP_l_ratio_low.png"].get("norm") is None and saved["map_RP_l_ratio_low.png"]["centre"] == 1.0

@@ -115,7 +115,7 @@ def test_light_report_of_ur5_is_far_smaller_than_full(tmp_path):
 
 
 #: the gantry through a path with "..", two scenarios (one heavier), and 5 kg payload
-SCENARIO_STUDY = gantry_map_study() | {"scenarios": [
+SCENARIO_STUDY = gantry_map_study(friction={"law": "uniform", "low": 0.1, "high": 0.14}) | {"scenarios": [
     {"name": "raw"}, {"name": "heavy", "robot": {"payload_kg": 8.0},
                       "joints": {"z": {"friction": {"law": "constant", "mu": 0.05}}}}]}
 SCENARIO_STUDY["robot"] = {**SCENARIO_STUDY["robot"],
@@ -140,8 +140,8 @@ def test_report_shows_the_inputs_with_normalised_paths(map_only):
     assert "/../" not in page.split("<iframe")[0]
     # the gantry's three prismatic joints share one model: stiffness, loads from statics, bearing span, law
     assert ('<td>x, y, z</td><td>prismatic</td><td>2e7 N/m</td><td>from statics</td><td>–</td>'
-            '<td>0.2 m</td><td>0 m</td><td>0 m</td><td>0 m</td><td class="text">constant (mu 0.12): mean 0.12, '
-            'std 0</td>') in page
+            '<td>0.2 m</td><td>0 m</td><td>0 m</td><td>0 m</td><td class="text">uniform (low 0.1, high 0.14): '
+            'mean 0.12, std 0.0115</td>') in page
     assert '<td>heavy</td><td class="text">robot.payload_kg = 8.0\njoints.z.friction.law = &quot;constant&quot;' \
            '\njoints.z.friction.mu = 0.05</td>' in page
     assert '<td>raw</td><td class="text">none: the study as written</td>' in page
@@ -150,6 +150,7 @@ def test_report_shows_the_inputs_with_normalised_paths(map_only):
 def test_map_statistics_are_those_of_summary_json(map_only):
     page, result = map_only
     summary = result.map.summary()
+    assert "<p>Approached from both directions: RP_l, its band, AP_p and RP_a/b/c: the larger of the + and - " in page
     raw, heavy = (s["RP_l_um"] for s in summary["scenarios"])
     for name, spread, change in (("raw", raw, "+0.0 %"),
                                  ("heavy", heavy, f"{100 * (heavy['median'] / raw['median'] - 1):+.1f} %")):

@@ -142,6 +142,8 @@ def _print_map(summary: dict) -> None:
         wins = f" {summary['wins'][scenario['name']]:>7}" if "wins" in summary else ""
         reachable = f" {scenario['reachable']:>9}" if reach else ""
         print(f"{scenario['name']:<{width}} {_spread_um(scenario['RP_l_um']):>30}{wins}{reachable}")
+    if "unsuffixed_figures" in summary:
+        print(f"approached from both directions: {summary['unsuffixed_figures']}")
 
 
 def _print_placement(summary: dict, out: Path) -> None:

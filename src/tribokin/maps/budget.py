@@ -15,7 +15,7 @@ import shutil
 from pathlib import Path
 
 from tribokin.errors import InputError
-from tribokin.maps.schema import MapLayout
+from tribokin.maps.schema import MapLayout, study_approaches
 from tribokin.study.spec import Study
 from tribokin.units import gib
 
@@ -72,7 +72,7 @@ def _count(number: int, word: str) -> str:
 
 def map_layout(study: Study, nv: int, layout: MapLayout | None) -> MapLayout:
     """``layout``, or by default that of the study's scenarios all measured with its robot of ``nv`` active joints."""
-    return layout or MapLayout.shared(nv, max(1, len(study.scenarios)), study.map.figure_set)
+    return layout or MapLayout.shared(nv, max(1, len(study.scenarios)), study.map.figure_set, study_approaches(study))
 
 
 def check_disk(study: Study, nv: int, folder, layout: MapLayout | None = None) -> None:
@@ -123,7 +123,8 @@ def estimate(study: Study, nv: int, directions: list[int], workers: int = 1,
         # chunks computed, in transit and written; a warm start per row (kept, sent, solved)
         parts.append((held, key, f"{_count(chunk, 'map target')} per chunk × {_count(scenarios, 'scenario')} × "
                                  f"{_count(nv, 'joint')}, and {_count(rows, 'grid row')}"))
-        block = max(cycles, TARGET_BLOCK_SAMPLES)  # cycles of the targets measured together
+        # cycles of the targets measured together (a one-test map approached from both directions: cycles from each)
+        block = max(cycles * (2 if any(layout.directions) else 1), TARGET_BLOCK_SAMPLES)
         most = max(layout.joints)
         parts.append((max(1, workers) * block * (kept_per_cycle(most) + computed_per_cycle(most)), "study.cycles",
                       f"{_count(cycles, 'cycle')} per map target × {_count(max(1, workers), 'worker')}"))

@@ -20,9 +20,11 @@ two barycentres, by at most 2 b; RP_l_multi as RP_l. A model serves a target onl
 fallback: orders 2-3, else exact FK), whose own bound then takes b's place. Per target: the least exact engine used
 (``engine``), the largest bound (``engine_bound``) and each figure's error (``figure_errors``).
 
-- **analytic** (every law Gaussian, truncation negligible, or constant; unidirectional approach): the figures of
+- Each approach direction is ISO's unidirectional test of ``cycles`` cycles (every joint +; approached from both,
+  ``bidirectional`` or ``random``, every joint - too: :func:`direction_tests`, :func:`directions_figures`).
+- **analytic** (every law Gaussian, truncation negligible, or constant): the figures of
   :mod:`tribokin.iso9283.gaussian_tests` from the covariance of J(q″) dq.
-- **sampled** (other laws, approach modes, or a target the first-order model does not serve): common random
+- **sampled** (other laws, or a target the first-order model does not serve): common random
   numbers: the same ``sampled_tests`` tests of drawn μ at every target (and scenario), through the linear model,
   or through the fast engine where it does not serve (a *fallback*). The RP_l band's Monte Carlo error is kept.
 - ``vAP_p_um``: the largest distance between the barycentres reached along +x, +y, +z of the world frame (joint
@@ -39,6 +41,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property, lru_cache, partial
+from typing import NamedTuple
 
 import numpy as np
 
@@ -60,10 +63,10 @@ from tribokin.iso9283.gaussian_tests import (
 )
 from tribokin.iso9283.metrics import orientation_repeatability, position_repeatability, position_spread
 from tribokin.kinematics.se3_log import skew
-from tribokin.maps.schema import map_figures
+from tribokin.maps.schema import DIRECTIONS, direction_figure, map_figures, per_direction
 from tribokin.propagation.exact import engine_orders, tool_deviations_at_poses, tool_frames
 from tribokin.propagation.poe import first_order_model_bounds, truncation_bound
-from tribokin.simulation.joint_errors import TAIL_STDS, JointErrorModel, approach_signs, friction_lever, friction_loads
+from tribokin.simulation.joint_errors import TAIL_STDS, JointErrorModel, friction_lever, friction_loads
 from tribokin.simulation.pose_test import PoseRunner
 from tribokin.streams import expected_stream
 from tribokin.tribology.laws import Constant, FrictionLaw, Gaussian, Scaled
@@ -217,22 +220,19 @@ def shape_table(cycles: int, seed: int) -> ShapeTable:
 
 @dataclass(frozen=True)
 class ExpectedSetup:
-    """What every block of one scenario's expected map shares, built once per map: the tests' ``cycles``, the scenario's
-    :class:`JointMoments`, the shape table of Gaussian tests (:class:`~tribokin.iso9283.gaussian_tests.ShapeTable`;
-    ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on), the map's ``figure_set`` (``"directional"``: vAP_p and RP_l_multi
-    too) and ``mean_signs`` (nv,), each joint's mean sign of travel over the sampled tests' cycles (:func:`test_signs`),
-    about which the test's first-order model is taken."""
+    """What every block of one scenario's expected map shares, built once per map: the tests' ``cycles`` (of each
+    approach direction), the scenario's :class:`JointMoments`, the shape table of Gaussian tests
+    (:class:`~tribokin.iso9283.gaussian_tests.ShapeTable`; ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on) and the
+    map's ``figure_set`` (``"directional"``: vAP_p and RP_l_multi too)."""
 
     cycles: int
     moments: JointMoments
     table: ShapeTable | None
     figure_set: str
-    mean_signs: np.ndarray
 
     @classmethod
     def build(cls, runner: PoseRunner, table: ShapeTable | None, figure_set: str) -> ExpectedSetup:
-        signs = test_signs(runner, sampled_shape(SAMPLED_CYCLES, runner.settings.cycles))
-        return cls(runner.settings.cycles, JointMoments.of(runner.models), table, figure_set, signs.mean(axis=(0, 1)))
+        return cls(runner.settings.cycles, JointMoments.of(runner.models), table, figure_set)
 
 
 def tests_for(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> int:
@@ -352,42 +352,94 @@ def blocks_of(indices: np.ndarray, cycles_each: int) -> list[np.ndarray]:
     return [indices[start:start + size] for start in range(0, len(indices), size)]
 
 
+class DirectionTests(NamedTuple):
+    """The test's figures at k targets approached from one direction (:func:`direction_tests`): ``values`` by name
+    [µm, mdeg] (k,) each (:data:`TEST_FIGURES` and the band), the RP_l band's ``band_error`` (k,), where the first-order
+    ``model`` (:class:`LinearModel`) ``served`` (k,), and the engine ``used`` (:class:`EngineUsed`)."""
+
+    values: dict[str, np.ndarray]
+    band_error: np.ndarray
+    served: np.ndarray
+    used: EngineUsed
+    model: LinearModel
+
+
+def direction_tests(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, lever: np.ndarray, direction: np.ndarray,
+                    commanded: np.ndarray) -> DirectionTests:
+    """The expected figures of tests of ``setup.cycles`` cycles at configurations ``qs`` (k, nv), levers ``lever``
+    (k, nv), every cycle approached with joint signs ``direction`` (nv,) (ISO's unidirectional series), commanded
+    positions ``commanded`` (k, 3) [m]: in closed form where every law is Gaussian, else sampled; through the fast
+    engine where the first-order model does not serve."""
+    moments, n = setup.moments, setup.cycles
+    model = linear_model(runner.robot, moments, qs, lever, np.broadcast_to(direction, lever.shape), mixed=False)
+    everywhere = np.ones(len(qs), dtype=bool)
+    values = (_analytic(model, everywhere, setup, commanded) if moments.gaussian
+              else _sampled(runner, setup, model, everywhere, qs, commanded, direction))
+    band_error = values.pop("band_error", np.full(len(qs), 0.0 if setup.table is None else setup.table.band_error))
+    served = serves(model.bound, n, values, "test")
+    used = EngineUsed.first_order(model)
+    if not served.all():
+        for name, again in _sampled(runner, setup, model, ~served, qs, commanded, direction, used).items():
+            (band_error if name == "band_error" else values[name])[~served] = again
+    return DirectionTests(values, band_error, served, used, model)
+
+
+#: The test's figures a map approached from both directions gives per direction
+#: (:attr:`~tribokin.maps.schema.MapFigure.per_direction`).
+SPLIT_FIGURES = tuple(figure.name for figure in map_figures("expected") if figure.per_direction)
+
+
+def directions_figures(tests: list[DirectionTests], cycles: int) -> tuple[dict, dict]:
+    """The figures and their errors [µm, mdeg] of the approach directions' ``tests`` (one: as they are; + and -: each
+    direction's :data:`SPLIT_FIGURES` by their own names, :func:`~tribokin.maps.schema.direction_figure`, and each
+    figure the larger of the two's, whose error is at most the larger of theirs)."""
+    if len(tests) == 1:
+        return tests[0].values, figure_errors(tests[0].used.bound, cycles)
+    values = {name: np.maximum(*(t.values[name] for t in tests)) for name in tests[0].values}
+    errors = figure_errors(np.maximum(*(t.used.bound for t in tests)), cycles)
+    for label, test in zip(DIRECTIONS, tests, strict=True):
+        own = figure_errors(test.used.bound, cycles)
+        for name in SPLIT_FIGURES:
+            values[direction_figure(name, label)] = test.values[name]
+            errors[direction_figure(name, label)] = own[name]
+    return values, errors
+
+
 def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, forces: np.ndarray,
                      twists: np.ndarray, translations: np.ndarray) -> dict[str, np.ndarray]:
     """Expected figures of k targets at configurations ``qs`` (k, nv) under bearing loads ``forces`` (k, nv) [N];
-    ``twists``, ``translations``: their :func:`~tribokin.propagation.exact.tool_frames`.
+    ``twists``, ``translations``: their :func:`~tribokin.propagation.exact.tool_frames`. A study approaching from
+    both directions (``bidirectional``, ``random``: :func:`~tribokin.maps.schema.per_direction`) has ISO's tests of
+    ``cycles`` cycles from each, every joint travelling + (every joint -): :func:`directions_figures`.
 
     Returns:
         ``figures`` (k, figures) in the order of :func:`~tribokin.maps.schema.map_figures` of ``setup.figure_set``,
         ``figure_errors`` (k, figures) each figure's largest change [µm, mdeg] from the engine's bound
         (:func:`figure_errors`; NaN for ``dominant_share``), ``dominant_joint`` (k,) (-1: none), ``method`` (k,)
-        (``ANALYTIC`` or ``SAMPLED``), ``fallbacks`` (k,) how many of the models (the test's; vAP_p's, RP_l_multi's)
-        the first-order model did not serve and went through the fast engine, ``engine`` (k,) the least exact engine
-        of the models (an index in ``TARGET_ENGINES``), ``engine_bound`` (k, 2) [m, rad] their largest bound on
-        |engine - exact FK| (exact FK: 0), ``band_error`` (k,) the RP_l band's relative Monte Carlo error.
+        (``ANALYTIC`` or ``SAMPLED``), ``fallbacks`` (k,) how many of the models (each direction's test's; vAP_p's,
+        RP_l_multi's) the first-order model did not serve and went through the fast engine, ``engine`` (k,) the least
+        exact engine of the models (an index in ``TARGET_ENGINES``), ``engine_bound`` (k, 2) [m, rad] their largest
+        bound on |engine - exact FK| (exact FK: 0), ``band_error`` (k,) the RP_l band's relative Monte Carlo error
+        (the larger of the directions').
     """
     models, robot, moments, n = runner.models, runner.robot, setup.moments, setup.cycles
     lever = friction_loads(models, forces) * friction_lever(models, robot.joint_is_prismatic)
-    columns = {figure.name: k for k, figure in enumerate(map_figures(setup.figure_set))}
+    both = per_direction(runner.settings.approach)
+    columns = {figure.name: k for k, figure in enumerate(map_figures(setup.figure_set, both))}
     figures = np.full((len(qs), len(columns)), np.nan)
     errors = np.full((len(qs), len(columns)), np.nan)
-    unidirectional = runner.settings.approach == "unidirectional"
-    model = linear_model(robot, moments, qs, lever, np.broadcast_to(setup.mean_signs, lever.shape),
-                         mixed=not unidirectional)
-    everywhere, closed_form = np.ones(len(qs), dtype=bool), moments.gaussian and unidirectional
-    values = (_analytic(model, everywhere, setup, translations) if closed_form
-              else _sampled(runner, setup, model, everywhere, qs, translations))
-    band_error = values.pop("band_error", np.full(len(qs), 0.0 if setup.table is None else setup.table.band_error))
-    served = serves(model.bound, n, values, "test")
-    used = EngineUsed.first_order(model)
-    if not served.all():
-        for name, again in _sampled(runner, setup, model, ~served, qs, translations, used).items():
-            (band_error if name == "band_error" else values[name])[~served] = again
+    tests = [direction_tests(runner, setup, qs, lever, np.full(len(models), sign), translations)
+             for sign in ((1.0, -1.0) if both else (1.0,))]
+    values, test_errors = directions_figures(tests, n)
+    served = np.all([t.served for t in tests], axis=0)
     for name, value in values.items():
         figures[:, columns[name]] = value
-    out = {"figures": figures, "figure_errors": errors, "method": np.where(served & closed_form, ANALYTIC, SAMPLED),
-           "fallbacks": (~served).astype(int), "band_error": band_error}
-    engines = {"test": used}  # the engine of each model: the test's, and vAP_p's and RP_l_multi's by their figure
+    out = {"figures": figures, "figure_errors": errors,
+           "method": np.where(served & moments.gaussian, ANALYTIC, SAMPLED),
+           "fallbacks": np.sum([~t.served for t in tests], axis=0), "band_error": np.max([t.band_error for t in tests],
+                                                                                         axis=0)}
+    # the engine of each model: the tests', and vAP_p's and RP_l_multi's by their figure
+    engines = {"test": EngineUsed.combined([t.used for t in tests])}
     if setup.figure_set == "directional":
         for name, (value, engine, fallbacks) in {"vAP_p_um": _vap(runner, moments, qs, lever, twists, n),
                                                  "RP_l_multi_um": _multi(runner, setup, qs, lever)}.items():
@@ -395,12 +447,13 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
             out["fallbacks"] += fallbacks
             engines[name] = engine
     bounded = {model_name: figure_errors(engine.bound, n) for model_name, engine in engines.items()}
+    bounded["test"] = test_errors
     for name, column in columns.items():
         if name != "dominant_share":
             errors[:, column] = bounded.get(name, bounded["test"])[name]
     combined = EngineUsed.combined(list(engines.values()))
     out["engine"], out["engine_bound"] = combined.engine, combined.bound
-    parts = model.deviation_variance * np.sum(model.jacobian[:, :3] ** 2, axis=1)
+    parts = sum(t.model.deviation_variance * np.sum(t.model.jacobian[:, :3] ** 2, axis=1) for t in tests)
     total = parts.sum(axis=1)
     out["dominant_joint"] = np.where(total > 0, np.argmax(parts, axis=1), -1)
     figures[:, columns["dominant_share"]] = np.where(total > 0, parts.max(axis=1) / np.where(total > 0, total, 1),
@@ -416,25 +469,14 @@ def sampled_shape(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> t
     return tests_for(cycles_in_all, cycles, fewest), cycles
 
 
-def test_signs(runner: PoseRunner, shape: tuple[int, int]) -> np.ndarray:
-    """Joint signs (1 or tests, cycles, nv) of sampled tests of ``shape`` (tests, cycles) under the study's ``approach``
-    mode (:func:`~tribokin.simulation.joint_errors.approach_signs` with every joint forwards, then backwards): the
-    same for every test unless the directions are drawn at random."""
-    nv, mode = len(runner.models), runner.settings.approach
-    rng = expected_stream(runner.settings.seed, "signs")
-    directions = np.vstack([np.ones(nv), -np.ones(nv)])
-    if mode != "random":
-        return approach_signs(mode, shape[1], directions, rng)[0][None]
-    return approach_signs(mode, math.prod(shape), directions, rng)[0].reshape(*shape, nv)
-
-
 def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chosen: np.ndarray, qs: np.ndarray,
-             commanded: np.ndarray, used: EngineUsed | None = None) -> dict[str, np.ndarray]:
-    """The figures of targets ``chosen`` (mask) over the sampled tests, and their RP_l band's ``band_error``: through
-    the first-order ``model``, or with ``used``, through the fast engine (each target's engine recorded there)."""
+             commanded: np.ndarray, direction: np.ndarray, used: EngineUsed | None = None) -> dict[str, np.ndarray]:
+    """The figures of targets ``chosen`` (mask) approached with joint signs ``direction`` (nv,) over the sampled tests,
+    and their RP_l band's ``band_error``: through the first-order ``model``, or with ``used``, through the fast engine
+    (each target's engine recorded there). Every direction's tests draw the same numbers."""
     n, moments = setup.cycles, setup.moments
     shape = sampled_shape(SAMPLED_CYCLES, n)
-    signs = test_signs(runner, shape)
+    signs = np.broadcast_to(direction, (1, shape[1], len(direction)))
     numbers = common_numbers(runner, np.broadcast_to(signs, (*shape, signs.shape[2])) if len(signs) == 1 else signs,
                              shape[0], "tests")
     summarise = partial(_summarise_cycles, cycles=n) if n >= ASYMPTOTIC_CYCLES else _summarise_tests

@@ -39,7 +39,7 @@ from tribokin.maps.rows import (
     solve_rows,
     solve_tries,
 )
-from tribokin.maps.schema import MapLayout, robot_column, scenario_column
+from tribokin.maps.schema import MapLayout, per_direction, robot_column, scenario_column
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.propagation.exact import tool_frames
 from tribokin.simulation.joint_errors import JointErrorModel
@@ -321,7 +321,8 @@ def plan_map(spec: MapSpec, robots: tuple[Robot, ...], runners: list[PoseRunner]
             error.scenario = i
             raise
     return PreparedMap(spec, tuple(names), tuple(robots), tuple(grids), starts, list(runners),
-                       MapLayout(tuple(robot.model.nv for robot in robots), places, spec.figure_set), identity)
+                       MapLayout(tuple(robot.model.nv for robot in robots), places, spec.figure_set,
+                                 tuple(per_direction(runner.settings.approach) for runner in runners)), identity)
 
 
 def prepare_map(study: Study, robots: MapRobots) -> PreparedMap:
@@ -392,7 +393,8 @@ def measure_map(prepared: PreparedMap, executor: Executor | None = None, checkpo
     finally:
         _local.cache = None
     fill_holes(job, robots, runners, store, executor)
-    maps = {name: ScenarioMap(name, settings.cycles, i, robots[r].joint_names, store, prepared.spec.figure_set, r)
+    maps = {name: ScenarioMap(name, settings.cycles, i, robots[r].joint_names, store, prepared.spec.figure_set, r,
+                              prepared.layout.both_directions(i))
             for i, (name, settings, r)
             in enumerate(zip(prepared.names, job.settings, prepared.layout.places, strict=True))}
     return MapResult(prepared.grids, robots[0].joint_names, store, maps, prepared.robots[0])

@@ -17,6 +17,9 @@ from tribokin.maps.schema import figure_index, map_figures, robot_column, scenar
 from tribokin.maps.store import ChunkStore
 from tribokin.maps.streaming import blocks, spread
 
+#: What a map approached from both directions says of its unsuffixed figures (``summary.json``).
+DIRECTIONS_NOTE = ("RP_l, its band, AP_p and RP_a/b/c: the larger of the + and - approach directions' (ISO's "
+                   "figure per direction; each direction's in <figure>_plus_<unit>, <figure>_minus_<unit>)")
 #: Who reaches a target, as :meth:`MapResult.reached_by` gives it: a scenario's robot and the reference's, the
 #: scenario's only, the reference's only, neither.
 REACHED_BY = ("both", "this only", "reference only", "neither")
@@ -35,6 +38,9 @@ class ScenarioMap:
             :func:`~tribokin.maps.schema.map_figures`).
         robot: the robot it is measured with, its number among the map's (0: the study's); its IK's columns
             (:meth:`read_robot`).
+        both_directions: approached from both directions (``bidirectional``, ``random``): each direction's figures
+            too, and RP_l, AP_p, RP_a/b/c (and the band) the larger of the two
+            (:func:`~tribokin.maps.schema.map_figures`).
     """
 
     name: str
@@ -44,6 +50,7 @@ class ScenarioMap:
     store: ChunkStore = field(repr=False)
     figure_set: str
     robot: int = 0
+    both_directions: bool = False
 
     def read_robot(self, name: str, targets=slice(None)) -> np.ndarray:
         """Its robot's column ``name`` at ``targets``: ``q`` (k, nv) [m or rad] (NaN where unreachable),
@@ -62,17 +69,22 @@ class ScenarioMap:
     def figure(self, name: str, targets=slice(None)) -> np.ndarray:
         """Figure ``name`` (:func:`~tribokin.maps.schema.map_figures`) at ``targets`` (default: all; read the whole
         column only for small maps)."""
-        return self.read("figures", targets, figure_index(name, self.figure_set))
+        return self.read("figures", targets, figure_index(name, self.figure_set, self.both_directions))
 
     def figure_error(self, name: str, targets=slice(None)) -> np.ndarray:
         """An expected map's bound [µm, mdeg] on how far figure ``name`` at ``targets`` may lie from the same figure
         through exact FK, derived from the bound of the engine that computed it
         (:func:`~tribokin.maps.expected_figures.figure_errors`)."""
-        return self.read("figure_errors", targets, figure_index(name, self.figure_set))
+        return self.read("figure_errors", targets, figure_index(name, self.figure_set, self.both_directions))
 
     def has(self, name: str) -> bool:
         """Whether the map has figure ``name``."""
-        return name in [figure.name for figure in map_figures(self.figure_set)]
+        return name in [figure.name for figure in self.figure_list]
+
+    @property
+    def figure_list(self) -> tuple:
+        """Its figures (:func:`~tribokin.maps.schema.map_figures`), in the store's order."""
+        return map_figures(self.figure_set, self.both_directions)
 
     @property
     def figures(self) -> np.ndarray:
@@ -259,8 +271,9 @@ class MapResult:
             "cycles": reference.cycles,
             "statistic": "one-test" if reference.figure_set == "one-test" else "expected",
             "directional": reference.figure_set == "directional",
+            **({"unsuffixed_figures": DIRECTIONS_NOTE} if reference.both_directions else {}),
             **{f.name: spread(lambda part, f=f: reference.figure(f.name, part), size)
-               for f in map_figures(reference.figure_set) if f.summarised},
+               for f in reference.figure_list if f.summarised},
             "dominant_joint_counts": {name: int(count) for name, count in zip(self.joint_names, dominant, strict=True)},
         }
         if self.grid.kind != "joint":
@@ -270,6 +283,7 @@ class MapResult:
                 "name": s.name,
                 "cycles": s.cycles,
                 **(self._reach_counts(s) if self.robot_count > 1 else {}),
+                **({"unsuffixed_figures": DIRECTIONS_NOTE} if s.both_directions else {}),
                 "RP_l_um": spread(lambda part, s=s: s.figure("RP_l_um", part), size),
                 "RP_l_ratio": spread(lambda part, s=s: self.ratio_RP_l(s, part), size),
                 "RP_l_diff_um": spread(lambda part, s=s: self.diff_RP_l_um(s, part), size),

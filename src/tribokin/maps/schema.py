@@ -24,39 +24,75 @@ class MapFigure:
         summarised: ``summary.json`` gives its min, exact median and max over the map.
         after_dominant_joint: ``map.csv`` gives it after the dominant joint's name (a figure of that joint).
         sets: the figure sets that have it (:attr:`~tribokin.study.map_spec.MapSpec.figure_set`).
+        per_direction: ISO's figure per approach direction: a map approached from both (``bidirectional``,
+            ``random``) gives each direction's in its own columns (:func:`direction_figure`), and in this one the
+            larger of the two.
     """
 
     name: str
     summarised: bool = False
     after_dominant_joint: bool = False
     sets: tuple[str, ...] = FIGURE_SETS
+    per_direction: bool = False
 
 
 _EXPECTED = ("expected", "directional")
 #: The figures of every map target, in the store's order (µm, mdeg; ``dominant_share`` in [0, 1]); an expected map's
 #: RP_l band of one test (2.5 and 97.5 %) and a directional map's vAP_p (along +x, +y, +z) and RP_l_multi (cycles
 #: from random joint-space directions) are their own.
-ALL_FIGURES = (MapFigure("RP_l_um", summarised=True), MapFigure("RP_l_lo_um", sets=_EXPECTED),
-               MapFigure("RP_l_hi_um", sets=_EXPECTED), MapFigure("AP_p_um", summarised=True),
+ALL_FIGURES = (MapFigure("RP_l_um", summarised=True, per_direction=True),
+               MapFigure("RP_l_lo_um", sets=_EXPECTED, per_direction=True),
+               MapFigure("RP_l_hi_um", sets=_EXPECTED, per_direction=True),
+               MapFigure("AP_p_um", summarised=True, per_direction=True),
                MapFigure("vAP_p_um", summarised=True, sets=("directional",)),
                MapFigure("RP_l_multi_um", summarised=True, sets=("directional",)),
-               MapFigure("RP_a_mdeg"), MapFigure("RP_b_mdeg"), MapFigure("RP_c_mdeg"),
+               MapFigure("RP_a_mdeg", per_direction=True), MapFigure("RP_b_mdeg", per_direction=True),
+               MapFigure("RP_c_mdeg", per_direction=True),
                MapFigure("largest_semi_axis_um"), MapFigure("dominant_share", after_dominant_joint=True))
+#: The approach directions of a map approached from both, by the suffix of their figures' names.
+DIRECTIONS = ("plus", "minus")
+#: A one-test map approached from both directions also gives RP_l of every cycle pooled (as poses name it).
+POOLED = MapFigure("RP_l_all_directions_um", sets=("one-test",))
 
 
-def map_figures(figure_set: str) -> tuple[MapFigure, ...]:
-    """The figures of a map's ``figure_set`` (:data:`~tribokin.study.map_spec.FIGURE_SETS`), in the store's order."""
-    return tuple(figure for figure in ALL_FIGURES if figure_set in figure.sets)
+def direction_figure(name: str, direction: str) -> str:
+    """The name of figure ``name`` of one approach ``direction`` (``"plus"``, ``"minus"``): ``<figure>_<direction>_
+    <unit>`` (``RP_l_lo_um`` -> ``RP_l_lo_plus_um``)."""
+    figure, unit = name.rsplit("_", 1)
+    return f"{figure}_{direction}_{unit}"
 
 
-def figure_index(name: str, figure_set: str) -> int:
+def per_direction(approach: str) -> bool:
+    """Whether a map of ``approach`` mode gives its figures per approach direction: approached from both."""
+    return approach != "unidirectional"
+
+
+def study_approaches(study) -> tuple[str, ...]:
+    """The approach mode of each scenario of a :class:`~tribokin.study.spec.Study`'s map (the study's own without
+    scenarios), for :meth:`MapLayout.of`."""
+    return tuple(s.study.approach for s in study.scenarios) or (study.approach,)
+
+
+def map_figures(figure_set: str, both_directions: bool = False) -> tuple[MapFigure, ...]:
+    """The figures of a map's ``figure_set`` (:data:`~tribokin.study.map_spec.FIGURE_SETS`), in the store's order;
+    ``both_directions`` (a map approached from both, :func:`per_direction`): then each direction's figures
+    (:data:`DIRECTIONS`, :func:`direction_figure`), the + direction's first, and a one-test map's pooled RP_l."""
+    figures = tuple(figure for figure in ALL_FIGURES if figure_set in figure.sets)
+    if not both_directions:
+        return figures
+    split = tuple(MapFigure(direction_figure(figure.name, direction), figure.summarised, sets=figure.sets)
+                  for direction in DIRECTIONS for figure in figures if figure.per_direction)
+    return figures + split + ((POOLED,) if figure_set in POOLED.sets else ())
+
+
+def figure_index(name: str, figure_set: str, both_directions: bool = False) -> int:
     """Place of figure ``name`` in :func:`map_figures` (its column in the store's ``figures``)."""
-    return [figure.name for figure in map_figures(figure_set)].index(name)
+    return [figure.name for figure in map_figures(figure_set, both_directions)].index(name)
 
 
-def table_figures(figure_set: str) -> list[str]:
+def table_figures(figure_set: str, both_directions: bool = False) -> list[str]:
     """The figures' columns of ``map.csv`` in order, ``dominant_joint`` (the joint's name) among them."""
-    figures = map_figures(figure_set)
+    figures = map_figures(figure_set, both_directions)
     names = [figure.name for figure in figures if not figure.after_dominant_joint]
     return names + ["dominant_joint"] + [figure.name for figure in figures if figure.after_dominant_joint]
 
@@ -78,11 +114,11 @@ class MapColumn:
     dtype: str
     sets: tuple[str, ...] = FIGURE_SETS
 
-    def shape(self, nv: int, figure_set: str) -> tuple[int, ...]:
-        """Shape of one target's value, with ``nv`` active joints."""
+    def shape(self, nv: int, figure_set: str, both_directions: bool = False) -> tuple[int, ...]:
+        """Shape of one target's value, with ``nv`` active joints (``both_directions``: :func:`map_figures`)."""
         if self.width is None:
             return ()
-        return ({"joints": nv, "figures": len(map_figures(figure_set))}.get(self.width, self.width),)
+        return ({"joints": nv, "figures": len(map_figures(figure_set, both_directions))}.get(self.width, self.width),)
 
 
 #: Columns of every target (see :class:`~tribokin.maps.result.MapResult`).
@@ -116,21 +152,30 @@ def robot_column(robot: int, name: str) -> str:
 @dataclass(frozen=True)
 class MapLayout:
     """What a map's store holds: ``joints``, the active joints of each robot its scenarios measure with (the study's
-    first), ``places``, each scenario's robot (an index in ``joints``), and the ``figure_set``."""
+    first), ``places``, each scenario's robot (an index in ``joints``), the ``figure_set``, and ``directions``, the
+    scenarios approached from both directions (:func:`per_direction`; empty: none)."""
 
     joints: tuple[int, ...]
     places: tuple[int, ...]
     figure_set: str
+    directions: tuple[bool, ...] = ()
 
     @classmethod
-    def of(cls, robots: MapRobots, figure_set: str) -> MapLayout:
-        """The layout of the map's ``robots`` (:func:`~tribokin.study.assembly.map_robots`)."""
-        return cls(tuple(robot.model.nv for robot in robots.robots), robots.places, figure_set)
+    def of(cls, robots: MapRobots, figure_set: str, approaches: tuple[str, ...] = ()) -> MapLayout:
+        """The layout of the map's ``robots`` (:func:`~tribokin.study.assembly.map_robots`), its scenarios
+        approached in modes ``approaches`` (``()``: unidirectional)."""
+        return cls(tuple(robot.model.nv for robot in robots.robots), robots.places, figure_set,
+                   tuple(per_direction(approach) for approach in approaches))
 
     @classmethod
-    def shared(cls, nv: int, scenarios: int, figure_set: str) -> MapLayout:
-        """The layout of ``scenarios`` scenarios measured with one robot of ``nv`` active joints."""
-        return cls((nv,), (0,) * scenarios, figure_set)
+    def shared(cls, nv: int, scenarios: int, figure_set: str, approaches: tuple[str, ...] = ()) -> MapLayout:
+        """The layout of ``scenarios`` scenarios measured with one robot of ``nv`` active joints (``approaches``: as
+        :meth:`of`)."""
+        return cls((nv,), (0,) * scenarios, figure_set, tuple(per_direction(approach) for approach in approaches))
+
+    def both_directions(self, scenario: int) -> bool:
+        """Whether scenario number ``scenario`` is approached from both directions (:func:`map_figures`)."""
+        return bool(self.directions) and self.directions[scenario]
 
     def scenarios_of(self, robot: int) -> list[int]:
         """The scenarios measured with robot ``robot``, in the study's order."""
@@ -147,8 +192,8 @@ class MapLayout:
                                 for column in ROBOT_COLUMNS})
         for s, r in enumerate(self.places):
             if robot in (None, r):
-                columns.update({scenario_column(s, column.name): (column.shape(self.joints[r], self.figure_set),
-                                                                  column.dtype)
+                columns.update({scenario_column(s, column.name): (column.shape(self.joints[r], self.figure_set,
+                                                                               self.both_directions(s)), column.dtype)
                                 for column in SCENARIO_COLUMNS if self.figure_set in column.sets})
         return columns
 

@@ -33,8 +33,8 @@ def map_table_columns(workspace_map, scenario, targets: slice) -> dict[str, np.n
     columns = {"x_m": positions[:, 0], "y_m": positions[:, 1], "z_m": positions[:, 2],
                "reachable": scenario.read_robot("reachable", targets)}
     columns.update({name: scenario.dominant_joint_names(targets) if name == "dominant_joint"
-                    else figures[:, figure_index(name, scenario.figure_set)]
-                    for name in table_figures(scenario.figure_set)})
+                    else figures[:, figure_index(name, scenario.figure_set, scenario.both_directions)]
+                    for name in table_figures(scenario.figure_set, scenario.both_directions)})
     if scenario.figure_set != "one-test":
         engines = scenario.read("engine", targets)
         bound = scenario.read("engine_bound", targets) * 1e9

@@ -36,7 +36,7 @@ from tribokin.kinematics.robot import Robot
 from tribokin.maps import budget
 from tribokin.maps.budget import check_parts
 from tribokin.maps.result import MapResult
-from tribokin.maps.schema import MapLayout
+from tribokin.maps.schema import MapLayout, study_approaches
 from tribokin.measured.written import Written
 from tribokin.measurement.contract import file_size
 from tribokin.measurement.registration import Choice, Transform, checked_choice
@@ -358,7 +358,8 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
     only_map = replace(study, poses=(), iso_cube=None, calibration=None)
     if study.map is not None:  # the calibrated study's map: its memory checked before the fit, as run checks it
         budget.check_memory(only_map, robot.model.nv, [], local_workers(executor),
-                            layout=MapLayout.of(map_robots(only_map, robot), study.map.figure_set))
+                            layout=MapLayout.of(map_robots(only_map, robot), study.map.figure_set,
+                                                study_approaches(only_map)))
     check_memory(measurements_path)
     measurements = read_robot_measurements(measurements_path, robot)
     check_measured_pose_names([pose.name for pose in measurements.poses], measurements_path, cloud_figure_file)

@@ -291,36 +291,3 @@ def run_poses(runner: PoseRunner, tasks: list[PoseTask], first: int = 0) -> list
     for task in tasks:
         runner.normal_forces(task)
     return [runner.run(task, first + k) for k, task in enumerate(tasks)]
-
-
-def pose_test(robot: Robot, joints: list[JointErrorModel], q, *, name: str = "pose",
-              directions: tuple[str, ...] | None = None, normal_force_N: float | None = None,
-              friction: FrictionLaw | None = None, cycles: int = 30, seed: int = 0, approach: str = "unidirectional",
-              engine: str = "fast", payload_kg: float = 0.0, index: int = 0) -> PoseResult:
-    """A pose's ISO 9283 test: the cycles of each approach direction sampled, propagated to the tool and measured.
-
-    Args:
-        robot: the robot (:class:`~tribokin.kinematics.robot.Robot`).
-        joints: one error model per joint (:func:`~tribokin.simulation.joint_errors.joint_models`).
-        q: (nv,) the commanded configuration [m or rad].
-        name: the pose's name.
-        directions: the pose's approach directions (``"+x"``...; ``None``: joint space; :func:`pose_task`).
-        normal_force_N: every joint's bearing load at this pose [N] (``None``: the joint models', else statics).
-        friction: every joint's friction law at this pose (``None``: the joint models').
-        cycles: cycles of each approach direction's test (:class:`TestSettings`).
-        seed: the random streams' seed.
-        approach: ``"unidirectional"``, ``"bidirectional"`` or ``"random"``.
-        engine: ``"fast"`` or ``"exact"``.
-        payload_kg: the payload at the tool point [kg].
-        index: the pose's number in a study (its random streams: a study's pose ``index`` gives the same figures).
-
-    Returns:
-        its samples and ISO 9283 figures per approach direction (µm, mdeg in :meth:`PoseResult.report_row`).
-
-    Raises:
-        ConfigurationError: a bad ``q``.
-        SettingsError: a bad setting.
-        JointRangeError: a joint whose deviation could exceed its range.
-    """
-    runner = PoseRunner(TestSettings(cycles, seed, approach, engine, payload_kg), robot, joints)
-    return run_poses(runner, [pose_task(robot, name, q, directions, normal_force_N, friction)], index)[0]

@@ -19,7 +19,8 @@ KEY_DOCS = {
                   "results do not depend on the other poses or targets; `--seed` overrides it",
     "study.approach": "the approach directions of each pose: `unidirectional` (`+` for a `[[poses]]` pose; `+x`, "
                       "`+y`, `+z` for a cube pose), `bidirectional` (`+` and `-`; the six axis directions) or "
-                      "`random` (`+` or `-` at random, one cloud); see "
+                      "`random` (`+` or `-` drawn for each cycle); ISO's figures per direction (a map's in "
+                      "`<figure>_plus_<unit>`, `<figure>_minus_<unit>` columns, the unsuffixed the larger); see "
                       "[approach directions](../study-files.md#approach-directions)",
     "study.engine": "`fast`: vectorised truncated product of exponentials, exact FK wherever its error bound "
                     "exceeds 0.1 nm ([engines](../concepts.md#forward-kinematics-and-the-engines)); `exact`: one "

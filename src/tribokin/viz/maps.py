@@ -276,6 +276,10 @@ EXPECTED_HEAT_MAPS = (
      "RP_l of cycles each approached from a random joint-space direction"))
 
 
+#: What a map approached from both directions shows as RP_l (its titles say so).
+LARGER_DIRECTION = " (the larger of the + and − approach directions')"
+
+
 def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | None) -> dict[str, tuple]:
     """File name -> arguments of :func:`grid_image` (values, label, title, options) of each map figure,
     in the order a reader follows: the reference, each other scenario, their ratios and differences to
@@ -286,10 +290,11 @@ def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | No
     compared = f", {reference.name}" if others else ""
     joints = workspace_map.joint_names
     expected = "expected " if reference.has("RP_l_hi_um") else ""
+    larger = LARGER_DIRECTION if reference.both_directions else ""
     figures = {
         "map_RP_l.png": (lambda shown: reference.figure("RP_l_um", shown), f"{expected}RP_l [µm]",
-                         f"position repeatability RP_l, {expected}over tests of {reference.cycles} cycles per target"
-                         f"{compared}{shared}", {"norm": norm}),
+                         f"position repeatability RP_l{larger}, {expected}over tests of {reference.cycles} cycles per "
+                         f"target{compared}{shared}", {"norm": norm}),
         "map_dominant_joint.png": (
             lambda shown: np.where(workspace_map.read("reachable", shown), reference.read("dominant_joint", shown),
                                    np.nan),
@@ -301,7 +306,7 @@ def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | No
                     for file, name, label, title in EXPECTED_HEAT_MAPS if reference.has(name)})
     for s in others:
         figures[map_figure_file("RP_l", s.name)] = (lambda shown, s=s: s.figure("RP_l_um", shown), "RP_l [µm]",
-                                             f"RP_l, {s.name}{shared}",
+                                             f"RP_l{LARGER_DIRECTION if s.both_directions else ''}, {s.name}{shared}",
                                              {"norm": norm, "bases": _bases(workspace_map, s)})
     for s in others:
         figures[map_figure_file("RP_l_ratio", s.name)] = (

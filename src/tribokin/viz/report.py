@@ -108,7 +108,9 @@ def map_statistics(workspace_map: MapResult) -> str:
                "median vs first"]
     if len(rows) < 2:
         headers, rows = headers[:-1], [row[:-1] for row in rows]
-    return html_table(headers, rows, text_columns=(5,) if computed is not None else ())
+    note = (f"<p>Approached from both directions: {html.escape(summary['unsuffixed_figures'])}.</p>"
+            if "unsuffixed_figures" in summary else "")
+    return html_table(headers, rows, text_columns=(5,) if computed is not None else ()) + note
 
 
 def engine_counts(computed: dict) -> str:
