@@ -11,6 +11,7 @@ from helpers.calibration_arm import BACKLASH, NOISE_FLOOR_M, STIFFNESS, arm_kine
 from helpers.profile_deviance import profile_deviance
 from tribokin.calibration.data import stack
 from tribokin.calibration.fit import fit, profile_interval
+from tribokin.calibration.likelihood import log_likelihood
 
 TRUTH = dict(zip(arm_model().names(), np.concatenate([STIFFNESS, BACKLASH, [NOISE_FLOOR_M]]), strict=True))
 B_FIXED = dict(fit_backlash=(False,) * 6)
@@ -58,6 +59,24 @@ def test_profile_interval_of_a_well_determined_stiffness_is_close_to_its_wald_in
     calibration = fit(arm_model(), poses)
     wald = {p.name: p.ci95 for p in calibration.parameters}["joints.j4.stiffness"]
     np.testing.assert_allclose(profile_interval(calibration, poses, "joints.j4.stiffness"), wald, rtol=0.01)
+
+
+def test_wald_interval_is_the_estimate_plus_minus_1_96_standard_errors_of_the_log_likelihood_s_curvature():
+    """The Wald interval (``calibrate --intervals wald``) of every parameter is exp(θ̂ ± 1.96·se), se from the inverse
+    of the Hessian of -log L in θ computed here independently: central second differences of log L's values (the fit
+    differentiates its analytic gradient)."""
+    model = arm_model(**B_FIXED)
+    data = stack(simulate(arm_kinematics(), np.random.default_rng(1)))
+    calibration = fit(model, data)
+    theta, step = calibration.theta, 1e-3
+    shifts = np.eye(len(theta)) * step
+    hessian = np.array([[-(log_likelihood(model, theta + a + b, data) - log_likelihood(model, theta + a - b, data)
+                           - log_likelihood(model, theta - a + b, data) + log_likelihood(model, theta - a - b, data))
+                         / (4 * step ** 2) for b in shifts] for a in shifts])
+    se = np.sqrt(np.diag(np.linalg.inv(hessian)))
+    for p, centre, error in zip(calibration.parameters, theta, se, strict=True):
+        np.testing.assert_allclose(p.ci95, np.exp([centre - 1.959963984540054 * error,
+                                                   centre + 1.959963984540054 * error]), rtol=1e-4)
 
 
 def test_tie_all_makes_identifiable_what_per_joint_stiffness_is_not():
