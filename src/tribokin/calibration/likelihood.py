@@ -23,6 +23,7 @@ Absolute barycentres never enter. Everything is vectorised over a batch of param
 from __future__ import annotations
 
 import weakref
+from functools import lru_cache
 
 import numpy as np
 from scipy.special import multigammaln
@@ -48,10 +49,19 @@ def scatter_log_density(scatter: np.ndarray, dof: np.ndarray) -> np.ndarray:
     """The terms of :func:`wishart_logpdf` that do not depend on Σ (the data's alone: a fit computes them once)."""
     dof = np.asarray(dof, dtype=float)
     wishart = dof >= 3
+    log_2, log_gamma, helmert = _dof_terms(dof.shape, dof.tobytes())
     with np.errstate(invalid="ignore", divide="ignore"):
         log_det_s = np.where(wishart, np.linalg.slogdet(scatter)[1], 0.0)
-        return np.where(wishart, (dof - 4) / 2 * log_det_s - 1.5 * dof * np.log(2)
-                        - multigammaln(np.maximum(dof, 3) / 2, 3), -1.5 * dof * LOG_2PI)
+        return np.where(wishart, (dof - 4) / 2 * log_det_s - log_2 - log_gamma, helmert)
+
+
+@lru_cache(maxsize=64)
+def _dof_terms(shape: tuple[int, ...], dof: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The terms of :func:`scatter_log_density` that depend on the degrees of freedom alone (float64 ``dof`` as
+    bytes): ``1.5·ν·log 2``, the multivariate gamma function's log, and the Helmert density's constant (a frame's
+    turned scatter matrices are new data on every call; their series' ν are not)."""
+    dof_array = np.frombuffer(dof).reshape(shape)
+    return 1.5 * dof_array * np.log(2), multigammaln(np.maximum(dof_array, 3) / 2, 3), -1.5 * dof_array * LOG_2PI
 
 
 def _wishart_logpdf(data: np.ndarray, dof: np.ndarray, inverse: np.ndarray, covariance: np.ndarray,
