@@ -24,7 +24,11 @@ fallback: orders 2-3, else exact FK), whose own bound then takes b's place. Per 
   :mod:`tribokin.iso9283.gaussian_tests` from the covariance of J(q″) dq.
 - **sampled** (other laws, approach modes, or a target the first-order model does not serve): common random
   numbers: the same ``sampled_tests`` tests of drawn μ at every target (and scenario), through the linear model,
-  or through the fast engine where it does not serve (a *fallback*). The RP_l band's Monte Carlo error is kept.
+  or through the fast engine where it does not serve (a *fallback*).
+- **Monte Carlo errors**: every figure of the test states its relative standard error (``mc_errors``): a mean over
+  sampled tests its standard error, a band's end the percentile's (:func:`~tribokin.iso9283.gaussian_tests.
+  percentile_error`), what comes from the shape table the table's, from ``ASYMPTOTIC_CYCLES`` cycles on RP_l and
+  its band by the delta method over the cycles' moments, a closed form 0.
 - ``vAP_p_um``: the largest distance between the barycentres reached along +x, +y, +z of the world frame (joint
   signs as the measured cube's, :func:`~tribokin.iso9283.cube.held_approach_signs`); each barycentre by exact
   forward kinematics of its mean deviation plus a Gaussian of covariance Σ_d / n (the mean of n cycles); its
@@ -38,7 +42,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property, lru_cache, partial
+from functools import cached_property, lru_cache
 
 import numpy as np
 
@@ -53,6 +57,7 @@ from tribokin.iso9283.gaussian_tests import (
     eigenvalues,
     expected_norm,
     expected_rp_l,
+    mean_error,
     normal_band,
     percentile_error,
     rp_l_from_moments,
@@ -78,6 +83,9 @@ MULTI_CYCLES, MIN_MULTI_TESTS = 12_000, 20
 BLOCK_CYCLES = 400_000
 #: The figures each sampled test gives.
 TEST_FIGURES = ("RP_l_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg", "largest_semi_axis_um")
+#: The figures a test's model gives, sampled or not: each has a stated Monte Carlo error (``mc_errors``).
+SAMPLED_FIGURES = ("RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg",
+                   "largest_semi_axis_um")
 #: Draws of the barycentres' noise when two pairs of approach directions are about as far apart.
 VAP_DRAWS = 4_000
 #: Truncation of a Gaussian law below this probability counts as none: its tests are computed analytically.
@@ -364,7 +372,8 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
         (``ANALYTIC`` or ``SAMPLED``), ``fallbacks`` (k,) how many of the models (the test's; vAP_p's, RP_l_multi's)
         the first-order model did not serve and went through the fast engine, ``engine`` (k,) the least exact engine
         of the models (an index in ``TARGET_ENGINES``), ``engine_bound`` (k, 2) [m, rad] their largest bound on
-        |engine - exact FK| (exact FK: 0), ``band_error`` (k,) the RP_l band's relative Monte Carlo error.
+        |engine - exact FK| (exact FK: 0), ``mc_errors`` (k, figures) each figure's relative Monte Carlo standard
+        error (0: in closed form; NaN for the figures that state none: ``dominant_share``, vAP_p, RP_l_multi).
     """
     models, robot, moments, n = runner.models, runner.robot, setup.moments, setup.cycles
     lever = friction_loads(models, forces) * friction_lever(models, robot.joint_is_prismatic)
@@ -377,16 +386,21 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     everywhere, closed_form = np.ones(len(qs), dtype=bool), moments.gaussian and unidirectional
     values = (_analytic(model, everywhere, setup, translations) if closed_form
               else _sampled(runner, setup, model, everywhere, qs, translations))
-    band_error = values.pop("band_error", np.full(len(qs), 0.0 if setup.table is None else setup.table.band_error))
+    mc = values.pop("mc_errors")
     served = serves(model.bound, n, values, "test")
     used = EngineUsed.first_order(model)
     if not served.all():
-        for name, again in _sampled(runner, setup, model, ~served, qs, translations, used).items():
-            (band_error if name == "band_error" else values[name])[~served] = again
+        again = _sampled(runner, setup, model, ~served, qs, translations, used)
+        for name, value in again.pop("mc_errors").items():
+            mc[name][~served] = value
+        for name, value in again.items():
+            values[name][~served] = value
+    mc_errors = np.full((len(qs), len(columns)), np.nan)
     for name, value in values.items():
         figures[:, columns[name]] = value
+        mc_errors[:, columns[name]] = mc[name]
     out = {"figures": figures, "figure_errors": errors, "method": np.where(served & closed_form, ANALYTIC, SAMPLED),
-           "fallbacks": (~served).astype(int), "band_error": band_error}
+           "fallbacks": (~served).astype(int), "mc_errors": mc_errors}
     engines = {"test": used}  # the engine of each model: the test's, and vAP_p's and RP_l_multi's by their figure
     if setup.figure_set == "directional":
         for name, (value, engine, fallbacks) in {"vAP_p_um": _vap(runner, moments, qs, lever, twists, n),
@@ -430,28 +444,41 @@ def test_signs(runner: PoseRunner, shape: tuple[int, int]) -> np.ndarray:
 
 def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chosen: np.ndarray, qs: np.ndarray,
              commanded: np.ndarray, used: EngineUsed | None = None) -> dict[str, np.ndarray]:
-    """The figures of targets ``chosen`` (mask) over the sampled tests, and their RP_l band's ``band_error``: through
-    the first-order ``model``, or with ``used``, through the fast engine (each target's engine recorded there)."""
+    """The figures of targets ``chosen`` (mask) over the sampled tests, and under ``"mc_errors"`` each one's relative
+    Monte Carlo standard error: through the first-order ``model``, or with ``used``, through the fast engine (each
+    target's engine recorded there)."""
     n, moments = setup.cycles, setup.moments
     shape = sampled_shape(SAMPLED_CYCLES, n)
     signs = test_signs(runner, shape)
     numbers = common_numbers(runner, np.broadcast_to(signs, (*shape, signs.shape[2])) if len(signs) == 1 else signs,
                              shape[0], "tests")
-    summarise = partial(_summarise_cycles, cycles=n) if n >= ASYMPTOTIC_CYCLES else _summarise_tests
     indices = np.flatnonzero(chosen)
-    values = {name: np.empty(len(indices)) for name in (*TEST_FIGURES, "RP_l_lo_um", "RP_l_hi_um", "band_error")}
+    values = {name: np.empty(len(indices)) for name in SAMPLED_FIGURES}
+    errors = {name: np.empty(len(indices)) for name in SAMPLED_FIGURES}
+
+    def summarise(slots, targets, positions, angles, linear=None):
+        if n >= ASYMPTOTIC_CYCLES:
+            _summarise_cycles(values, errors, slots, positions, angles, commanded[targets], n,
+                              (model, targets, linear))
+        else:
+            _summarise_tests(values, errors, slots, positions, angles, commanded[targets])
+
     if used is None:
         for block in blocks_of(np.arange(len(indices)), math.prod(shape)):
             targets = indices[block]
             positions = sampled_tests(model, moments, targets, numbers, shape, slice(0, 3))
             angles = sampled_tests(model, moments, targets, numbers, shape, slice(3, 6))
-            summarise(values, list(block), positions, angles, commanded[targets])
-        return values
+            summarise(list(block), targets, positions, angles)
+        return {**values, "mc_errors": errors}
     for slot, k in enumerate(indices):
         positions, angles, engine = engine_tests(runner, model, moments, k, qs[k], numbers, shape)
         used.fall_back(k, EngineUsed.of(engine))
-        summarise(values, [slot], positions[None], angles[None], commanded[[k]])
-    return values
+        linear = None
+        if n >= ASYMPTOTIC_CYCLES:  # the first-order model's own samples: a control variate of their moments
+            linear = tuple(sampled_tests(model, moments, np.array([k]), numbers, shape, rows)
+                           for rows in (slice(0, 3), slice(3, 6)))
+        summarise([slot], np.array([k]), positions[None], angles[None], linear)
+    return {**values, "mc_errors": errors}
 
 
 def cycle_moments(positions: np.ndarray, cycles: int, normals: np.ndarray) -> tuple[tuple[np.ndarray, ...],
@@ -488,37 +515,86 @@ def barycentre_normals(count: int) -> np.ndarray:
     return expected_stream(0, "barycentre").standard_normal((count, 3))
 
 
-def _summarise_cycles(values: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
-                      commanded: np.ndarray, cycles: int) -> None:
+def _summarise_cycles(values: dict, errors: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
+                      commanded: np.ndarray, cycles: int, control: tuple) -> None:
     """As :func:`_summarise_tests`, for tests of ``cycles`` >= ``ASYMPTOTIC_CYCLES`` cycles from (k, 1, M, 3) single
     cycles: RP_l from their distances' moments (:func:`~tribokin.iso9283.gaussian_tests.rp_l_from_moments`), its band
-    normal; AP_p, RP_a/b/c and the semi-axis from the cycles' mean and covariance as in the closed form. The band's
-    Monte Carlo error: that of the distances' mean and standard deviation over M cycles."""
+    normal, their Monte Carlo errors by the delta method over the cycles' moments (:func:`moments_errors`); AP_p,
+    RP_a/b/c and the semi-axis as in the closed form from the cycles' mean and covariance, which are the first-order
+    model's (``control``: the model, the targets, and after a fallback the model's samples of the same numbers, a
+    control variate: the engine's sample moments less the model's plus the model's exact ones; their errors then
+    bounded by the model's bound b, β over √M)."""
     positions, angles = positions[:, 0], angles[:, 0]
     n, count = cycles, positions.shape[1]
     moments, distances = cycle_moments(positions, n, barycentre_normals(positions.shape[1]))
     mean, spread = rp_l_from_moments(moments, n)
     low, high = normal_band(mean, spread)
-    offsets = positions - positions.mean(axis=1, keepdims=True)
-    covariance = np.einsum("kmi,kmj->kij", offsets, offsets) / (count - 1)
-    angle_std = angles.std(axis=1, ddof=1)
-    lengths = {"RP_l_um": mean, "RP_l_lo_um": low, "RP_l_hi_um": high,
-               "AP_p_um": expected_norm(positions.mean(axis=1) - commanded, covariance / n),
-               "largest_semi_axis_um": np.sqrt(np.maximum(np.linalg.eigvalsh(covariance)[:, -1], 0.0))}
+    model, targets, linear = control
+    centre, covariance = model.position_m[targets], model.position_covariance[targets]
+    angle_variance = np.diagonal(model.angle_covariance[targets], axis1=1, axis2=2)
+    bound = np.zeros((len(targets), 2))
+    if linear is not None:
+        own, own_angles = linear[0][:, 0], linear[1][:, 0]
+        centre = centre + positions.mean(axis=1) - own.mean(axis=1)
+        covariance = covariance + sample_covariance(positions) - sample_covariance(own)
+        angle_variance = angle_variance + angles.var(axis=1, ddof=1) - own_angles.var(axis=1, ddof=1)
+        bound = model.bound[targets] / math.sqrt(count)
+    ap_p = expected_norm(centre - commanded, covariance / n)
+    semi_axis = np.sqrt(np.maximum(np.linalg.eigvalsh(covariance)[:, -1], 0.0))
+    angle_std = np.sqrt(np.maximum(angle_variance, 0.0))
+    lengths = {"RP_l_um": mean, "RP_l_lo_um": low, "RP_l_hi_um": high, "AP_p_um": ap_p,
+               "largest_semi_axis_um": semi_axis}
     for name, length in lengths.items():
         values[name][slots] = length * UM_PER_M
+    stated = dict(zip(("RP_l_um", "RP_l_lo_um", "RP_l_hi_um"), moments_errors(distances, moments, n), strict=True))
+    stated.update({"AP_p_um": relative(bound[:, 0], ap_p), "largest_semi_axis_um": relative(bound[:, 0], semi_axis)})
     for i, axis in enumerate("abc"):
         values[f"RP_{axis}_mdeg"][slots] = 3 * c4(n) * angle_std[:, i] * MDEG_PER_RAD
-    sigma = distances.std(axis=1)
-    kurtosis = ((distances - moments[0][:, None]) ** 4).mean(axis=1) / np.where(sigma > 0, sigma ** 4, 1.0)
-    error = (sigma + 3 * sigma * np.sqrt(np.maximum(kurtosis - 1, 0.0) / 4)) / math.sqrt(count)
-    values["band_error"][slots] = np.where(low > 0, error / np.where(low > 0, low, 1.0), 0.0)
+        stated[f"RP_{axis}_mdeg"] = relative(bound[:, 1], angle_std[:, i])
+    for name, error in stated.items():
+        errors[name][slots] = error
 
 
-def _summarise_tests(values: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
+def sample_covariance(points: np.ndarray) -> np.ndarray:
+    """(k, 3, 3) covariance (n - 1) of (k, M, 3) ``points``."""
+    offsets = points - points.mean(axis=1, keepdims=True)
+    return np.einsum("kmi,kmj->kij", offsets, offsets) / (points.shape[1] - 1)
+
+
+def relative(error: np.ndarray, value: np.ndarray) -> np.ndarray:
+    """``error`` over ``|value|``, 0 where the value is."""
+    return np.divide(error, np.abs(value), out=np.zeros(np.shape(error)), where=value != 0)
+
+
+def moments_errors(distances: np.ndarray, moments: tuple[np.ndarray, ...], cycles: int) -> tuple[np.ndarray, ...]:
+    """Relative standard errors of E[RP_l] and its normal band's two ends (:func:`~tribokin.iso9283.gaussian_tests.
+    rp_l_from_moments`, :func:`~tribokin.iso9283.gaussian_tests.normal_band`) taken from ``moments`` of (k, M)
+    single cycles' ``distances``: the delta method, each one's gradient in the four moments by central differences
+    times the covariance of (l, l², l³, l⁴) over M."""
+    powers = distances[..., None] ** np.arange(1, 5)  # (k, M, 4)
+    centred = powers - powers.mean(axis=1, keepdims=True)
+    covariance = np.einsum("kmi,kmj->kij", centred, centred) / (distances.shape[1] - 1) / distances.shape[1]
+
+    def ends(point):
+        mean, spread = rp_l_from_moments(tuple(point), cycles)
+        return np.stack([mean, *normal_band(mean, spread)], axis=-1)  # (k, 3)
+
+    point = np.stack(moments)  # (4, k)
+    gradient = np.empty((point.shape[1], 4, 3))
+    for i in range(4):
+        step = np.zeros_like(point)
+        step[i] = 1e-4 * np.abs(point[i]) + np.finfo(float).tiny
+        gradient[:, i] = (ends(point + step) - ends(point - step)) / (2 * step[i][:, None])
+    variance = np.einsum("kia,kij,kja->ka", gradient, covariance, gradient)
+    return tuple(relative(np.sqrt(np.maximum(variance[:, a], 0.0)), ends(point)[:, a]) for a in range(3))
+
+
+def _summarise_tests(values: dict, errors: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
                      commanded: np.ndarray) -> None:
     """Into ``values[...][slots]``: the mean of each figure over the tests of (k, tests, cycles, 3) ``positions``
-    [m] and ``angles`` [rad], the RP_l band and its Monte Carlo error."""
+    [m] and ``angles`` [rad] and the RP_l band; into ``errors[...][slots]`` their relative Monte Carlo standard
+    errors (:func:`~tribokin.iso9283.gaussian_tests.mean_error`, :func:`~tribokin.iso9283.gaussian_tests.
+    percentile_error`)."""
     spread = position_spread(positions)
     rp_abc = orientation_repeatability(angles) * MDEG_PER_RAD
     per_test = {"RP_l_um": spread.RP_l_m * UM_PER_M,
@@ -527,32 +603,41 @@ def _summarise_tests(values: dict, slots: list[int], positions: np.ndarray, angl
                 "largest_semi_axis_um": spread.largest_semi_axis_m * UM_PER_M}
     for name, figure in per_test.items():
         values[name][slots] = figure.mean(axis=1)
+        errors[name][slots] = mean_error(figure)
     ordered = np.sort(per_test["RP_l_um"], axis=1)
     values["RP_l_lo_um"][slots], values["RP_l_hi_um"][slots] = np.percentile(ordered, BAND_PERCENTILES, axis=1)
-    values["band_error"][slots] = [max(percentile_error(row, p) for p in BAND_PERCENTILES) for row in ordered]
+    for name, percentile in zip(("RP_l_lo_um", "RP_l_hi_um"), BAND_PERCENTILES, strict=True):
+        errors[name][slots] = percentile_error(ordered, percentile)
 
 
 def _analytic(model: LinearModel, chosen: np.ndarray, setup: ExpectedSetup, commanded: np.ndarray
               ) -> dict[str, np.ndarray]:
-    """The figures of targets ``chosen`` in closed form (:mod:`tribokin.iso9283.gaussian_tests`)."""
+    """The figures of targets ``chosen`` in closed form (:mod:`tribokin.iso9283.gaussian_tests`), and under
+    ``"mc_errors"`` their relative Monte Carlo standard errors: the shape table's for what comes from it, else 0."""
     n = setup.cycles
     position = model.position_covariance[chosen]
     lam = eigenvalues(position)
     scale, shape = standardised_shape(lam)
     rp_l, spread = expected_rp_l(lam, n)
+    errors = {name: np.zeros(len(scale)) for name in SAMPLED_FIGURES}
     if setup.table is None:  # from ASYMPTOTIC_CYCLES on
         band, semi_axis = normal_band(rp_l, spread), scale
     else:
         mean, low, high, semi_axis = setup.table.at(shape)
+        table_errors = dict(zip(("RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "largest_semi_axis_um"),
+                                setup.table.errors_at(shape), strict=True))
         rp_l = rp_l if n >= ANALYTIC_MIN_CYCLES else mean * scale
         with np.errstate(divide="ignore", invalid="ignore"):
             band = [np.where(mean > 0, rp_l * ratio / mean, 0.0) for ratio in (low, high)]
         semi_axis = semi_axis * scale
+        if n >= ANALYTIC_MIN_CYCLES:
+            del table_errors["RP_l_um"]
+        errors.update(table_errors)
     angle_std = np.sqrt(np.diagonal(model.angle_covariance[chosen], axis1=1, axis2=2))
     return {"RP_l_um": rp_l * UM_PER_M, "RP_l_lo_um": band[0] * UM_PER_M, "RP_l_hi_um": band[1] * UM_PER_M,
             "AP_p_um": expected_norm(model.position_m[chosen] - commanded, position / n) * UM_PER_M,
             **{f"RP_{axis}_mdeg": 3 * c4(n) * angle_std[:, i] * MDEG_PER_RAD for i, axis in enumerate("abc")},
-            "largest_semi_axis_um": semi_axis * UM_PER_M}
+            "largest_semi_axis_um": semi_axis * UM_PER_M, "mc_errors": errors}
 
 
 def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.ndarray, twists: np.ndarray,
