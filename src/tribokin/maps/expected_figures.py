@@ -77,6 +77,12 @@ from tribokin.units import MDEG_PER_RAD, UM_PER_M
 #: Sampled tests: about this many cycles in all (2 000 tests of 30 cycles: the RP_l band's error about 1 %, and as
 #: much at more cycles, whose RP_l spreads less), at least 100 and at most 2 000 tests.
 SAMPLED_CYCLES, MIN_TESTS, MAX_TESTS = 60_000, 100, 2_000
+#: Every sampled figure's relative Monte Carlo standard error is held within ``MC_ERROR_LIMIT`` at every target; the
+#: RP_l band's tests are chosen for ``MC_ERROR_AIM`` in its heaviest case (:func:`band_factor`), leaving room for the
+#: stated errors' own noise (about 10 %) and clouds between the cases.
+MC_ERROR_LIMIT, MC_ERROR_AIM = 0.01, 0.008
+#: The most times the default sampled tests (or single cycles) the RP_l band takes.
+MAX_BAND_FACTOR = 16
 #: Cycles and fewest tests of the random-direction mixture (only its mean is kept: about 0.5 % Monte Carlo error).
 MULTI_CYCLES, MIN_MULTI_TESTS = 12_000, 20
 #: Sampled cycles of the targets computed together (their positions and angles in memory at once).
@@ -228,19 +234,45 @@ class ExpectedSetup:
     """What every block of one scenario's expected map shares, built once per map: the tests' ``cycles``, the scenario's
     :class:`JointMoments`, the shape table of Gaussian tests (:class:`~tribokin.iso9283.gaussian_tests.ShapeTable`;
     ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on), the map's ``figure_set`` (``"directional"``: vAP_p and RP_l_multi
-    too) and ``mean_signs`` (nv,), each joint's mean sign of travel over the sampled tests' cycles (:func:`test_signs`),
-    about which the test's first-order model is taken."""
+    too), ``mean_signs`` (nv,), each joint's mean sign of travel over the sampled tests' cycles (:func:`test_signs`),
+    about which the test's first-order model is taken, and ``band_factor`` (:func:`band_factor`)."""
 
     cycles: int
     moments: JointMoments
     table: ShapeTable | None
     figure_set: str
     mean_signs: np.ndarray
+    band_factor: int = 1
 
     @classmethod
     def build(cls, runner: PoseRunner, table: ShapeTable | None, figure_set: str) -> ExpectedSetup:
         signs = test_signs(runner, sampled_shape(SAMPLED_CYCLES, runner.settings.cycles))
-        return cls(runner.settings.cycles, JointMoments.of(runner.models), table, figure_set, signs.mean(axis=(0, 1)))
+        return cls(runner.settings.cycles, JointMoments.of(runner.models), table, figure_set, signs.mean(axis=(0, 1)),
+                   band_factor(runner, runner.settings.cycles))
+
+
+def band_factor(runner: PoseRunner, cycles: int) -> int:
+    """How many times the default sampled tests (from ``ASYMPTOTIC_CYCLES`` cycles on: single cycles) the RP_l band of a
+    scenario takes, the same at every target: its stated error (that of E[RP_l] too) in tests of a one-dimensional
+    cloud of each joint's law and of a Gaussian, over ``MC_ERROR_AIM``, squared. One joint's law alone is the
+    heaviest case of its tails; clouds of several joints mix towards the Gaussian."""
+    shape = sampled_shape(SAMPLED_CYCLES, cycles)
+    rng = expected_stream(runner.settings.seed, "band pilot")
+    clouds = [rng.standard_normal(shape)] + [m.friction.rvs(size=shape, random_state=rng) for m in runner.models
+                                             if m.friction.std() > 0]
+    worst = 0.0
+    for cloud in clouds:
+        if cycles >= ASYMPTOTIC_CYCLES:
+            points = np.zeros((1, shape[1], 3))
+            points[0, :, 0] = cloud[0]
+            moments, distances = cycle_moments(points, cycles, barycentre_normals(shape[1]))
+            errors = moments_errors(distances, moments, cycles)
+        else:
+            distances = np.abs(cloud - cloud.mean(axis=1, keepdims=True))
+            rp_l = distances.mean(axis=1) + 3 * distances.std(axis=1, ddof=1)
+            errors = (mean_error(rp_l), *(percentile_error(rp_l, p) for p in BAND_PERCENTILES))
+        worst = max(worst, *(float(error) for error in errors))
+    return int(np.clip(math.ceil((worst / MC_ERROR_AIM) ** 2), 1, MAX_BAND_FACTOR))
 
 
 def tests_for(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> int:
@@ -275,11 +307,50 @@ def sampled_tests(model: LinearModel, moments: JointMoments, chosen: np.ndarray,
                   rows: slice) -> np.ndarray:
     """(k, tests, cycles, 3) tool positions [m] (``rows = slice(0, 3)``) or angle deviations from q″'s [rad]
     (``slice(3, 6)``) of targets ``chosen`` through the first-order model, for :func:`common_numbers` ``numbers``."""
-    shift = np.einsum("kn,kin->ki", moments.offset - model.mean_dq[chosen], model.jacobian[chosen, rows])
-    if rows.start == 0:
-        shift = shift + model.position_m[chosen]
     moved = (numbers @ responses(model, moments, chosen, rows)).reshape(*shape, len(chosen), 3)
-    return np.moveaxis(moved, 2, 0) + shift[:, None, None, :]
+    return np.moveaxis(moved, 2, 0) + shift_of(model, moments, chosen, rows)[:, None, None, :]
+
+
+def shift_of(model: LinearModel, moments: JointMoments, chosen: np.ndarray, rows: slice) -> np.ndarray:
+    """(k, 3) what :func:`sampled_tests` adds to the common random numbers' responses of targets ``chosen``: the tool
+    position at q″ [m] (``rows = slice(0, 3)``) less the responses' part of E[dq] - offset."""
+    shift = np.einsum("kn,kin->ki", moments.offset - model.mean_dq[chosen], model.jacobian[chosen, rows])
+    return shift + model.position_m[chosen] if rows.start == 0 else shift
+
+
+def position_control(model: LinearModel, moments: JointMoments, chosen: np.ndarray, means: np.ndarray,
+                     signs: np.ndarray, commanded: np.ndarray, cycles: int) -> tuple[np.ndarray, np.ndarray]:
+    """A control variate of AP_p of targets ``chosen``: (k, tests) each sampled test's |ȳ - commanded|² [m²] through
+    the first-order model less its expectation given the test's joint signs (|E ȳ - commanded|² + tr Cov ȳ, both
+    from the numbers' known moments), from the tests' mean :func:`common_numbers` ``means`` (tests, 3 nv) and their
+    ``signs`` (1 or tests, cycles, nv); and before it (k, tests) the model's AP_p of each test [µm]."""
+    nv = signs.shape[2]
+    weights = responses(model, moments, chosen, slice(0, 3)).reshape(3 * nv, len(chosen), 3)
+    shift = shift_of(model, moments, chosen, slice(0, 3)) - commanded
+    reached = np.einsum("tc,cki->kti", means, weights) + shift[:, None]
+    mean_signs, square_signs = signs.mean(axis=1), np.square(signs).mean(axis=1)
+    expected = np.concatenate([mean_signs * moments.mean, mean_signs, np.zeros_like(mean_signs)], axis=1)
+    centre = np.einsum("tc,cki->kti", expected, weights) + shift[:, None]
+    variance = np.concatenate([square_signs * moments.std ** 2, np.zeros_like(mean_signs),
+                               np.ones_like(mean_signs)], axis=1) / cycles
+    spread = np.einsum("tc,ck->kt", variance, np.square(weights).sum(axis=2))
+    square = np.square(reached).sum(axis=2)
+    return np.sqrt(square) * UM_PER_M, square - np.square(centre).sum(axis=2) - spread
+
+
+def controlled_mean(values: np.ndarray, model_values: np.ndarray, control: np.ndarray) -> tuple[np.ndarray,
+                                                                                              np.ndarray]:
+    """The mean of ``values`` (k, tests) with a control variate ``control`` (k, tests) of expectation 0: the values'
+    mean less β times the control's, β the regression slope of the first-order model's ``model_values`` on the
+    control (so a fallback's figure differs from the model's by the values' mean difference alone); and its relative
+    standard error (the residuals' standard deviation over √tests)."""
+    centred = model_values - model_values.mean(axis=1, keepdims=True)
+    offsets = control - control.mean(axis=1, keepdims=True)
+    square = np.square(offsets).sum(axis=1)
+    beta = np.divide((centred * offsets).sum(axis=1), square, out=np.zeros(len(values)), where=square > 0)
+    estimate = values.mean(axis=1) - beta * control.mean(axis=1)
+    error = (values - beta[:, None] * control).std(axis=1, ddof=2) / math.sqrt(values.shape[1])
+    return estimate, relative(error, estimate)
 
 
 def figure_errors(bound: np.ndarray, cycles: int) -> dict[str, np.ndarray]:
@@ -430,12 +501,13 @@ def sampled_shape(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> t
     return tests_for(cycles_in_all, cycles, fewest), cycles
 
 
-def test_signs(runner: PoseRunner, shape: tuple[int, int]) -> np.ndarray:
+def test_signs(runner: PoseRunner, shape: tuple[int, int], purpose: str = "signs") -> np.ndarray:
     """Joint signs (1 or tests, cycles, nv) of sampled tests of ``shape`` (tests, cycles) under the study's ``approach``
     mode (:func:`~tribokin.simulation.joint_errors.approach_signs` with every joint forwards, then backwards): the
-    same for every test unless the directions are drawn at random."""
+    same for every test unless the directions are drawn at random (from :func:`~tribokin.streams.expected_stream` of
+    ``purpose``)."""
     nv, mode = len(runner.models), runner.settings.approach
-    rng = expected_stream(runner.settings.seed, "signs")
+    rng = expected_stream(runner.settings.seed, purpose)
     directions = np.vstack([np.ones(nv), -np.ones(nv)])
     if mode != "random":
         return approach_signs(mode, shape[1], directions, rng)[0][None]
@@ -448,36 +520,51 @@ def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chose
     Monte Carlo standard error: through the first-order ``model``, or with ``used``, through the fast engine (each
     target's engine recorded there)."""
     n, moments = setup.cycles, setup.moments
-    shape = sampled_shape(SAMPLED_CYCLES, n)
+    asymptotic = n >= ASYMPTOTIC_CYCLES
+    shape = sampled_shape(SAMPLED_CYCLES * (setup.band_factor if asymptotic else 1), n)
     signs = test_signs(runner, shape)
     numbers = common_numbers(runner, np.broadcast_to(signs, (*shape, signs.shape[2])) if len(signs) == 1 else signs,
                              shape[0], "tests")
+    extra = (0 if asymptotic else (setup.band_factor - 1) * shape[0], n)  # the band's further tests
+    extra_numbers = None
+    if extra[0]:
+        extra_signs = test_signs(runner, extra, "band signs")
+        extra_numbers = common_numbers(runner, np.broadcast_to(extra_signs, (*extra, signs.shape[2])), extra[0],
+                                       "band tests")
+    means = None if asymptotic else numbers.reshape(*shape, -1).mean(axis=1)
     indices = np.flatnonzero(chosen)
     values = {name: np.empty(len(indices)) for name in SAMPLED_FIGURES}
     errors = {name: np.empty(len(indices)) for name in SAMPLED_FIGURES}
 
-    def summarise(slots, targets, positions, angles, linear=None):
-        if n >= ASYMPTOTIC_CYCLES:
+    def summarise(slots, targets, positions, angles, more, linear=None):
+        if asymptotic:
             _summarise_cycles(values, errors, slots, positions, angles, commanded[targets], n,
                               (model, targets, linear))
         else:
-            _summarise_tests(values, errors, slots, positions, angles, commanded[targets])
+            control = position_control(model, moments, targets, means, signs, commanded[targets], n)
+            _summarise_tests(values, errors, slots, positions, angles, commanded[targets], more, control)
 
     if used is None:
-        for block in blocks_of(np.arange(len(indices)), math.prod(shape)):
+        for block in blocks_of(np.arange(len(indices)), (shape[0] + extra[0]) * shape[1]):
             targets = indices[block]
             positions = sampled_tests(model, moments, targets, numbers, shape, slice(0, 3))
             angles = sampled_tests(model, moments, targets, numbers, shape, slice(3, 6))
-            summarise(list(block), targets, positions, angles)
+            more = None if extra_numbers is None else sampled_tests(model, moments, targets, extra_numbers, extra,
+                                                                    slice(0, 3))
+            summarise(list(block), targets, positions, angles, more)
         return {**values, "mc_errors": errors}
     for slot, k in enumerate(indices):
         positions, angles, engine = engine_tests(runner, model, moments, k, qs[k], numbers, shape)
-        used.fall_back(k, EngineUsed.of(engine))
+        engines, more = [EngineUsed.of(engine)], None
+        if extra_numbers is not None:
+            more, _, extra_engine = engine_tests(runner, model, moments, k, qs[k], extra_numbers, extra)
+            engines.append(EngineUsed.of(extra_engine))
+        used.fall_back(k, EngineUsed.combined(engines))
         linear = None
-        if n >= ASYMPTOTIC_CYCLES:  # the first-order model's own samples: a control variate of their moments
+        if asymptotic:  # the first-order model's own samples: a control variate of their moments
             linear = tuple(sampled_tests(model, moments, np.array([k]), numbers, shape, rows)
                            for rows in (slice(0, 3), slice(3, 6)))
-        summarise([slot], np.array([k]), positions[None], angles[None], linear)
+        summarise([slot], np.array([k]), positions[None], angles[None], None if more is None else more[None], linear)
     return {**values, "mc_errors": errors}
 
 
@@ -590,20 +677,23 @@ def moments_errors(distances: np.ndarray, moments: tuple[np.ndarray, ...], cycle
 
 
 def _summarise_tests(values: dict, errors: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
-                     commanded: np.ndarray) -> None:
+                     commanded: np.ndarray, more: np.ndarray | None, control: np.ndarray) -> None:
     """Into ``values[...][slots]``: the mean of each figure over the tests of (k, tests, cycles, 3) ``positions``
-    [m] and ``angles`` [rad] and the RP_l band; into ``errors[...][slots]`` their relative Monte Carlo standard
-    errors (:func:`~tribokin.iso9283.gaussian_tests.mean_error`, :func:`~tribokin.iso9283.gaussian_tests.
-    percentile_error`)."""
+    [m] and ``angles`` [rad], RP_l's and its band's over these and the ``more`` (k, further tests, cycles, 3)
+    positions of :func:`band_factor`, AP_p's with its ``control`` variate (:func:`position_control`'s pair); into
+    ``errors[...][slots]`` their relative Monte Carlo standard errors (:func:`~tribokin.iso9283.gaussian_tests.
+    mean_error`, :func:`~tribokin.iso9283.gaussian_tests.percentile_error`, :func:`controlled_mean`)."""
     spread = position_spread(positions)
     rp_abc = orientation_repeatability(angles) * MDEG_PER_RAD
-    per_test = {"RP_l_um": spread.RP_l_m * UM_PER_M,
-                "AP_p_um": np.linalg.norm(spread.barycenter_m - commanded[:, None], axis=-1) * UM_PER_M,
+    rp_l = spread.RP_l_m if more is None else np.concatenate([spread.RP_l_m, position_repeatability(more)[0]], axis=1)
+    per_test = {"RP_l_um": rp_l * UM_PER_M,
                 "RP_a_mdeg": rp_abc[..., 0], "RP_b_mdeg": rp_abc[..., 1], "RP_c_mdeg": rp_abc[..., 2],
                 "largest_semi_axis_um": spread.largest_semi_axis_m * UM_PER_M}
     for name, figure in per_test.items():
         values[name][slots] = figure.mean(axis=1)
         errors[name][slots] = mean_error(figure)
+    ap_p = np.linalg.norm(spread.barycenter_m - commanded[:, None], axis=-1) * UM_PER_M
+    values["AP_p_um"][slots], errors["AP_p_um"][slots] = controlled_mean(ap_p, *control)
     ordered = np.sort(per_test["RP_l_um"], axis=1)
     values["RP_l_lo_um"][slots], values["RP_l_hi_um"][slots] = np.percentile(ordered, BAND_PERCENTILES, axis=1)
     for name, percentile in zip(("RP_l_lo_um", "RP_l_hi_um"), BAND_PERCENTILES, strict=True):
