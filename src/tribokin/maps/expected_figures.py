@@ -271,7 +271,7 @@ def band_factor(runner: PoseRunner, cycles: int) -> int:
             distances = np.abs(cloud - cloud.mean(axis=1, keepdims=True))
             rp_l = distances.mean(axis=1) + 3 * distances.std(axis=1, ddof=1)
             errors = (mean_error(rp_l), *(percentile_error(rp_l, p) for p in BAND_PERCENTILES))
-        worst = max(worst, *(float(error) for error in errors))
+        worst = max(worst, *(float(np.max(error)) for error in errors))
     return int(np.clip(math.ceil((worst / MC_ERROR_AIM) ** 2), 1, MAX_BAND_FACTOR))
 
 
