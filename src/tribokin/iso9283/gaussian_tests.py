@@ -278,14 +278,28 @@ def mean_error(values: np.ndarray) -> np.ndarray:
     return np.divide(error, np.abs(mean), out=np.zeros_like(error), where=mean != 0)
 
 
-def percentile_error(values: np.ndarray, percentile: float) -> np.ndarray:
-    """Standard error of the ``percentile`` of ``values`` (..., N) relative to it: √(p (1 - p) / N) / f(q), the density
-    f at the percentile q from the Cornish-Fisher expansion of the values' standard deviation s, skewness γ and excess
-    kurtosis κ, q = m + s w(z), w(z) = z + (z² - 1) γ / 6 + (z³ - 3 z) κ / 24 - (2 z³ - 5 z) γ² / 36 (so f(q) =
-    φ(z) / (s w'(z))): smooth in the values, where the spacing of order statistics is as noisy as the few of them
-    about the percentile (0 where the percentile is)."""
+def percentile_error(values: np.ndarray, percentile: float, lumpy: bool = False) -> np.ndarray:
+    """Standard error of the ``percentile`` of ``values`` (..., N) (any order) relative to it (0 where the percentile
+    is). √(p (1 - p) / N) / f(q), the density f at the percentile q from the Cornish-Fisher expansion of the values'
+    standard deviation s, skewness γ and excess kurtosis κ, q = m + s w(z), w(z) = z + (z² - 1) γ / 6 +
+    (z³ - 3 z) κ / 24 - (2 z³ - 5 z) γ² / 36 (so f(q) = φ(z) / (s w'(z))): smooth in the values, where the spacing of
+    the order statistics about the percentile is as noisy as the few of them. Where the values' law is ``lumpy``
+    (tests whose cycles' directions are drawn at random: RP_l clusters by how many went either way), a smooth density
+    understates the error (3 times at 2.5 % of such tests): Maritz and Jarrett's instead, the standard deviation of
+    the order statistic under the values' own law (beta weights over the sorted values), which holds there but
+    overstates a smooth law's extreme percentiles (about 1.3 times at 2.5 % of a few thousand values)."""
     n = values.shape[-1]
     p = percentile / 100
+    value = np.percentile(values, percentile, axis=-1)
+    if lumpy:
+        from scipy.special import betainc  # here: the compiled path needs none of scipy.special
+
+        m = min(max(int(p * n + 0.5), 1), n - 1)
+        weights = np.diff(betainc(m - 1, n - m, np.arange(n + 1) / n)) if m > 1 else np.eye(n)[0]
+        ordered = np.sort(values, axis=-1)
+        first, second = ordered @ weights, np.square(ordered) @ weights
+        error = np.sqrt(np.maximum(second - np.square(first), 0.0))
+        return np.divide(error, np.abs(value), out=np.zeros_like(error), where=value != 0)
     z = NormalDist().inv_cdf(p)
     centred = values - values.mean(axis=-1, keepdims=True)
     s = np.sqrt(np.mean(centred ** 2, axis=-1))
@@ -293,5 +307,4 @@ def percentile_error(values: np.ndarray, percentile: float) -> np.ndarray:
     skew, kurtosis = np.mean(unit ** 3, axis=-1), np.mean(unit ** 4, axis=-1) - 3
     slope = 1 + z * skew / 3 + (z ** 2 - 1) * kurtosis / 8 - (6 * z ** 2 - 5) * skew ** 2 / 36
     error = math.sqrt(p * (1 - p) / n) * s * np.maximum(slope, 0.1) / NormalDist().pdf(z)
-    value = np.percentile(values, percentile, axis=-1)
     return np.divide(error, np.abs(value), out=np.zeros_like(error), where=value != 0)

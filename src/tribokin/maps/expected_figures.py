@@ -322,18 +322,25 @@ def position_control(model: LinearModel, moments: JointMoments, chosen: np.ndarr
                      signs: np.ndarray, commanded: np.ndarray, cycles: int) -> tuple[np.ndarray, np.ndarray]:
     """A control variate of AP_p of targets ``chosen``: (k, tests) each sampled test's |ȳ - commanded|² [m²] through
     the first-order model less its expectation given the test's joint signs (|E ȳ - commanded|² + tr Cov ȳ, both
-    from the numbers' known moments), from the tests' mean :func:`common_numbers` ``means`` (tests, 3 nv) and their
-    ``signs`` (1 or tests, cycles, nv); and before it (k, tests) the model's AP_p of each test [µm]."""
+    from the numbers' known moments; directions drawn at random: over the draws too), from the tests' mean
+    :func:`common_numbers` ``means`` (tests, 3 nv) and their ``signs`` (1 or tests, cycles, nv); and before it
+    (k, tests) the model's AP_p of each test [µm]."""
     nv = signs.shape[2]
     weights = responses(model, moments, chosen, slice(0, 3)).reshape(3 * nv, len(chosen), 3)
     shift = shift_of(model, moments, chosen, slice(0, 3)) - commanded
     reached = np.einsum("tc,cki->kti", means, weights) + shift[:, None]
     mean_signs, square_signs = signs.mean(axis=1), np.square(signs).mean(axis=1)
+    drawn = len(signs) > 1  # directions drawn at random, each cycle's with even odds: taken over the draws too
+    if drawn:
+        mean_signs, square_signs = np.zeros((1, nv)), np.ones((1, nv))
     expected = np.concatenate([mean_signs * moments.mean, mean_signs, np.zeros_like(mean_signs)], axis=1)
     centre = np.einsum("tc,cki->kti", expected, weights) + shift[:, None]
     variance = np.concatenate([square_signs * moments.std ** 2, np.zeros_like(mean_signs),
                                np.ones_like(mean_signs)], axis=1) / cycles
     spread = np.einsum("tc,ck->kt", variance, np.square(weights).sum(axis=2))
+    if drawn:  # the sign s of a cycle moves [s μ, s, z] along [E μ, 1, 0]: its variance 1 over the cycles
+        lost = np.einsum("c,cki->ki", np.concatenate([moments.mean, np.ones(nv), np.zeros(nv)]), weights)
+        spread = spread + np.square(lost).sum(axis=1, keepdims=True) / cycles
     square = np.square(reached).sum(axis=2)
     return np.sqrt(square) * UM_PER_M, square - np.square(centre).sum(axis=2) - spread
 
@@ -542,7 +549,8 @@ def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chose
                               (model, targets, linear))
         else:
             control = position_control(model, moments, targets, means, signs, commanded[targets], n)
-            _summarise_tests(values, errors, slots, positions, angles, commanded[targets], more, control)
+            _summarise_tests(values, errors, slots, positions, angles, commanded[targets], more, control,
+                             runner.settings.approach == "random")
 
     if used is None:
         for block in blocks_of(np.arange(len(indices)), (shape[0] + extra[0]) * shape[1]):
@@ -677,12 +685,13 @@ def moments_errors(distances: np.ndarray, moments: tuple[np.ndarray, ...], cycle
 
 
 def _summarise_tests(values: dict, errors: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
-                     commanded: np.ndarray, more: np.ndarray | None, control: np.ndarray) -> None:
+                     commanded: np.ndarray, more: np.ndarray | None, control: tuple, lumpy: bool) -> None:
     """Into ``values[...][slots]``: the mean of each figure over the tests of (k, tests, cycles, 3) ``positions``
     [m] and ``angles`` [rad], RP_l's and its band's over these and the ``more`` (k, further tests, cycles, 3)
     positions of :func:`band_factor`, AP_p's with its ``control`` variate (:func:`position_control`'s pair); into
     ``errors[...][slots]`` their relative Monte Carlo standard errors (:func:`~tribokin.iso9283.gaussian_tests.
-    mean_error`, :func:`~tribokin.iso9283.gaussian_tests.percentile_error`, :func:`controlled_mean`)."""
+    mean_error`, :func:`~tribokin.iso9283.gaussian_tests.percentile_error`, ``lumpy`` where the cycles' directions
+    are drawn at random, :func:`controlled_mean`)."""
     spread = position_spread(positions)
     rp_abc = orientation_repeatability(angles) * MDEG_PER_RAD
     rp_l = spread.RP_l_m if more is None else np.concatenate([spread.RP_l_m, position_repeatability(more)[0]], axis=1)
@@ -697,7 +706,7 @@ def _summarise_tests(values: dict, errors: dict, slots: list[int], positions: np
     ordered = np.sort(per_test["RP_l_um"], axis=1)
     values["RP_l_lo_um"][slots], values["RP_l_hi_um"][slots] = np.percentile(ordered, BAND_PERCENTILES, axis=1)
     for name, percentile in zip(("RP_l_lo_um", "RP_l_hi_um"), BAND_PERCENTILES, strict=True):
-        errors[name][slots] = percentile_error(ordered, percentile)
+        errors[name][slots] = percentile_error(ordered, percentile, lumpy)
 
 
 def _analytic(model: LinearModel, chosen: np.ndarray, setup: ExpectedSetup, commanded: np.ndarray
