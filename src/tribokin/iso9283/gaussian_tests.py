@@ -40,7 +40,7 @@ BAND_PERCENTILES = (2.5, 97.5)
 TABLE_NODES = 9
 #: Tests of the shape table: about this many cycles in all at each node, at least ``TABLE_MIN_TESTS`` and at most
 #: ``TABLE_MAX_TESTS`` tests.
-TABLE_CYCLES, TABLE_MIN_TESTS, TABLE_MAX_TESTS = 120_000, 400, 8_000
+TABLE_CYCLES, TABLE_MIN_TESTS, TABLE_MAX_TESTS = 120_000, 400, 16_000
 #: Below this ratio of the noise's variance to |b|², E|b + w| is taken from its expansion to second order
 #: (relative error about the ratio squared); above it, by quadrature.
 EXPANSION_RATIO = 1e-3
