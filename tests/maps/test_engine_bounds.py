@@ -34,8 +34,9 @@ def runner_with(stiffness: float, approach: str = "unidirectional") -> PoseRunne
 
 @pytest.fixture
 def few_samples(monkeypatch):
-    """Sampled tests of 1 500 cycles (50 tests), the random-direction mixture's of 600."""
+    """Sampled tests of 1 500 cycles (50 tests; the RP_l band's 50 more), the random-direction mixture's of 600."""
     monkeypatch.setattr(expected, "SAMPLED_CYCLES", 1500)
+    monkeypatch.setattr(expected, "MAX_BAND_FACTOR", 2)
     monkeypatch.setattr(expected, "MIN_TESTS", 20)
     monkeypatch.setattr(expected, "MULTI_CYCLES", 600)
 
@@ -103,7 +104,8 @@ def test_a_forced_fallback_reports_the_bound_of_the_engine_it_used(stiffness, en
     assert [expected.TARGET_ENGINES[e] for e in out["engine"]] and all(
         expected.TARGET_ENGINES[e] in engines for e in out["engine"])
     assert np.all(out["fallbacks"] == 3 + both)
-    assert len(calls) == len(TARGETS) * (5 + both)  # per target: each direction's test's, three vAP_p's, RP_l_multi's
+    # per target: each direction's test's and its band's further tests', three vAP_p directions', RP_l_multi's
+    assert len(calls) == len(TARGETS) * (6 + 2 * both)
     for k, q in enumerate(TARGETS):
         own = [call for call in calls if np.array_equal(call[0], q)]
         for _, dq, positions, angles, used in own:

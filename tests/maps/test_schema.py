@@ -41,17 +41,18 @@ def test_the_store_the_estimate_and_map_csv_follow_the_figures_of_the_schema(tmp
 
 def test_an_expected_map_has_its_band_its_directional_figures_and_how_they_were_computed(tmp_path):
     """Besides the one-test figures: the RP_l band (and when directional vAP_p and RP_l_multi); and per scenario the
-    method, fallbacks, engine (1 byte), engine bound (2 values), figure errors (one per figure) and band error columns;
-    map.csv gives the engine and its bound after the figures."""
+    method, fallbacks, engine (1 byte), engine bound (2 values), figure errors and Monte Carlo errors (one per figure)
+    columns; map.csv gives the engine, its bound and the test's figures' Monte Carlo errors after the figures."""
     assert MapLayout.shared(2, 1, "expected").columns()["scenario0_figures"] == ((9,), "f8")
     assert MapLayout.shared(2, 1, "directional").columns()["scenario0_figures"] == ((11,), "f8")
     assert MapLayout.shared(2, 1, "directional").columns()["scenario0_figure_errors"] == ((11,), "f8")
     assert MapLayout.shared(2, 1, "directional").bytes_per_target == \
-        8 * (3 + 2 + 2) + 1 + 1 + 8 * (11 + 2 + 1) + 8 * (1 + 1 + 2 + 11 + 1) + 1
-    assert map_table_header(tmp_path / "expected", "directional")[4:19] == [
+        8 * (3 + 2 + 2) + 1 + 1 + 8 * (11 + 2 + 1) + 8 * (1 + 1 + 2 + 11 + 11) + 1
+    assert map_table_header(tmp_path / "expected", "directional")[4:27] == [
         "RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "AP_p_um", "vAP_p_um", "RP_l_multi_um", "RP_a_mdeg", "RP_b_mdeg",
         "RP_c_mdeg", "largest_semi_axis_um", "dominant_joint", "dominant_share", "engine", "engine_bound_nm",
-        "engine_bound_nrad"]
+        "engine_bound_nrad", "RP_l_mc_error", "RP_l_lo_mc_error", "RP_l_hi_mc_error", "AP_p_mc_error",
+        "RP_a_mc_error", "RP_b_mc_error", "RP_c_mc_error", "largest_semi_axis_mc_error"]
     assert "engine" not in map_table_header(tmp_path / "one-test", "one-test")
 
 

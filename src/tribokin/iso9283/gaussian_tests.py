@@ -12,8 +12,9 @@ and RP_a = 3 S_a per angle. Over tests:
 - The 2.5 / 97.5 % band of one test's RP_l and the expected largest semi-axis of its covariance ellipsoid
   (:class:`ShapeTable`): RP_l / √λ₁ depends on n and the shape (λ₂/λ₁, λ₃/λ₁) only, so both are simulated once per
   run on a grid of shapes, every node from the same standard normal draws (so the table is smooth), and
-  interpolated; each node's own Monte Carlo error is kept. From :data:`ASYMPTOTIC_CYCLES` cycles on, the band is
-  normal about E[RP_l] with the delta method's standard deviation (:func:`normal_band`) and the semi-axis √λ₁.
+  interpolated; each node's own Monte Carlo error is kept (relative standard errors, interpolated as the values).
+  From :data:`ASYMPTOTIC_CYCLES` cycles on, the band is normal about E[RP_l] with the delta method's standard
+  deviation (:func:`normal_band`) and the semi-axis √λ₁.
 - E[AP_p] = E|b + ȳ|, ȳ ~ N(0, Σ/n) (:func:`expected_norm`).
 - E[RP_a] = 3 c₄(n) σ_a exactly (:func:`c4`).
 """
@@ -39,7 +40,7 @@ BAND_PERCENTILES = (2.5, 97.5)
 TABLE_NODES = 9
 #: Tests of the shape table: about this many cycles in all at each node, at least ``TABLE_MIN_TESTS`` and at most
 #: ``TABLE_MAX_TESTS`` tests.
-TABLE_CYCLES, TABLE_MIN_TESTS, TABLE_MAX_TESTS = 120_000, 400, 8_000
+TABLE_CYCLES, TABLE_MIN_TESTS, TABLE_MAX_TESTS = 120_000, 400, 16_000
 #: Below this ratio of the noise's variance to |b|², E|b + w| is taken from its expansion to second order
 #: (relative error about the ratio squared); above it, by quadrature.
 EXPANSION_RATIO = 1e-3
@@ -217,8 +218,8 @@ class ShapeTable:
     Attributes:
         cycles: cycles per test. tests: tests simulated at each node.
         mean, low, high, semi_axis: (nodes, nodes) values at the shapes (√(λ₂/λ₁), √(λ₃/λ₂)).
-        band_error: the largest Monte Carlo standard error of ``low`` and ``high`` relative to their values, over
-            the nodes (from the order statistics' binomial spread).
+        errors: (4, nodes, nodes) the Monte Carlo standard errors of ``mean``, ``low``, ``high`` and ``semi_axis``
+            relative to their values (:func:`mean_error`, :func:`percentile_error`).
     """
 
     cycles: int
@@ -227,7 +228,7 @@ class ShapeTable:
     low: np.ndarray
     high: np.ndarray
     semi_axis: np.ndarray
-    band_error: float
+    errors: np.ndarray
 
     @classmethod
     def simulate(cls, cycles: int, rng: np.random.Generator) -> ShapeTable:
@@ -239,35 +240,58 @@ class ShapeTable:
         covariances = np.einsum("tni,tnj->tij", offsets, offsets) / max(cycles - 1, 1)
         axis = np.linspace(0.0, 1.0, TABLE_NODES)
         values = np.empty((4, TABLE_NODES, TABLE_NODES))
-        error = 0.0
+        errors = np.empty((4, TABLE_NODES, TABLE_NODES))
         for i, a in enumerate(axis):
             for j, b in enumerate(axis):
                 scale = np.array([1.0, a, a * b])
                 distances = np.sqrt(squares @ scale ** 2).reshape(tests, cycles)
-                rp = np.sort(distances.mean(axis=1) + 3 * distances.std(axis=1, ddof=1))
+                rp = distances.mean(axis=1) + 3 * distances.std(axis=1, ddof=1)
                 semi_axis = np.sqrt(np.maximum(np.linalg.eigvalsh(covariances * np.outer(scale, scale))[:, -1], 0.0))
                 values[:, i, j] = rp.mean(), *np.percentile(rp, BAND_PERCENTILES), semi_axis.mean()
-                error = max(error, *(percentile_error(rp, p) for p in BAND_PERCENTILES))
-        return cls(cycles, tests, *values, error)
+                errors[:, i, j] = (mean_error(rp), *(percentile_error(rp, p) for p in BAND_PERCENTILES),
+                                   mean_error(semi_axis))
+        return cls(cycles, tests, *values, errors)
 
     def at(self, shape: np.ndarray) -> tuple[np.ndarray, ...]:
         """(mean, low, high, semi_axis) over √λ₁ at shapes (..., 2) (:func:`standardised_shape`), interpolated.
 
         ``scipy.interpolate`` is imported here, by the runs of fewer than :data:`ASYMPTOTIC_CYCLES` cycles that use a
         table, before a map's workers start (``benchmarks/startup.py`` times the import)."""
+        return self._interpolated((self.mean, self.low, self.high, self.semi_axis), shape)
+
+    def errors_at(self, shape: np.ndarray) -> tuple[np.ndarray, ...]:
+        """The relative Monte Carlo standard errors of :meth:`at`'s four values at shapes (..., 2), interpolated."""
+        return self._interpolated(tuple(self.errors), shape)
+
+    @staticmethod
+    def _interpolated(tables: tuple[np.ndarray, ...], shape: np.ndarray) -> tuple[np.ndarray, ...]:
         from scipy.interpolate import RegularGridInterpolator
 
         axis = np.linspace(0.0, 1.0, TABLE_NODES)
-        return tuple(RegularGridInterpolator((axis, axis), values)(shape)
-                     for values in (self.mean, self.low, self.high, self.semi_axis))
+        return tuple(RegularGridInterpolator((axis, axis), values)(shape) for values in tables)
 
 
-def percentile_error(ordered: np.ndarray, percentile: float) -> float:
-    """Standard error of the ``percentile`` of sorted values relative to it: half the spread between the order
-    statistics one binomial standard deviation either side."""
-    n = len(ordered)
+def mean_error(values: np.ndarray) -> np.ndarray:
+    """Standard error of the mean of ``values`` (..., N) relative to it (0 where the mean is)."""
+    mean = values.mean(axis=-1)
+    error = values.std(axis=-1, ddof=1) / math.sqrt(values.shape[-1])
+    return np.divide(error, np.abs(mean), out=np.zeros_like(error), where=mean != 0)
+
+
+def percentile_error(values: np.ndarray, percentile: float) -> np.ndarray:
+    """Standard error of the ``percentile`` of ``values`` (..., N) (any order) relative to it (0 where the percentile
+    is). √(p (1 - p) / N) / f(q), the density f at the percentile q from the Cornish-Fisher expansion of the values'
+    standard deviation s, skewness γ and excess kurtosis κ, q = m + s w(z), w(z) = z + (z² - 1) γ / 6 +
+    (z³ - 3 z) κ / 24 - (2 z³ - 5 z) γ² / 36 (so f(q) = φ(z) / (s w'(z))): smooth in the values, where the spacing of
+    the order statistics about the percentile is as noisy as the few of them."""
+    n = values.shape[-1]
     p = percentile / 100
-    half = math.sqrt(n * p * (1 - p))
-    low, high = (ordered[int(np.clip(round(n * p + k * half), 0, n - 1))] for k in (-1, 1))
-    value = np.percentile(ordered, percentile)
-    return float((high - low) / 2 / value) if value > 0 else 0.0
+    value = np.percentile(values, percentile, axis=-1)
+    z = NormalDist().inv_cdf(p)
+    centred = values - values.mean(axis=-1, keepdims=True)
+    s = np.sqrt(np.mean(centred ** 2, axis=-1))
+    unit = np.divide(centred, s[..., None], out=np.zeros_like(centred), where=s[..., None] > 0)
+    skew, kurtosis = np.mean(unit ** 3, axis=-1), np.mean(unit ** 4, axis=-1) - 3
+    slope = 1 + z * skew / 3 + (z ** 2 - 1) * kurtosis / 8 - (6 * z ** 2 - 5) * skew ** 2 / 36
+    error = math.sqrt(p * (1 - p) / n) * s * np.maximum(slope, 0.1) / NormalDist().pdf(z)
+    return np.divide(error, np.abs(value), out=np.zeros_like(error), where=value != 0)

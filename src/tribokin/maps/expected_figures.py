@@ -26,7 +26,11 @@ fallback: orders 2-3, else exact FK), whose own bound then takes b's place. Per 
   :mod:`tribokin.iso9283.gaussian_tests` from the covariance of J(q″) dq.
 - **sampled** (other laws, or a target the first-order model does not serve): common random
   numbers: the same ``sampled_tests`` tests of drawn μ at every target (and scenario), through the linear model,
-  or through the fast engine where it does not serve (a *fallback*). The RP_l band's Monte Carlo error is kept.
+  or through the fast engine where it does not serve (a *fallback*).
+- **Monte Carlo errors**: every figure of the test states its relative standard error (``mc_errors``): a mean over
+  sampled tests its standard error, a band's end the percentile's (:func:`~tribokin.iso9283.gaussian_tests.
+  percentile_error`), what comes from the shape table the table's, from ``ASYMPTOTIC_CYCLES`` cycles on RP_l and
+  its band by the delta method over the cycles' moments, a closed form 0.
 - ``vAP_p_um``: the largest distance between the barycentres reached along +x, +y, +z of the world frame (joint
   signs as the measured cube's, :func:`~tribokin.iso9283.cube.held_approach_signs`); each barycentre by exact
   forward kinematics of its mean deviation plus a Gaussian of covariance Σ_d / n (the mean of n cycles); its
@@ -40,7 +44,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property, lru_cache, partial
+from functools import cached_property, lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -56,6 +60,7 @@ from tribokin.iso9283.gaussian_tests import (
     eigenvalues,
     expected_norm,
     expected_rp_l,
+    mean_error,
     normal_band,
     percentile_error,
     rp_l_from_moments,
@@ -75,12 +80,21 @@ from tribokin.units import MDEG_PER_RAD, UM_PER_M
 #: Sampled tests: about this many cycles in all (2 000 tests of 30 cycles: the RP_l band's error about 1 %, and as
 #: much at more cycles, whose RP_l spreads less), at least 100 and at most 2 000 tests.
 SAMPLED_CYCLES, MIN_TESTS, MAX_TESTS = 60_000, 100, 2_000
+#: Every sampled figure's relative Monte Carlo standard error is held within ``MC_ERROR_LIMIT`` at every target; the
+#: RP_l band's tests are chosen for ``MC_ERROR_AIM`` in its heaviest case (:func:`band_factor`), leaving room for the
+#: stated errors' own noise (about 10 %) and clouds between the cases.
+MC_ERROR_LIMIT, MC_ERROR_AIM = 0.01, 0.008
+#: The most times the default sampled tests (or single cycles) the RP_l band takes.
+MAX_BAND_FACTOR = 16
 #: Cycles and fewest tests of the random-direction mixture (only its mean is kept: about 0.5 % Monte Carlo error).
 MULTI_CYCLES, MIN_MULTI_TESTS = 12_000, 20
 #: Sampled cycles of the targets computed together (their positions and angles in memory at once).
 BLOCK_CYCLES = 400_000
 #: The figures each sampled test gives.
 TEST_FIGURES = ("RP_l_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg", "largest_semi_axis_um")
+#: The figures a test's model gives, sampled or not: each has a stated Monte Carlo error (``mc_errors``).
+SAMPLED_FIGURES = ("RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg",
+                   "largest_semi_axis_um")
 #: Draws of the barycentres' noise when two pairs of approach directions are about as far apart.
 VAP_DRAWS = 4_000
 #: Truncation of a Gaussian law below this probability counts as none: its tests are computed analytically.
@@ -222,17 +236,43 @@ def shape_table(cycles: int, seed: int) -> ShapeTable:
 class ExpectedSetup:
     """What every block of one scenario's expected map shares, built once per map: the tests' ``cycles`` (of each
     approach direction), the scenario's :class:`JointMoments`, the shape table of Gaussian tests
-    (:class:`~tribokin.iso9283.gaussian_tests.ShapeTable`; ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on) and the
-    map's ``figure_set`` (``"directional"``: vAP_p and RP_l_multi too)."""
+    (:class:`~tribokin.iso9283.gaussian_tests.ShapeTable`; ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on), the map's
+    ``figure_set`` (``"directional"``: vAP_p and RP_l_multi too) and ``band_factor`` (:func:`band_factor`)."""
 
     cycles: int
     moments: JointMoments
     table: ShapeTable | None
     figure_set: str
+    band_factor: int = 1
 
     @classmethod
     def build(cls, runner: PoseRunner, table: ShapeTable | None, figure_set: str) -> ExpectedSetup:
-        return cls(runner.settings.cycles, JointMoments.of(runner.models), table, figure_set)
+        return cls(runner.settings.cycles, JointMoments.of(runner.models), table, figure_set,
+                   band_factor(runner, runner.settings.cycles))
+
+
+def band_factor(runner: PoseRunner, cycles: int) -> int:
+    """How many times the default sampled tests (from ``ASYMPTOTIC_CYCLES`` cycles on: single cycles) the RP_l band of a
+    scenario takes, the same at every target: its stated error (that of E[RP_l] too) in tests of a one-dimensional
+    cloud of each joint's law and of a Gaussian, over ``MC_ERROR_AIM``, squared. One joint's law alone is the
+    heaviest case of its tails; clouds of several joints mix towards the Gaussian."""
+    shape = sampled_shape(SAMPLED_CYCLES, cycles)
+    rng = expected_stream(runner.settings.seed, "band pilot")
+    clouds = [rng.standard_normal(shape)] + [m.friction.rvs(size=shape, random_state=rng) for m in runner.models
+                                             if m.friction.std() > 0]
+    worst = 0.0
+    for cloud in clouds:
+        if cycles >= ASYMPTOTIC_CYCLES:
+            points = np.zeros((1, shape[1], 3))
+            points[0, :, 0] = cloud[0]
+            moments, distances = cycle_moments(points, cycles, barycentre_normals(shape[1]))
+            errors = moments_errors(distances, moments, cycles)
+        else:
+            distances = np.abs(cloud - cloud.mean(axis=1, keepdims=True))
+            rp_l = distances.mean(axis=1) + 3 * distances.std(axis=1, ddof=1)
+            errors = (mean_error(rp_l), *(percentile_error(rp_l, p) for p in BAND_PERCENTILES))
+        worst = max(worst, *(float(np.max(error)) for error in errors))
+    return int(np.clip(math.ceil((worst / MC_ERROR_AIM) ** 2), 1, MAX_BAND_FACTOR))
 
 
 def tests_for(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> int:
@@ -267,11 +307,48 @@ def sampled_tests(model: LinearModel, moments: JointMoments, chosen: np.ndarray,
                   rows: slice) -> np.ndarray:
     """(k, tests, cycles, 3) tool positions [m] (``rows = slice(0, 3)``) or angle deviations from q″'s [rad]
     (``slice(3, 6)``) of targets ``chosen`` through the first-order model, for :func:`common_numbers` ``numbers``."""
-    shift = np.einsum("kn,kin->ki", moments.offset - model.mean_dq[chosen], model.jacobian[chosen, rows])
-    if rows.start == 0:
-        shift = shift + model.position_m[chosen]
     moved = (numbers @ responses(model, moments, chosen, rows)).reshape(*shape, len(chosen), 3)
-    return np.moveaxis(moved, 2, 0) + shift[:, None, None, :]
+    return np.moveaxis(moved, 2, 0) + shift_of(model, moments, chosen, rows)[:, None, None, :]
+
+
+def shift_of(model: LinearModel, moments: JointMoments, chosen: np.ndarray, rows: slice) -> np.ndarray:
+    """(k, 3) what :func:`sampled_tests` adds to the common random numbers' responses of targets ``chosen``: the tool
+    position at q″ [m] (``rows = slice(0, 3)``) less the responses' part of E[dq] - offset."""
+    shift = np.einsum("kn,kin->ki", moments.offset - model.mean_dq[chosen], model.jacobian[chosen, rows])
+    return shift + model.position_m[chosen] if rows.start == 0 else shift
+
+
+def position_control(model: LinearModel, moments: JointMoments, chosen: np.ndarray, means: np.ndarray,
+                     direction: np.ndarray, commanded: np.ndarray, cycles: int) -> tuple[np.ndarray, np.ndarray]:
+    """A control variate of AP_p of targets ``chosen``: (k, tests) each sampled test's |ȳ - commanded|² [m²] through
+    the first-order model less its expectation (|E ȳ - commanded|² + tr Cov ȳ, both from the numbers' known
+    moments), from the tests' mean :func:`common_numbers` ``means`` (tests, 3 nv), every cycle approached with joint
+    signs ``direction`` (nv,); and before it (k, tests) the model's AP_p of each test [µm]."""
+    nv = len(direction)
+    weights = responses(model, moments, chosen, slice(0, 3)).reshape(3 * nv, len(chosen), 3)
+    shift = shift_of(model, moments, chosen, slice(0, 3)) - commanded
+    reached = np.einsum("tc,cki->kti", means, weights) + shift[:, None]
+    expected = np.concatenate([direction * moments.mean, direction, np.zeros(nv)])
+    centre = np.einsum("c,cki->ki", expected, weights) + shift
+    variance = np.concatenate([direction ** 2 * moments.std ** 2, np.zeros(nv), np.ones(nv)]) / cycles
+    spread = np.einsum("c,ck->k", variance, np.square(weights).sum(axis=2))
+    square = np.square(reached).sum(axis=2)
+    return np.sqrt(square) * UM_PER_M, square - (np.square(centre).sum(axis=1) + spread)[:, None]
+
+
+def controlled_mean(values: np.ndarray, model_values: np.ndarray, control: np.ndarray) -> tuple[np.ndarray,
+                                                                                              np.ndarray]:
+    """The mean of ``values`` (k, tests) with a control variate ``control`` (k, tests) of expectation 0: the values'
+    mean less β times the control's, β the regression slope of the first-order model's ``model_values`` on the
+    control (so a fallback's figure differs from the model's by the values' mean difference alone); and its relative
+    standard error (the residuals' standard deviation over √tests)."""
+    centred = model_values - model_values.mean(axis=1, keepdims=True)
+    offsets = control - control.mean(axis=1, keepdims=True)
+    square = np.square(offsets).sum(axis=1)
+    beta = np.divide((centred * offsets).sum(axis=1), square, out=np.zeros(len(values)), where=square > 0)
+    estimate = values.mean(axis=1) - beta * control.mean(axis=1)
+    error = (values - beta[:, None] * control).std(axis=1, ddof=2) / math.sqrt(values.shape[1])
+    return estimate, relative(error, estimate)
 
 
 def figure_errors(bound: np.ndarray, cycles: int) -> dict[str, np.ndarray]:
@@ -354,11 +431,12 @@ def blocks_of(indices: np.ndarray, cycles_each: int) -> list[np.ndarray]:
 
 class DirectionTests(NamedTuple):
     """The test's figures at k targets approached from one direction (:func:`direction_tests`): ``values`` by name
-    [µm, mdeg] (k,) each (:data:`TEST_FIGURES` and the band), the RP_l band's ``band_error`` (k,), where the first-order
-    ``model`` (:class:`LinearModel`) ``served`` (k,), and the engine ``used`` (:class:`EngineUsed`)."""
+    [µm, mdeg] (k,) each (:data:`SAMPLED_FIGURES`), their relative Monte Carlo standard errors ``mc_errors`` by name
+    (k,) each, where the first-order ``model`` (:class:`LinearModel`) ``served`` (k,), and the engine ``used``
+    (:class:`EngineUsed`)."""
 
     values: dict[str, np.ndarray]
-    band_error: np.ndarray
+    mc_errors: dict[str, np.ndarray]
     served: np.ndarray
     used: EngineUsed
     model: LinearModel
@@ -375,13 +453,16 @@ def direction_tests(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, le
     everywhere = np.ones(len(qs), dtype=bool)
     values = (_analytic(model, everywhere, setup, commanded) if moments.gaussian
               else _sampled(runner, setup, model, everywhere, qs, commanded, direction))
-    band_error = values.pop("band_error", np.full(len(qs), 0.0 if setup.table is None else setup.table.band_error))
+    mc = values.pop("mc_errors")
     served = serves(model.bound, n, values, "test")
     used = EngineUsed.first_order(model)
     if not served.all():
-        for name, again in _sampled(runner, setup, model, ~served, qs, commanded, direction, used).items():
-            (band_error if name == "band_error" else values[name])[~served] = again
-    return DirectionTests(values, band_error, served, used, model)
+        again = _sampled(runner, setup, model, ~served, qs, commanded, direction, used)
+        for name, value in again.pop("mc_errors").items():
+            mc[name][~served] = value
+        for name, value in again.items():
+            values[name][~served] = value
+    return DirectionTests(values, mc, served, used, model)
 
 
 #: The test's figures a map approached from both directions gives per direction
@@ -389,20 +470,31 @@ def direction_tests(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, le
 SPLIT_FIGURES = tuple(figure.name for figure in map_figures("expected") if figure.per_direction)
 
 
-def directions_figures(tests: list[DirectionTests], cycles: int) -> tuple[dict, dict]:
-    """The figures and their errors [µm, mdeg] of the approach directions' ``tests`` (one: as they are; + and -: each
-    direction's :data:`SPLIT_FIGURES` by their own names, :func:`~tribokin.maps.schema.direction_figure`, and each
-    figure the larger of the two's, whose error is at most the larger of theirs)."""
+def stated_figures(both_directions: bool) -> tuple[str, ...]:
+    """The figures whose relative Monte Carlo standard error an expected map states (``mc_errors``):
+    :data:`SAMPLED_FIGURES`, and approached from both directions each direction's :data:`SPLIT_FIGURES` too."""
+    if not both_directions:
+        return SAMPLED_FIGURES
+    return SAMPLED_FIGURES + tuple(direction_figure(name, label) for label in DIRECTIONS for name in SPLIT_FIGURES)
+
+
+def directions_figures(tests: list[DirectionTests], cycles: int) -> tuple[dict, dict, dict]:
+    """The figures [µm, mdeg], their errors from the engines' bounds [µm, mdeg] and their relative Monte Carlo errors
+    of the approach directions' ``tests`` (one: as they are; + and -: each direction's :data:`SPLIT_FIGURES` by their
+    own names, :func:`~tribokin.maps.schema.direction_figure`, and each figure the larger of the two's, whose errors
+    are at most the larger of theirs)."""
     if len(tests) == 1:
-        return tests[0].values, figure_errors(tests[0].used.bound, cycles)
+        return tests[0].values, figure_errors(tests[0].used.bound, cycles), tests[0].mc_errors
     values = {name: np.maximum(*(t.values[name] for t in tests)) for name in tests[0].values}
     errors = figure_errors(np.maximum(*(t.used.bound for t in tests)), cycles)
+    mc = {name: np.maximum(*(t.mc_errors[name] for t in tests)) for name in tests[0].mc_errors}
     for label, test in zip(DIRECTIONS, tests, strict=True):
         own = figure_errors(test.used.bound, cycles)
         for name in SPLIT_FIGURES:
             values[direction_figure(name, label)] = test.values[name]
             errors[direction_figure(name, label)] = own[name]
-    return values, errors
+            mc[direction_figure(name, label)] = test.mc_errors[name]
+    return values, errors, mc
 
 
 def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, forces: np.ndarray,
@@ -419,8 +511,9 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
         (``ANALYTIC`` or ``SAMPLED``), ``fallbacks`` (k,) how many of the models (each direction's test's; vAP_p's,
         RP_l_multi's) the first-order model did not serve and went through the fast engine, ``engine`` (k,) the least
         exact engine of the models (an index in ``TARGET_ENGINES``), ``engine_bound`` (k, 2) [m, rad] their largest
-        bound on |engine - exact FK| (exact FK: 0), ``band_error`` (k,) the RP_l band's relative Monte Carlo error
-        (the larger of the directions').
+        bound on |engine - exact FK| (exact FK: 0), ``mc_errors`` (k, figures) each figure's relative Monte Carlo
+        standard error (0: in closed form; NaN for the figures that state none: ``dominant_share``, vAP_p,
+        RP_l_multi).
     """
     models, robot, moments, n = runner.models, runner.robot, setup.moments, setup.cycles
     lever = friction_loads(models, forces) * friction_lever(models, robot.joint_is_prismatic)
@@ -430,14 +523,15 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     errors = np.full((len(qs), len(columns)), np.nan)
     tests = [direction_tests(runner, setup, qs, lever, np.full(len(models), sign), translations)
              for sign in ((1.0, -1.0) if both else (1.0,))]
-    values, test_errors = directions_figures(tests, n)
+    values, test_errors, mc = directions_figures(tests, n)
     served = np.all([t.served for t in tests], axis=0)
+    mc_errors = np.full((len(qs), len(columns)), np.nan)
     for name, value in values.items():
         figures[:, columns[name]] = value
+        mc_errors[:, columns[name]] = mc[name]
     out = {"figures": figures, "figure_errors": errors,
            "method": np.where(served & moments.gaussian, ANALYTIC, SAMPLED),
-           "fallbacks": np.sum([~t.served for t in tests], axis=0), "band_error": np.max([t.band_error for t in tests],
-                                                                                         axis=0)}
+           "fallbacks": np.sum([~t.served for t in tests], axis=0), "mc_errors": mc_errors}
     # the engine of each model: the tests', and vAP_p's and RP_l_multi's by their figure
     engines = {"test": EngineUsed.combined([t.used for t in tests])}
     if setup.figure_set == "directional":
@@ -472,28 +566,54 @@ def sampled_shape(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> t
 def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chosen: np.ndarray, qs: np.ndarray,
              commanded: np.ndarray, direction: np.ndarray, used: EngineUsed | None = None) -> dict[str, np.ndarray]:
     """The figures of targets ``chosen`` (mask) approached with joint signs ``direction`` (nv,) over the sampled tests,
-    and their RP_l band's ``band_error``: through the first-order ``model``, or with ``used``, through the fast engine
-    (each target's engine recorded there). Every direction's tests draw the same numbers."""
+    and under ``"mc_errors"`` each one's relative Monte Carlo standard error: through the first-order ``model``, or
+    with ``used``, through the fast engine (each target's engine recorded there). Every direction's tests draw the
+    same numbers."""
     n, moments = setup.cycles, setup.moments
-    shape = sampled_shape(SAMPLED_CYCLES, n)
+    asymptotic = n >= ASYMPTOTIC_CYCLES
+    shape = sampled_shape(SAMPLED_CYCLES * (setup.band_factor if asymptotic else 1), n)
     signs = np.broadcast_to(direction, (1, shape[1], len(direction)))
-    numbers = common_numbers(runner, np.broadcast_to(signs, (*shape, signs.shape[2])) if len(signs) == 1 else signs,
-                             shape[0], "tests")
-    summarise = partial(_summarise_cycles, cycles=n) if n >= ASYMPTOTIC_CYCLES else _summarise_tests
+    numbers = common_numbers(runner, np.broadcast_to(signs, (*shape, signs.shape[2])), shape[0], "tests")
+    extra = (0 if asymptotic else (setup.band_factor - 1) * shape[0], n)  # the band's further tests
+    extra_numbers = None
+    if extra[0]:
+        extra_numbers = common_numbers(runner, np.broadcast_to(signs, (*extra, signs.shape[2])), extra[0],
+                                       "band tests")
+    means = None if asymptotic else numbers.reshape(*shape, -1).mean(axis=1)
     indices = np.flatnonzero(chosen)
-    values = {name: np.empty(len(indices)) for name in (*TEST_FIGURES, "RP_l_lo_um", "RP_l_hi_um", "band_error")}
+    values = {name: np.empty(len(indices)) for name in SAMPLED_FIGURES}
+    errors = {name: np.empty(len(indices)) for name in SAMPLED_FIGURES}
+
+    def summarise(slots, targets, positions, angles, more, linear=None):
+        if asymptotic:
+            _summarise_cycles(values, errors, slots, positions, angles, commanded[targets], n,
+                              (model, targets, linear))
+        else:
+            control = position_control(model, moments, targets, means, direction, commanded[targets], n)
+            _summarise_tests(values, errors, slots, positions, angles, commanded[targets], more, control)
+
     if used is None:
-        for block in blocks_of(np.arange(len(indices)), math.prod(shape)):
+        for block in blocks_of(np.arange(len(indices)), (shape[0] + extra[0]) * shape[1]):
             targets = indices[block]
             positions = sampled_tests(model, moments, targets, numbers, shape, slice(0, 3))
             angles = sampled_tests(model, moments, targets, numbers, shape, slice(3, 6))
-            summarise(values, list(block), positions, angles, commanded[targets])
-        return values
+            more = None if extra_numbers is None else sampled_tests(model, moments, targets, extra_numbers, extra,
+                                                                    slice(0, 3))
+            summarise(list(block), targets, positions, angles, more)
+        return {**values, "mc_errors": errors}
     for slot, k in enumerate(indices):
         positions, angles, engine = engine_tests(runner, model, moments, k, qs[k], numbers, shape)
-        used.fall_back(k, EngineUsed.of(engine))
-        summarise(values, [slot], positions[None], angles[None], commanded[[k]])
-    return values
+        engines, more = [EngineUsed.of(engine)], None
+        if extra_numbers is not None:
+            more, _, extra_engine = engine_tests(runner, model, moments, k, qs[k], extra_numbers, extra)
+            engines.append(EngineUsed.of(extra_engine))
+        used.fall_back(k, EngineUsed.combined(engines))
+        linear = None
+        if asymptotic:  # the first-order model's own samples: a control variate of their moments
+            linear = tuple(sampled_tests(model, moments, np.array([k]), numbers, shape, rows)
+                           for rows in (slice(0, 3), slice(3, 6)))
+        summarise([slot], np.array([k]), positions[None], angles[None], None if more is None else more[None], linear)
+    return {**values, "mc_errors": errors}
 
 
 def cycle_moments(positions: np.ndarray, cycles: int, normals: np.ndarray) -> tuple[tuple[np.ndarray, ...],
@@ -530,71 +650,132 @@ def barycentre_normals(count: int) -> np.ndarray:
     return expected_stream(0, "barycentre").standard_normal((count, 3))
 
 
-def _summarise_cycles(values: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
-                      commanded: np.ndarray, cycles: int) -> None:
+def _summarise_cycles(values: dict, errors: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
+                      commanded: np.ndarray, cycles: int, control: tuple) -> None:
     """As :func:`_summarise_tests`, for tests of ``cycles`` >= ``ASYMPTOTIC_CYCLES`` cycles from (k, 1, M, 3) single
     cycles: RP_l from their distances' moments (:func:`~tribokin.iso9283.gaussian_tests.rp_l_from_moments`), its band
-    normal; AP_p, RP_a/b/c and the semi-axis from the cycles' mean and covariance as in the closed form. The band's
-    Monte Carlo error: that of the distances' mean and standard deviation over M cycles."""
+    normal, their Monte Carlo errors by the delta method over the cycles' moments (:func:`moments_errors`); AP_p,
+    RP_a/b/c and the semi-axis as in the closed form from the cycles' mean and covariance, which are the first-order
+    model's (``control``: the model, the targets, and after a fallback the model's samples of the same numbers, a
+    control variate: the engine's sample moments less the model's plus the model's exact ones; their errors then
+    bounded by the model's bound b, β over √M)."""
     positions, angles = positions[:, 0], angles[:, 0]
     n, count = cycles, positions.shape[1]
     moments, distances = cycle_moments(positions, n, barycentre_normals(positions.shape[1]))
     mean, spread = rp_l_from_moments(moments, n)
     low, high = normal_band(mean, spread)
-    offsets = positions - positions.mean(axis=1, keepdims=True)
-    covariance = np.einsum("kmi,kmj->kij", offsets, offsets) / (count - 1)
-    angle_std = angles.std(axis=1, ddof=1)
-    lengths = {"RP_l_um": mean, "RP_l_lo_um": low, "RP_l_hi_um": high,
-               "AP_p_um": expected_norm(positions.mean(axis=1) - commanded, covariance / n),
-               "largest_semi_axis_um": np.sqrt(np.maximum(np.linalg.eigvalsh(covariance)[:, -1], 0.0))}
+    model, targets, linear = control
+    centre, covariance = model.position_m[targets], model.position_covariance[targets]
+    angle_variance = np.diagonal(model.angle_covariance[targets], axis1=1, axis2=2)
+    bound = np.zeros((len(targets), 2))
+    if linear is not None:
+        own, own_angles = linear[0][:, 0], linear[1][:, 0]
+        centre = centre + positions.mean(axis=1) - own.mean(axis=1)
+        covariance = covariance + sample_covariance(positions) - sample_covariance(own)
+        angle_variance = angle_variance + angles.var(axis=1, ddof=1) - own_angles.var(axis=1, ddof=1)
+        bound = model.bound[targets] / math.sqrt(count)
+    ap_p = expected_norm(centre - commanded, covariance / n)
+    semi_axis = np.sqrt(np.maximum(np.linalg.eigvalsh(covariance)[:, -1], 0.0))
+    angle_std = np.sqrt(np.maximum(angle_variance, 0.0))
+    lengths = {"RP_l_um": mean, "RP_l_lo_um": low, "RP_l_hi_um": high, "AP_p_um": ap_p,
+               "largest_semi_axis_um": semi_axis}
     for name, length in lengths.items():
         values[name][slots] = length * UM_PER_M
+    stated = dict(zip(("RP_l_um", "RP_l_lo_um", "RP_l_hi_um"), moments_errors(distances, moments, n), strict=True))
+    stated.update({"AP_p_um": relative(bound[:, 0], ap_p), "largest_semi_axis_um": relative(bound[:, 0], semi_axis)})
     for i, axis in enumerate("abc"):
         values[f"RP_{axis}_mdeg"][slots] = 3 * c4(n) * angle_std[:, i] * MDEG_PER_RAD
-    sigma = distances.std(axis=1)
-    kurtosis = ((distances - moments[0][:, None]) ** 4).mean(axis=1) / np.where(sigma > 0, sigma ** 4, 1.0)
-    error = (sigma + 3 * sigma * np.sqrt(np.maximum(kurtosis - 1, 0.0) / 4)) / math.sqrt(count)
-    values["band_error"][slots] = np.where(low > 0, error / np.where(low > 0, low, 1.0), 0.0)
+        stated[f"RP_{axis}_mdeg"] = relative(bound[:, 1], angle_std[:, i])
+    for name, error in stated.items():
+        errors[name][slots] = error
 
 
-def _summarise_tests(values: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
-                     commanded: np.ndarray) -> None:
+def sample_covariance(points: np.ndarray) -> np.ndarray:
+    """(k, 3, 3) covariance (n - 1) of (k, M, 3) ``points``."""
+    offsets = points - points.mean(axis=1, keepdims=True)
+    return np.einsum("kmi,kmj->kij", offsets, offsets) / (points.shape[1] - 1)
+
+
+def relative(error: np.ndarray, value: np.ndarray) -> np.ndarray:
+    """``error`` over ``|value|``, 0 where the value is."""
+    return np.divide(error, np.abs(value), out=np.zeros(np.shape(error)), where=value != 0)
+
+
+def moments_errors(distances: np.ndarray, moments: tuple[np.ndarray, ...], cycles: int) -> tuple[np.ndarray, ...]:
+    """Relative standard errors of E[RP_l] and its normal band's two ends (:func:`~tribokin.iso9283.gaussian_tests.
+    rp_l_from_moments`, :func:`~tribokin.iso9283.gaussian_tests.normal_band`) taken from ``moments`` of (k, M)
+    single cycles' ``distances``: the delta method, each one's gradient in the four moments by central differences
+    times the covariance of (l, l², l³, l⁴) over M."""
+    powers = distances[..., None] ** np.arange(1, 5)  # (k, M, 4)
+    centred = powers - powers.mean(axis=1, keepdims=True)
+    covariance = np.einsum("kmi,kmj->kij", centred, centred) / (distances.shape[1] - 1) / distances.shape[1]
+
+    def ends(point):
+        mean, spread = rp_l_from_moments(tuple(point), cycles)
+        return np.stack([mean, *normal_band(mean, spread)], axis=-1)  # (k, 3)
+
+    point = np.stack(moments)  # (4, k)
+    gradient = np.empty((point.shape[1], 4, 3))
+    for i in range(4):
+        step = np.zeros_like(point)
+        step[i] = 1e-4 * np.abs(point[i]) + np.finfo(float).tiny
+        gradient[:, i] = (ends(point + step) - ends(point - step)) / (2 * step[i][:, None])
+    variance = np.einsum("kia,kij,kja->ka", gradient, covariance, gradient)
+    return tuple(relative(np.sqrt(np.maximum(variance[:, a], 0.0)), ends(point)[:, a]) for a in range(3))
+
+
+def _summarise_tests(values: dict, errors: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
+                     commanded: np.ndarray, more: np.ndarray | None, control: tuple) -> None:
     """Into ``values[...][slots]``: the mean of each figure over the tests of (k, tests, cycles, 3) ``positions``
-    [m] and ``angles`` [rad], the RP_l band and its Monte Carlo error."""
+    [m] and ``angles`` [rad], RP_l's and its band's over these and the ``more`` (k, further tests, cycles, 3)
+    positions of :func:`band_factor`, AP_p's with its ``control`` variate (:func:`position_control`'s pair); into
+    ``errors[...][slots]`` their relative Monte Carlo standard errors (:func:`~tribokin.iso9283.gaussian_tests.
+    mean_error`, :func:`~tribokin.iso9283.gaussian_tests.percentile_error`, :func:`controlled_mean`)."""
     spread = position_spread(positions)
     rp_abc = orientation_repeatability(angles) * MDEG_PER_RAD
-    per_test = {"RP_l_um": spread.RP_l_m * UM_PER_M,
-                "AP_p_um": np.linalg.norm(spread.barycenter_m - commanded[:, None], axis=-1) * UM_PER_M,
+    rp_l = spread.RP_l_m if more is None else np.concatenate([spread.RP_l_m, position_repeatability(more)[0]], axis=1)
+    per_test = {"RP_l_um": rp_l * UM_PER_M,
                 "RP_a_mdeg": rp_abc[..., 0], "RP_b_mdeg": rp_abc[..., 1], "RP_c_mdeg": rp_abc[..., 2],
                 "largest_semi_axis_um": spread.largest_semi_axis_m * UM_PER_M}
     for name, figure in per_test.items():
         values[name][slots] = figure.mean(axis=1)
+        errors[name][slots] = mean_error(figure)
+    ap_p = np.linalg.norm(spread.barycenter_m - commanded[:, None], axis=-1) * UM_PER_M
+    values["AP_p_um"][slots], errors["AP_p_um"][slots] = controlled_mean(ap_p, *control)
     ordered = np.sort(per_test["RP_l_um"], axis=1)
     values["RP_l_lo_um"][slots], values["RP_l_hi_um"][slots] = np.percentile(ordered, BAND_PERCENTILES, axis=1)
-    values["band_error"][slots] = [max(percentile_error(row, p) for p in BAND_PERCENTILES) for row in ordered]
+    for name, percentile in zip(("RP_l_lo_um", "RP_l_hi_um"), BAND_PERCENTILES, strict=True):
+        errors[name][slots] = percentile_error(ordered, percentile)
 
 
 def _analytic(model: LinearModel, chosen: np.ndarray, setup: ExpectedSetup, commanded: np.ndarray
               ) -> dict[str, np.ndarray]:
-    """The figures of targets ``chosen`` in closed form (:mod:`tribokin.iso9283.gaussian_tests`)."""
+    """The figures of targets ``chosen`` in closed form (:mod:`tribokin.iso9283.gaussian_tests`), and under
+    ``"mc_errors"`` their relative Monte Carlo standard errors: the shape table's for what comes from it, else 0."""
     n = setup.cycles
     position = model.position_covariance[chosen]
     lam = eigenvalues(position)
     scale, shape = standardised_shape(lam)
     rp_l, spread = expected_rp_l(lam, n)
+    errors = {name: np.zeros(len(scale)) for name in SAMPLED_FIGURES}
     if setup.table is None:  # from ASYMPTOTIC_CYCLES on
         band, semi_axis = normal_band(rp_l, spread), scale
     else:
         mean, low, high, semi_axis = setup.table.at(shape)
+        table_errors = dict(zip(("RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "largest_semi_axis_um"),
+                                setup.table.errors_at(shape), strict=True))
         rp_l = rp_l if n >= ANALYTIC_MIN_CYCLES else mean * scale
         with np.errstate(divide="ignore", invalid="ignore"):
             band = [np.where(mean > 0, rp_l * ratio / mean, 0.0) for ratio in (low, high)]
         semi_axis = semi_axis * scale
+        if n >= ANALYTIC_MIN_CYCLES:
+            del table_errors["RP_l_um"]
+        errors.update(table_errors)
     angle_std = np.sqrt(np.diagonal(model.angle_covariance[chosen], axis1=1, axis2=2))
     return {"RP_l_um": rp_l * UM_PER_M, "RP_l_lo_um": band[0] * UM_PER_M, "RP_l_hi_um": band[1] * UM_PER_M,
             "AP_p_um": expected_norm(model.position_m[chosen] - commanded, position / n) * UM_PER_M,
             **{f"RP_{axis}_mdeg": 3 * c4(n) * angle_std[:, i] * MDEG_PER_RAD for i, axis in enumerate("abc")},
-            "largest_semi_axis_um": semi_axis * UM_PER_M}
+            "largest_semi_axis_um": semi_axis * UM_PER_M, "mc_errors": errors}
 
 
 def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.ndarray, twists: np.ndarray,

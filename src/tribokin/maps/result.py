@@ -9,11 +9,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tribokin.kinematics.robot import Robot
-from tribokin.maps.expected_figures import ANALYTIC, SAMPLED, TARGET_ENGINES
+from tribokin.maps.expected_figures import ANALYTIC, SAMPLED, TARGET_ENGINES, stated_figures
 from tribokin.maps.frames import map_dataset, map_frame
 from tribokin.maps.grid import TargetGrid
 from tribokin.maps.rows import IK_ROUTES, unreachable_reasons
-from tribokin.maps.schema import figure_index, map_figures, robot_column, scenario_column
+from tribokin.maps.schema import figure_index, figure_stem, map_figures, robot_column, scenario_column
 from tribokin.maps.store import ChunkStore
 from tribokin.maps.streaming import blocks, spread
 
@@ -62,7 +62,7 @@ class ScenarioMap:
         :meth:`~tribokin.maps.store.ChunkStore.read`): ``figures`` (k, len(map_figures(figure_set))),
         ``normal_forces_N`` (k, nv) bearing loads [N], ``dominant_joint`` (k,) index in ``joint_names`` of the joint
         with the largest share of the position variance (-1: none); an expected map's ``method``, ``fallbacks``,
-        ``engine``, ``engine_bound``, ``figure_errors``, ``band_error``
+        ``engine``, ``engine_bound``, ``figure_errors``, ``mc_errors``
         (:func:`~tribokin.maps.expected_figures.expected_targets`)."""
         return self.store.read(scenario_column(self.number, name), targets, item)
 
@@ -76,6 +76,11 @@ class ScenarioMap:
         through exact FK, derived from the bound of the engine that computed it
         (:func:`~tribokin.maps.expected_figures.figure_errors`)."""
         return self.read("figure_errors", targets, figure_index(name, self.figure_set, self.both_directions))
+
+    def mc_error(self, name: str, targets=slice(None)) -> np.ndarray:
+        """An expected map's relative Monte Carlo standard error of figure ``name`` at ``targets`` (0: in closed form;
+        :func:`~tribokin.maps.expected_figures.expected_targets`)."""
+        return self.read("mc_errors", targets, figure_index(name, self.figure_set, self.both_directions))
 
     def has(self, name: str) -> bool:
         """Whether the map has figure ``name``."""
@@ -298,11 +303,14 @@ class MapResult:
 
     def _computed(self, scenario: ScenarioMap) -> dict:
         """How an expected map's figures were computed: targets per method and per engine (the least exact its figures
-        rest on), fallbacks, the largest bound of the engines used against exact FK and the RP_l band's largest
-        Monte Carlo error (:mod:`tribokin.maps.expected_figures`)."""
+        rest on), fallbacks, the largest bound of the engines used against exact FK and each sampled figure's largest
+        relative Monte Carlo standard error (``<stem>_max_mc_error``, :func:`~tribokin.maps.schema.figure_stem`;
+        :mod:`tribokin.maps.expected_figures`)."""
         analytic = sampled = fallback = 0
         engines = np.zeros(len(TARGET_ENGINES), dtype=int)
-        bound, band_error = np.zeros(2), 0.0
+        stated = stated_figures(scenario.both_directions)
+        bound, mc_errors = np.zeros(2), np.zeros(len(stated))
+        columns = [figure_index(name, scenario.figure_set, scenario.both_directions) for name in stated]
         for part in self.blocks():
             flags = scenario.read_robot("reachable", part)
             method = scenario.read("method", part)[flags]
@@ -311,12 +319,14 @@ class MapResult:
             fallback += int(np.count_nonzero(scenario.read("fallbacks", part)[flags]))
             engines += np.bincount(scenario.read("engine", part)[flags], minlength=len(TARGET_ENGINES))
             bound = np.fmax(bound, np.nanmax(scenario.read("engine_bound", part)[flags], axis=0, initial=0.0))
-            band_error = max(band_error, float(np.nanmax(scenario.read("band_error", part)[flags], initial=0.0)))
+            mc_errors = np.fmax(mc_errors, np.nanmax(scenario.read("mc_errors", part)[flags][:, columns], axis=0,
+                                                     initial=0.0))
         return {"analytic_targets": analytic, "sampled_targets": sampled, "fallback_targets": fallback,
                 "engine_targets": {name: int(count) for name, count in zip(TARGET_ENGINES, engines, strict=True)},
                 "engine_max_deviation_nm": float(bound[0] * 1e9),
                 "engine_max_angle_deviation_nrad": float(bound[1] * 1e9),
-                "RP_l_band_max_mc_error": band_error}
+                **{f"{figure_stem(name)}_max_mc_error": float(error)
+                   for name, error in zip(stated, mc_errors, strict=True)}}
 
     def to_pandas(self):
         """Every scenario's table (``map.csv``, ``map_<scenario>.csv``: the same columns and numbers, NaN where a cell

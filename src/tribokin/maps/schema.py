@@ -90,6 +90,19 @@ def figure_index(name: str, figure_set: str, both_directions: bool = False) -> i
     return [figure.name for figure in map_figures(figure_set, both_directions)].index(name)
 
 
+def figure_stem(name: str) -> str:
+    """Figure ``name`` without its unit (``RP_l_um``: ``RP_l``): the stem of its error's names."""
+    for unit in ("_um", "_mdeg"):
+        name = name.removesuffix(unit)
+    return name
+
+
+def mc_error_name(name: str) -> str:
+    """The ``map.csv`` column of figure ``name``'s relative Monte Carlo standard error (``RP_l_um``:
+    ``RP_l_mc_error``); ``summary.json`` gives its largest as ``<stem>_max_mc_error``."""
+    return f"{figure_stem(name)}_mc_error"
+
+
 def table_figures(figure_set: str, both_directions: bool = False) -> list[str]:
     """The figures' columns of ``map.csv`` in order, ``dominant_joint`` (the joint's name) among them."""
     figures = map_figures(figure_set, both_directions)
@@ -133,7 +146,7 @@ SCENARIO_COLUMNS = (MapColumn("figures", "figures", "f8"), MapColumn("normal_for
                     MapColumn("fallbacks", None, "i8", _EXPECTED), MapColumn("engine", None, "i1", _EXPECTED),
                     MapColumn("engine_bound", 2, "f8", _EXPECTED),
                     MapColumn("figure_errors", "figures", "f8", _EXPECTED),
-                    MapColumn("band_error", None, "f8", _EXPECTED))
+                    MapColumn("mc_errors", "figures", "f8", _EXPECTED))
 
 
 def scenario_column(scenario: int, name: str) -> str:

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from tribokin.maps.expected_figures import TARGET_ENGINES
-from tribokin.maps.schema import figure_index, table_figures
+from tribokin.maps.expected_figures import TARGET_ENGINES, stated_figures
+from tribokin.maps.schema import figure_index, mc_error_name, table_figures
 from tribokin.study.names import map_table_file
 
 
@@ -24,8 +24,10 @@ def reached_by_cells(workspace_map, scenario, targets: slice) -> np.ndarray:
 
 def map_table_columns(workspace_map, scenario, targets: slice) -> dict[str, np.ndarray]:
     """``scenario``'s table at ``targets``, by header: position [m], reachable (by its robot), the figures (µm, mdeg),
-    ratio and difference of RP_l to the reference scenario (other scenarios), who reaches the target (a scenario
-    measured with another robot than the reference's), grid coordinates, q_<joint> [m or rad],
+    an expected map's engine, its bound [nm, nrad] and each sampled figure's relative Monte Carlo standard error
+    (:func:`~tribokin.maps.schema.mc_error_name`), ratio and difference of RP_l to the reference scenario (other
+    scenarios), who reaches the target (a scenario measured with another robot than the reference's), grid
+    coordinates, q_<joint> [m or rad],
     normal_force_<joint>_N [N] (its robot's joints), and the reason a target is unreachable. Floats (NaN: no
     value), booleans, or Python strings (object arrays)."""
     positions = workspace_map.read("position_m", targets)
@@ -42,6 +44,10 @@ def map_table_columns(workspace_map, scenario, targets: slice) -> dict[str, np.n
         columns["engine"] = np.where(reachable, np.array([*TARGET_ENGINES], dtype=object)[engines], "").astype(object)
         columns["engine_bound_nm"] = np.where(reachable, bound[:, 0], np.nan)
         columns["engine_bound_nrad"] = np.where(reachable, bound[:, 1], np.nan)
+        mc_errors = scenario.read("mc_errors", targets)
+        columns.update({mc_error_name(name): np.where(reachable, mc_errors[:, figure_index(
+            name, scenario.figure_set, scenario.both_directions)], np.nan)
+            for name in stated_figures(scenario.both_directions)})
     if scenario is not workspace_map.reference:
         columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
         columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario, targets)

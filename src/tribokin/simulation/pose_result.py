@@ -125,7 +125,8 @@ class PoseResult:
 #: poses.csv columns of the vector figures that are not per joint or per world axis: key -> element names.
 POSE_VECTOR_COLUMNS = {"ellipsoid_semi_axes_um": ("ellipsoid_semi_axis_1_um", "ellipsoid_semi_axis_2_um",
                                                   "ellipsoid_semi_axis_3_um"),
-                       "RP_l_95_um": ("RP_l_95_low_um", "RP_l_95_high_um")}
+                       "RP_l_95_um": ("RP_l_95_low_um", "RP_l_95_high_um"),
+                       "RP_l_95_mc_error": ("RP_l_95_low_mc_error", "RP_l_95_high_mc_error")}
 
 
 def pose_table_row(row: dict, joints: list[str], missing="") -> dict:

@@ -11,6 +11,7 @@ import numpy as np
 
 from tribokin.errors import JointRangeError, SettingsError, TribokinError
 from tribokin.iso9283.cube import label_approach_signs
+from tribokin.iso9283.gaussian_tests import BAND_PERCENTILES, percentile_error
 from tribokin.iso9283.metrics import (
     covariance_semi_axes,
     directional_metrics,
@@ -33,10 +34,11 @@ from tribokin.streams import pose_stream, replicate_stream
 from tribokin.tribology.laws import FrictionLaw
 from tribokin.units import UM_PER_M
 
-#: Replicate tests simulated for the 95 % interval of RP_l (fewer when they would exceed
-#: REPLICATE_SAMPLES cycles in all, never fewer than 20).
-RP_REPLICATES = 200
-REPLICATE_SAMPLES = 200_000
+#: Replicate tests for the 95 % interval of RP_l: rounds of about ``REPLICATE_SAMPLES`` cycles (at least
+#: ``MIN_REPLICATES`` tests each) until each end's relative Monte Carlo standard error is at most
+#: ``REPLICATE_ERROR_AIM`` (:func:`~tribokin.iso9283.gaussian_tests.percentile_error`), at most
+#: ``MAX_REPLICATE_ROUNDS`` rounds.
+REPLICATE_SAMPLES, MIN_REPLICATES, REPLICATE_ERROR_AIM, MAX_REPLICATE_ROUNDS = 240_000, 20, 0.008, 16
 
 
 class RunSettings(Protocol):
@@ -257,15 +259,14 @@ class PoseRunner:
 
     def beyond_iso(self, task: PoseTask, forces_N, result: PoseResult, index: int) -> dict[str, dict]:
         """Per approach direction with ISO figures: joint shares of the position variance, 1-sigma
-        ellipsoid semi-axes [µm], 95 % interval of RP_l [µm].
+        ellipsoid semi-axes [µm], 95 % interval of RP_l [µm] and its ends' relative Monte Carlo standard errors.
 
         The interval comes from replicate tests of ``settings.cycles`` cycles each from that direction
         (fresh random streams), propagated to first order through the position Jacobian: how much
-        a test of this length can vary.
+        a test of this length can vary (:func:`replicate_interval`).
         """
         jacobian = self.robot.tool_jacobian(task.q)[:3]
         cycles = self.settings.cycles
-        replicates = int(np.clip(REPLICATE_SAMPLES // cycles, 20, RP_REPLICATES))
         rng = replicate_stream(self.settings.seed, index)
         figures = {}
         for label in result.metrics.directions:
@@ -274,15 +275,33 @@ class PoseRunner:
             extra = {f"contribution_{name}": None if np.isnan(share) else float(share)
                      for name, share in zip(self.robot.joint_names, shares, strict=True)}
             extra["ellipsoid_semi_axes_um"] = (covariance_semi_axes(result.positions_m[mine]) * UM_PER_M).tolist()
-            signs = np.broadcast_to(task.directions[task.labels.index(label)].astype(float), (cycles, len(task.q)))
-            rp = np.empty(replicates)
-            for j in range(replicates):
-                dq, _ = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs,
-                                                rng)
-                rp[j] = position_repeatability(dq @ jacobian.T)[0]
-            extra["RP_l_95_um"] = (np.percentile(rp, [2.5, 97.5]) * UM_PER_M).tolist()
+            signs = task.directions[task.labels.index(label)].astype(float)
+
+            def replicates(tests: int, signs=signs) -> np.ndarray:  # (tests,) RP_l [m] of replicate tests
+                dq, _ = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N,
+                                                np.broadcast_to(signs, (tests * cycles, len(signs))), rng)
+                return position_repeatability((dq @ jacobian.T).reshape(tests, cycles, 3))[0]
+
+            interval, errors = replicate_interval(replicates, cycles)
+            extra["RP_l_95_um"] = (interval * UM_PER_M).tolist()
+            extra["RP_l_95_mc_error"] = errors.tolist()
             figures[label] = extra
         return figures
+
+
+def replicate_interval(replicates: Callable[[int], np.ndarray], cycles: int) -> tuple[np.ndarray, np.ndarray]:
+    """The 2.5 and 97.5 % points of RP_l over replicate tests of ``cycles`` cycles, ``replicates(tests)`` giving each
+    round's, and their relative Monte Carlo standard errors: rounds of ``REPLICATE_SAMPLES`` cycles (at least
+    ``MIN_REPLICATES`` tests) until both errors are within ``REPLICATE_ERROR_AIM`` (or ``MAX_REPLICATE_ROUNDS``)."""
+    tests = max(MIN_REPLICATES, math.ceil(REPLICATE_SAMPLES / cycles))
+    each = max(1, REPLICATE_SAMPLES // cycles)  # tests drawn at once: about REPLICATE_SAMPLES cycles in memory
+    rp = np.empty(0)
+    for _ in range(MAX_REPLICATE_ROUNDS):
+        rp = np.concatenate([rp, *(replicates(min(each, tests - start)) for start in range(0, tests, each))])
+        errors = np.array([percentile_error(rp, p) for p in BAND_PERCENTILES])
+        if errors.max() <= REPLICATE_ERROR_AIM:
+            break
+    return np.percentile(rp, BAND_PERCENTILES), errors
 
 
 def run_poses(runner: PoseRunner, tasks: list[PoseTask], first: int = 0) -> list[PoseResult]:
