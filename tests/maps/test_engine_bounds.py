@@ -151,7 +151,7 @@ def test_a_map_with_soft_joints_reports_its_fallbacks_engines_and_bounds_in_its_
                         "friction_radius_m": 0.02, "bearing_span_m": 0.08},
              "map": {"kind": "plane", "origin_m": [0.0, -0.55, 0.1], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
                      "extent_u_m": [-0.3, 0.3], "extent_v_m": [-0.2, 0.2], "resolution": [3, 2],
-                     "rpy_deg": [180, 0, 90]}}
+                     "rpy_deg": [180, 0, 90], "directional": False}}  # the test's engine alone (vAP_p's go exact)
     workspace_map = run_study(study).map
     computed = workspace_map.summary()["computed"]["soft"]
     table = workspace_map.to_pandas()
