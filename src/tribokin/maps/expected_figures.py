@@ -26,8 +26,9 @@ fallback: orders 2-3, else exact FK), whose own bound then takes b's place. Per 
   numbers: the same ``sampled_tests`` tests of drawn μ at every target (and scenario), through the linear model,
   or through the fast engine where it does not serve (a *fallback*). The RP_l band's Monte Carlo error is kept.
 - ``vAP_p_um``: the largest distance between the barycentres reached along +x, +y, +z of the world frame (joint
-  signs as the measured cube's, :func:`~tribokin.iso9283.cube.held_approach_signs`); each barycentre by exact
-  forward kinematics of its mean deviation plus a Gaussian of covariance Σ_d / n (the mean of n cycles); its
+  signs as the measured cube's, :func:`~tribokin.iso9283.cube.held_approach_signs`); each barycentre through
+  RP_l_multi's first-order model (about q + offset: its bound covers every direction's deviations), or where that
+  does not serve each direction's own, plus a Gaussian of covariance Σ_d / n (the mean of n cycles); its
   expectation in closed form when one pair of directions is clearly farthest apart, else linearised in the noise
   (jointly normal distances: closed form) and corrected over ``VAP_DRAWS`` draws (a control variate).
 - ``RP_l_multi_um``: cycles each approached from a random joint-space direction (every joint's sign drawn at
@@ -400,8 +401,9 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
            "fallbacks": (~served).astype(int), "band_error": band_error}
     engines = {"test": used}  # the engine of each model: the test's, and vAP_p's and RP_l_multi's by their figure
     if setup.figure_set == "directional":
-        for name, (value, engine, fallbacks) in {"vAP_p_um": _vap(runner, moments, qs, lever, twists, n),
-                                                 "RP_l_multi_um": _multi(runner, setup, qs, lever)}.items():
+        mixed = linear_model(robot, moments, qs, lever, np.zeros_like(lever), mixed=True)  # random directions
+        for name, (value, engine, fallbacks) in {"vAP_p_um": _vap(runner, moments, qs, lever, twists, n, mixed),
+                                                 "RP_l_multi_um": _multi(runner, setup, qs, mixed)}.items():
             figures[:, columns[name]] = value
             out["fallbacks"] += fallbacks
             engines[name] = engine
@@ -567,15 +569,42 @@ def _analytic(model: LinearModel, chosen: np.ndarray, setup: ExpectedSetup, comm
 
 
 def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.ndarray, twists: np.ndarray,
-         cycles: int) -> tuple[np.ndarray, EngineUsed, np.ndarray]:
-    """vAP_p [µm] (k,), the engine that computed it (:class:`EngineUsed`: the three directions' least exact, their
-    largest bound) and its fallbacks (k,): where the directions' first-order models do not serve it,
-    :func:`_vap_tests`."""
+         cycles: int, mixed: LinearModel) -> tuple[np.ndarray, EngineUsed, np.ndarray]:
+    """vAP_p [µm] (k,), the engine that computed it (:class:`EngineUsed`) and its fallbacks (k,).
+
+    The three directions' barycentres through the ``mixed`` first-order model (about q + offset, RP_l_multi's: its
+    bound holds for every sign pattern's deviations, so for each direction's); where it does not serve, through each
+    direction's own model about its mean deviation (the three's least exact engine, their largest bound), and where
+    those do not serve either, :func:`_vap_tests`."""
     directions = np.array([APPROACH_DIRECTIONS[label] for label in VAP_DIRECTIONS])
     signs = approach_signs_from_jacobians(twists, directions)  # (k, 3, nv)
-    models = [linear_model(runner.robot, moments, qs, lever, signs[:, d], mixed=False) for d in range(len(directions))]
-    centres = np.stack([m.position_m for m in models], axis=1)  # (k, 3 directions, 3)
-    noise = np.stack([m.position_covariance for m in models], axis=1) / cycles
+    position = mixed.jacobian[:, :3]
+    lost = lever * moments.mean + moments.half_backlash
+    centres = mixed.position_m[:, None] + np.einsum("kin,kdn->kdi", position, signs * lost[:, None])
+    variance = signs ** 2 * ((lever * moments.std) ** 2)[:, None] + moments.noise_std ** 2  # (k, 3 directions, nv)
+    vap = _vap_expected(centres, np.einsum("kin,kdn,kjn->kdij", position, variance, position) / cycles,
+                        runner.settings.seed) * UM_PER_M
+    used = EngineUsed.first_order(mixed)
+    own = np.flatnonzero(~serves(used.bound, cycles, {"vAP_p_um": vap}, "vap"))
+    fallen = np.zeros(len(qs), dtype=int)
+    if len(own):
+        models = [linear_model(runner.robot, moments, qs[own], lever[own], signs[own, d], mixed=False)
+                  for d in range(len(directions))]
+        vap[own] = _vap_expected(np.stack([m.position_m for m in models], axis=1),
+                                 np.stack([m.position_covariance for m in models], axis=1) / cycles,
+                                 runner.settings.seed) * UM_PER_M
+        theirs = EngineUsed.combined([EngineUsed.first_order(m) for m in models])
+        for j in np.flatnonzero(~serves(theirs.bound, cycles, {"vAP_p_um": vap[own]}, "vap")):
+            vap[own[j]] = _vap_tests(runner, models, moments, j, qs[own[j]], signs[own[j]], cycles, theirs) * UM_PER_M
+            fallen[own[j]] = 1
+        used.engine[own], used.bound[own] = theirs.engine, theirs.bound
+    return vap, used, fallen
+
+
+def _vap_expected(centres: np.ndarray, noise: np.ndarray, seed: int) -> np.ndarray:
+    """E[vAP_p] [m] (k,) of barycentres ``centres`` (k, 3 directions, 3) [m] with Gaussian noise of covariances
+    ``noise`` (k, 3 directions, 3, 3) [m²]: the farthest pair's E|g + e| in closed form, or :func:`_vap_close` where
+    two pairs are about as far apart."""
     gaps = np.stack([centres[:, a] - centres[:, b] for a, b in VAP_PAIRS], axis=1)
     spreads = np.stack([noise[:, a] + noise[:, b] for a, b in VAP_PAIRS], axis=1)
     expected = expected_norm(gaps, spreads)
@@ -588,13 +617,8 @@ def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.nd
     vap = np.take_along_axis(expected, order[:, [0]], axis=1)[:, 0]
     close = np.flatnonzero(first - second <= TAIL_STDS * width)
     if len(close):
-        vap[close] = _vap_close(centres[close], noise[close], runner.settings.seed)
-    used = EngineUsed.combined([EngineUsed.first_order(m) for m in models])
-    vap *= UM_PER_M
-    fallen = ~serves(used.bound, cycles, {"vAP_p_um": vap}, "vap")
-    for k in np.flatnonzero(fallen):
-        vap[k] = _vap_tests(runner, models, moments, k, qs[k], signs[k], cycles, used) * UM_PER_M
-    return vap, used, fallen.astype(int)
+        vap[close] = _vap_close(centres[close], noise[close], seed)
+    return vap
 
 
 def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> np.ndarray:
@@ -658,12 +682,12 @@ def _vap_tests(runner: PoseRunner, models: list[LinearModel], moments: JointMome
     return float(np.max([np.linalg.norm(barycentres[a] - barycentres[b], axis=1) for a, b in VAP_PAIRS], axis=0).mean())
 
 
-def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, lever: np.ndarray
+def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: LinearModel
            ) -> tuple[np.ndarray, EngineUsed, np.ndarray]:
-    """RP_l_multi [µm] (k,), the engine that computed it (:class:`EngineUsed`) and its fallbacks (k,)."""
+    """RP_l_multi [µm] (k,), the engine that computed it (:class:`EngineUsed`) and its fallbacks (k,), from the
+    mixed first-order ``model`` (every joint's sign drawn per cycle, about q + offset)."""
     n, moments = setup.cycles, setup.moments
     shape = sampled_shape(MULTI_CYCLES, n, MIN_MULTI_TESTS)
-    model = linear_model(runner.robot, moments, qs, lever, np.zeros_like(lever), mixed=True)
 
     @lru_cache(maxsize=1)
     def numbers() -> np.ndarray:  # the sampled cycles' common random numbers, drawn only where cycles are sampled
