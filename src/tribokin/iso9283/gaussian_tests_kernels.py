@@ -23,6 +23,8 @@ _RF_FACTOR, _RD_FACTOR = (3 * _TOLERANCE) ** (-1 / 6), (_TOLERANCE / 4) ** (-1 /
 _DUPLICATIONS = 60
 #: The smallest normal float64.
 _TINY = float(np.finfo(np.float64).tiny)
+#: Below this exponent e^x is below 1e-19, negligible beside 1 (the sign mixture's Laplace transform).
+_NEGLIGIBLE_EXPONENT = -44.0
 #: Cyclic Jacobi sweeps at most (a 3 × 3 matrix is diagonal to rounding after about five).
 _SWEEPS = 50
 
@@ -333,8 +335,8 @@ def sign_mixture_moments(columns, covariance, times, step, half, three_halves):
                 slope[j] = t / (1 + grown)
             less, more = 0.0, 0.0
             for p in range(count_p):
-                less_one = math.expm1(log_det - beta2[p, 0] * slope[0] - beta2[p, 1] * slope[1]
-                                      - beta2[p, 2] * slope[2])
+                exponent = log_det - beta2[p, 0] * slope[0] - beta2[p, 1] * slope[1] - beta2[p, 2] * slope[2]
+                less_one = math.expm1(exponent) if exponent > _NEGLIGIBLE_EXPONENT else -1.0
                 less -= less_one
                 more += less_one + t * second[p]
             first += less / math.sqrt(t)

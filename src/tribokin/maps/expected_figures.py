@@ -607,15 +607,14 @@ def _vap_expected(centres: np.ndarray, noise: np.ndarray, seed: int) -> np.ndarr
     two pairs are about as far apart."""
     gaps = np.stack([centres[:, a] - centres[:, b] for a, b in VAP_PAIRS], axis=1)
     spreads = np.stack([noise[:, a] + noise[:, b] for a, b in VAP_PAIRS], axis=1)
-    expected = expected_norm(gaps, spreads)
     sizes = np.linalg.norm(gaps, axis=-1)
     order = np.argsort(-sizes, axis=1)
     first, second = (np.take_along_axis(sizes, order[:, [i]], axis=1)[:, 0] for i in (0, 1))
-    widths = np.sqrt(eigenvalues(spreads)[..., -1])
-    width = np.take_along_axis(widths, order[:, [0]], axis=1)[:, 0] + np.take_along_axis(widths, order[:, [1]],
-                                                                                         axis=1)[:, 0]
-    vap = np.take_along_axis(expected, order[:, [0]], axis=1)[:, 0]
-    close = np.flatnonzero(first - second <= TAIL_STDS * width)
+    farthest = (np.arange(len(gaps)), order[:, 0])
+    widths = np.sqrt(eigenvalues(spreads[farthest])[:, -1]) + np.sqrt(eigenvalues(
+        spreads[np.arange(len(gaps)), order[:, 1]])[:, -1])
+    vap = expected_norm(gaps[farthest], spreads[farthest])
+    close = np.flatnonzero(first - second <= TAIL_STDS * widths)
     if len(close):
         vap[close] = _vap_close(centres[close], noise[close], seed)
     return vap
