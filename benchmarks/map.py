@@ -92,6 +92,8 @@ START = time.perf_counter()
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results" / "map.json"
+#: Where ``--directional-only`` writes, and its goal: the directional figures cost at most this ratio of the map.
+DIRECTIONAL_RESULTS, GOAL_DIRECTIONAL_COST = ROOT / "benchmarks" / "results" / "map_directional.json", 1.5
 STUDY = ROOT / "studies" / "ur5-map-horizontal.toml"
 #: Goals of the issue: the command on 2 workers over the FK loop, a 10^6-target map's computation and command [s],
 #: and the memory growth per target from 10^6 to 2·10^6 targets [B].
@@ -424,36 +426,20 @@ def stages(study: Path, out: Path) -> dict:
 # --- where a directional map spends its time: cProfile of one in-process run ---------------------------------------
 
 def profiled(stats, function: str, caller: str | None = None) -> float:
-    """Cumulative seconds in ``function`` of maps/expected_figures.py (a name, or a built-in method's whose name
-    holds it), in all or (``caller``, a function of that module) from that caller only, from ``pstats`` ``stats``."""
+    """Cumulative seconds in ``function`` (a function's name, in any module, or a built-in method's whose name holds
+    it), in all or (``caller``, a function of maps/expected_figures.py) from that caller only, from ``pstats``
+    ``stats``."""
     def ours(key, name):
         return key[0].replace(os.sep, "/").endswith("maps/expected_figures.py") and key[2] == name
     total = 0.0
     for key, (_, _, _, cumulative, callers) in stats.stats.items():
-        if not (ours(key, function) or (key[0] == "~" and function in key[2])):
+        if not (key[2] == function or (key[0] == "~" and function in key[2])):
             continue
         if caller is None:
             total += cumulative
         else:
             total += sum(entry[3] for who, entry in callers.items() if ours(who, caller))
     return total
-
-
-def vap_close_pairs(stats) -> float | None:
-    """Seconds in ``_vap``'s close pairs (its barycentres over ``VAP_DRAWS`` draws): the comprehensions of that block,
-    and the draws and roots it makes; ``None`` where the comprehensions run inline (Python 3.12 on, PEP 709)."""
-    if sys.version_info >= (3, 12):
-        return None
-    import inspect
-
-    from tribokin.maps import expected_figures
-
-    lines, first = inspect.getsourcelines(expected_figures._vap)
-    start = first + next(i for i, line in enumerate(lines) if "if len(close):" in line)
-    end = first + next(i for i, line in enumerate(lines) if line.strip().startswith("bounds ="))
-    inside = sum(cumulative for key, (_, _, _, cumulative, _) in stats.stats.items()
-                 if key[0].replace(os.sep, "/").endswith("maps/expected_figures.py") and start < key[1] < end)
-    return inside + sum(profiled(stats, name, "_vap") for name in ("standard_normal", "ascontiguousarray"))
 
 
 def profile_child(study: str, out: str) -> None:
@@ -472,16 +458,24 @@ def profile_child(study: str, out: str) -> None:
     seconds = time.perf_counter() - start
     assert status == 0, status
     stats = pstats.Stats(profiler)
-    multi = {"cycles sampled (sampled_tests)": profiled(stats, "sampled_tests", "_multi"),
-             "random numbers (common_numbers)": profiled(stats, "common_numbers", "_multi"),
+    multi = {"sign mixture's moments (_multi_moments)": profiled(stats, "_multi_moments", "_multi"),
+             "cycles sampled (sampled_tests)": profiled(stats, "sampled_tests", "_multi"),
+             "random numbers (numbers)": profiled(stats, "numbers", "_multi"),
              "RP_l from the cycles (cycle_moments)": profiled(stats, "repeatability", "_multi"),
              "fast-engine fallbacks (engine_tests)": profiled(stats, "engine_tests", "_multi"),
              "first-order model (linear_model)": profiled(stats, "linear_model", "_multi")}
     multi["other"] = profiled(stats, "_multi") - sum(multi.values())
-    vap_total, close = profiled(stats, "_vap"), vap_close_pairs(stats)
-    vap = {"close pairs (draws)": close, "other": None if close is None else vap_total - close}
+    vap_total = profiled(stats, "_vap")
+    vap = {"expected distances (_vap_expected)": profiled(stats, "_vap_expected", "_vap"),
+           "approach signs (approach_signs_from_jacobians)": profiled(stats, "approach_signs_from_jacobians", "_vap"),
+           "fast-engine fallbacks (_vap_tests)": profiled(stats, "_vap_tests", "_vap")}
+    vap["other (the barycentres through the mixed model; each direction's own models where it does not serve)"] = (
+        vap_total - sum(vap.values()))
+    vap["of the expected distances, close pairs (_vap_close)"] = profiled(stats, "_vap_close", "_vap_expected")
     expected = profiled(stats, "expected_targets")
+    mixed = profiled(stats, "linear_model", "expected_targets")  # the test's model and the mixed (directional) one
     print(json.dumps({"command_s": seconds, "expected_figures_s": expected,
+                      "first_order_models_in_expected_targets_s": mixed,
                       "RP_l_multi_s": profiled(stats, "_multi"), "RP_l_multi": multi,
                       "vAP_p_s": vap_total, "vAP_p": vap,
                       "rest_of_expected_figures_s": expected - profiled(stats, "_multi") - vap_total,
@@ -629,6 +623,25 @@ class Sizes:
     profile_side: int
 
 
+def directional_only(side: int, cycles: int, repeats: int, profile_side: int) -> dict:
+    """The directional section alone (:func:`directional_cost` and :func:`profile`), with the machine's processor and
+    load: what deliverable 6's goal (the directional figures at most 1.5x the map without them) is judged on."""
+    folder = Path(tempfile.mkdtemp(prefix="tribokin-bench-"))
+    try:
+        load_before = os.getloadavg()
+        command(write_study(folder, 3, 3, cycles), folder / "warm-up")  # files read and kernels compiled once
+        directional = directional_cost(folder, side, cycles, repeats, 200_000)
+        directional["profile"] = profile(write_study(folder, profile_side, profile_side, cycles, directional=True),
+                                         folder / "profile")
+        return {"machine": {"python": platform.python_version(), "cpus": os.cpu_count(), "cpu": cpu(),
+                            "load_average": {"before": load_before[0], "after": os.getloadavg()[0]}},
+                "directional": directional,
+                "goal_cost_at_most_1_5": directional["cost_ratio"]["median"] <= GOAL_DIRECTIONAL_COST,
+                "benchmark_seconds": time.perf_counter() - START}
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
 def benchmark(sizes: Sizes, quick: bool) -> dict:
     folder = Path(tempfile.mkdtemp(prefix="tribokin-bench-"))
     try:
@@ -742,6 +755,9 @@ def main() -> None:
                         help="a small run (120 x 120, one-test 60 x 60, 10^5 targets for the million, memory at "
                              "10^4, 4·10^4 and 8·10^4 targets, directional 60 x 60 once, profiled 40 x 40); printed, "
                              "written only with --results")
+    parser.add_argument("--directional-only", action="store_true",
+                        help="only the directional runs and their profile (the --directional-side plane, default "
+                             "--side), written to --results or " + str(DIRECTIONAL_RESULTS.relative_to(ROOT)))
     parser.add_argument("--results", type=Path, help=f"where to write the JSON (default {RESULTS.relative_to(ROOT)})")
     parser.add_argument("--memory-child", help=argparse.SUPPRESS)
     parser.add_argument("--stages-child", nargs=2, help=argparse.SUPPRESS)
@@ -760,6 +776,13 @@ def main() -> None:
     compileall.compile_dir(ROOT / "src", quiet=1)  # as installing tribokin does: see the module's last paragraph
     os.environ[NUMBA_CACHE_VARIABLE] = tempfile.mkdtemp(prefix="tribokin-bench-numba-")
     try:
+        if args.directional_only:
+            results = directional_only(args.directional_side or args.side, args.cycles, args.directional_repeats,
+                                       args.profile_side)
+            path = args.results or DIRECTIONAL_RESULTS
+            path.write_text(json.dumps(results, indent=2) + "\n")
+            print(json.dumps(results, indent=2))
+            return
         if args.quick:
             sizes = Sizes(120, args.cycles, 60, 316, [(100, 100), (200, 200), (200, 400)], 20_000, 60, 1, 40)
         else:

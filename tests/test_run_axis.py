@@ -209,6 +209,7 @@ def test_names_are_shown_as_written_in_figures(tmp_path, monkeypatch):
     study["map"] = {"kind": "joint", "joints": ["x$^^$"], "ranges": [[0.0, 0.3]], "counts": [3]}
     write_results(run_study(study), tmp_path / "out", report="none")
     assert sorted(text.get_text().split(":")[0] for text in texts if text.get_text().startswith("m$")) == [
-        "m$^^$", "m$^^$", "m$^^$", "m$^^$ — $x$"]  # the map's RP_l, its band's upper edge, its dominant joint
+        "m$^^$", "m$^^$", "m$^^$", "m$^^$", "m$^^$", "m$^^$ — $x$"]  # the map's RP_l, its band's upper edge, its
+    # dominant joint, vAP_p and RP_l_multi (directional figures by default)
     assert {"x$^^$ [m]", "x$^^$"} <= {text.get_text() for text in texts}  # the map's axis, the dominant joint
     assert not any(text.get_parse_math() for text in texts)

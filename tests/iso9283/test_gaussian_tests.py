@@ -104,3 +104,68 @@ def test_the_shape_table_alone_imports_scipy_interpolate():
             "ShapeTable.simulate(30, np.random.default_rng(0)).at(np.array([0.5, 0.5])); "
             "assert 'scipy.interpolate' in sys.modules, 'never imported'")
     subprocess.run([sys.executable, "-c", code], check=True, env=os.environ | {"PYTHONPATH": os.pathsep.join(sys.path)})
+
+
+def mixture_draws(columns: np.ndarray, covariance: np.ndarray, count: int, rng) -> np.ndarray:
+    """``count`` norms |Σ s_i b_i + w| of one target's mixture, drawn (signs ±1 with equal odds, w ~ N(0, S))."""
+    signs = rng.choice([-1.0, 1.0], size=(count, len(columns)))
+    return np.linalg.norm(signs @ columns + rng.multivariate_normal(np.zeros(3), covariance, size=count), axis=1)
+
+
+def test_a_sign_mixtures_moments_agree_with_a_monte_carlo_of_the_mixture(kernel_path):
+    """E|x|^k, k = 1..4, of x = Σ s_i b_i + w over the 2^(m - 1) sign patterns against 400 000 draws of the mixture,
+    each within 4.5 of its standard errors: four columns with noise small, and large, against them."""
+    from tribokin.iso9283.gaussian_tests import sign_mixture_moments
+
+    rng = np.random.default_rng(5)
+    columns = rng.standard_normal((2, 4, 3)) * 1e-5
+    roots = rng.standard_normal((2, 3, 3)) * np.array([2e-7, 1e-5])[:, None, None]
+    covariance = roots @ np.swapaxes(roots, 1, 2)
+    moments = sign_mixture_moments(columns, covariance)
+    for k in range(2):
+        norms = mixture_draws(columns[k], covariance[k], 400_000, rng)
+        for power, moment in enumerate(moments, start=1):
+            values = norms ** power
+            assert abs(moment[k] - values.mean()) <= 4.5 * values.std() / math.sqrt(len(values)), (k, power)
+
+
+def test_a_sign_mixture_without_columns_has_a_gaussians_moments_and_compiled_agrees_with_numpy(monkeypatch):
+    """No columns (or columns of zeros): the moments of w alone (:func:`norm_moments`, Carlson's integrals) to 1e-10;
+    the two kernel paths agree to 1e-12 on a 6-column mixture (32 patterns, the compiled path's Gray-code order)."""
+    from tribokin.iso9283.gaussian_tests import norm_moments, sign_mixture_moments
+
+    covariance = np.array([[[2.0, 0.3, 0.1], [0.3, 1.0, -0.2], [0.1, -0.2, 0.5]]]) * 1e-12
+    rng = np.random.default_rng(6)
+    columns = rng.standard_normal((3, 6, 3)) * 1e-6
+    columns[1, 2] = 0.0  # a joint that adds no lost motion
+    spread = np.repeat(covariance, 3, axis=0) * np.array([1.0, 1e-4, 1e4])[:, None, None]
+    results = {}
+    for path in ("numpy", "compiled"):
+        monkeypatch.setenv("TRIBOKIN_KERNELS", path)
+        alone = sign_mixture_moments(np.zeros((1, 2, 3)), covariance)
+        for moment, expected in zip(alone, norm_moments(np.linalg.eigvalsh(covariance)), strict=True):
+            assert moment == pytest.approx(expected, rel=1e-10)
+        results[path] = sign_mixture_moments(columns, spread)
+    for numpy_moment, compiled_moment in zip(results["numpy"], results["compiled"], strict=True):
+        np.testing.assert_allclose(compiled_moment, numpy_moment, rtol=1e-12)
+
+
+def test_the_expected_maximum_of_three_normals_agrees_with_a_monte_carlo_and_ignores_their_order():
+    """E[max(Y_1, Y_2, Y_3)] against 10^6 draws (within 4.5 standard errors) for correlated, degenerate (one Y
+    constant) and noiseless normals, and the same to 1e-12 whichever Y comes first."""
+    from tribokin.iso9283.gaussian_tests import expected_maximum
+
+    rng = np.random.default_rng(7)
+    roots = rng.standard_normal((3, 3, 3))
+    covariance = roots @ np.swapaxes(roots, 1, 2)
+    covariance[1, 2, :] = covariance[1, :, 2] = 0.0  # Y_3 constant
+    covariance[2] = 0.0  # no noise: the largest mean
+    means = np.array([[0.1, -0.3, 0.2], [1.0, 1.2, 1.1], [1.0, 3.0, 2.0]])
+    expected = expected_maximum(means, covariance)
+    assert expected[2] == 3.0
+    for k in range(2):
+        largest = rng.multivariate_normal(means[k], covariance[k], size=1_000_000).max(axis=1)
+        assert abs(expected[k] - largest.mean()) <= 4.5 * largest.std() / 1000
+    for order in ([1, 0, 2], [2, 1, 0], [0, 2, 1]):
+        np.testing.assert_allclose(expected_maximum(means[:, order], covariance[:, order][:, :, order]), expected,
+                                   rtol=1e-12)

@@ -106,7 +106,7 @@ def test_the_first_order_models_bound_holds_against_exact_kinematics_at_every_ta
                         "bearing_span_m": 0.08},
              "map": {"kind": "plane", "origin_m": [0.0, -0.55, 0.1], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
                      "extent_u_m": [-0.6, 0.6], "extent_v_m": [-0.35, 0.35], "resolution": [9, 6],
-                     "rpy_deg": [180, 0, 90]}}
+                     "rpy_deg": [180, 0, 90], "directional": False}}  # the test's model's bound alone
     result = run_study(study).map
     computed = result.summary()["computed"]["bound"]
     assert computed["fallback_targets"] == 0 and computed["sampled_targets"] == result.summary()["reachable"]

@@ -107,8 +107,8 @@ def test_a_bidirectional_map_s_plus_direction_is_the_unidirectional_map_and_each
 
 
 def test_a_sampled_law_per_direction_agrees_with_iso_s_formulas():
-    """Uniform μ on the x axis: each direction's figures over the map's sampled tests against 200 000 drawn tests, within
-    three of their stated Monte Carlo errors."""
+    """Uniform μ on the x axis: each direction's figures over the map's sampled tests against 200 000 drawn tests,
+    within three of their stated Monte Carlo errors."""
     low, high = 0.09, 0.16
     result = run_study(x_only_study({"law": "uniform", "low": low, "high": high}, approach="random")).map
     scenario, ok = result.reference, result.reachable

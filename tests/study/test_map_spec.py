@@ -1,4 +1,5 @@
-"""Each map kind knows its grid: targets along each axis, their count, its rows, its chunks and its size key."""
+"""Each map kind knows its grid: targets along each axis, their count, its rows, its chunks and its size key; an
+expected map has directional figures unless `map.directional = false`, a placement search's maps none."""
 
 import pytest
 
@@ -26,3 +27,25 @@ def test_a_map_kind_knows_its_targets_rows_chunks_and_size_key(table, kind, coun
     assert (spec.counts, spec.target_count, spec.grid_rows, spec.chunk_targets, spec.size_key) == \
         (counts, targets, rows, chunk, key)
     assert spec.rows_per_chunk * counts[0] == chunk
+
+
+@pytest.mark.parametrize("keys, figure_set", [
+    ({}, "directional"),  # an expected map has its directional figures by default
+    ({"directional": False}, "expected"),
+    ({"directional": True}, "directional"),
+    ({"statistic": "one-test"}, "one-test"),  # a one-test map has none, and is not refused for the default
+])
+def test_an_expected_map_has_directional_figures_unless_turned_off(keys, figure_set):
+    spec = load_study({**axis_study(), "map": {**PLANE, **keys}}).map
+    assert spec.figure_set == figure_set
+    assert spec.directional == (figure_set == "directional")
+
+
+def test_a_placement_search_maps_its_candidates_without_directional_figures():
+    from tribokin.placement.search import placed_study
+    from tribokin.study.placement_spec import Candidate
+
+    study = load_study({**axis_study(), "map": PLANE})
+    assert study.map.figure_set == "directional"
+    placed = placed_study(study, Candidate(index=0, base_xyz_m=(0.1, 0.0, 0.0), yaw_deg=0.0))
+    assert placed.map.figure_set == "expected" and placed.placement is None

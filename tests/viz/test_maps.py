@@ -230,8 +230,9 @@ def test_rp_l_maps_of_all_scenarios_share_one_colour_scale_and_ratios_keep_their
 def test_map_figures_come_in_reading_order():
     from tribokin.viz.maps import map_figure_names
 
-    assert map_figure_names(scenario_map()) == [
-        "map_RP_l.png", "map_dominant_joint.png", "map_RP_l_hi.png", "map_RP_l_low.png", "map_RP_l_high.png",
+    assert map_figure_names(scenario_map()) == [  # the directional figures' by default, after the test's
+        "map_RP_l.png", "map_dominant_joint.png", "map_RP_l_hi.png", "map_vAP_p.png", "map_RP_l_multi.png",
+        "map_RP_l_low.png", "map_RP_l_high.png",
         "map_RP_l_ratio_low.png",
         "map_RP_l_ratio_high.png", "map_RP_l_diff_low.png", "map_RP_l_diff_high.png", "map_winner.png"]
 

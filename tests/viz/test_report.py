@@ -178,6 +178,7 @@ def test_figures_come_in_reading_order_poses_in_study_order_first(map_only, tmp_
     page = (write_results(result, tmp_path / "out", report="light") / "report.html").read_text(encoding="utf-8")
     assert re.findall(r"<h3>([^<]+\.png)</h3>", page) == ["field_P2.png", "field_P10.png", "map_RP_l.png",
                                                           "map_dominant_joint.png", "map_RP_l_hi.png",
+                                                          "map_vAP_p.png", "map_RP_l_multi.png",  # by default
                                                           "map_RP_l_heavy.png",
                                                           "map_RP_l_ratio_heavy.png", "map_RP_l_diff_heavy.png",
                                                           "map_winner.png"]

@@ -86,12 +86,19 @@ def held_approach_signs(robot: Robot, q, directions) -> np.ndarray:
 def approach_signs_from_jacobians(jacobians: np.ndarray, directions) -> np.ndarray:
     """:func:`held_approach_signs` of (k, 6, nv) tool Jacobians: (k, m, nv)."""
     directions = np.atleast_2d(np.asarray(directions, dtype=float))
-    held = np.linalg.pinv(jacobians) @ np.vstack([directions.T, np.zeros((3, len(directions)))])
-    free = np.linalg.pinv(jacobians[:, :3]) @ directions.T
     holds = np.zeros(len(jacobians), dtype=bool)
-    if jacobians.shape[2] >= 6:  # full rank, as holds_orientation decides
-        holds = np.linalg.matrix_rank(jacobians, tol=1e-6) == 6
-    velocities = np.swapaxes(np.where(holds[:, None, None], held, free), 1, 2)
+    if jacobians.shape[2] >= 6:  # full rank, as holds_orientation decides (np.linalg.matrix_rank's tolerance)
+        holds = np.sum(np.linalg.svd(jacobians, compute_uv=False) > 1e-6, axis=-1) == 6
+    velocities = np.empty((len(jacobians), jacobians.shape[2], len(directions)))
+    if holds.any():  # pinv(J) = Jᵀ (J Jᵀ)⁻¹ at full row rank
+        held = jacobians[holds]
+        square = held @ np.swapaxes(held, 1, 2)
+        moves = np.vstack([directions.T, np.zeros((3, len(directions)))])
+        moves = np.broadcast_to(moves, (len(held), *moves.shape))
+        velocities[holds] = np.swapaxes(held, 1, 2) @ np.linalg.solve(square, moves)
+    if not holds.all():
+        velocities[~holds] = np.linalg.pinv(jacobians[~holds, :3]) @ directions.T
+    velocities = np.swapaxes(velocities, 1, 2)
     still = np.abs(velocities) <= STILL_RTOL * np.abs(velocities).max(axis=2, keepdims=True)
     return np.where(still, 0.0, np.sign(velocities))
 

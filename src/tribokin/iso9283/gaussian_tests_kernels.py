@@ -23,6 +23,8 @@ _RF_FACTOR, _RD_FACTOR = (3 * _TOLERANCE) ** (-1 / 6), (_TOLERANCE / 4) ** (-1 /
 _DUPLICATIONS = 60
 #: The smallest normal float64.
 _TINY = float(np.finfo(np.float64).tiny)
+#: Below this exponent e^x is below 1e-19, negligible beside 1 (the sign mixture's Laplace transform).
+_NEGLIGIBLE_EXPONENT = -44.0
 #: Cyclic Jacobi sweeps at most (a 3 × 3 matrix is diagonal to rounding after about five).
 _SWEEPS = 50
 
@@ -251,4 +253,98 @@ def expected_norm(centre, covariance, ratio, times, weights, step):
                 transform += -0.5 * math.log1p(2 * t * lam[j]) - t * beta2[j] / (1 + 2 * t * lam[j])
             total += -math.expm1(transform) * weights[m]
         out[k] = total * step * math.sqrt(scale2) / (2 * math.sqrt(math.pi)) * scale
+    return out
+
+
+@kernel
+def sign_mixture_moments(columns, covariance, times, step, half, three_halves):
+    """E|x|^k, k = 1..4, (k,) each [m^k] of x = Σ_i s_i b_i + w over independent signs s_i = ±1, w ~ N(0, S), of
+    (k, m, 3) ``columns`` and (k, 3, 3) ``covariance``, as ``iso9283.gaussian_tests.sign_mixture_moments``: the
+    patterns in Gray-code order (one column's sign flipped from one to the next; columns of zeros left out), the
+    quadrature's ``times`` e^u of ``step`` and the sums ``half``, ``three_halves`` of its grid's tails."""
+    count, width = columns.shape[0], columns.shape[1]
+    out = (np.empty(count), np.empty(count), np.empty(count), np.empty(count))
+    lam = np.empty(3)
+    vectors = np.empty((3, 3))
+    s = np.empty((3, 3))
+    rotated = np.empty((width, 3))
+    beta = np.empty(3)
+    patterns = 2 ** max(width - 1, 0)
+    beta2 = np.empty((patterns, 3))
+    second = np.empty(patterns)
+    slope = np.empty(3)
+    for k in range(count):
+        for i in range(3):
+            for j in range(3):
+                s[i, j] = covariance[k, i, j]
+        _jacobi(s, lam, vectors)
+        scale2 = 0.0
+        for i in range(3):
+            lam[i] = np.maximum(lam[i], 0.0)
+            scale2 += lam[i]
+        used = 0
+        for c in range(width):
+            size2 = 0.0
+            for j in range(3):
+                rotated[used, j] = (vectors[0, j] * columns[k, c, 0] + vectors[1, j] * columns[k, c, 1]
+                                    + vectors[2, j] * columns[k, c, 2])
+                size2 += rotated[used, j] ** 2
+            if size2 > 0:
+                scale2 += size2
+                used += 1
+        if not scale2 > 0:
+            out[0][k], out[1][k], out[2][k], out[3][k] = 0.0, 0.0, 0.0, 0.0
+            continue
+        scale = math.sqrt(scale2)
+        for i in range(3):
+            lam[i] /= scale2
+        for c in range(used):
+            for j in range(3):
+                rotated[c, j] /= scale
+        for j in range(3):
+            beta[j] = 0.0
+            for c in range(used):
+                beta[j] += rotated[c, j]
+        count_p = 2 ** max(used - 1, 0)
+        trace, squares = lam[0] + lam[1] + lam[2], lam[0] ** 2 + lam[1] ** 2 + lam[2] ** 2
+        mean_fourth = 0.0
+        for p in range(count_p):
+            if p > 0:  # Gray code: flip the column of p's lowest set bit (the first column keeps its +1)
+                bit, rest = 0, p
+                while rest % 2 == 0:
+                    rest //= 2
+                    bit += 1
+                sign = -2.0 if ((p ^ (p >> 1)) >> bit) & 1 else 2.0
+                for j in range(3):
+                    beta[j] += sign * rotated[bit + 1, j]
+            total, along = 0.0, 0.0
+            for j in range(3):
+                beta2[p, j] = beta[j] * beta[j]
+                total += beta2[p, j]
+                along += beta2[p, j] * lam[j]
+            second[p] = total + trace
+            mean_fourth += second[p] ** 2 + 2 * squares + 4 * along
+        mean_fourth /= count_p
+        first, third = 0.0, 0.0
+        for m in range(times.shape[0]):
+            t = times[m]
+            log_det = 0.0
+            for j in range(3):
+                grown = 2 * t * lam[j]
+                log_det -= 0.5 * math.log1p(grown)
+                slope[j] = t / (1 + grown)
+            less, more = 0.0, 0.0
+            for p in range(count_p):
+                exponent = log_det - beta2[p, 0] * slope[0] - beta2[p, 1] * slope[1] - beta2[p, 2] * slope[2]
+                less_one = math.expm1(exponent) if exponent > _NEGLIGIBLE_EXPONENT else -1.0
+                less -= less_one
+                more += less_one + t * second[p]
+            first += less / math.sqrt(t)
+            third += more / (t * math.sqrt(t))
+        first = step * (first / count_p + 2 * half - mean_fourth / 2 * three_halves)
+        third = step * (third / count_p + (mean_fourth / 2 + 1) * half - three_halves)
+        out[0][k] = first / (2 * math.sqrt(math.pi)) * scale
+        out[1][k] = scale2
+        out[2][k] = 3 * third / (4 * math.sqrt(math.pi)) * scale2 * scale
+        out[3][k] = mean_fourth * scale2 * scale2
     return out

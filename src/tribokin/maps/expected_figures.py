@@ -32,11 +32,15 @@ fallback: orders 2-3, else exact FK), whose own bound then takes b's place. Per 
   percentile_error`), what comes from the shape table the table's, from ``ASYMPTOTIC_CYCLES`` cycles on RP_l and
   its band by the delta method over the cycles' moments, a closed form 0.
 - ``vAP_p_um``: the largest distance between the barycentres reached along +x, +y, +z of the world frame (joint
-  signs as the measured cube's, :func:`~tribokin.iso9283.cube.held_approach_signs`); each barycentre by exact
-  forward kinematics of its mean deviation plus a Gaussian of covariance Σ_d / n (the mean of n cycles); its
-  expectation in closed form when one pair of directions is clearly farthest apart, else over ``VAP_DRAWS`` draws.
+  signs as the measured cube's, :func:`~tribokin.iso9283.cube.held_approach_signs`); each barycentre through
+  RP_l_multi's first-order model (about q + offset: its bound covers every direction's deviations), or where that
+  does not serve each direction's own, plus a Gaussian of covariance Σ_d / n (the mean of n cycles); its
+  expectation in closed form when one pair of directions is clearly farthest apart, else linearised in the noise
+  (jointly normal distances: closed form) and corrected over ``VAP_DRAWS`` draws (a control variate).
 - ``RP_l_multi_um``: cycles each approached from a random joint-space direction (every joint's sign drawn at
-  random, with equal odds): the mean RP_l over ``multi_tests`` sampled tests of that mixture.
+  random, with equal odds): the mean RP_l over ``multi_tests`` sampled tests of that mixture; from
+  ``ASYMPTOTIC_CYCLES`` cycles on with every law Gaussian, from the mixture's moments, sums over the joints' sign
+  patterns of Gaussian norm moments (:func:`_multi_moments`).
 - The dominant joint and its share are those of the population variance (what many cycles give).
 """
 
@@ -58,12 +62,14 @@ from tribokin.iso9283.gaussian_tests import (
     ShapeTable,
     c4,
     eigenvalues,
+    expected_maximum,
     expected_norm,
     expected_rp_l,
     mean_error,
     normal_band,
     percentile_error,
     rp_l_from_moments,
+    sign_mixture_moments,
     standardised_shape,
 )
 from tribokin.iso9283.metrics import orientation_repeatability, position_repeatability, position_spread
@@ -88,6 +94,8 @@ MC_ERROR_LIMIT, MC_ERROR_AIM = 0.01, 0.008
 MAX_BAND_FACTOR = 16
 #: Cycles and fewest tests of the random-direction mixture (only its mean is kept: about 0.5 % Monte Carlo error).
 MULTI_CYCLES, MIN_MULTI_TESTS = 12_000, 20
+#: Most joints whose 2^(nv - 1) sign patterns RP_l_multi is summed over (:func:`_multi_moments`); more are sampled.
+MIXTURE_MAX_JOINTS = 10
 #: Sampled cycles of the targets computed together (their positions and angles in memory at once).
 BLOCK_CYCLES = 400_000
 #: The figures each sampled test gives.
@@ -95,8 +103,12 @@ TEST_FIGURES = ("RP_l_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg", "la
 #: The figures a test's model gives, sampled or not: each has a stated Monte Carlo error (``mc_errors``).
 SAMPLED_FIGURES = ("RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg",
                    "largest_semi_axis_um")
-#: Draws of the barycentres' noise when two pairs of approach directions are about as far apart.
-VAP_DRAWS = 4_000
+#: Draws of the barycentres' noise correcting vAP_p's linearised expectation where two pairs of approach directions
+#: are about as far apart (:func:`_vap_close`; on the UR5 plane the correction's standard deviation over draws is
+#: 6e-5 of vAP_p at 30 cycles, 2e-6 at 1 000, against 1e-2 and 2e-3 for the distance itself).
+VAP_DRAWS = 256
+#: The pairs of vAP_p's approach directions.
+VAP_PAIRS = ((0, 1), (0, 2), (1, 2))
 #: Truncation of a Gaussian law below this probability counts as none: its tests are computed analytically.
 NEGLIGIBLE_TRUNCATION_SIGMAS = 6.0
 #: The first-order model serves a target only where its bound guarantees each figure it gives (:func:`figure_errors`)
@@ -535,8 +547,9 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     # the engine of each model: the tests', and vAP_p's and RP_l_multi's by their figure
     engines = {"test": EngineUsed.combined([t.used for t in tests])}
     if setup.figure_set == "directional":
-        for name, (value, engine, fallbacks) in {"vAP_p_um": _vap(runner, moments, qs, lever, twists, n),
-                                                 "RP_l_multi_um": _multi(runner, setup, qs, lever)}.items():
+        mixed = linear_model(robot, moments, qs, lever, np.zeros_like(lever), mixed=True)  # random directions
+        for name, (value, engine, fallbacks) in {"vAP_p_um": _vap(runner, moments, qs, lever, twists, n, mixed),
+                                                 "RP_l_multi_um": _multi(runner, setup, qs, mixed)}.items():
             figures[:, columns[name]] = value
             out["fallbacks"] += fallbacks
             engines[name] = engine
@@ -779,42 +792,97 @@ def _analytic(model: LinearModel, chosen: np.ndarray, setup: ExpectedSetup, comm
 
 
 def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.ndarray, twists: np.ndarray,
-         cycles: int) -> tuple[np.ndarray, EngineUsed, np.ndarray]:
-    """vAP_p [µm] (k,), the engine that computed it (:class:`EngineUsed`: the three directions' least exact, their
-    largest bound) and its fallbacks (k,): where the directions' first-order models do not serve it,
-    :func:`_vap_tests`."""
+         cycles: int, mixed: LinearModel) -> tuple[np.ndarray, EngineUsed, np.ndarray]:
+    """vAP_p [µm] (k,), the engine that computed it (:class:`EngineUsed`) and its fallbacks (k,).
+
+    The three directions' barycentres through the ``mixed`` first-order model (about q + offset, RP_l_multi's: its
+    bound holds for every sign pattern's deviations, so for each direction's); where it does not serve, through each
+    direction's own model about its mean deviation (the three's least exact engine, their largest bound), and where
+    those do not serve either, :func:`_vap_tests`."""
     directions = np.array([APPROACH_DIRECTIONS[label] for label in VAP_DIRECTIONS])
     signs = approach_signs_from_jacobians(twists, directions)  # (k, 3, nv)
-    models = [linear_model(runner.robot, moments, qs, lever, signs[:, d], mixed=False) for d in range(len(directions))]
-    centres = np.stack([m.position_m for m in models], axis=1)  # (k, 3 directions, 3)
-    noise = np.stack([m.position_covariance for m in models], axis=1) / cycles
-    pairs = [(0, 1), (0, 2), (1, 2)]
-    gaps = np.stack([centres[:, a] - centres[:, b] for a, b in pairs], axis=1)
-    spreads = np.stack([noise[:, a] + noise[:, b] for a, b in pairs], axis=1)
-    expected = expected_norm(gaps, spreads)
+    position = mixed.jacobian[:, :3]
+    lost = lever * moments.mean + moments.half_backlash
+    centres = mixed.position_m[:, None] + np.einsum("kin,kdn->kdi", position, signs * lost[:, None])
+    variance = signs ** 2 * ((lever * moments.std) ** 2)[:, None] + moments.noise_std ** 2  # (k, 3 directions, nv)
+    vap = _vap_expected(centres, np.einsum("kin,kdn,kjn->kdij", position, variance, position) / cycles,
+                        runner.settings.seed) * UM_PER_M
+    used = EngineUsed.first_order(mixed)
+    own = np.flatnonzero(~serves(used.bound, cycles, {"vAP_p_um": vap}, "vap"))
+    fallen = np.zeros(len(qs), dtype=int)
+    if len(own):
+        models = [linear_model(runner.robot, moments, qs[own], lever[own], signs[own, d], mixed=False)
+                  for d in range(len(directions))]
+        vap[own] = _vap_expected(np.stack([m.position_m for m in models], axis=1),
+                                 np.stack([m.position_covariance for m in models], axis=1) / cycles,
+                                 runner.settings.seed) * UM_PER_M
+        theirs = EngineUsed.combined([EngineUsed.first_order(m) for m in models])
+        for j in np.flatnonzero(~serves(theirs.bound, cycles, {"vAP_p_um": vap[own]}, "vap")):
+            vap[own[j]] = _vap_tests(runner, models, moments, j, qs[own[j]], signs[own[j]], cycles, theirs) * UM_PER_M
+            fallen[own[j]] = 1
+        used.engine[own], used.bound[own] = theirs.engine, theirs.bound
+    return vap, used, fallen
+
+
+def _vap_expected(centres: np.ndarray, noise: np.ndarray, seed: int) -> np.ndarray:
+    """E[vAP_p] [m] (k,) of barycentres ``centres`` (k, 3 directions, 3) [m] with Gaussian noise of covariances
+    ``noise`` (k, 3 directions, 3, 3) [m²]: the farthest pair's E|g + e| in closed form, or :func:`_vap_close` where
+    two pairs are about as far apart."""
+    gaps = np.stack([centres[:, a] - centres[:, b] for a, b in VAP_PAIRS], axis=1)
+    spreads = np.stack([noise[:, a] + noise[:, b] for a, b in VAP_PAIRS], axis=1)
     sizes = np.linalg.norm(gaps, axis=-1)
     order = np.argsort(-sizes, axis=1)
     first, second = (np.take_along_axis(sizes, order[:, [i]], axis=1)[:, 0] for i in (0, 1))
-    widths = np.sqrt(eigenvalues(spreads)[..., -1])
-    width = np.take_along_axis(widths, order[:, [0]], axis=1)[:, 0] + np.take_along_axis(widths, order[:, [1]],
-                                                                                         axis=1)[:, 0]
-    vap = np.take_along_axis(expected, order[:, [0]], axis=1)[:, 0]
-    close = np.flatnonzero(first - second <= TAIL_STDS * width)
+    farthest = (np.arange(len(gaps)), order[:, 0])
+    widths = np.sqrt(eigenvalues(spreads[farthest])[:, -1]) + np.sqrt(eigenvalues(
+        spreads[np.arange(len(gaps)), order[:, 1]])[:, -1])
+    vap = expected_norm(gaps[farthest], spreads[farthest])
+    close = np.flatnonzero(first - second <= TAIL_STDS * widths)
     if len(close):
-        z = expected_stream(runner.settings.seed, "vap").standard_normal((VAP_DRAWS, len(directions), 3))
-        z = np.ascontiguousarray(z.transpose(1, 2, 0))  # (3 directions, 3, draws): each direction's draws by coordinate
-        lam, vectors = np.linalg.eigh(noise[close])  # a root of each (close, 3 directions, 3, 3), singular ones too
-        roots = vectors * np.sqrt(np.maximum(lam, 0.0))[..., None, :]
-        for block in np.array_split(np.arange(len(close)), max(1, len(close) * VAP_DRAWS // BLOCK_CYCLES)):
-            barycentres = [centres[close[block], d, :, None] + roots[block, d] @ z[d] for d in range(len(directions))]
-            distances = [np.sqrt(np.sum((barycentres[a] - barycentres[b]) ** 2, axis=1)) for a, b in pairs]
-            vap[close[block]] = np.max(distances, axis=0).mean(axis=1)  # (block, draws) -> (block,)
-    used = EngineUsed.combined([EngineUsed.first_order(m) for m in models])
-    vap *= UM_PER_M
-    fallen = ~serves(used.bound, cycles, {"vAP_p_um": vap}, "vap")
-    for k in np.flatnonzero(fallen):
-        vap[k] = _vap_tests(runner, models, moments, k, qs[k], signs[k], cycles, used) * UM_PER_M
-    return vap, used, fallen.astype(int)
+        vap[close] = _vap_close(centres[close], noise[close], seed)
+    return vap
+
+
+def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> np.ndarray:
+    """E[vAP_p] [m] (k,) where two or three pairs of approach directions are about as far apart: the largest of the
+    pairs' distances |g + e| between barycentres of ``centres`` (k, 3 directions, 3) [m] and Gaussian noise of
+    covariances ``noise`` (k, 3 directions, 3, 3) [m²] (e: the difference of a pair's two).
+
+    Linearised, each distance is |g| + (tr S - ĝᵀ S ĝ) / (2 |g|) + ĝᵀ e (S the pair's covariance; the middle term
+    only where tr S < |g|²): jointly normal, their largest's expectation in closed form
+    (:func:`~tribokin.iso9283.gaussian_tests.expected_maximum`), is a control variate: the mean over ``VAP_DRAWS``
+    draws (common random numbers) of the exact largest distance less the linearised one is added, whose Monte Carlo
+    error is that of the difference (second order in the noise), not of the distance."""
+    gaps = np.stack([centres[:, a] - centres[:, b] for a, b in VAP_PAIRS], axis=1)  # (k, pairs, 3)
+    spreads = np.stack([noise[:, a] + noise[:, b] for a, b in VAP_PAIRS], axis=1)
+    sizes = np.linalg.norm(gaps, axis=-1)
+    units = np.divide(gaps, sizes[..., None], out=np.zeros_like(gaps), where=sizes[..., None] > 0)
+    trace = np.trace(spreads, axis1=-2, axis2=-1)
+    along = np.einsum("kpi,kpij,kpj->kp", units, spreads, units)
+    linear = trace < sizes ** 2
+    means = sizes + np.divide(trace - along, 2 * sizes, out=np.zeros_like(sizes), where=linear)
+    loads = np.zeros((len(gaps), len(VAP_PAIRS), 3, 3))  # (k, pairs, directions, 3): how e moves each distance
+    for p, (a, b) in enumerate(VAP_PAIRS):
+        loads[:, p, a], loads[:, p, b] = units[:, p], -units[:, p]
+    covariance = np.einsum("kpdi,kdij,kqdj->kpq", loads, noise, loads)
+    vap = expected_maximum(means, covariance)
+    z = expected_stream(seed, "vap").standard_normal((VAP_DRAWS, 3, 3))
+    z = np.ascontiguousarray(z.transpose(1, 2, 0))  # (3 directions, 3, draws): each direction's draws by coordinate
+    if use_compiled():
+        from tribokin.maps.expected_figures_kernels import vap_corrections
+
+        return vap + vap_corrections(gaps, means, units, np.ascontiguousarray(noise), z)
+    for k in np.array_split(np.arange(len(gaps)), max(1, len(gaps) * VAP_DRAWS // BLOCK_CYCLES)):
+        lam, vectors = np.linalg.eigh(noise[k])  # the symmetric root of each (block, 3 directions, 3, 3)
+        roots = (vectors * np.sqrt(np.maximum(lam, 0.0))[..., None, :]) @ np.swapaxes(vectors, -1, -2)
+        shifts = roots @ z  # (block, 3 directions, 3, draws)
+        exact, linearised = [], []
+        for p, (a, b) in enumerate(VAP_PAIRS):
+            error = shifts[:, a] - shifts[:, b]  # (block, 3, draws)
+            exact.append(np.sqrt(np.sum((gaps[k, p, :, None] + error) ** 2, axis=1)))
+            linearised.append(means[k, p, None] + np.sum(units[k, p, :, None] * error, axis=1))
+        vap[k] += (np.max(exact, axis=0) - np.max(linearised, axis=0)).mean(axis=1)
+    return vap
 
 
 def _vap_tests(runner: PoseRunner, models: list[LinearModel], moments: JointMoments, k: int, q: np.ndarray,
@@ -833,33 +901,59 @@ def _vap_tests(runner: PoseRunner, models: list[LinearModel], moments: JointMome
         barycentres.append(positions.mean(axis=1))
         engines.append(EngineUsed.of(engine))
     used.fall_back(k, EngineUsed.combined(engines))
-    pairs = [(0, 1), (0, 2), (1, 2)]
-    return float(np.max([np.linalg.norm(barycentres[a] - barycentres[b], axis=1) for a, b in pairs], axis=0).mean())
+    return float(np.max([np.linalg.norm(barycentres[a] - barycentres[b], axis=1) for a, b in VAP_PAIRS], axis=0).mean())
 
 
-def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, lever: np.ndarray
+def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: LinearModel
            ) -> tuple[np.ndarray, EngineUsed, np.ndarray]:
-    """RP_l_multi [µm] (k,), the engine that computed it (:class:`EngineUsed`) and its fallbacks (k,)."""
+    """RP_l_multi [µm] (k,), the engine that computed it (:class:`EngineUsed`) and its fallbacks (k,), from the
+    mixed first-order ``model`` (every joint's sign drawn per cycle, about q + offset)."""
     n, moments = setup.cycles, setup.moments
     shape = sampled_shape(MULTI_CYCLES, n, MIN_MULTI_TESTS)
-    rng = expected_stream(runner.settings.seed, "multi signs")
-    signs = rng.integers(0, 2, size=(*shape, len(runner.models))) * 2.0 - 1.0
-    numbers = common_numbers(runner, signs, shape[0], "multi")
-    model = linear_model(runner.robot, moments, qs, lever, np.zeros_like(lever), mixed=True)
+
+    @lru_cache(maxsize=1)
+    def numbers() -> np.ndarray:  # the sampled cycles' common random numbers, drawn only where cycles are sampled
+        rng = expected_stream(runner.settings.seed, "multi signs")
+        signs = rng.integers(0, 2, size=(*shape, len(runner.models))) * 2.0 - 1.0
+        return common_numbers(runner, signs, shape[0], "multi")
 
     def repeatability(positions: np.ndarray) -> np.ndarray:  # (k, tests, cycles, 3) -> E[RP_l] (k,)
         if n >= ASYMPTOTIC_CYCLES:
             return rp_l_from_moments(cycle_moments(positions[:, 0], n, barycentre_normals(shape[1]))[0], n)[0]
         return position_repeatability(positions)[0].mean(axis=1)
 
-    rp = np.empty(len(qs))
-    for block in blocks_of(np.arange(len(qs)), math.prod(shape)):
-        rp[block] = repeatability(sampled_tests(model, moments, block, numbers, shape, slice(0, 3)))
+    if n >= ASYMPTOTIC_CYCLES and moments.gaussian and len(runner.models) <= MIXTURE_MAX_JOINTS:
+        rp = _multi_moments(model, moments, n)
+    else:
+        rp = np.empty(len(qs))
+        for block in blocks_of(np.arange(len(qs)), math.prod(shape)):
+            rp[block] = repeatability(sampled_tests(model, moments, block, numbers(), shape, slice(0, 3)))
     rp *= UM_PER_M
     used = EngineUsed.first_order(model)
     fallen = ~serves(model.bound, n, {"RP_l_multi_um": rp}, "multi")
     for k in np.flatnonzero(fallen):
-        positions, _, engine = engine_tests(runner, model, moments, k, qs[k], numbers, shape)
+        positions, _, engine = engine_tests(runner, model, moments, k, qs[k], numbers(), shape)
         used.fall_back(k, EngineUsed.of(engine))
         rp[k] = repeatability(positions[None])[0] * UM_PER_M
     return rp, used, fallen.astype(int)
+
+
+def _multi_moments(model: LinearModel, moments: JointMoments, cycles: int) -> np.ndarray:
+    """E[RP_l_multi] [m] (k,) of tests of ``cycles`` >= ``ASYMPTOTIC_CYCLES`` cycles, every law Gaussian, from the
+    mixed first-order ``model`` (its mean deviation the offset): the cloud of one sign pattern s is Gaussian, of mean
+    J (s ⊙ m) (m the lost motion L μ̄ + backlash / 2, J the position rows) and covariance Σ = J diag(L² σ² + noise²) Jᵀ,
+    the pooled cycles' mean the model's position and their covariance Σ̄ = Σ + J diag(m²) Jᵀ. As
+    :func:`cycle_moments` (the cycle less a barycentre drawn as a normal of covariance Σ̄ (n - 1) / n²), the distance
+    to the barycentre is the norm of (1 - 1/n) J (s ⊙ m) plus a normal of covariance (1 - 1/n)² Σ + (n - 1) / n² Σ̄:
+    its moments over the patterns (:func:`~tribokin.iso9283.gaussian_tests.sign_mixture_moments`; the shared term of
+    :func:`cycle_moments` is 0, the mixture being symmetric about its mean) give RP_l
+    (:func:`~tribokin.iso9283.gaussian_tests.rp_l_from_moments`)."""
+    n = cycles
+    position = model.jacobian[:, :3]
+    lost = model.lever * moments.mean + moments.half_backlash
+    columns = np.swapaxes(position * lost[:, None, :], 1, 2)  # (k, nv, 3): J_i m_i
+    spread = (model.lever * moments.std) ** 2 + moments.noise_std ** 2
+    pattern = np.einsum("kin,kn,kjn->kij", position, spread, position)
+    pooled = pattern + np.einsum("kni,knj->kij", columns, columns)
+    covariance = (1 - 1 / n) ** 2 * pattern + (n - 1) / n ** 2 * pooled
+    return rp_l_from_moments(sign_mixture_moments((1 - 1 / n) * columns, covariance), n)[0]

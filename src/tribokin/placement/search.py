@@ -35,10 +35,10 @@ PERCENTILE = 95.0
 
 def placed_study(study: Study, candidate: Candidate) -> Study:
     """The study with its robot's base at ``candidate`` (its yaw added to ``robot.base_rpy_deg``'s), without
-    ``[placement]``."""
+    ``[placement]`` and without directional figures (a search ranks candidates by RP_l only)."""
     robot = replace(study.robot, base_xyz_m=candidate.base_xyz_m,
                     base_rpy_deg=turned_rpy_deg(study.robot.base_rpy_deg, candidate.yaw_deg))
-    return replace(study, robot=robot, placement=None)
+    return replace(study, robot=robot, placement=None, map=replace(study.map, directional=False))
 
 
 def rp_l_statistics(scenario: ScenarioMap, size: int) -> np.ndarray:

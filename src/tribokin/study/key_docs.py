@@ -121,7 +121,8 @@ KEY_DOCS = {
                       "targets, at least 4; changes how work is split and saved, never the numbers",
     "map.statistic": "`expected`: each figure's mean over ISO tests of `cycles` cycles; `one-test`: one simulated "
                      "test per target",
-    "map.directional": "an expected map's vAP_p and RP_l_multi too (they cost most of its time)",
+    "map.directional": "an expected map's vAP_p and RP_l_multi too; default: on for an expected map (`false` turns "
+                       "them off), off for a one-test map, which has none",
     "map.origin_m": "a point of the plane, world frame",
     "map.axis_u": "unit vector along the plane; targets are `origin + u·axis_u + v·axis_v`",
     "map.axis_v": "unit vector along the plane, perpendicular to `axis_u`",

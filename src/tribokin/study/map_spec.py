@@ -32,8 +32,8 @@ class MapSpec:
     """What every ``[map]`` has: ``start_q`` [m or rad] (the IK's start posture, or the other joints' posture of
     a joint grid; ``None``: chosen) and ``chunk_rows`` (grid rows per chunk; ``None``: :attr:`rows_per_chunk`),
     ``statistic`` (``"expected"``: each figure's mean over tests, or ``"one-test"``) and ``directional``
-    (an expected map's vAP_p and RP_l_multi too). Each kind has ``counts``: the targets along each axis, columns
-    first."""
+    (an expected map's vAP_p and RP_l_multi too: the default; a study's ``map.directional = false`` turns them off, a
+    one-test map has none). Each kind has ``counts``: the targets along each axis, columns first."""
 
     kind: ClassVar[str]
     #: The study key that sets the number of targets.
@@ -42,7 +42,7 @@ class MapSpec:
     start_q: tuple[float, ...] | None = None
     chunk_rows: int | None = None
     statistic: str = "expected"
-    directional: bool = False
+    directional: bool = True
 
     @property
     def figure_set(self) -> str:

@@ -235,7 +235,7 @@ MAP_COMMON_KEYS = {
     "start_q": (partial(number_list, element=joint_value), None),
     "chunk_rows": (chunk_count, None),
     "statistic": (one_of(*STATISTICS), "expected"),
-    "directional": (boolean, False),
+    "directional": (boolean, None),  # None: an expected map's default, on (check_map)
 }
 #: What ``[calibration]`` may free (``fit``), and the instrument's noise floor range.
 CALIBRATION_PARAMETERS = ("stiffness", "backlash", "noise_floor")
@@ -623,7 +623,9 @@ def check_map(mapping: dict, source) -> MapSpec:
         raise InputError(f"missing: this key is required ({', '.join(MAP_KINDS)})", source, "map.kind")
     kind = one_of(*MAP_KINDS)(mapping["kind"], source, "map.kind")
     spec = check_table(mapping, {**MAP_COMMON_KEYS, **MAP_KINDS[kind]}, source, "map")
-    if spec["directional"] and spec["statistic"] == "one-test":
+    if spec["directional"] is None:
+        spec["directional"] = spec["statistic"] == "expected"
+    elif spec["directional"] and spec["statistic"] == "one-test":
         raise InputError("a one-test map has no directional figures (vAP_p and RP_l_multi are expected figures): "
                          "remove map.directional, or set map.statistic = \"expected\"", source, "map.directional")
     if kind == "plane":
