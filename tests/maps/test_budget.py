@@ -53,7 +53,7 @@ def test_a_map_whose_results_would_not_fit_on_disk_is_refused(tmp_path, monkeypa
     from tribokin.maps.schema import MapLayout
 
     gantry = load_study(GANTRY_MAP)
-    needed = 24 * MapLayout.shared(3, 1, gantry.map.statistic).bytes_per_target
+    needed = 24 * MapLayout.shared(3, 1, gantry.map.figure_set).bytes_per_target
     usage = namedtuple("usage", "total used free")
     monkeypatch.setattr("shutil.disk_usage", lambda path: usage(needed, 0, needed))
     check_disk(gantry, 3, tmp_path / "not" / "yet" / "made")

@@ -98,3 +98,33 @@ def test_every_stated_error_is_within_one_percent_at_every_target(cycles, approa
     assert np.isfinite(errors).all() and errors.max() <= expected.MC_ERROR_LIMIT
     if friction is RAW:
         assert (out["method"] == expected.SAMPLED).all() and errors[:, :3].max() > 0
+
+
+@pytest.mark.parametrize("cycles", [30, 600])
+def test_rp_l_multi_s_spread_over_seeds_is_what_its_stated_errors_say_and_within_one_percent(cycles, monkeypatch):
+    """RP_l_multi sampled over tests of cycles from random joint-space directions (the raw steel's uniform law): over
+    150 seeds its standard deviation within a factor 1.3 of the root mean square of its stated errors (the tests'
+    mean's at 30 cycles, 100 tests; the delta method's over 3 000 single cycles at 600), and at the default counts
+    within 1 % at eight targets."""
+    targets = TARGETS[0] + np.random.default_rng(3).uniform(-0.25, 0.25, (8, 6))
+    column = [figure.name for figure in map_figures("directional")].index("RP_l_multi_um")
+
+    def multi(runner, chosen, seeds):
+        forces, frames = runner.normal_forces_at(chosen), tool_frames(runner.robot, chosen)
+        runs = []
+        for seed in seeds:
+            runner.settings = dataclasses.replace(runner.settings, seed=seed)
+            out = expected.expected_targets(runner, expected.ExpectedSetup.build(runner, None, "directional"),
+                                            chosen, forces, *frames)
+            runs.append((out["figures"][:, column], out["mc_errors"][:, column]))
+        return np.array(runs)  # (seeds, 2, targets)
+
+    default = multi(runner_for(cycles, "unidirectional", RAW), targets, [11])[0]
+    assert (0 < default[1]).all() and default[1].max() <= expected.MC_ERROR_LIMIT
+    monkeypatch.setattr(expected, "MULTI_CYCLES", 3_000)
+    monkeypatch.setattr(expected, "SAMPLED_CYCLES", 3_000)  # the test's figures, not checked here
+    monkeypatch.setattr(expected, "MAX_BAND_FACTOR", 1)
+    runs = multi(runner_for(cycles, "unidirectional", RAW), TARGETS[:1], range(150))
+    spread = runs[:, 0, 0].std(ddof=1)
+    said = np.sqrt(np.mean((runs[:, 1, 0] * runs[:, 0, 0]) ** 2))
+    assert 1 / 1.3 <= spread / said <= 1.3, spread / said

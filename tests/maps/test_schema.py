@@ -73,5 +73,6 @@ def test_each_robot_of_the_scenarios_keeps_its_own_configurations_and_the_budget
         ("scenario2", ("figures", "normal_forces_N", "dominant_joint"))) for name in names)
     study = load_study(STUDIES / "what-if-robots.toml")
     shared = dict((key, size) for size, key, _ in estimate(study, 6, []))
-    own = dict((key, size) for size, key, _ in estimate(study, 6, [], layout=MapLayout((6, 6), (0, 1), "expected")))
+    layout = MapLayout((6, 6), (0, 1), study.map.figure_set)
+    own = dict((key, size) for size, key, _ in estimate(study, 6, [], layout=layout))
     assert own["map.resolution"] > shared["map.resolution"]  # the second robot's configurations, held and stored

@@ -58,8 +58,9 @@ def test_a_pose_and_a_map_show_their_own_scenes_and_none_without_a_robot(written
 def test_the_figures_are_the_folder_s_pngs(written, tmp_path):
     result, folder = written
     figures = result.figures()
-    assert list(figures) == figure_names(result)  # the report's order: poses (P, then the cube's P1-P5), the map's
-    assert set(figures) == {p.name for p in folder.glob("*.png")} and len(figures) == 6 + 7
+    # the report's order: poses (P, then the cube's P1-P5), the map's (its directional figures included)
+    assert list(figures) == figure_names(result)
+    assert set(figures) == {p.name for p in folder.glob("*.png")} and len(figures) == 6 + 9
     for name, figure in figures.items():
         save_png(figure, tmp_path / name)
         assert (tmp_path / name).read_bytes() == (folder / name).read_bytes(), name

@@ -164,7 +164,8 @@ def test_view_draws_the_skeleton_of_a_robot_whose_meshes_are_missing(tmp_path):
 def test_view_shows_pose_map_and_mixed_folders(folders, kind):
     inputs = load_scene_inputs(folders[kind])
     assert [pose.name for pose in inputs.poses] == ([] if kind == "map" else ["P1"])
-    assert list(inputs.map_layers) == ([] if kind == "pose" else ["gantry-resume"])
+    map_layers = ["gantry-resume", "gantry-resume vAP_p", "gantry-resume RP_l_multi"]  # directional figures: default
+    assert list(inputs.map_layers) == ([] if kind == "pose" else map_layers)
     with running_view(folders[kind]) as (viewer, url, server_pid):
         with urllib.request.urlopen(url, timeout=10) as response:
             assert response.status == 200

@@ -92,7 +92,8 @@ SAMPLED_CYCLES, MIN_TESTS, MAX_TESTS = 60_000, 100, 2_000
 MC_ERROR_LIMIT, MC_ERROR_AIM = 0.01, 0.008
 #: The most times the default sampled tests (or single cycles) the RP_l band takes.
 MAX_BAND_FACTOR = 16
-#: Cycles and fewest tests of the random-direction mixture (only its mean is kept: about 0.5 % Monte Carlo error).
+#: Cycles and fewest tests of the random-direction mixture where it is sampled (only its mean is kept, its Monte Carlo
+#: error stated: 0.6-0.8 % at 30 cycles on a UR5).
 MULTI_CYCLES, MIN_MULTI_TESTS = 12_000, 20
 #: Most joints whose 2^(nv - 1) sign patterns RP_l_multi is summed over (:func:`_multi_moments`); more are sampled.
 MIXTURE_MAX_JOINTS = 10
@@ -482,12 +483,14 @@ def direction_tests(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, le
 SPLIT_FIGURES = tuple(figure.name for figure in map_figures("expected") if figure.per_direction)
 
 
-def stated_figures(both_directions: bool) -> tuple[str, ...]:
-    """The figures whose relative Monte Carlo standard error an expected map states (``mc_errors``):
-    :data:`SAMPLED_FIGURES`, and approached from both directions each direction's :data:`SPLIT_FIGURES` too."""
+def stated_figures(figure_set: str, both_directions: bool) -> tuple[str, ...]:
+    """The figures whose relative Monte Carlo standard error an expected map of ``figure_set`` states
+    (``mc_errors``): :data:`SAMPLED_FIGURES`, RP_l_multi where the set is ``"directional"``, and approached from both
+    directions each direction's :data:`SPLIT_FIGURES` too."""
+    stated = SAMPLED_FIGURES + (("RP_l_multi_um",) if figure_set == "directional" else ())
     if not both_directions:
-        return SAMPLED_FIGURES
-    return SAMPLED_FIGURES + tuple(direction_figure(name, label) for label in DIRECTIONS for name in SPLIT_FIGURES)
+        return stated
+    return stated + tuple(direction_figure(name, label) for label in DIRECTIONS for name in SPLIT_FIGURES)
 
 
 def directions_figures(tests: list[DirectionTests], cycles: int) -> tuple[dict, dict, dict]:
@@ -524,8 +527,7 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
         RP_l_multi's) the first-order model did not serve and went through the fast engine, ``engine`` (k,) the least
         exact engine of the models (an index in ``TARGET_ENGINES``), ``engine_bound`` (k, 2) [m, rad] their largest
         bound on |engine - exact FK| (exact FK: 0), ``mc_errors`` (k, figures) each figure's relative Monte Carlo
-        standard error (0: in closed form; NaN for the figures that state none: ``dominant_share``, vAP_p,
-        RP_l_multi).
+        standard error (0: in closed form; NaN for the figures that state none: ``dominant_share``, vAP_p).
     """
     models, robot, moments, n = runner.models, runner.robot, setup.moments, setup.cycles
     lever = friction_loads(models, forces) * friction_lever(models, robot.joint_is_prismatic)
@@ -548,11 +550,13 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     engines = {"test": EngineUsed.combined([t.used for t in tests])}
     if setup.figure_set == "directional":
         mixed = linear_model(robot, moments, qs, lever, np.zeros_like(lever), mixed=True)  # random directions
-        for name, (value, engine, fallbacks) in {"vAP_p_um": _vap(runner, moments, qs, lever, twists, n, mixed),
-                                                 "RP_l_multi_um": _multi(runner, setup, qs, mixed)}.items():
-            figures[:, columns[name]] = value
-            out["fallbacks"] += fallbacks
-            engines[name] = engine
+        vap, engines["vAP_p_um"], fallbacks = _vap(runner, moments, qs, lever, twists, n, mixed)
+        figures[:, columns["vAP_p_um"]] = vap
+        out["fallbacks"] += fallbacks
+        multi, mc_errors[:, columns["RP_l_multi_um"]], engines["RP_l_multi_um"], fallbacks = _multi(runner, setup, qs,
+                                                                                                    mixed)
+        figures[:, columns["RP_l_multi_um"]] = multi
+        out["fallbacks"] += fallbacks
     bounded = {model_name: figure_errors(engine.bound, n) for model_name, engine in engines.items()}
     bounded["test"] = test_errors
     for name, column in columns.items():
@@ -905,9 +909,11 @@ def _vap_tests(runner: PoseRunner, models: list[LinearModel], moments: JointMome
 
 
 def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: LinearModel
-           ) -> tuple[np.ndarray, EngineUsed, np.ndarray]:
-    """RP_l_multi [µm] (k,), the engine that computed it (:class:`EngineUsed`) and its fallbacks (k,), from the
-    mixed first-order ``model`` (every joint's sign drawn per cycle, about q + offset)."""
+           ) -> tuple[np.ndarray, np.ndarray, EngineUsed, np.ndarray]:
+    """RP_l_multi [µm] (k,), its relative Monte Carlo standard error (k,) (0: from the mixture's moments; sampled:
+    the tests' mean's, or from ``ASYMPTOTIC_CYCLES`` cycles on the delta method's over the cycles' moments), the engine
+    that computed it (:class:`EngineUsed`) and its fallbacks (k,), from the mixed first-order ``model`` (every joint's
+    sign drawn per cycle, about q + offset)."""
     n, moments = setup.cycles, setup.moments
     shape = sampled_shape(MULTI_CYCLES, n, MIN_MULTI_TESTS)
 
@@ -917,25 +923,29 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
         signs = rng.integers(0, 2, size=(*shape, len(runner.models))) * 2.0 - 1.0
         return common_numbers(runner, signs, shape[0], "multi")
 
-    def repeatability(positions: np.ndarray) -> np.ndarray:  # (k, tests, cycles, 3) -> E[RP_l] (k,)
+    def repeatability(positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # (k, tests, cycles, 3) -> (k,) each
         if n >= ASYMPTOTIC_CYCLES:
-            return rp_l_from_moments(cycle_moments(positions[:, 0], n, barycentre_normals(shape[1]))[0], n)[0]
-        return position_repeatability(positions)[0].mean(axis=1)
+            moments_, distances = cycle_moments(positions[:, 0], n, barycentre_normals(shape[1]))
+            return rp_l_from_moments(moments_, n)[0], moments_errors(distances, moments_, n)[0]
+        per_test = position_repeatability(positions)[0]
+        return per_test.mean(axis=1), mean_error(per_test)
 
     if n >= ASYMPTOTIC_CYCLES and moments.gaussian and len(runner.models) <= MIXTURE_MAX_JOINTS:
-        rp = _multi_moments(model, moments, n)
+        rp, error = _multi_moments(model, moments, n), np.zeros(len(qs))
     else:
-        rp = np.empty(len(qs))
+        rp, error = np.empty(len(qs)), np.empty(len(qs))
         for block in blocks_of(np.arange(len(qs)), math.prod(shape)):
-            rp[block] = repeatability(sampled_tests(model, moments, block, numbers(), shape, slice(0, 3)))
+            rp[block], error[block] = repeatability(sampled_tests(model, moments, block, numbers(), shape,
+                                                                  slice(0, 3)))
     rp *= UM_PER_M
     used = EngineUsed.first_order(model)
     fallen = ~serves(model.bound, n, {"RP_l_multi_um": rp}, "multi")
     for k in np.flatnonzero(fallen):
         positions, _, engine = engine_tests(runner, model, moments, k, qs[k], numbers(), shape)
         used.fall_back(k, EngineUsed.of(engine))
-        rp[k] = repeatability(positions[None])[0] * UM_PER_M
-    return rp, used, fallen.astype(int)
+        again, again_error = repeatability(positions[None])
+        rp[k], error[k] = again[0] * UM_PER_M, again_error[0]
+    return rp, error, used, fallen.astype(int)
 
 
 def _multi_moments(model: LinearModel, moments: JointMoments, cycles: int) -> np.ndarray:

@@ -308,7 +308,7 @@ class MapResult:
         :mod:`tribokin.maps.expected_figures`)."""
         analytic = sampled = fallback = 0
         engines = np.zeros(len(TARGET_ENGINES), dtype=int)
-        stated = stated_figures(scenario.both_directions)
+        stated = stated_figures(scenario.figure_set, scenario.both_directions)
         bound, mc_errors = np.zeros(2), np.zeros(len(stated))
         columns = [figure_index(name, scenario.figure_set, scenario.both_directions) for name in stated]
         for part in self.blocks():

@@ -47,7 +47,7 @@ def map_table_columns(workspace_map, scenario, targets: slice) -> dict[str, np.n
         mc_errors = scenario.read("mc_errors", targets)
         columns.update({mc_error_name(name): np.where(reachable, mc_errors[:, figure_index(
             name, scenario.figure_set, scenario.both_directions)], np.nan)
-            for name in stated_figures(scenario.both_directions)})
+            for name in stated_figures(scenario.figure_set, scenario.both_directions)})
     if scenario is not workspace_map.reference:
         columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
         columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario, targets)
