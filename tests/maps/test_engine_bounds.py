@@ -199,7 +199,7 @@ def test_an_analytic_rp_l_multi_the_first_order_model_does_not_serve_falls_back_
         runner.models, robot.joint_is_prismatic)
     mixed = expected.linear_model(robot, setup.moments, TARGETS, lever, np.zeros_like(lever), mixed=True)
     analytic = expected._multi_moments(mixed, setup.moments, 500) * 1e6
-    rp, used, fallen = expected._multi(runner, setup, TARGETS, mixed)
+    rp, _, used, fallen = expected._multi(runner, setup, TARGETS, mixed)
     assert fallen.tolist() == [1, 1] and (used.engine > expected.FIRST_ORDER).all()
     fast = used.engine < expected.TARGET_ENGINES.index("exact")
     assert (used.bound[fast] > 0).all() and (used.bound[~fast] == 0).all()
