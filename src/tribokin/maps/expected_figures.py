@@ -99,8 +99,6 @@ MULTI_CYCLES, MIN_MULTI_TESTS = 12_000, 20
 MIXTURE_MAX_JOINTS = 10
 #: Sampled cycles of the targets computed together (their positions and angles in memory at once).
 BLOCK_CYCLES = 400_000
-#: The figures each sampled test gives.
-TEST_FIGURES = ("RP_l_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg", "largest_semi_axis_um")
 #: The figures a test's model gives, sampled or not: each has a stated Monte Carlo error (``mc_errors``).
 SAMPLED_FIGURES = ("RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "AP_p_um", "RP_a_mdeg", "RP_b_mdeg", "RP_c_mdeg",
                    "largest_semi_axis_um")
@@ -925,8 +923,8 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
 
     def repeatability(positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # (k, tests, cycles, 3) -> (k,) each
         if n >= ASYMPTOTIC_CYCLES:
-            moments_, distances = cycle_moments(positions[:, 0], n, barycentre_normals(shape[1]))
-            return rp_l_from_moments(moments_, n)[0], moments_errors(distances, moments_, n)[0]
+            distance_moments, distances = cycle_moments(positions[:, 0], n, barycentre_normals(shape[1]))
+            return rp_l_from_moments(distance_moments, n)[0], moments_errors(distances, distance_moments, n)[0]
         per_test = position_repeatability(positions)[0]
         return per_test.mean(axis=1), mean_error(per_test)
 
