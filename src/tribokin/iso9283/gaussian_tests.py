@@ -411,9 +411,13 @@ def percentile_error(values: np.ndarray, percentile: float) -> np.ndarray:
     value = np.percentile(values, percentile, axis=-1)
     z = NormalDist().inv_cdf(p)
     centred = values - values.mean(axis=-1, keepdims=True)
-    s = np.sqrt(np.mean(centred ** 2, axis=-1))
-    unit = np.divide(centred, s[..., None], out=np.zeros_like(centred), where=s[..., None] > 0)
-    skew, kurtosis = np.mean(unit ** 3, axis=-1), np.mean(unit ** 4, axis=-1) - 3
+    square = centred * centred
+    variance = square.mean(axis=-1)
+    s = np.sqrt(variance)
+    spread = variance > 0
+    skew = np.divide((square * centred).mean(axis=-1), variance * s, out=np.zeros_like(s), where=spread)
+    kurtosis = np.divide((square * square).mean(axis=-1), variance * variance, out=np.full_like(s, 3.0),
+                         where=spread) - 3
     slope = 1 + z * skew / 3 + (z ** 2 - 1) * kurtosis / 8 - (6 * z ** 2 - 5) * skew ** 2 / 36
     error = math.sqrt(p * (1 - p) / n) * s * np.maximum(slope, 0.1) / NormalDist().pdf(z)
     return np.divide(error, np.abs(value), out=np.zeros_like(error), where=value != 0)

@@ -317,9 +317,11 @@ def responses(model: LinearModel, moments: JointMoments, chosen: np.ndarray, row
 def sampled_tests(model: LinearModel, moments: JointMoments, chosen: np.ndarray, numbers: np.ndarray, shape: tuple,
                   rows: slice) -> np.ndarray:
     """(k, tests, cycles, 3) tool positions [m] (``rows = slice(0, 3)``) or angle deviations from q″'s [rad]
-    (``slice(3, 6)``) of targets ``chosen`` through the first-order model, for :func:`common_numbers` ``numbers``."""
-    moved = (numbers @ responses(model, moments, chosen, rows)).reshape(*shape, len(chosen), 3)
-    return np.moveaxis(moved, 2, 0) + shift_of(model, moments, chosen, rows)[:, None, None, :]
+    (``slice(3, 6)``) of targets ``chosen`` through the first-order model, for :func:`common_numbers` ``numbers``.
+    Each target's coordinates lie in memory cycle after cycle ((k, 3, tests, cycles) under the view), so that the
+    figures' sums over the cycles read memory in order."""
+    moved = (responses(model, moments, chosen, rows).T @ numbers.T).reshape(len(chosen), 3, *shape)
+    return np.moveaxis(moved, 1, -1) + shift_of(model, moments, chosen, rows)[:, None, None, :]
 
 
 def shift_of(model: LinearModel, moments: JointMoments, chosen: np.ndarray, rows: slice) -> np.ndarray:
