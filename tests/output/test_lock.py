@@ -10,7 +10,7 @@ import time
 
 import pytest
 
-from conftest import GANTRY_MAP_TOML
+from conftest import GANTRY_SAMPLED_MAP_TOML
 from tribokin import InputError
 from tribokin.output.lock import lock_path, output_lock
 
@@ -57,7 +57,7 @@ def _holds(pid: int, path) -> bool:
 
 def test_second_run_into_the_same_folder_is_refused_while_the_first_runs(tmp_path):
     study = tmp_path / "study.toml"
-    study.write_text(GANTRY_MAP_TOML.replace("cycles = 400", "cycles = 40000"))  # slow: still running at the end
+    study.write_text(GANTRY_SAMPLED_MAP_TOML.replace("cycles = 400", "cycles = 40000"))  # still running at the end
     out = tmp_path / "out"
     command = [sys.executable, "-m", "tribokin", "run", study, "--out", out, "--report", "none"]
     first = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
