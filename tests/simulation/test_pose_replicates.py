@@ -23,7 +23,9 @@ def interval(seed: int) -> tuple[list, list]:
 
 def test_the_intervals_spread_over_seeds_is_what_its_stated_errors_say(monkeypatch):
     """One round of 200 replicate tests (about 2 % error) per seed: over 150 seeds each end's standard deviation
-    within a factor 1.3 of the root mean square of its stated errors (times the end)."""
+    within a factor 1.3 of the root mean square of its stated errors (times the end). The pose's expected figures,
+    which the interval does not use, are left out (each seed would simulate its own shape table)."""
+    monkeypatch.setattr("tribokin.run.with_expected_figures", lambda runner, tasks, results: results)
     monkeypatch.setattr(pose_test, "REPLICATE_SAMPLES", 6_000)
     monkeypatch.setattr(pose_test, "MAX_REPLICATE_ROUNDS", 1)
     runs = [interval(seed) for seed in range(150)]
