@@ -1,8 +1,8 @@
 """``study.engine = "exact"`` in expected maps (:mod:`tribokin.maps.expected_figures`): every figure sampled through
 exact Pinocchio FK (no closed form, no first-order figure), each target's engine exact with bound 0, the summary's
 ``computed.<scenario>.engine`` exact; the figures within their stated Monte Carlo errors of the default engine's, a
-Gaussian law's too (sampled, not analytic); the same numbers at every target (chunking changes no byte). Few sampled
-cycles, so that exact FK (about 8 µs a sample) stays within seconds."""
+Gaussian law's too (sampled, not analytic), at 30 cycles and from single cycles at 600; the same numbers at every
+target (chunking changes no byte). Few sampled cycles, so that exact FK (about 8 µs a sample) stays within seconds."""
 
 import numpy as np
 import pytest
@@ -10,7 +10,7 @@ import pytest
 import tribokin.maps.expected_figures as expected
 from tribokin import run_study
 from tribokin.maps.expected_figures import SAMPLED, stated_figures
-from tribokin.maps.schema import mc_error_name
+from tribokin.maps.schema import map_figures, mc_error_name
 from tribokin.propagation.exact import tool_frames
 from tribokin.simulation.pose_test import PoseRunner
 from tribokin.study.assembly import joint_models, load_robot
@@ -28,9 +28,9 @@ def few_samples(monkeypatch):
     monkeypatch.setattr(expected, "MULTI_CYCLES", 1_200)
 
 
-def plane_study(engine: str, friction: dict, approach: str = "unidirectional") -> dict:
+def plane_study(engine: str, friction: dict, approach: str = "unidirectional", cycles: int = 30) -> dict:
     """A UR5 on a 3 × 2 plane (ur5-map-horizontal's loads), its directional figures on."""
-    return {"study": {"name": "plane", "cycles": 30, "seed": 3, "approach": approach, "engine": engine},
+    return {"study": {"name": "plane", "cycles": cycles, "seed": 3, "approach": approach, "engine": engine},
             "robot": {"name": "ur5", "payload_kg": 3.0},
             "joints": {"friction": friction, "stiffness": 1.0e5, "friction_radius_m": 0.02, "bearing_span_m": 0.08},
             "map": {"kind": "plane", "origin_m": [0.0, -0.55, 0.1], "axis_u": [1, 0, 0], "axis_v": [0, 1, 0],
@@ -38,12 +38,14 @@ def plane_study(engine: str, friction: dict, approach: str = "unidirectional") -
                     "rpy_deg": [180, 0, 90]}}
 
 
-def only_exact_fk(monkeypatch) -> list:
-    """Every closed form and first-order figure refused, and every engine call recorded (its orders: 0, exact FK)."""
+def only_exact_fk(monkeypatch, refused_names=("_analytic", "_vap_expected", "_multi_moments", "sampled_tests")
+                  ) -> list:
+    """Every closed form and first-order figure (``refused_names``) refused, and every engine call recorded (its
+    orders: 0, exact FK)."""
     def refused(*args, **kwargs):
         raise AssertionError("a closed-form or first-order figure under engine exact")
 
-    for name in ("_analytic", "_vap_expected", "_multi_moments", "sampled_tests"):
+    for name in refused_names:
         monkeypatch.setattr(expected, name, refused)
     calls, engine = [], expected.tool_deviations_at_poses
 
@@ -111,3 +113,32 @@ def test_exact_figures_are_each_targets_own_whatever_targets_it_is_computed_with
     both, alone = at(targets), at(targets[1:])
     for name in ("figures", "mc_errors", "engine", "engine_bound", "method"):
         np.testing.assert_array_equal(both[name][1:], alone[name], err_msg=name)
+
+
+def test_from_500_cycles_exact_figures_come_from_single_cycles_through_exact_fk(few_samples, monkeypatch):
+    """At 600 cycles (one series of single cycles; the first-order model's samples of the same numbers only a
+    control variate, so ``sampled_tests`` stays) with a Gaussian law, which the default engine computes in closed
+    form (RP_l_multi from the sign mixture's moments): every engine call exact FK, the engine exact, bound 0, sampled,
+    and each stated figure within 4.5 √(e₁² + e₂²) of the default's plus its error from the bound."""
+    q = [0.3, -1.2, 1.4, -1.8, -1.5, 0.4]
+    runs = {}
+    for engine in ("fast", "exact"):
+        study = load_study({**plane_study(engine, TREATED, cycles=600), "poses": [{"name": "target", "q": q}]})
+        robot = load_robot(study)
+        runner = PoseRunner(study, robot, joint_models(study, robot))
+        if engine == "exact":
+            calls = only_exact_fk(monkeypatch, ("_analytic", "_vap_expected", "_multi_moments"))
+        targets = np.array([q])
+        runs[engine] = expected.expected_targets(runner, expected.ExpectedSetup.build(runner, None, "directional"),
+                                                 targets, runner.normal_forces_at(targets),
+                                                 *tool_frames(robot, targets))
+    default, exact = runs["fast"], runs["exact"]
+    assert default["method"][0] == expected.ANALYTIC and exact["method"][0] == SAMPLED
+    assert exact["engine"][0] == expected.TARGET_ENGINES.index("exact") and not exact["engine_bound"].any()
+    assert exact["fallbacks"][0] == 0 and {tuple(order) for _, _, order, _, _ in calls} == {(0,)}
+    names = [figure.name for figure in map_figures("directional")]
+    for name in stated_figures("directional", False):
+        column = names.index(name)
+        ours, theirs = exact["figures"][0, column], default["figures"][0, column]
+        error = np.hypot(exact["mc_errors"][0, column] * ours, default["mc_errors"][0, column] * theirs)
+        assert abs(ours - theirs) <= 4.5 * error + default["figure_errors"][0, column] + 1e-9, (name, ours, theirs)
