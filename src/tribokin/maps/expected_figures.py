@@ -27,6 +27,10 @@ fallback: orders 2-3, else exact FK), whose own bound then takes b's place. Per 
 - **sampled** (other laws, or a target the first-order model does not serve): common random
   numbers: the same ``sampled_tests`` tests of drawn μ at every target (and scenario), through the linear model,
   or through the fast engine where it does not serve (a *fallback*).
+- **``study.engine = "exact"``** (the runner's settings): no closed form and no first-order figure; every figure
+  (each direction's test, vAP_p, RP_l_multi; Gaussian laws too) sampled from the same common random numbers through
+  exact FK (:func:`engine_tests`), the model only a control variate of the same numbers; per target the engine
+  exact, its bound 0, no fallback counted.
 - **Monte Carlo errors**: every figure of the test states its relative standard error (``mc_errors``): a mean over
   sampled tests its standard error, a band's end the percentile's (:func:`~tribokin.iso9283.gaussian_tests.
   percentile_error`), what comes from the shape table the table's, from ``ASYMPTOTIC_CYCLES`` cycles on RP_l and
@@ -36,7 +40,8 @@ fallback: orders 2-3, else exact FK), whose own bound then takes b's place. Per 
   RP_l_multi's first-order model (about q + offset: its bound covers every direction's deviations), or where that
   does not serve each direction's own, plus a Gaussian of covariance Σ_d / n (the mean of n cycles); its
   expectation in closed form when one pair of directions is clearly farthest apart, else linearised in the noise
-  (jointly normal distances: closed form) and corrected over ``VAP_DRAWS`` draws (a control variate).
+  (jointly normal distances: closed form) and corrected over ``VAP_DRAWS`` draws (a control variate); its stated
+  Monte Carlo error 0, the correction's over its draws, or where sampled (:func:`_vap_tests`) the tests' mean's.
 - ``RP_l_multi_um``: cycles each approached from a random joint-space direction (every joint's sign drawn at
   random, with equal odds): the mean RP_l over ``multi_tests`` sampled tests of that mixture; from
   ``ASYMPTOTIC_CYCLES`` cycles on with every law Gaussian, from the mixture's moments, sums over the joints' sign
@@ -425,14 +430,16 @@ class EngineUsed:
 def engine_tests(runner: PoseRunner, model: LinearModel, moments: JointMoments, k: int, q: np.ndarray,
                  numbers: np.ndarray, shape: tuple) -> tuple[np.ndarray, np.ndarray, tuple]:
     """Positions [m] and angle deviations [rad] (tests, cycles, 3) of target ``k`` at configuration ``q`` through the
-    fast engine (orders 2-3, else exact FK): where the first-order model does not serve; and the engine used, the
+    engine of the runner's ``study.engine``: ``"fast"`` (orders 2-3, else exact FK), where the first-order model does
+    not serve; ``"exact"``: exact FK, at every target; and the engine used, the
     :class:`~tribokin.propagation.poe.TruncationBound` of :func:`~tribokin.propagation.exact.engine_orders`."""
     nv = len(q)
     signed_mu, signs, noise = numbers[:, :nv], numbers[:, nv:2 * nv], numbers[:, 2 * nv:]
     dq = moments.offset + signed_mu * model.lever[k] + signs * moments.half_backlash + noise * moments.noise_std
     twists, translations = tool_frames(runner.robot, q[None])
-    used = engine_orders(twists, dq[None], lowest_order=2)
-    positions, angles = tool_deviations_at_poses(runner.robot, q[None], dq[None], "fast", twists, translations, used)
+    engine = runner.settings.engine
+    used = engine_orders(twists, dq[None], engine, lowest_order=2)
+    positions, angles = tool_deviations_at_poses(runner.robot, q[None], dq[None], engine, twists, translations, used)
     return positions.reshape(*shape, 3), angles.reshape(*shape, 3), used
 
 
@@ -460,10 +467,17 @@ def direction_tests(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, le
     """The expected figures of tests of ``setup.cycles`` cycles at configurations ``qs`` (k, nv), levers ``lever``
     (k, nv), every cycle approached with joint signs ``direction`` (nv,) (ISO's unidirectional series), commanded
     positions ``commanded`` (k, 3) [m]: in closed form where every law is Gaussian, else sampled; through the fast
-    engine where the first-order model does not serve."""
+    engine where the first-order model does not serve. With ``study.engine = "exact"`` sampled through exact FK at
+    every target, whatever the laws (the model serving none; its samples of the same numbers only a control
+    variate)."""
     moments, n = setup.moments, setup.cycles
     model = linear_model(runner.robot, moments, qs, lever, np.broadcast_to(direction, lever.shape), mixed=False)
     everywhere = np.ones(len(qs), dtype=bool)
+    if runner.settings.engine == "exact":
+        used = EngineUsed.first_order(model)  # each target's replaced by exact FK's
+        values = _sampled(runner, setup, model, everywhere, qs, commanded, direction, used)
+        mc = values.pop("mc_errors")
+        return DirectionTests(values, mc, ~everywhere, used, model)
     values = (_analytic(model, everywhere, setup, commanded) if moments.gaussian
               else _sampled(runner, setup, model, everywhere, qs, commanded, direction))
     mc = values.pop("mc_errors")
@@ -485,9 +499,9 @@ SPLIT_FIGURES = tuple(figure.name for figure in map_figures("expected") if figur
 
 def stated_figures(figure_set: str, both_directions: bool) -> tuple[str, ...]:
     """The figures whose relative Monte Carlo standard error an expected map of ``figure_set`` states
-    (``mc_errors``): :data:`SAMPLED_FIGURES`, RP_l_multi where the set is ``"directional"``, and approached from both
-    directions each direction's :data:`SPLIT_FIGURES` too."""
-    stated = SAMPLED_FIGURES + (("RP_l_multi_um",) if figure_set == "directional" else ())
+    (``mc_errors``): :data:`SAMPLED_FIGURES`, vAP_p and RP_l_multi where the set is ``"directional"``, and approached
+    from both directions each direction's :data:`SPLIT_FIGURES` too."""
+    stated = SAMPLED_FIGURES + (("vAP_p_um", "RP_l_multi_um") if figure_set == "directional" else ())
     if not both_directions:
         return stated
     return stated + tuple(direction_figure(name, label) for label in DIRECTIONS for name in SPLIT_FIGURES)
@@ -527,7 +541,9 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
         RP_l_multi's) the first-order model did not serve and went through the fast engine, ``engine`` (k,) the least
         exact engine of the models (an index in ``TARGET_ENGINES``), ``engine_bound`` (k, 2) [m, rad] their largest
         bound on |engine - exact FK| (exact FK: 0), ``mc_errors`` (k, figures) each figure's relative Monte Carlo
-        standard error (0: in closed form; NaN for the figures that state none: ``dominant_share``, vAP_p).
+        standard error (0: in closed form; NaN for ``dominant_share``, which states none). With
+        ``study.engine = "exact"`` (the runner's settings) every figure sampled through exact FK: ``method``
+        ``SAMPLED``, ``engine`` exact, its bound 0, no fallbacks.
     """
     models, robot, moments, n = runner.models, runner.robot, setup.moments, setup.cycles
     lever = friction_loads(models, forces) * friction_lever(models, robot.joint_is_prismatic)
@@ -543,14 +559,16 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     for name, value in values.items():
         figures[:, columns[name]] = value
         mc_errors[:, columns[name]] = mc[name]
+    exact = runner.settings.engine == "exact"  # no model served: none fell back, every one went through exact FK
     out = {"figures": figures, "figure_errors": errors,
            "method": np.where(served & moments.gaussian, ANALYTIC, SAMPLED),
-           "fallbacks": np.sum([~t.served for t in tests], axis=0), "mc_errors": mc_errors}
+           "fallbacks": np.sum([~t.served & (not exact) for t in tests], axis=0), "mc_errors": mc_errors}
     # the engine of each model: the tests', and vAP_p's and RP_l_multi's by their figure
     engines = {"test": EngineUsed.combined([t.used for t in tests])}
     if setup.figure_set == "directional":
         mixed = linear_model(robot, moments, qs, lever, np.zeros_like(lever), mixed=True)  # random directions
-        vap, engines["vAP_p_um"], fallbacks = _vap(runner, moments, qs, lever, twists, n, mixed)
+        vap, mc_errors[:, columns["vAP_p_um"]], engines["vAP_p_um"], fallbacks = _vap(runner, moments, qs, lever,
+                                                                                      twists, n, mixed)
         figures[:, columns["vAP_p_um"]] = vap
         out["fallbacks"] += fallbacks
         multi, mc_errors[:, columns["RP_l_multi_um"]], engines["RP_l_multi_um"], fallbacks = _multi(runner, setup, qs,
@@ -796,42 +814,55 @@ def _analytic(model: LinearModel, chosen: np.ndarray, setup: ExpectedSetup, comm
 
 
 def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.ndarray, twists: np.ndarray,
-         cycles: int, mixed: LinearModel) -> tuple[np.ndarray, EngineUsed, np.ndarray]:
-    """vAP_p [µm] (k,), the engine that computed it (:class:`EngineUsed`) and its fallbacks (k,).
+         cycles: int, mixed: LinearModel) -> tuple[np.ndarray, np.ndarray, EngineUsed, np.ndarray]:
+    """vAP_p [µm] (k,), its relative Monte Carlo standard error (k,) (0 in closed form), the engine that computed it
+    (:class:`EngineUsed`) and its fallbacks (k,).
 
     The three directions' barycentres through the ``mixed`` first-order model (about q + offset, RP_l_multi's: its
     bound holds for every sign pattern's deviations, so for each direction's); where it does not serve, through each
     direction's own model about its mean deviation (the three's least exact engine, their largest bound), and where
-    those do not serve either, :func:`_vap_tests`."""
+    those do not serve either, :func:`_vap_tests`. With ``study.engine = "exact"``, :func:`_vap_tests` through exact
+    FK at every target (none counted as a fallback)."""
     directions = np.array([APPROACH_DIRECTIONS[label] for label in VAP_DIRECTIONS])
     signs = approach_signs_from_jacobians(twists, directions)  # (k, 3, nv)
+    if runner.settings.engine == "exact":
+        models = [linear_model(runner.robot, moments, qs, lever, signs[:, d], mixed=False)
+                  for d in range(len(directions))]
+        used = EngineUsed.first_order(models[0])
+        sampled = np.array([_vap_tests(runner, models, moments, k, qs[k], signs[k], cycles, used)
+                            for k in range(len(qs))]).reshape(len(qs), 2)
+        return sampled[:, 0] * UM_PER_M, sampled[:, 1], used, np.zeros(len(qs), dtype=int)
     position = mixed.jacobian[:, :3]
     lost = lever * moments.mean + moments.half_backlash
     centres = mixed.position_m[:, None] + np.einsum("kin,kdn->kdi", position, signs * lost[:, None])
     variance = signs ** 2 * ((lever * moments.std) ** 2)[:, None] + moments.noise_std ** 2  # (k, 3 directions, nv)
-    vap = _vap_expected(centres, np.einsum("kin,kdn,kjn->kdij", position, variance, position) / cycles,
-                        runner.settings.seed) * UM_PER_M
+    vap, error = _vap_expected(centres, np.einsum("kin,kdn,kjn->kdij", position, variance, position) / cycles,
+                               runner.settings.seed)
+    vap *= UM_PER_M
     used = EngineUsed.first_order(mixed)
     own = np.flatnonzero(~serves(used.bound, cycles, {"vAP_p_um": vap}, "vap"))
     fallen = np.zeros(len(qs), dtype=int)
     if len(own):
         models = [linear_model(runner.robot, moments, qs[own], lever[own], signs[own, d], mixed=False)
                   for d in range(len(directions))]
-        vap[own] = _vap_expected(np.stack([m.position_m for m in models], axis=1),
-                                 np.stack([m.position_covariance for m in models], axis=1) / cycles,
-                                 runner.settings.seed) * UM_PER_M
+        vap[own], error[own] = _vap_expected(np.stack([m.position_m for m in models], axis=1),
+                                             np.stack([m.position_covariance for m in models], axis=1) / cycles,
+                                             runner.settings.seed)
+        vap[own] *= UM_PER_M
         theirs = EngineUsed.combined([EngineUsed.first_order(m) for m in models])
         for j in np.flatnonzero(~serves(theirs.bound, cycles, {"vAP_p_um": vap[own]}, "vap")):
-            vap[own[j]] = _vap_tests(runner, models, moments, j, qs[own[j]], signs[own[j]], cycles, theirs) * UM_PER_M
+            vap[own[j]], error[own[j]] = _vap_tests(runner, models, moments, j, qs[own[j]], signs[own[j]], cycles,
+                                                    theirs)
+            vap[own[j]] *= UM_PER_M
             fallen[own[j]] = 1
         used.engine[own], used.bound[own] = theirs.engine, theirs.bound
-    return vap, used, fallen
+    return vap, error, used, fallen
 
 
-def _vap_expected(centres: np.ndarray, noise: np.ndarray, seed: int) -> np.ndarray:
+def _vap_expected(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.ndarray, np.ndarray]:
     """E[vAP_p] [m] (k,) of barycentres ``centres`` (k, 3 directions, 3) [m] with Gaussian noise of covariances
-    ``noise`` (k, 3 directions, 3, 3) [m²]: the farthest pair's E|g + e| in closed form, or :func:`_vap_close` where
-    two pairs are about as far apart."""
+    ``noise`` (k, 3 directions, 3, 3) [m²], and its relative Monte Carlo standard error (k,): the farthest pair's
+    E|g + e| in closed form (0), or :func:`_vap_close` where two pairs are about as far apart."""
     gaps = np.stack([centres[:, a] - centres[:, b] for a, b in VAP_PAIRS], axis=1)
     spreads = np.stack([noise[:, a] + noise[:, b] for a, b in VAP_PAIRS], axis=1)
     sizes = np.linalg.norm(gaps, axis=-1)
@@ -840,23 +871,25 @@ def _vap_expected(centres: np.ndarray, noise: np.ndarray, seed: int) -> np.ndarr
     farthest = (np.arange(len(gaps)), order[:, 0])
     widths = np.sqrt(eigenvalues(spreads[farthest])[:, -1]) + np.sqrt(eigenvalues(
         spreads[np.arange(len(gaps)), order[:, 1]])[:, -1])
-    vap = expected_norm(gaps[farthest], spreads[farthest])
+    vap, error = expected_norm(gaps[farthest], spreads[farthest]), np.zeros(len(gaps))
     close = np.flatnonzero(first - second <= TAIL_STDS * widths)
     if len(close):
-        vap[close] = _vap_close(centres[close], noise[close], seed)
-    return vap
+        vap[close], error[close] = _vap_close(centres[close], noise[close], seed)
+    return vap, relative(error, vap)
 
 
-def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> np.ndarray:
-    """E[vAP_p] [m] (k,) where two or three pairs of approach directions are about as far apart: the largest of the
-    pairs' distances |g + e| between barycentres of ``centres`` (k, 3 directions, 3) [m] and Gaussian noise of
-    covariances ``noise`` (k, 3 directions, 3, 3) [m²] (e: the difference of a pair's two).
+def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """E[vAP_p] [m] (k,) and its Monte Carlo standard error [m] (k,) where two or three pairs of approach directions
+    are about as far apart: the largest of the pairs' distances |g + e| between barycentres of ``centres``
+    (k, 3 directions, 3) [m] and Gaussian noise of covariances ``noise`` (k, 3 directions, 3, 3) [m²] (e: the
+    difference of a pair's two).
 
     Linearised, each distance is |g| + (tr S - ĝᵀ S ĝ) / (2 |g|) + ĝᵀ e (S the pair's covariance; the middle term
     only where tr S < |g|²): jointly normal, their largest's expectation in closed form
     (:func:`~tribokin.iso9283.gaussian_tests.expected_maximum`), is a control variate: the mean over ``VAP_DRAWS``
     draws (common random numbers) of the exact largest distance less the linearised one is added, whose Monte Carlo
-    error is that of the difference (second order in the noise), not of the distance."""
+    error is that of the difference (second order in the noise), not of the distance: the differences' standard
+    deviation over √``VAP_DRAWS``, the error stated."""
     gaps = np.stack([centres[:, a] - centres[:, b] for a, b in VAP_PAIRS], axis=1)  # (k, pairs, 3)
     spreads = np.stack([noise[:, a] + noise[:, b] for a, b in VAP_PAIRS], axis=1)
     sizes = np.linalg.norm(gaps, axis=-1)
@@ -875,7 +908,9 @@ def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> np.ndarray:
     if use_compiled():
         from tribokin.maps.expected_figures_kernels import vap_corrections
 
-        return vap + vap_corrections(gaps, means, units, np.ascontiguousarray(noise), z)
+        correction = vap_corrections(gaps, means, units, np.ascontiguousarray(noise), z)
+        return vap + correction[:, 0], correction[:, 1]
+    standard_error = np.empty(len(gaps))
     for k in np.array_split(np.arange(len(gaps)), max(1, len(gaps) * VAP_DRAWS // BLOCK_CYCLES)):
         lam, vectors = np.linalg.eigh(noise[k])  # the symmetric root of each (block, 3 directions, 3, 3)
         roots = (vectors * np.sqrt(np.maximum(lam, 0.0))[..., None, :]) @ np.swapaxes(vectors, -1, -2)
@@ -885,15 +920,18 @@ def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> np.ndarray:
             error = shifts[:, a] - shifts[:, b]  # (block, 3, draws)
             exact.append(np.sqrt(np.sum((gaps[k, p, :, None] + error) ** 2, axis=1)))
             linearised.append(means[k, p, None] + np.sum(units[k, p, :, None] * error, axis=1))
-        vap[k] += (np.max(exact, axis=0) - np.max(linearised, axis=0)).mean(axis=1)
-    return vap
+        differences = np.max(exact, axis=0) - np.max(linearised, axis=0)
+        vap[k] += differences.mean(axis=1)
+        standard_error[k] = differences.std(axis=1, ddof=1) / math.sqrt(VAP_DRAWS)
+    return vap, standard_error
 
 
 def _vap_tests(runner: PoseRunner, models: list[LinearModel], moments: JointMoments, k: int, q: np.ndarray,
-               signs: np.ndarray, cycles: int, used: EngineUsed) -> float:
-    """vAP_p [m] of target ``k`` through the fast engine (:func:`engine_tests`): the mean over ``tests_for``
+               signs: np.ndarray, cycles: int, used: EngineUsed) -> tuple[float, float]:
+    """vAP_p [m] of target ``k`` through the engine of :func:`engine_tests`: the mean over ``tests_for``
     sampled tests (common random numbers) of the largest distance between the barycentres of ``cycles`` cycles
-    approached with each direction's joint signs ``signs`` (3, nv); the directions' engines recorded in ``used``."""
+    approached with each direction's joint signs ``signs`` (3, nv), and its relative standard error; the directions'
+    engines recorded in ``used``."""
     tests = tests_for(SAMPLED_CYCLES, cycles)
     nv = len(q)
     unsigned = common_numbers(runner, np.ones((1, cycles, nv)), len(signs) * tests, "vap tests")
@@ -905,7 +943,8 @@ def _vap_tests(runner: PoseRunner, models: list[LinearModel], moments: JointMome
         barycentres.append(positions.mean(axis=1))
         engines.append(EngineUsed.of(engine))
     used.fall_back(k, EngineUsed.combined(engines))
-    return float(np.max([np.linalg.norm(barycentres[a] - barycentres[b], axis=1) for a, b in VAP_PAIRS], axis=0).mean())
+    largest = np.max([np.linalg.norm(barycentres[a] - barycentres[b], axis=1) for a, b in VAP_PAIRS], axis=0)
+    return float(largest.mean()), float(mean_error(largest))
 
 
 def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: LinearModel
@@ -913,7 +952,8 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
     """RP_l_multi [µm] (k,), its relative Monte Carlo standard error (k,) (0: from the mixture's moments; sampled:
     the tests' mean's, or from ``ASYMPTOTIC_CYCLES`` cycles on the delta method's over the cycles' moments), the engine
     that computed it (:class:`EngineUsed`) and its fallbacks (k,), from the mixed first-order ``model`` (every joint's
-    sign drawn per cycle, about q + offset)."""
+    sign drawn per cycle, about q + offset); with ``study.engine = "exact"`` sampled through exact FK at every target
+    (none counted as a fallback)."""
     n, moments = setup.cycles, setup.moments
     shape = sampled_shape(MULTI_CYCLES, n, MIN_MULTI_TESTS)
 
@@ -930,7 +970,10 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
         per_test = position_repeatability(positions)[0]
         return per_test.mean(axis=1), mean_error(per_test)
 
-    if n >= ASYMPTOTIC_CYCLES and moments.gaussian and len(runner.models) <= MIXTURE_MAX_JOINTS:
+    exact = runner.settings.engine == "exact"
+    if exact:
+        rp, error = np.full(len(qs), np.nan), np.full(len(qs), np.nan)  # every target's from exact FK below
+    elif n >= ASYMPTOTIC_CYCLES and moments.gaussian and len(runner.models) <= MIXTURE_MAX_JOINTS:
         rp, error = _multi_moments(model, moments, n), np.zeros(len(qs))
     else:
         rp, error = np.empty(len(qs)), np.empty(len(qs))
@@ -939,13 +982,13 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
                                                                   slice(0, 3)))
     rp *= UM_PER_M
     used = EngineUsed.first_order(model)
-    fallen = ~serves(model.bound, n, {"RP_l_multi_um": rp}, "multi")
+    fallen = ~serves(model.bound, n, {"RP_l_multi_um": rp}, "multi")  # exact: NaN, served nowhere
     for k in np.flatnonzero(fallen):
         positions, _, engine = engine_tests(runner, model, moments, k, qs[k], numbers(), shape)
         used.fall_back(k, EngineUsed.of(engine))
         again, again_error = repeatability(positions[None])
         rp[k], error[k] = again[0] * UM_PER_M, again_error[0]
-    return rp, error, used, fallen.astype(int)
+    return rp, error, used, (fallen & (not exact)).astype(int)
 
 
 def _multi_moments(model: LinearModel, moments: JointMoments, cycles: int) -> np.ndarray:

@@ -1,8 +1,8 @@
 """Compiled (numba) kernels of :mod:`~tribokin.maps.expected_figures`, target by target: the covariance J diag(var) Jᵀ
 of the tool's position or angle deviation (:class:`~tribokin.maps.expected_figures.LinearModel`), and vAP_p's
-correction over draws where pairs of approach directions are close. They agree with the NumPy path to rounding, about
-1e-15 relative (the covariance) and 1e-12 (the correction: the noise drawn through the symmetric root, which both
-paths' eigenvalue routines give alike).
+correction over draws where pairs of approach directions are close, with its standard error. They agree with the
+NumPy path to rounding, about 1e-15 relative (the covariance) and 1e-12 (the correction: the noise drawn through the
+symmetric root, which both paths' eigenvalue routines give alike).
 
 Imported only on the compiled path (:func:`tribokin.compiled.use_compiled`).
 """
@@ -35,12 +35,14 @@ def covariances(jacobian, variance, first):
 
 @kernel
 def vap_corrections(gaps, means, units, noise, z):
-    """(k,) the mean over draws of vAP_p's largest distance |g + e| less its largest linearised one, as
+    """(k, 2) the mean over draws of vAP_p's largest distance |g + e| less its largest linearised one, and that
+    mean's standard error (the differences' standard deviation over √draws), as
     ``maps.expected_figures._vap_close``: the pairs' gaps g (k, 3 pairs, 3), linearised means (k, 3 pairs) and unit
     gaps (k, 3 pairs, 3), the barycentres' noise covariances (k, 3 directions, 3, 3) (each drawn through its
     symmetric root) and standard normal draws ``z`` (3 directions, 3, draws)."""
     count, draws = gaps.shape[0], z.shape[2]
-    out = np.empty(count)
+    out = np.empty((count, 2))
+    differences = np.empty(draws)
     lam = np.empty(3)
     vectors = np.empty((3, 3))
     roots = np.empty((3, 3, 3))
@@ -70,6 +72,11 @@ def vap_corrections(gaps, means, units, noise, z):
                     along += units[k, p, i] * error
                 exact = max(exact, math.sqrt(size2))
                 linear = max(linear, means[k, p] + along)
-            total += exact - linear
-        out[k] = total / draws
+            differences[n] = exact - linear
+            total += differences[n]
+        out[k, 0] = total / draws
+        square = 0.0
+        for n in range(draws):
+            square += (differences[n] - out[k, 0]) ** 2
+        out[k, 1] = math.sqrt(square / (draws - 1) / draws)
     return out

@@ -394,7 +394,7 @@ def measure_map(prepared: PreparedMap, executor: Executor | None = None, checkpo
         _local.cache = None
     fill_holes(job, robots, runners, store, executor)
     maps = {name: ScenarioMap(name, settings.cycles, i, robots[r].joint_names, store, prepared.spec.figure_set, r,
-                              prepared.layout.both_directions(i))
+                              prepared.layout.both_directions(i), settings.engine)
             for i, (name, settings, r)
             in enumerate(zip(prepared.names, job.settings, prepared.layout.places, strict=True))}
     return MapResult(prepared.grids, robots[0].joint_names, store, maps, prepared.robots[0])

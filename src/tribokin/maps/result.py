@@ -41,6 +41,8 @@ class ScenarioMap:
         both_directions: approached from both directions (``bidirectional``, ``random``): each direction's figures
             too, and RP_l, AP_p, RP_a/b/c (and the band) the larger of the two
             (:func:`~tribokin.maps.schema.map_figures`).
+        engine: its ``study.engine``: ``"fast"`` (an expected map's engine chosen at each target by the bound) or
+            ``"exact"`` (an expected map's every figure sampled through exact FK).
     """
 
     name: str
@@ -51,6 +53,7 @@ class ScenarioMap:
     figure_set: str
     robot: int = 0
     both_directions: bool = False
+    engine: str = "fast"
 
     def read_robot(self, name: str, targets=slice(None)) -> np.ndarray:
         """Its robot's column ``name`` at ``targets``: ``q`` (k, nv) [m or rad] (NaN where unreachable),
@@ -302,10 +305,10 @@ class MapResult:
         return block
 
     def _computed(self, scenario: ScenarioMap) -> dict:
-        """How an expected map's figures were computed: targets per method and per engine (the least exact its figures
-        rest on), fallbacks, the largest bound of the engines used against exact FK and each sampled figure's largest
-        relative Monte Carlo standard error (``<stem>_max_mc_error``, :func:`~tribokin.maps.schema.figure_stem`;
-        :mod:`tribokin.maps.expected_figures`)."""
+        """How an expected map's figures were computed: its ``study.engine`` (``engine``), targets per method and per
+        engine (the least exact its figures rest on), fallbacks, the largest bound of the engines used against exact
+        FK and each sampled figure's largest relative Monte Carlo standard error (``<stem>_max_mc_error``,
+        :func:`~tribokin.maps.schema.figure_stem`; :mod:`tribokin.maps.expected_figures`)."""
         analytic = sampled = fallback = 0
         engines = np.zeros(len(TARGET_ENGINES), dtype=int)
         stated = stated_figures(scenario.figure_set, scenario.both_directions)
@@ -321,7 +324,8 @@ class MapResult:
             bound = np.fmax(bound, np.nanmax(scenario.read("engine_bound", part)[flags], axis=0, initial=0.0))
             mc_errors = np.fmax(mc_errors, np.nanmax(scenario.read("mc_errors", part)[flags][:, columns], axis=0,
                                                      initial=0.0))
-        return {"analytic_targets": analytic, "sampled_targets": sampled, "fallback_targets": fallback,
+        return {"engine": scenario.engine, "analytic_targets": analytic, "sampled_targets": sampled,
+                "fallback_targets": fallback,
                 "engine_targets": {name: int(count) for name, count in zip(TARGET_ENGINES, engines, strict=True)},
                 "engine_max_deviation_nm": float(bound[0] * 1e9),
                 "engine_max_angle_deviation_nrad": float(bound[1] * 1e9),

@@ -23,8 +23,11 @@ KEY_DOCS = {
                       "`<figure>_plus_<unit>`, `<figure>_minus_<unit>` columns, the unsuffixed the larger); see "
                       "[approach directions](../study-files.md#approach-directions)",
     "study.engine": "`fast`: vectorised truncated product of exponentials, exact FK wherever its error bound "
-                    "exceeds 0.1 nm ([engines](../concepts.md#forward-kinematics-and-the-engines)); `exact`: one "
-                    "Pinocchio forward-kinematics call per cycle",
+                    "exceeds 0.1 nm ([engines](../concepts.md#forward-kinematics-and-the-engines)); an expected "
+                    "map's figures from the first-order model where its bound serves them, else that engine; "
+                    "`exact`: one Pinocchio forward-kinematics call per cycle, and every expected figure (a map's, a "
+                    "pose's) sampled through exact FK, Gaussian laws too: slow "
+                    "([maps](../maps.md#per-target-expected-figures))",
     "study.data_dirs": "folders, relative to the study file, from which the files its friction laws name (`file`, "
                        "`log`, `surface`) may also be read (else only the study file's folder), symlinks followed; "
                        "never under `/proc`, `/sys` or `/dev`, nor FIFOs, sockets or devices",
