@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import AXIS_STUDY_TOML, AXIS_URDF, GANTRY_MAP_TOML, ROOT
+from conftest import AXIS_STUDY_TOML, AXIS_URDF, GANTRY_SAMPLED_MAP_TOML, ROOT
 from helpers.measurement_files import GANTRY_CALIBRATE
 from tribokin.cli import main
 from tribokin.simulation.pose_test import PoseRunner
@@ -37,7 +37,7 @@ class Fifo(str):
 
 
 STUDY = AXIS_STUDY_TOML
-GANTRY_MAP = _replace(_replace(GANTRY_MAP_TOML, "cycles = 400", "cycles = 5"), "resolution = [25, 40]",
+GANTRY_MAP = _replace(_replace(GANTRY_SAMPLED_MAP_TOML, "cycles = 400", "cycles = 5"), "resolution = [25, 40]",
                       "resolution = [4, 3]")
 
 #: GANTRY_MAP with a pose, and a joint-space map of the axis after its pose: refusals of these must come before
