@@ -5,7 +5,7 @@ from __future__ import annotations
 import tempfile
 from collections.abc import Callable
 from concurrent.futures import Executor
-from dataclasses import dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
@@ -31,6 +31,7 @@ from tribokin.study.assembly import (
     load_robot,
     map_robots,
     pose_tasks,
+    refuse_series,
     robot_spec,
     study_runner,
 )
@@ -130,6 +131,18 @@ def scenario_settings(scenario: ScenarioSpec, robots: MapRobots, place: int) -> 
     return settings
 
 
+def model_settings(model) -> dict:
+    """A joint error model as ``summary.json`` records it: its values but its friction law (recorded apart), its
+    friction's time series (``series``) and ``travel_per_cycle`` only when given."""
+    out = {}
+    for f in fields(model):
+        value = getattr(model, f.name)
+        if f.name == "friction" or (f.name in ("series", "travel_per_cycle") and value is None):
+            continue
+        out[f.name] = asdict(value) if f.name == "series" else value
+    return out
+
+
 def run_study(study, cycles: int | None = None, seed: int | None = None, *, executor: Executor | None = None,
               checkpoint=None, resume: bool = False, progress: Callable[[int, int], None] | None = None,
               meshes: bool = True, meanwhile: Callable[[], None] | None = None) -> StudyResult:
@@ -163,6 +176,9 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     if resume and study.map is None and checkpoint is not None and Path(checkpoint).exists():
         raise InputError("this study has no [map], so these chunks are another run's; run that study with "
                          "--resume, or pass --force without --resume to start over", checkpoint, "--resume")
+    if study.map is not None:
+        refuse_series(study, "a placement search" if study.placement is not None else "a [map]",
+                      "remove the key, or the study's [map] to run its poses alone")
     robot = load_robot(study, meshes)
     models = joint_models(study, robot)
     tasks, cube = pose_tasks(study, robot)
@@ -194,9 +210,9 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
         "engine": study.engine,
         "payload_kg": study.robot.payload_kg,
         "iso_cube": cube,
+        **({} if study.cycle_time_s is None else {"cycle_time_s": study.cycle_time_s}),
         "friction": {name: m.friction.describe() for name, m in zip(robot.joint_names, models, strict=True)},
-        "joint_models": {name: {f.name: getattr(m, f.name) for f in fields(m) if f.name != "friction"}
-                         for name, m in zip(robot.joint_names, models, strict=True)},
+        "joint_models": {name: model_settings(m) for name, m in zip(robot.joint_names, models, strict=True)},
         "scenarios": [scenario_settings(s, robots, place)
                       for s, place in zip(study.scenarios, robots.places, strict=True)]
         if study.scenarios else [],
