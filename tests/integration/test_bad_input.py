@@ -517,6 +517,11 @@ CASES = [
     study('{ preset = "42CD4-raw" }', '{ preset = "42CD4-raw", ar1 = 0.5 }', base=AXIS_JOINT_MAP,
           expected=("joints.friction.ar1", "a [map] does not simulate friction time keys yet"),
           id="time-keys-in-a-map"),
+    study("seed = 3", "seed = 3", base=STUDY + "\n[drift]\nduration_s = 3600\n",
+          expected=("study.cycle_time_s", "[drift] approaches each pose once a cycle"), id="drift-without-cycle-time"),
+    study("seed = 3", "seed = 3\ncycle_time_s = 10.0", base=STUDY + "\n[drift]\nduration_s = 200\n",
+          expected=("drift.duration_s", "200 s hold 20 cycles of 10 s, fewer than the first and last sets' 24"),
+          id="drift-too-short"),
     study('[map]', '[[scenarios]]\nname = "worn"\n\n[[scenarios]]\nname = "warm"\njoints = { friction = { preset = '
           '"42CD4-raw", steady_mean_std = 0.01 } }\n\n[map]', base=AXIS_JOINT_MAP,
           expected=("scenarios[1].joints.friction.steady_mean_std", "a [map] does not simulate friction time keys"),

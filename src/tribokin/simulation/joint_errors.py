@@ -247,7 +247,8 @@ def approach_signs(mode: str, cycles: int, directions: np.ndarray, rng: np.rando
 
 
 def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Generator, tests: int = 1,
-                  torque_per_value: np.ndarray | None = None, cycle_time_s: float | None = None) -> np.ndarray:
+                  torque_per_value: np.ndarray | None = None, cycle_time_s: float | None = None,
+                  warm: bool = False) -> np.ndarray:
     """Friction coefficients mu (cycles, nv) [-], drawn joint by joint (all cycles of the first joint,
     then of the second...): in one call when all joints share one law, the usual case.
 
@@ -256,7 +257,9 @@ def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Gen
     cold joint), by :func:`~tribokin.tribology.friction_series.draw_series`; then every joint draws so, the
     independent ones ``law.rvs((tests, cycles / tests))``. Its ``thermal`` heats it by the friction power
     :func:`~tribokin.tribology.thermal.power_per_value` gives from ``torque_per_value`` (nv,) [N·m or N per unit
-    of the law's value: :func:`sample_joint_deviations`'), its ``travel_per_cycle`` and ``cycle_time_s`` [s].
+    of the law's value: :func:`sample_joint_deviations`'), its ``travel_per_cycle`` and ``cycle_time_s`` [s], from
+    ambient or (``warm``) from the temperature the law's mean settles it at
+    (:meth:`~tribokin.tribology.thermal.Thermal.settled_C`).
 
     Returns a view of (nv, cycles) memory, so each joint's cycles are contiguous."""
     laws = [m.friction for m in models]
@@ -268,19 +271,21 @@ def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Gen
         raise ValueError(f"{cycles} cycles do not split into {tests} tests")
     drawn = []
     for i, model in enumerate(models):
-        series, power = model.series or FrictionSeries(), None
+        series, power, start = model.series or FrictionSeries(), None, None
         if series.thermal is not None:
             if cycle_time_s is None:
                 raise SettingsError("a joint's friction heats it every cycle (series.thermal): give cycle_time_s, "
                                     "one cycle's duration [s]", "cycle_time_s")
             power = power_per_value(model.travel_per_cycle, cycle_time_s, float(torque_per_value[i]))
-        drawn.append(draw_series(model.friction, series, tests, cycles // tests, rng, power, cycle_time_s).values)
+            start = series.thermal.settled_C(power, model.friction.mean()) if warm else None
+        drawn.append(draw_series(model.friction, series, tests, cycles // tests, rng, power, cycle_time_s,
+                                 start).values)
     return np.array(drawn).reshape(len(models), cycles).T
 
 
 def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray, normal_forces_N: np.ndarray,
                             signs: np.ndarray, rng: np.random.Generator, tests: int = 1,
-                            cycle_time_s: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+                            cycle_time_s: float | None = None, warm: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Draw the joint deviations dq of every cycle.
 
     A joint's friction time series (:attr:`JointErrorModel.series`) runs through each of ``tests`` consecutive
@@ -298,6 +303,7 @@ def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray
         rng: random generator; draws mu (:func:`draw_friction`), then the noise.
         tests: the tests the n cycles are, one after another (each n / ``tests`` cycles long).
         cycle_time_s: one cycle's duration [s], required by a joint's ``thermal``.
+        warm: each test's joints start at the temperature their mean friction settles them at, not ambient.
 
     Returns:
         dq (n, nv) [m or rad] and the draws of the friction laws (n, nv): coefficients mu [-], or torques [N·m]
@@ -305,7 +311,7 @@ def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray
     """
     lever = friction_loads(models, np.asarray(normal_forces_N, dtype=float)) * friction_lever(models, prismatic)
     torque = None if not any(m.correlated for m in models) else lever * np.array([m.stiffness for m in models])
-    mu = draw_friction(models, signs.shape[0], rng, tests, torque, cycle_time_s)
+    mu = draw_friction(models, signs.shape[0], rng, tests, torque, cycle_time_s, warm)
     dq = mu * lever
     if any(m.backlash for m in models):
         dq += np.array([m.backlash / 2 for m in models])

@@ -235,13 +235,13 @@ class PoseRunner:
         dq, mu = self.deviations(task, forces_N, signs, rng)
         return dq, mu, group
 
-    def deviations(self, task: PoseTask, forces_N, signs: np.ndarray, rng, tests: int = 1):
+    def deviations(self, task: PoseTask, forces_N, signs: np.ndarray, rng, tests: int = 1, warm: bool = False):
         """Joint deviations dq (n, nv) [m or rad] and the friction laws' draws (n, nv) of n cycles at a pose under
         bearing loads ``forces_N`` (nv,) [N], joint signs ``signs`` (n, nv): ``tests`` tests one after another, a
-        joint's friction series running through each from its start
-        (:func:`~tribokin.simulation.joint_errors.sample_joint_deviations`)."""
+        joint's friction series running through each from its start (``warm``: a warm-up from its settled
+        temperature) (:func:`~tribokin.simulation.joint_errors.sample_joint_deviations`)."""
         return sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs, rng,
-                                       tests, self.settings.cycle_time_s)
+                                       tests, self.settings.cycle_time_s, warm)
 
     def approach_sequence(self, task: PoseTask, rng) -> tuple[np.ndarray, np.ndarray]:
         """The joints' signs of travel (n, nv) and the approach index (n,) of every cycle at a pose:
