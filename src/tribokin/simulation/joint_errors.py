@@ -155,13 +155,20 @@ def friction_loads(models: list[JointErrorModel], forces_N: np.ndarray) -> np.nd
     return np.where([m.friction_is_torque for m in models], 1.0, forces_N)
 
 
+def torque_per_value(models: list[JointErrorModel], prismatic: np.ndarray, forces_N: np.ndarray) -> np.ndarray:
+    """(..., nv) each joint's friction torque [N·m] (force [N], prismatic) per unit of its law's value under bearing
+    loads ``forces_N`` (..., nv) [N]: N·r for a law of mu (N at a prismatic joint), 1 for a law of the torque or
+    force."""
+    return friction_loads(models, np.asarray(forces_N, dtype=float)) * friction_lever(models, prismatic) * \
+        np.array([m.stiffness for m in models])
+
+
 def friction_torque_moments(models: list[JointErrorModel], prismatic: np.ndarray, forces_N: np.ndarray
                             ) -> tuple[np.ndarray, np.ndarray]:
     """Mean and standard deviation (..., nv) of each joint's friction torque [N·m] (force [N], prismatic) under
     bearing loads ``forces_N`` (..., nv) [N]: mu·N·r of a law of mu, the law itself for a law of the torque or force.
     Lost motion is this over the stiffness (:func:`sample_joint_deviations` draws it)."""
-    torque_per_unit = friction_loads(models, np.asarray(forces_N, dtype=float)) * friction_lever(models, prismatic) * \
-        np.array([m.stiffness for m in models])
+    torque_per_unit = torque_per_value(models, prismatic, forces_N)
     return (np.array([m.friction.mean() for m in models]) * torque_per_unit,
             np.array([m.friction.std() for m in models]) * torque_per_unit)
 
@@ -309,10 +316,11 @@ def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray
         dq (n, nv) [m or rad] and the draws of the friction laws (n, nv): coefficients mu [-], or torques [N·m]
         (forces [N]) for a joint whose law gives them.
     """
-    lever = friction_loads(models, np.asarray(normal_forces_N, dtype=float)) * friction_lever(models, prismatic)
-    torque = None if not any(m.correlated for m in models) else lever * np.array([m.stiffness for m in models])
+    torque = None
+    if any(m.correlated for m in models):  # the friction torque (force) per unit of the law's value, for thermal
+        torque = torque_per_value(models, prismatic, normal_forces_N)
     mu = draw_friction(models, signs.shape[0], rng, tests, torque, cycle_time_s, warm)
-    dq = mu * lever
+    dq = mu * (friction_loads(models, np.asarray(normal_forces_N, dtype=float)) * friction_lever(models, prismatic))
     if any(m.backlash for m in models):
         dq += np.array([m.backlash / 2 for m in models])
     dq *= signs
