@@ -35,6 +35,7 @@ SECTIONS = {
     "map": ("[map]", None),
     "calibration": ("[calibration]", spec.CALIBRATION_KEYS),
     "placement": ("[placement]", spec.PLACEMENT_KEYS),
+    "drift": ("[drift]", spec.DRIFT_KEYS),
 }
 #: Sections without a table here: their text in the page says what they hold.
 UNTABLED = ("scenarios",)

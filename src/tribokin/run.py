@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import math
 import tempfile
 from collections.abc import Callable
 from concurrent.futures import Executor
-from dataclasses import dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +23,7 @@ from tribokin.maps.schema import MapLayout, study_approaches
 from tribokin.output.provenance import software_versions
 from tribokin.placement.result import PlacementResult
 from tribokin.placement.search import run_placement
+from tribokin.simulation.drift import DriftTest, with_drift
 from tribokin.simulation.pose_result import PoseResult, pose_frame
 from tribokin.simulation.pose_test import run_poses
 from tribokin.study.assembly import (
@@ -31,11 +33,12 @@ from tribokin.study.assembly import (
     load_robot,
     map_robots,
     pose_tasks,
+    refuse_series,
     robot_spec,
     study_runner,
 )
 from tribokin.study.reading import load_study
-from tribokin.study.spec import ScenarioSpec
+from tribokin.study.spec import ScenarioSpec, check_drift
 
 
 @dataclass
@@ -130,6 +133,28 @@ def scenario_settings(scenario: ScenarioSpec, robots: MapRobots, place: int) -> 
     return settings
 
 
+def drift_test(study) -> DriftTest | None:
+    """The study's ``[drift]`` as the poses' :class:`~tribokin.simulation.drift.DriftTest` (``None``: none), checked
+    again with the study's cycles (a command line's ``--cycles`` may have changed them)."""
+    if study.drift is None:
+        return None
+    check_drift(study.drift, study.cycles, study.cycle_time_s, True, study.source)
+    span = math.floor(study.drift.duration_s / study.cycle_time_s * (1 + 1e-12))
+    return DriftTest(span, study.drift.set_cycles or study.cycles, study.drift.start == "warm")
+
+
+def model_settings(model) -> dict:
+    """A joint error model as ``summary.json`` records it: its values but its friction law (recorded apart), its
+    friction's time series (``series``) and ``travel_per_cycle`` only when given."""
+    out = {}
+    for f in fields(model):
+        value = getattr(model, f.name)
+        if f.name == "friction" or (f.name in ("series", "travel_per_cycle") and value is None):
+            continue
+        out[f.name] = asdict(value) if f.name == "series" else value
+    return out
+
+
 def run_study(study, cycles: int | None = None, seed: int | None = None, *, executor: Executor | None = None,
               checkpoint=None, resume: bool = False, progress: Callable[[int, int], None] | None = None,
               meshes: bool = True, meanwhile: Callable[[], None] | None = None) -> StudyResult:
@@ -163,6 +188,10 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     if resume and study.map is None and checkpoint is not None and Path(checkpoint).exists():
         raise InputError("this study has no [map], so these chunks are another run's; run that study with "
                          "--resume, or pass --force without --resume to start over", checkpoint, "--resume")
+    if study.map is not None:
+        refuse_series(study, "a placement search" if study.placement is not None else "a [map]",
+                      "remove the key, or the study's [map] to run its poses alone")
+    drift = drift_test(study)
     robot = load_robot(study, meshes)
     models = joint_models(study, robot)
     tasks, cube = pose_tasks(study, robot)
@@ -176,6 +205,8 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     prepared_map = None if robots is None else prepare_map(study, robots)  # the map's keys checked at any base
     runner = study_runner(study, robot, models)
     poses = with_expected_figures(runner, tasks, run_poses(runner, tasks))
+    if drift is not None:
+        poses = with_drift(runner, tasks, poses, drift)
     workspace_map = placement = None
     if study.placement is not None:
         placement = run_placement(study, executor, checkpoint, resume, progress)
@@ -194,9 +225,10 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
         "engine": study.engine,
         "payload_kg": study.robot.payload_kg,
         "iso_cube": cube,
+        **({} if study.cycle_time_s is None else {"cycle_time_s": study.cycle_time_s}),
+        **({} if drift is None else {"drift": asdict(drift)}),
         "friction": {name: m.friction.describe() for name, m in zip(robot.joint_names, models, strict=True)},
-        "joint_models": {name: {f.name: getattr(m, f.name) for f in fields(m) if f.name != "friction"}
-                         for name, m in zip(robot.joint_names, models, strict=True)},
+        "joint_models": {name: model_settings(m) for name, m in zip(robot.joint_names, models, strict=True)},
         "scenarios": [scenario_settings(s, robots, place)
                       for s, place in zip(study.scenarios, robots.places, strict=True)]
         if study.scenarios else [],

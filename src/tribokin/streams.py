@@ -13,8 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 #: Spawn-key purposes of the study-seeded streams: a pose's cycles, its replicate tests, a map target's cycles,
-#: an expected map's common random numbers.
-POSE, POSE_REPLICATES, MAP_TARGET, EXPECTED = 0, 1, 2, 3
+#: an expected map's common random numbers, a pose's drift tests.
+POSE, POSE_REPLICATES, MAP_TARGET, EXPECTED, DRIFT = 0, 1, 2, 3, 4
 #: Seed of the fixed streams: posture searches and IK restarts.
 SEARCH_SEED = 9283
 
@@ -31,6 +31,11 @@ def pose_stream(seed: int, index: int) -> np.random.Generator:
 def replicate_stream(seed: int, index: int) -> np.random.Generator:
     """The replicate tests of pose ``index`` (the 95 % interval of RP_l)."""
     return _seeded(seed, index, POSE_REPLICATES)
+
+
+def drift_stream(seed: int, index: int) -> np.random.Generator:
+    """The simulated drift tests of pose ``index`` (``[drift]``: :mod:`tribokin.simulation.drift`)."""
+    return _seeded(seed, index, DRIFT)
 
 
 def map_target_stream(seed: int, index: int) -> np.random.Generator:

@@ -53,3 +53,18 @@ def test_thermal_needs_each_joint_s_travel_and_scenarios_are_checked_alike():
         study({"friction": {"preset": "42CD4-raw"}, "travel_per_cycle": 1.0}, map={
             "kind": "joint", "joints": ["shoulder_pan_joint"], "ranges": [[0, 1]], "counts": [2]},
             scenarios=[{"name": "warm", "joints": {"friction": thermal}}]))
+
+
+def test_where_time_keys_are_not_simulated_the_first_is_named():
+    """study.assembly.refuse_series (a map's run, a calibration): the first joint friction's time key, its own
+    table's first; none given, nothing refused."""
+    from tribokin.study.assembly import refuse_series
+
+    given = parse_study(study({"friction": {"preset": "42CD4-raw"}, "wrist_1_joint": {"friction_torque_Nm": {
+        "law": "gaussian", "mean": 1.0, "std": 0.1, "steady_mean_std": 0.05}}}), "s.toml")
+    with pytest.raises(InputError) as error:
+        refuse_series(given, "a calibration", "remove the key")
+    assert error.value.one_line() == ("s.toml: joints.wrist_1_joint.friction_torque_Nm.steady_mean_std: a calibration "
+                                      "does not simulate friction time keys yet (it would draw every cycle "
+                                      "independently; only the study's poses and ISO cube draw them): remove the key")
+    refuse_series(parse_study(study({"friction": {"preset": "42CD4-raw"}}), "s.toml"), "a calibration", "")

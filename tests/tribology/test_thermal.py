@@ -77,3 +77,18 @@ def test_thermal_needs_the_motion():
         draw_series(Constant(0.1), FrictionSeries(thermal=Thermal(60.0, 1.0, mu_per_K=0.0)), 1, 2,
                     np.random.default_rng(0))
     assert error.value.parameter == "thermal"
+
+
+def test_the_settled_temperature_is_the_fixed_point_s_closed_form():
+    """Thermal.settled_C ([drift] start = "warm"): T = ambient + R·P·v·(1 + k (T − ambient)), so
+    T − ambient = R P v / (1 − k R P v) for a rate k per kelvin; a table's is where its factor holds it; a constant
+    friction stepped from there stays there."""
+    thermal = Thermal(600.0, 2.0, ambient_C=25.0, mu_per_K=-0.01)
+    gain = 2.0 * 3.0 * 0.5  # R [K/W] × P [W per unit] × v
+    assert thermal.settled_C(3.0, 0.5) == pytest.approx(25.0 + gain / (1 + 0.01 * gain), rel=1e-12)
+    table = Thermal(600.0, 2.0, ambient_C=20.0, mu_table=((20.0, 1.0), (40.0, 0.5)))
+    settled = table.settled_C(3.0, 0.5)  # ΔT = 3 (1 − ΔT / 40): 120/43 K
+    assert settled == pytest.approx(20.0 + 120.0 / 43.0, rel=1e-12)
+    drawn = draw_series(Constant(0.5), FrictionSeries(thermal=thermal), 1, 50, np.random.default_rng(0), 3.0,
+                        CYCLE_S, thermal.settled_C(3.0, 0.5))
+    assert np.allclose(drawn.temperature_C, thermal.settled_C(3.0, 0.5), rtol=1e-12, atol=0)

@@ -22,7 +22,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from tribokin.compiled import kernels_used
-from tribokin.errors import InputError, TribokinError
+from tribokin.errors import InputError, JointModelError, TribokinError
 from tribokin.execution import local_pool, run_chunks
 from tribokin.iso9283.gaussian_tests import ASYMPTOTIC_CYCLES
 from tribokin.kinematics.chain import serial_chain
@@ -304,7 +304,14 @@ def plan_map(spec: MapSpec, robots: tuple[Robot, ...], runners: list[PoseRunner]
         GridError: a spec that does not fit a robot; its ``robot`` is that robot's number.
         JointRangeError: (or what a runner's ``locate`` makes of it) a deviation beyond a joint's range at a row's
             start; its ``scenario`` is the scenario's number.
+        JointModelError: a joint whose friction is a time series (its ``series``), which maps do not simulate yet.
     """
+    for runner in runners:
+        for name, model in zip(runner.robot.joint_names, runner.models, strict=True):
+            if model.correlated:
+                raise JointModelError(f"joint '{name}': a map does not simulate friction time series yet (it would "
+                                      "draw every cycle independently): pose tests do; give it series=None",
+                                      name, "series")
     places = tuple(next(r for r, robot in enumerate(robots) if robot is runner.robot) for runner in runners)
     grids = []
     for r, robot in enumerate(robots):

@@ -42,7 +42,15 @@ from tribokin.measurement.contract import file_size
 from tribokin.measurement.registration import Choice, Transform, checked_choice
 from tribokin.output.provenance import software_versions
 from tribokin.run import run_study
-from tribokin.study.assembly import check_names, joint_models, load_robot, map_robots, pose_tasks, study_runner
+from tribokin.study.assembly import (
+    check_names,
+    joint_models,
+    load_robot,
+    map_robots,
+    pose_tasks,
+    refuse_series,
+    study_runner,
+)
 from tribokin.study.calibrated_study import WrittenValue, calibrated_study_text
 from tribokin.study.calibration_data import CalibrationInput, calibration_input, read_robot_measurements
 from tribokin.study.names import calibrated_pose_names, check_measured_pose_names, cloud_figure_file
@@ -353,6 +361,7 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
     if study.calibration is None:
         raise InputError("no [calibration] section: add one naming what to fit (fit = [\"stiffness\", ...])",
                          study.source, "calibration")
+    refuse_series(study, "a calibration", "remove the key to calibrate the joints' independent-cycle model")
     robot = load_robot(study, meshes=False)  # no robot drawn
     models = joint_models(study, robot)
     only_map = replace(study, poses=(), iso_cube=None, calibration=None)

@@ -18,9 +18,11 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from tribokin.errors import JointModelError, JointRangeError, closest_hint
+from tribokin.errors import JointModelError, JointRangeError, SettingsError, closest_hint
 from tribokin.kinematics.robot import Robot
+from tribokin.tribology.friction_series import FrictionSeries, draw_series
 from tribokin.tribology.laws import FrictionLaw
+from tribokin.tribology.thermal import power_per_value
 
 APPROACH_MODES = ("unidirectional", "bidirectional", "random")
 
@@ -39,6 +41,10 @@ class JointErrorModel:
         offset: constant displacement of the transmission elements, epsilon_t [m or rad].
         noise_std: standard deviation of extra Gaussian noise per cycle [m or rad].
         bearing_span_m: span between the joint's guide pads or bearings [m], for loads from statics.
+        series: how the friction moves from cycle to cycle (:class:`~tribokin.tribology.friction_series.
+            FrictionSeries`: ``ar1``, running-in, warm-up); ``None``: every cycle an independent draw.
+        travel_per_cycle: the joint's travel in one cycle [m or rad], both ways summed: what its ``thermal`` heats
+            by (required with it).
     """
 
     friction: FrictionLaw
@@ -49,6 +55,8 @@ class JointErrorModel:
     offset: float = 0.0
     noise_std: float = 0.0
     bearing_span_m: float = 0.1
+    series: FrictionSeries | None = None
+    travel_per_cycle: float | None = None
 
     def __post_init__(self):
         if not isinstance(self.friction, FrictionLaw):
@@ -65,6 +73,22 @@ class JointErrorModel:
             if not number or not math.isfinite(value) or value < low or (strict and value == low):
                 bound = "" if low == -math.inf else f" {'>' if strict else '>='} {low:g}"
                 raise JointModelError(f"{name} must be a finite number{bound} (got {value!r})", None, name)
+        if self.series is not None and not isinstance(self.series, FrictionSeries):
+            raise JointModelError(f"series must be a FrictionSeries (tribokin.tribology.friction_series; got "
+                                  f"{type(self.series).__name__})", None, "series")
+        travel = self.travel_per_cycle
+        if travel is not None and not (isinstance(travel, (int, float, np.number)) and math.isfinite(travel)
+                                       and travel >= 0):
+            raise JointModelError(f"travel_per_cycle must be a finite number >= 0 (got {travel!r})", None,
+                                  "travel_per_cycle")
+        if self.series is not None and self.series.thermal is not None and travel is None:
+            raise JointModelError("series.thermal heats the joint by its friction power every cycle: give its "
+                                  "travel_per_cycle [m or rad]", None, "travel_per_cycle")
+
+    @property
+    def correlated(self) -> bool:
+        """The joint's friction is a time series (:attr:`series`), not an independent draw every cycle."""
+        return self.series is not None and not self.series.independent
 
     @property
     def friction_is_torque(self) -> bool:
@@ -131,13 +155,20 @@ def friction_loads(models: list[JointErrorModel], forces_N: np.ndarray) -> np.nd
     return np.where([m.friction_is_torque for m in models], 1.0, forces_N)
 
 
+def torque_per_value(models: list[JointErrorModel], prismatic: np.ndarray, forces_N: np.ndarray) -> np.ndarray:
+    """(..., nv) each joint's friction torque [N·m] (force [N], prismatic) per unit of its law's value under bearing
+    loads ``forces_N`` (..., nv) [N]: N·r for a law of mu (N at a prismatic joint), 1 for a law of the torque or
+    force."""
+    return friction_loads(models, np.asarray(forces_N, dtype=float)) * friction_lever(models, prismatic) * \
+        np.array([m.stiffness for m in models])
+
+
 def friction_torque_moments(models: list[JointErrorModel], prismatic: np.ndarray, forces_N: np.ndarray
                             ) -> tuple[np.ndarray, np.ndarray]:
     """Mean and standard deviation (..., nv) of each joint's friction torque [N·m] (force [N], prismatic) under
     bearing loads ``forces_N`` (..., nv) [N]: mu·N·r of a law of mu, the law itself for a law of the torque or force.
     Lost motion is this over the stiffness (:func:`sample_joint_deviations` draws it)."""
-    torque_per_unit = friction_loads(models, np.asarray(forces_N, dtype=float)) * friction_lever(models, prismatic) * \
-        np.array([m.stiffness for m in models])
+    torque_per_unit = torque_per_value(models, prismatic, forces_N)
     return (np.array([m.friction.mean() for m in models]) * torque_per_unit,
             np.array([m.friction.std() for m in models]) * torque_per_unit)
 
@@ -222,20 +253,54 @@ def approach_signs(mode: str, cycles: int, directions: np.ndarray, rng: np.rando
     return directions[group].astype(float), group
 
 
-def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Generator) -> np.ndarray:
+def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Generator, tests: int = 1,
+                  torque_per_value: np.ndarray | None = None, cycle_time_s: float | None = None,
+                  warm: bool = False) -> np.ndarray:
     """Friction coefficients mu (cycles, nv) [-], drawn joint by joint (all cycles of the first joint,
     then of the second...): in one call when all joints share one law, the usual case.
 
+    A joint whose friction is a time series (:attr:`JointErrorModel.correlated`) draws its cycles as ``tests``
+    consecutive tests of ``cycles / tests`` cycles each, every one from the series' start (its ``age_cycles``, a
+    cold joint), by :func:`~tribokin.tribology.friction_series.draw_series`; then every joint draws so, the
+    independent ones ``law.rvs((tests, cycles / tests))``. Its ``thermal`` heats it by the friction power
+    :func:`~tribokin.tribology.thermal.power_per_value` gives from ``torque_per_value`` (nv,) [N·m or N per unit
+    of the law's value: :func:`sample_joint_deviations`'), its ``travel_per_cycle`` and ``cycle_time_s`` [s], from
+    ambient or (``warm``) from the temperature the law's mean settles it at
+    (:meth:`~tribokin.tribology.thermal.Thermal.settled_C`).
+
     Returns a view of (nv, cycles) memory, so each joint's cycles are contiguous."""
     laws = [m.friction for m in models]
-    if all(law is laws[0] or law == laws[0] for law in laws):
-        return laws[0].rvs(size=(len(laws), cycles), random_state=rng).T
-    return np.array([law.rvs(size=cycles, random_state=rng) for law in laws]).T
+    if not any(m.correlated for m in models):
+        if all(law is laws[0] or law == laws[0] for law in laws):
+            return laws[0].rvs(size=(len(laws), cycles), random_state=rng).T
+        return np.array([law.rvs(size=cycles, random_state=rng) for law in laws]).T
+    if cycles % tests:
+        raise ValueError(f"{cycles} cycles do not split into {tests} tests")
+    drawn = []
+    for i, model in enumerate(models):
+        series, power, start = model.series or FrictionSeries(), None, None
+        if series.thermal is not None:
+            if cycle_time_s is None:
+                raise SettingsError("a joint's friction heats it every cycle (series.thermal): give cycle_time_s, "
+                                    "one cycle's duration [s]", "cycle_time_s")
+            power = power_per_value(model.travel_per_cycle, cycle_time_s, float(torque_per_value[i]))
+            start = series.thermal.settled_C(power, model.friction.mean()) if warm else None
+        drawn.append(draw_series(model.friction, series, tests, cycles // tests, rng, power, cycle_time_s,
+                                 start).values)
+    return np.array(drawn).reshape(len(models), cycles).T
 
 
 def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray, normal_forces_N: np.ndarray,
-                            signs: np.ndarray, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+                            signs: np.ndarray, rng: np.random.Generator, tests: int = 1,
+                            cycle_time_s: float | None = None, warm: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Draw the joint deviations dq of every cycle.
+
+    A joint's friction time series (:attr:`JointErrorModel.series`) runs through each of ``tests`` consecutive
+    tests of n / ``tests`` cycles from its start (:func:`draw_friction`). Its ``thermal`` power rests on the bearing
+    load ``normal_forces_N`` at the tested pose, held over the joint's whole ``travel_per_cycle``: a cycle dissipates
+    the friction torque (force) mu·N·r (the law's own torque or force) times that travel, spread over
+    ``cycle_time_s`` (the joint's motion to and from the pose, its dwell included); the loads of the path between
+    are not computed.
 
     Args:
         models: one error model per active joint.
@@ -243,12 +308,18 @@ def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray
         normal_forces_N: (nv,) load on each joint's bearing [N].
         signs: (n, nv) direction of travel of each joint in each cycle.
         rng: random generator; draws mu (:func:`draw_friction`), then the noise.
+        tests: the tests the n cycles are, one after another (each n / ``tests`` cycles long).
+        cycle_time_s: one cycle's duration [s], required by a joint's ``thermal``.
+        warm: each test's joints start at the temperature their mean friction settles them at, not ambient.
 
     Returns:
         dq (n, nv) [m or rad] and the draws of the friction laws (n, nv): coefficients mu [-], or torques [N·m]
         (forces [N]) for a joint whose law gives them.
     """
-    mu = draw_friction(models, signs.shape[0], rng)
+    torque = None
+    if any(m.correlated for m in models):  # the friction torque (force) per unit of the law's value, for thermal
+        torque = torque_per_value(models, prismatic, normal_forces_N)
+    mu = draw_friction(models, signs.shape[0], rng, tests, torque, cycle_time_s, warm)
     dq = mu * (friction_loads(models, np.asarray(normal_forces_N, dtype=float)) * friction_lever(models, prismatic))
     if any(m.backlash for m in models):
         dq += np.array([m.backlash / 2 for m in models])

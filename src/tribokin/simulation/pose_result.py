@@ -141,6 +141,8 @@ def pose_table_row(row: dict, joints: list[str], missing="") -> dict:
             flat.update({f"normal_force_{joint}_N": v for joint, v in zip(joints, value, strict=True)})
         elif key in POSE_VECTOR_COLUMNS:
             flat.update(zip(POSE_VECTOR_COLUMNS[key], value or (missing,) * len(POSE_VECTOR_COLUMNS[key]), strict=True))
+        elif key == "drift":  # its figures and settings; their errors and bands in summary.json only
+            flat.update({f"drift_{name}": v for name, v in value.items() if not isinstance(v, dict)})
         elif isinstance(value, list) and key.endswith("_m"):
             flat.update({f"{key[:-2]}_{axis}_m": v for axis, v in zip("xyz", value, strict=True)})
         else:

@@ -50,6 +50,7 @@ class RunSettings(Protocol):
     approach: str
     engine: str
     payload_kg: float  # the robot's payload [kg]
+    cycle_time_s: float | None  # one cycle's duration [s], what a joint's friction warm-up reads
 
 
 #: The propagation engines (:func:`~tribokin.propagation.exact.tool_deviations`).
@@ -67,6 +68,9 @@ class TestSettings:
         engine: ``"fast"`` (the product of exponentials with its bound, falling back to the exact one) or
             ``"exact"`` (Pinocchio's forward kinematics) (:data:`ENGINES`).
         payload_kg: the payload at the tool point [kg], for the bearing loads from statics.
+        cycle_time_s: one cycle's duration [s] (an approach to the pose, its dwell included): what a joint's friction
+            warm-up (:attr:`~tribokin.simulation.joint_errors.JointErrorModel.series`' ``thermal``) reads; ``None``:
+            not given.
 
     Raises:
         SettingsError: a value outside its range, naming it.
@@ -79,6 +83,7 @@ class TestSettings:
     approach: str = "unidirectional"
     engine: str = "fast"
     payload_kg: float = 0.0
+    cycle_time_s: float | None = None
 
     def __post_init__(self):
         whole = isinstance(self.cycles, (int, np.integer)) and not isinstance(self.cycles, bool)
@@ -91,11 +96,15 @@ class TestSettings:
                 raise SettingsError(f"{name} must be one of {', '.join(valid)} (got {getattr(self, name)!r})", name)
         if not (isinstance(self.payload_kg, (int, float)) and math.isfinite(self.payload_kg) and self.payload_kg >= 0):
             raise SettingsError(f"payload_kg must be a finite number >= 0 (got {self.payload_kg!r})", "payload_kg")
+        time = self.cycle_time_s
+        if time is not None and not (isinstance(time, (int, float)) and math.isfinite(time) and time > 0):
+            raise SettingsError(f"cycle_time_s must be a finite number > 0 s (got {time!r})", "cycle_time_s")
 
     @classmethod
     def of(cls, settings: RunSettings) -> TestSettings:
         """The settings of anything that has them (a :class:`tribokin.study.spec.Study`)."""
-        return cls(settings.cycles, settings.seed, settings.approach, settings.engine, settings.payload_kg)
+        return cls(settings.cycles, settings.seed, settings.approach, settings.engine, settings.payload_kg,
+                   settings.cycle_time_s)
 
 
 #: Approach directions of a joint-space pose: every joint travelling +, then every joint travelling -.
@@ -169,6 +178,10 @@ class PoseRunner:
     def __init__(self, settings: RunSettings, robot: Robot, models: list[JointErrorModel],
                  locate: Callable[[TribokinError], TribokinError] | None = None):
         self.settings, self.robot, self.models, self.locate = settings, robot, list(models), locate
+        if settings.cycle_time_s is None and any(m.series is not None and m.series.thermal is not None
+                                                 for m in self.models):
+            raise SettingsError("a joint's friction heats it every cycle (its series' thermal): give cycle_time_s, "
+                                "one cycle's duration [s]", "cycle_time_s")
         self.offsets = np.array([m.offset for m in models])
         self.loads = None
         if any(m.normal_force_N is None for m in models):
@@ -210,19 +223,31 @@ class PoseRunner:
             raise self.locate(error) from None
 
     def models_at(self, task: PoseTask) -> list[JointErrorModel]:
-        """The joint error models at a pose: the runner's, with the pose's friction law if it has one."""
-        return self.models if task.friction is None else [replace(m, friction=task.friction) for m in self.models]
+        """The joint error models at a pose: the runner's, with the pose's friction law if it has one (a law only:
+        its cycles independent, whatever time series the joints' own friction is)."""
+        if task.friction is None:
+            return self.models
+        return [replace(m, friction=task.friction, series=None) for m in self.models]
 
     def draw(self, task: PoseTask, forces_N, cycles: int, mode: str, rng):
         """Joint deviations of the cycles at one pose: (dq (n, nv) [m or rad], mu (n, nv), approach index (n,))."""
         signs, group = approach_signs(mode, cycles, task.directions, rng)
-        dq, mu = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs, rng)
+        dq, mu = self.deviations(task, forces_N, signs, rng)
         return dq, mu, group
+
+    def deviations(self, task: PoseTask, forces_N, signs: np.ndarray, rng, tests: int = 1, warm: bool = False):
+        """Joint deviations dq (n, nv) [m or rad] and the friction laws' draws (n, nv) of n cycles at a pose under
+        bearing loads ``forces_N`` (nv,) [N], joint signs ``signs`` (n, nv): ``tests`` tests one after another, a
+        joint's friction series running through each from its start (``warm``: a warm-up from its settled
+        temperature) (:func:`~tribokin.simulation.joint_errors.sample_joint_deviations`)."""
+        return sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs, rng,
+                                       tests, self.settings.cycle_time_s, warm)
 
     def approach_sequence(self, task: PoseTask, rng) -> tuple[np.ndarray, np.ndarray]:
         """The joints' signs of travel (n, nv) and the approach index (n,) of every cycle at a pose:
         ``settings.cycles`` from each direction, one series after another (unidirectional) or in turn
-        (bidirectional); or as many cycles in all, each from a direction drawn at random (random)."""
+        (bidirectional); or as many cycles in all, each from a direction drawn at random (random). A joint's friction
+        series starts afresh with each unidirectional series (each its own test), and runs through the others."""
         mode, count, cycles = self.settings.approach, len(task.directions), self.settings.cycles
         if mode == "unidirectional":
             group = np.repeat(np.arange(count), cycles)
@@ -235,7 +260,8 @@ class PoseRunner:
         task = task.tested(self.settings.approach)
         forces = self.normal_forces(task)
         signs, group = self.approach_sequence(task, rng)
-        dq, mu = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces, signs, rng)
+        tests = len(task.directions) if self.settings.approach == "unidirectional" else 1
+        dq, mu = self.deviations(task, forces, signs, rng, tests)
         positions, angles = tool_deviations(self.robot, task.q, dq, self.settings.engine)
         commanded = self.robot.tool_placement(task.q)
         metrics = directional_metrics(positions, angles, commanded.translation, group, task.labels)
@@ -278,8 +304,8 @@ class PoseRunner:
             signs = task.directions[task.labels.index(label)].astype(float)
 
             def replicates(tests: int, signs=signs) -> np.ndarray:  # (tests,) RP_l [m] of replicate tests
-                dq, _ = sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N,
-                                                np.broadcast_to(signs, (tests * cycles, len(signs))), rng)
+                dq, _ = self.deviations(task, forces_N, np.broadcast_to(signs, (tests * cycles, len(signs))), rng,
+                                        tests)
                 return position_repeatability((dq @ jacobian.T).reshape(tests, cycles, 3))[0]
 
             interval, errors = replicate_interval(replicates, cycles)

@@ -84,7 +84,7 @@ def map_robots(study: Study, robot: Robot) -> MapRobots:
 def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
     """One error model per active joint (:func:`tribokin.simulation.joint_errors.joint_models`): the ``[joints]``
     defaults with ``[joints.<name>]`` overrides; a joint's friction is the one its override gives (any of
-    ``FRICTION_KEYS``), else the defaults'."""
+    ``FRICTION_KEYS``), else the defaults'; with its time keys (its ``series``) and ``travel_per_cycle``."""
     names = robot.joint_names
     check_motion(study, names)
     for joint in study.joint_overrides:
@@ -111,7 +111,8 @@ def joint_models(study: Study, robot: Robot) -> list[JointErrorModel]:
         else:
             law = scaled_law_from_spec(table, FRICTION_SCALE[given], given, study.source, key)
         check_series(law, spec.series, study.source, key)
-        values[name] = {"friction": law, **{k: v for k, v in asdict(spec).items() if k not in JOINT_MOTION_KEYS}}
+        values[name] = {"friction": law, "series": spec.series, "travel_per_cycle": spec.travel_per_cycle,
+                        **{k: v for k, v in asdict(spec).items() if k not in JOINT_MOTION_KEYS}}
     with located(study.source, JointKeys(study)):
         return joint_error_models(robot, joints=values)
 
@@ -122,16 +123,28 @@ JOINT_MOTION_KEYS = (*FRICTION_KEYS, "travel_per_cycle")
 
 def check_series(law, series: FrictionSeries | None, source, key: str) -> None:
     """Refuse the time keys of a joint's friction ``law`` (at ``key``) that it cannot take (an ``ar1`` it cannot
-    reach, :func:`~tribokin.tribology.friction_series.latent_correlation`); then, since ``run`` does not yet draw
-    friction as a time series, refuse them all rather than ignore them."""
-    if series is None:
-        return
-    with located(source, f"{key}.ar1"):
-        latent_correlation(law, series.ar1)
-    given = next(k for k in TIME_KEYS if getattr(series, k) != getattr(FrictionSeries(), k))
-    raise InputError("friction time keys are checked but not yet simulated by `tribokin run` (issue 38: its maps "
-                     "and poses draw every cycle independently): remove the key to run the study", source,
-                     f"{key}.{given}")
+    reach, :func:`~tribokin.tribology.friction_series.latent_correlation`)."""
+    if series is not None:
+        with located(source, f"{key}.ar1"):
+            latent_correlation(law, series.ar1)
+
+
+def refuse_series(study: Study, what: str, fix: str) -> None:
+    """Refuse a study whose joints' friction gives time keys where ``what`` (a map, a calibration) does not simulate
+    them yet: one line naming the first such key and how to ``fix`` it, rather than running without them. Its
+    scenarios' own keys too (``scenarios[i].joints...``)."""
+    for i, scenario in enumerate([study, *(s.study for s in study.scenarios)]):
+        for name in (None, *scenario.joint_overrides):
+            spec = scenario.joints if name is None else scenario.joint(name)
+            key = spec.friction_key
+            if key is None or (name is not None and key not in scenario.joint_overrides[name]):
+                continue
+            given = next((k for k in TIME_KEYS if k in getattr(spec, key)), None)
+            if given is not None:
+                at = ("joints" if name is None else f"joints.{name}") + f".{key}.{given}"
+                raise InputError(f"{what} does not simulate friction time keys yet (it would draw every cycle "
+                                 f"independently; only the study's poses and ISO cube draw them): {fix}",
+                                 scenario.source, at if i == 0 else f"scenarios[{i - 1}].{at}")
 
 
 @dataclass(frozen=True)

@@ -160,4 +160,11 @@ KEY_DOCS = {
                            "`mean`",
     "placement.min_reachable": "share of the task's targets a candidate must reach; one reaching fewer ranks after "
                                "every one that does",
+    # [drift]
+    "drift.duration_s": "how long ISO 9283's drift test approaches each pose, once every `study.cycle_time_s` (both "
+                        "required); [drift](../tribology.md#iso-9283-drift-drift)",
+    "drift.set_cycles": "cycles of the first and last sets measured (default: the study's `cycles`); both must fit "
+                        "in the duration",
+    "drift.start": "`cold` (every joint at ambient) or `warm` (a joint with `thermal` settled where its mean "
+                   "friction's power holds it)",
 }

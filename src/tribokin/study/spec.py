@@ -308,7 +308,14 @@ PLACEMENT_BOX_KEYS = ("base_xyz_m_min", "base_xyz_m_max", "resolution")
 #: The ``[robot]`` keys that name the robot itself: a scenario giving ``urdf`` or ``name`` takes none of them from
 #: the study's ``[robot]`` (another robot's frames, folders and arguments are its own); it keeps the others.
 ROBOT_IDENTITY_KEYS = ("urdf", "name", "xacro_args", "package_dirs", "tool_frame")
-TOP_KEYS = ("study", "robot", "joints", "poses", "iso_cube", "map", "scenarios", "calibration", "placement")
+TOP_KEYS = ("study", "robot", "joints", "poses", "iso_cube", "map", "scenarios", "calibration", "placement", "drift")
+#: ``[drift]``: ISO 9283's drift test at the study's poses, simulated (:class:`DriftSpec`).
+DRIFT_KEYS = {
+    "duration_s": (within(positive, 1.0, 1e7, "s", "a drift test lasts from seconds to ISO's 8 hours, not four "
+                          "months"), REQUIRED),
+    "set_cycles": (cycle_count, None),
+    "start": (one_of("cold", "warm"), "cold"),
+}
 
 
 def _frozen(values):
@@ -416,6 +423,18 @@ class IsoCubeSpec:
 
 
 @dataclass(frozen=True)
+class DriftSpec:
+    """``[drift]``: ISO 9283's drift test at each of the study's poses and approach directions, simulated: the pose
+    approached every ``study.cycle_time_s`` for ``duration_s`` [s], its first and last ``set_cycles`` cycles (``None``:
+    the study's ``cycles``) measured; ``start``: ``"cold"`` (every joint at ambient) or ``"warm"`` (each joint with a
+    ``thermal`` at the temperature its mean friction power settles it at)."""
+
+    duration_s: float
+    set_cycles: int | None
+    start: str
+
+
+@dataclass(frozen=True)
 class CalibrationSpec:
     """The ``[calibration]`` table of ``tribokin calibrate``: what to fit (``fit``: of ``"stiffness"``,
     ``"backlash"``, ``"noise_floor"``), for which ``joints`` (``"all"`` or names), ``tie`` (``"all"``: one common
@@ -471,6 +490,7 @@ class Study:
     placement: PlacementSpec | None = None
     data_dirs: tuple[str, ...] = ()
     cycle_time_s: float | None = None
+    drift: DriftSpec | None = None
 
     @property
     def has_tests(self) -> bool:
@@ -569,6 +589,10 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         raise InputError(f"pose name '{duplicate}' is used twice; names must be unique", source, "poses.name")
     if "scenarios" in mapping and map_spec is None:
         raise InputError("scenarios compare maps: add a [map] section", source, "scenarios")
+    drift = None
+    if "drift" in mapping:
+        drift = _spec(DriftSpec, check_table(table(mapping["drift"], source, "drift"), DRIFT_KEYS, source, "drift"))
+        check_drift(drift, study["cycles"], study["cycle_time_s"], bool(poses) or iso_cube is not None, source)
     parsed = Study(
         name=study["name"] or Path(source).stem,
         cycles=study["cycles"],
@@ -589,9 +613,26 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         placement=placement,
         data_dirs=_frozen(study["data_dirs"]),
         cycle_time_s=study["cycle_time_s"],
+        drift=drift,
     )
     check_motion(parsed, list(joint_overrides) or [None])  # a robot's every joint: study.assembly.joint_models
     return parsed
+
+
+def check_drift(drift: DriftSpec, cycles: int, cycle_time_s: float | None, has_poses: bool, source) -> None:
+    """Refuse a ``[drift]`` that cannot run: without poses to test, without ``study.cycle_time_s``, or too short for
+    its two sets of cycles (``drift.set_cycles``, else the study's ``cycles``)."""
+    if not has_poses:
+        raise InputError("simulates ISO 9283's drift test at the study's poses: add [[poses]] or an [iso_cube]", source,
+                         "drift")
+    if cycle_time_s is None:
+        raise InputError("[drift] approaches each pose once a cycle for drift.duration_s: give the cycle's duration "
+                         "as study.cycle_time_s [s]", source, "study.cycle_time_s")
+    sets = 2 * (drift.set_cycles or cycles)
+    if drift.duration_s < sets * cycle_time_s:
+        raise InputError(f"{drift.duration_s:g} s hold {int(drift.duration_s // cycle_time_s)} cycles of "
+                         f"{cycle_time_s:g} s, fewer than the first and last sets' {sets}: lengthen it, or lower "
+                         "drift.set_cycles", source, "drift.duration_s")
 
 
 def check_motion(study: Study, joints: list[str | None]) -> None:

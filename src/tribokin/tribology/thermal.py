@@ -88,6 +88,18 @@ class Thermal:
         settled = self.ambient_C + self.resistance_K_per_W * np.asarray(power_W, dtype=float)
         return settled + (temperature_C - settled) * math.exp(-duration_s / self.time_constant_s)
 
+    def settled_C(self, power_per_value_W: float, value: float) -> float:
+        """The temperature [°C] a joint settles at whose friction of ``value`` at ambient (times its factor at that
+        temperature) dissipates ``power_per_value_W`` [W] per unit of it: T = ambient + R·P·value·factor(T), by
+        fixed-point iteration from ambient (a contraction wherever the factor changes by less than 1/(R·P·value) per
+        kelvin: for the warm-ups of friction alone, by orders of magnitude)."""
+        gain, now = self.resistance_K_per_W * power_per_value_W * value, self.ambient_C
+        for _ in range(1000):
+            then, now = now, self.ambient_C + gain * float(self.factor(now))
+            if abs(now - then) <= 1e-12 * max(1.0, abs(now)):
+                break
+        return now
+
     def temperature(self, time_s, power_W: float, start_C: float | None = None) -> np.ndarray:
         """Closed form of the temperature [°C] at ``time_s`` [s] under a constant ``power_W`` [W] from ``start_C``
         (``None``: ambient): T∞ + (T₀ − T∞)·exp(−t/τ)."""
