@@ -24,7 +24,7 @@ $(VENV)/.docs: $(VENV)/.base
 
 DEMO_STUDIES := paper-fig10-frictionless paper-fig11-constant paper-fig12-gaussian paper-fig13-uniform \
                 tribology-log tribology-surfaces \
-                gantry-iso ur5-iso panda-iso ur5-published ur10-published panda-published two-link-xacro \
+                gantry-iso ur5-iso panda-iso ur5-published ur10-published panda-published ur5-warm-up two-link-xacro \
                 gantry-map ur5-map-horizontal ur5-map-directional panda-map-vertical ur5-what-if-materials \
                 what-if-robots what-if-placement gantry-placement ur5-placement
 
