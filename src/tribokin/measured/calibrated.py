@@ -19,6 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from tribokin.calibration.blas_threads import single_threaded_blas
 from tribokin.calibration.cross_validation import (
     DRAWS,
     PosePrediction,
@@ -331,9 +332,11 @@ class CalibrationResult(Written):
         }
 
 
+@single_threaded_blas()
 def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None, progress=None,
               registration: Choice | Transform = "auto") -> CalibrationResult:
-    """Fit the study's joint model to the measurements (module docstring).
+    """Fit the study's joint model to the measurements (module docstring), on one BLAS thread
+    (:mod:`tribokin.calibration.blas_threads`): the same bytes on any machine.
 
     Args:
         study: the study's file (TOML) with a ``[calibration]`` section.
