@@ -11,6 +11,7 @@ from helpers.calibration_arm import BACKLASH, NOISE_FLOOR_M, STIFFNESS, arm_kine
 from helpers.profile_deviance import profile_deviance
 from tribokin.calibration.data import stack
 from tribokin.calibration.fit import fit, profile_interval
+from tribokin.calibration.likelihood import log_likelihood
 
 TRUTH = dict(zip(arm_model().names(), np.concatenate([STIFFNESS, BACKLASH, [NOISE_FLOOR_M]]), strict=True))
 B_FIXED = dict(fit_backlash=(False,) * 6)
@@ -21,8 +22,22 @@ def covered(calibration) -> list[bool]:
     return [p.ci95[0] <= TRUTH[p.name] <= p.ci95[1] for p in calibration.parameters if p.identifiable]
 
 
-def test_round_trip_recovers_the_truth_within_the_intervals():
-    calibration = fit(arm_model(**B_FIXED), simulate(arm_kinematics(), np.random.default_rng(1)))
+@pytest.fixture(scope="module")
+def backlash_fixed():
+    """The arm's data of seed 1 (stacked) and their fit with the backlashes fixed (every parameter identifiable)."""
+    data = stack(simulate(arm_kinematics(), np.random.default_rng(1)))
+    return data, fit(arm_model(**B_FIXED), data)
+
+
+@pytest.fixture(scope="module")
+def all_free():
+    """The arm's data of seed 1 and their fit with every parameter free."""
+    poses = simulate(arm_kinematics(), np.random.default_rng(1))
+    return poses, fit(arm_model(), poses)
+
+
+def test_round_trip_recovers_the_truth_within_the_intervals(backlash_fixed):
+    _, calibration = backlash_fixed
     assert calibration.converged and calibration.rank == 7
     assert all(p.identifiable for p in calibration.parameters)
     assert all(covered(calibration))
@@ -53,11 +68,27 @@ def test_joint_whose_column_is_zero_is_named_not_identifiable():
     assert profile_interval(calibration, poses, "joints.j6.stiffness") == (None, None)  # a flat profile
 
 
-def test_profile_interval_of_a_well_determined_stiffness_is_close_to_its_wald_interval():
-    poses = simulate(arm_kinematics(), np.random.default_rng(1))
-    calibration = fit(arm_model(), poses)
+def test_profile_interval_of_a_well_determined_stiffness_is_close_to_its_wald_interval(all_free):
+    poses, calibration = all_free
     wald = {p.name: p.ci95 for p in calibration.parameters}["joints.j4.stiffness"]
     np.testing.assert_allclose(profile_interval(calibration, poses, "joints.j4.stiffness"), wald, rtol=0.01)
+
+
+def test_wald_interval_is_the_estimate_plus_minus_1_96_standard_errors_of_the_log_likelihood_s_curvature(
+        backlash_fixed):
+    """The Wald interval (``calibrate --intervals wald``) of every parameter is exp(θ̂ ± 1.96·se), se from the inverse
+    of the Hessian of -log L in θ computed here independently: central second differences of log L's values (the fit
+    differentiates its analytic gradient)."""
+    data, calibration = backlash_fixed
+    model, theta, step = calibration.nominal, calibration.theta, 1e-3
+    shifts = np.eye(len(theta)) * step
+    hessian = np.array([[-(log_likelihood(model, theta + a + b, data) - log_likelihood(model, theta + a - b, data)
+                           - log_likelihood(model, theta - a + b, data) + log_likelihood(model, theta - a - b, data))
+                         / (4 * step ** 2) for b in shifts] for a in shifts])
+    se = np.sqrt(np.diag(np.linalg.inv(hessian)))
+    for p, centre, error in zip(calibration.parameters, theta, se, strict=True):
+        np.testing.assert_allclose(p.ci95, np.exp([centre - 1.959963984540054 * error,
+                                                   centre + 1.959963984540054 * error]), rtol=1e-4)
 
 
 def test_tie_all_makes_identifiable_what_per_joint_stiffness_is_not():
@@ -116,11 +147,10 @@ def test_a_fit_is_held_within_the_model_ranges_and_says_so_at_their_ends():
     assert free.identifiable and free.value == pytest.approx(unbounded["joints.j4.stiffness"].value, rel=0.2)
 
 
-def test_profile_interval_ends_are_where_the_profile_deviance_reaches_the_chi2_quantile():
+def test_profile_interval_ends_are_where_the_profile_deviance_reaches_the_chi2_quantile(all_free):
     """At each end, the other parameters re-fitted by another optimiser give 2·(log L̂ - log L) = χ²₁(0.95): a
     weakly and a well determined stiffness, and the least determined identifiable backlash."""
-    poses = simulate(arm_kinematics(), np.random.default_rng(1))
-    calibration = fit(arm_model(), poses)
+    poses, calibration = all_free
     for name in ("joints.j1.stiffness", "joints.j5.stiffness", "joints.j2.backlash"):
         for end in profile_interval(calibration, poses, name):
             deviance = profile_deviance(calibration, stack(poses), name, end)

@@ -73,13 +73,15 @@ def calibrated(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def registered(tmp_path_factory) -> tuple[Path, Path]:
-    """The study without its map, and its fit to the tracker file (no report)."""
+def registered(tmp_path_factory) -> tuple[Path, Path, str]:
+    """The study without its map, its fit to the tracker file with Wald intervals (no report; the tests that use it
+    check values, frames and the Wald intervals, the calibrated fixture's run the profile ones), and what it printed."""
     folder = tmp_path_factory.mktemp("registered")
     study = study_without_map(folder)
-    done = tribokin("calibrate", study, "--measurements", DATA, "--out", folder / "fit", "--report", "none")
+    done = tribokin("calibrate", study, "--measurements", DATA, "--out", folder / "fit", "--report", "none",
+                    "--intervals", "wald")
     assert done.returncode == 0, done.stderr
-    return study, folder / "fit"
+    return study, folder / "fit", done.stdout
 
 
 @pytest.fixture(scope="module")
@@ -203,7 +205,7 @@ def test_the_fit_writes_the_same_bytes_on_one_blas_thread_or_two(registered):
 
 
 def test_rotating_and_shifting_the_measurements_changes_no_fitted_value(registered, tmp_path):
-    study, fitted = registered
+    study, fitted, _ = registered
     comments, header, rows = read_rows(DATA)
     rotation = Rotation.from_euler("zyx", [71.0, -12.0, 33.0], degrees=True).as_matrix()
     for row in rows:
@@ -211,7 +213,7 @@ def test_rotating_and_shifting_the_measurements_changes_no_fitted_value(register
         row.update({k: repr(float(v)) for k, v in zip(("x_m", "y_m", "z_m"), point, strict=True)})
     write_rows(tmp_path / "moved.csv", header, rows)
     done = tribokin("calibrate", study, "--measurements", tmp_path / "moved.csv", "--out", tmp_path / "moved",
-                    "--report", "none")
+                    "--report", "none", "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     first, moved = parameters(fitted), parameters(tmp_path / "moved")
     for name, entry in first.items():
@@ -220,19 +222,51 @@ def test_rotating_and_shifting_the_measurements_changes_no_fitted_value(register
             assert moved[name]["value"] == pytest.approx(entry["value"], rel=1e-9), name
 
 
+def test_wald_intervals_are_the_standard_errors_in_log_space_and_the_output_says_so(registered, calibrated):
+    """--intervals wald: each identifiable parameter's interval is value·exp(±1.96·se/value) (se its standard error,
+    the same as the profile run's), the Wald interval calibration.json gives beside it; the settings, the printed
+    table and calibrated.toml's comments name them; the values are the profile run's (its study has a map too)."""
+    _, fitted, stdout = registered
+    wald, profile = parameters(fitted), parameters(calibrated[0])
+    summary = json.loads((fitted / "calibration.json").read_text(encoding="utf-8"))
+    assert summary["settings"]["intervals"].startswith("Wald in log space")
+    assert "95 % interval (Wald, log scale)" in stdout and "profile likelihood" not in stdout
+    text = (fitted / "calibrated.toml").read_text(encoding="utf-8")
+    assert "(Wald, log scale)" in text and "profile likelihood" not in text
+    known = [name for name, entry in wald.items() if entry["identifiable"]]
+    assert len(known) == 6
+    for name in known:
+        entry, se = wald[name], wald[name]["std_error"] / wald[name]["value"]
+        assert entry == {**profile[name], "ci95": entry["ci95"]}, name
+        assert entry["ci95"] == entry["ci95_wald"] != profile[name]["ci95"], name
+        np.testing.assert_allclose(entry["ci95"], entry["value"] * np.exp([-1.959963984540054 * se,
+                                                                           1.959963984540054 * se]), rtol=1e-12)
+
+
+def test_intervals_other_than_profile_or_wald_are_refused_before_anything_is_read(tmp_path):
+    from tribokin import calibrate
+    from tribokin.errors import SettingsError
+
+    with pytest.raises(SettingsError, match="must be one of profile, wald") as refused:
+        calibrate(tmp_path / "absent.toml", DATA, intervals="bootstrap")
+    assert refused.value.argument == "intervals"
+    done = tribokin("calibrate", tmp_path / "absent.toml", "--measurements", DATA, "--intervals", "bootstrap")
+    assert done.returncode == 2 and "argument --intervals: invalid choice: 'bootstrap'" in done.stderr
+
+
 def test_too_few_poses_name_the_parameters_they_cannot_determine_and_tying_the_joints_helps(tmp_path):
     comments, header, rows = read_rows(DATA)
     write_rows(tmp_path / "two.csv", header, [r for r in rows if r["pose"] in ("P1", "P2")])
     per_joint = study_without_map(tmp_path, fit=["stiffness", "noise_floor"])
     done = tribokin("calibrate", per_joint, "--measurements", tmp_path / "two.csv", "--out", tmp_path / "per-joint",
-                    "--report", "none")
+                    "--report", "none", "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     found = parameters(tmp_path / "per-joint")
     blind = [n for n, p in found.items() if n.endswith("stiffness") and not p["identifiable"]]
     assert blind and all(n in done.stdout for n in blind)
     tied = study_without_map(tmp_path, fit=["stiffness", "noise_floor"], tie="all")
     done = tribokin("calibrate", tied, "--measurements", tmp_path / "two.csv", "--out", tmp_path / "tied",
-                    "--report", "none")
+                    "--report", "none", "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     assert parameters(tmp_path / "tied")["joints.stiffness_factor"]["identifiable"]
 
@@ -295,7 +329,7 @@ def test_configurations_from_commanded_positions_by_ik(tmp_path):
     rpy = [float(v) for v in cube_rpy.split(",")]
     study = study_without_map(tmp_path, fit=["stiffness", "backlash", "noise_floor"], tool_rpy_deg=rpy)
     done = tribokin("calibrate", study, "--measurements", tmp_path / "commanded.csv", "--out", tmp_path / "ik",
-                    "--report", "none")
+                    "--report", "none", "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     summary = json.loads((tmp_path / "ik" / "calibration.json").read_text(encoding="utf-8"))
     assert summary["settings"]["configurations"]["source"].startswith("inverse kinematics")
@@ -318,9 +352,9 @@ def test_without_a_registration_the_frame_is_fitted_and_the_output_says_so(regis
     """--registration none (the same fit as a file without commanded positions, whose series' points are the same):
     the tracker frame's rotation is profiled out; the determined stiffnesses agree with the registered fit's within
     their standard errors."""
-    study, fitted = registered
+    study, fitted, _ = registered
     done = tribokin("calibrate", study, "--measurements", DATA, "--out", tmp_path / "unknown", "--report", "none",
-                    "--registration", "none")
+                    "--registration", "none", "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     assert "frame: not registered (none)" in done.stdout
     summary = json.loads((tmp_path / "unknown" / "calibration.json").read_text(encoding="utf-8"))
@@ -390,7 +424,8 @@ def gantry_measurements(path, backlash_m: float = 0.0, noise_m: float = 1e-6) ->
 def test_every_layout_of_joints_calibrates_and_the_calibrated_study_runs(layout, tmp_path):
     gantry_measurements(tmp_path / "data.csv")
     done = tribokin("calibrate", gantry_study(tmp_path, layout), "--measurements", tmp_path / "data.csv", "--out",
-                    tmp_path / "fit", "--report", "none", "--registration", "best-fit")  # registered, as before auto
+                    tmp_path / "fit", "--report", "none", "--registration", "best-fit",  # registered, as before auto
+                    "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     text = (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8")
     found = parameters(tmp_path / "fit")
@@ -430,7 +465,7 @@ def test_fitted_values_run_would_refuse_are_one_line_naming_the_fit_and_nothing_
     gantry_measurements(tmp_path / "data.csv")
     status = main(["calibrate", str(gantry_study(tmp_path, "joint-tables-out-of-order")), "--measurements",
                    str(tmp_path / "data.csv"), "--out", str(tmp_path / "fit"), "--report", "none", "--registration",
-                   "best-fit"])
+                   "best-fit", "--intervals", "wald"])
     error = capsys.readouterr().err
     assert status == 2 and len(error.strip().splitlines()) == 1, error
     assert error.startswith(f"tribokin: error: {tmp_path / 'data.csv'}: calibration: the fitted values make a study "
@@ -448,7 +483,8 @@ def test_a_fit_beyond_the_study_s_range_is_held_at_its_end_said_so_and_the_calib
     text = study.read_text(encoding="utf-8")
     study.write_text(text.replace("stiffness = 2.0e6", "stiffness = 2.0e6\nbacklash = 0.09"), encoding="utf-8")
     done = tribokin("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
-                    "--report", "none", "--registration", "best-fit")  # three poses: auto keeps the tracker's frame
+                    "--report", "none", "--registration", "best-fit",  # three poses: auto keeps the tracker's frame
+                    "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     text = (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8")
     for joint in "xyz":

@@ -7,6 +7,7 @@ covariances and differences of barycentres, which a rigid change of frame turns 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -71,12 +72,19 @@ class SeriesStack:
     pose_index: np.ndarray
     poses: tuple[str, ...]
 
-    @property
+    @cached_property
     def pose_matrix(self) -> np.ndarray:
         """(n_poses, m) 1 where a series belongs to a pose, else 0."""
         return (np.arange(len(self.poses))[:, None] == self.pose_index[None, :]).astype(float)
 
-    @property
+    @cached_property
+    def pose_centred_mean_m(self) -> np.ndarray:
+        """(m, 3) each barycentre less the mean barycentre of its pose [m]."""
+        pose_matrix = self.pose_matrix
+        pose_centres = pose_matrix @ self.mean_m / pose_matrix.sum(axis=1)[:, None]
+        return self.mean_m - pose_matrix.T @ pose_centres
+
+    @cached_property
     def first_of_pose(self) -> np.ndarray:
         """(m,) index of the first series of each series' pose."""
         return np.array([np.flatnonzero(self.pose_index == p)[0] for p in self.pose_index])

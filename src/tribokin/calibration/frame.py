@@ -57,10 +57,7 @@ def to_base(data: SeriesStack, rotation: np.ndarray) -> SeriesStack:
 
     Scatter matrices and barycentres take the rotation's batch dimensions before their own.
     """
-    pose_matrix = data.pose_matrix
-    pose_centres = pose_matrix @ data.mean_m / pose_matrix.sum(axis=1)[:, None]
-    centred = data.mean_m - pose_matrix.T @ pose_centres
-    return replace(data, mean_m=np.einsum("...ba,mb->...ma", rotation, centred),
+    return replace(data, mean_m=np.einsum("...ba,mb->...ma", rotation, data.pose_centred_mean_m),
                    scatter_m2=np.einsum("...ba,mbc,...cd->...mad", rotation, data.scatter_m2, rotation))
 
 

@@ -22,6 +22,9 @@ Absolute barycentres never enter. Everything is vectorised over a batch of param
 
 from __future__ import annotations
 
+import weakref
+from functools import lru_cache
+
 import numpy as np
 from scipy.special import multigammaln
 
@@ -29,6 +32,9 @@ from tribokin.calibration.data import SeriesStack
 from tribokin.calibration.model import JointModel, predict_series
 
 LOG_2PI = np.log(2 * np.pi)
+#: Per data set (series stack) its :func:`scatter_log_density`: a fit's objective is called thousands of times on the
+#: same data.
+_SCATTER_TERMS: weakref.WeakKeyDictionary[SeriesStack, np.ndarray] = weakref.WeakKeyDictionary()
 
 
 def wishart_logpdf(scatter: np.ndarray, dof: np.ndarray, covariance: np.ndarray) -> np.ndarray:
@@ -36,16 +42,34 @@ def wishart_logpdf(scatter: np.ndarray, dof: np.ndarray, covariance: np.ndarray)
 
     The Wishart density for dof >= 3; the Helmert-contrast density (module docstring) below.
     """
+    return _wishart_logpdf(scatter_log_density(scatter, dof), dof, np.linalg.inv(covariance), covariance, scatter)
+
+
+def scatter_log_density(scatter: np.ndarray, dof: np.ndarray) -> np.ndarray:
+    """The terms of :func:`wishart_logpdf` that do not depend on Σ (the data's alone: a fit computes them once)."""
     dof = np.asarray(dof, dtype=float)
-    inverse = np.linalg.inv(covariance)
-    log_det = np.linalg.slogdet(covariance)[1]
-    quadratic = np.einsum("...ab,...ba->...", inverse, scatter)
     wishart = dof >= 3
+    log_2, log_gamma, helmert = _dof_terms(dof.shape, dof.tobytes())
     with np.errstate(invalid="ignore", divide="ignore"):
         log_det_s = np.where(wishart, np.linalg.slogdet(scatter)[1], 0.0)
-        data = np.where(wishart, (dof - 4) / 2 * log_det_s - 1.5 * dof * np.log(2)
-                        - multigammaln(np.maximum(dof, 3) / 2, 3), -1.5 * dof * LOG_2PI)
-    return data - dof / 2 * log_det - quadratic / 2
+        return np.where(wishart, (dof - 4) / 2 * log_det_s - log_2 - log_gamma, helmert)
+
+
+@lru_cache(maxsize=64)
+def _dof_terms(shape: tuple[int, ...], dof: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The terms of :func:`scatter_log_density` that depend on the degrees of freedom alone (float64 ``dof`` as
+    bytes): ``1.5·ν·log 2``, the multivariate gamma function's log, and the Helmert density's constant (a frame's
+    turned scatter matrices are new data on every call; their series' ν are not)."""
+    dof_array = np.frombuffer(dof).reshape(shape)
+    return 1.5 * dof_array * np.log(2), multigammaln(np.maximum(dof_array, 3) / 2, 3), -1.5 * dof_array * LOG_2PI
+
+
+def _wishart_logpdf(data: np.ndarray, dof: np.ndarray, inverse: np.ndarray, covariance: np.ndarray,
+                    scatter: np.ndarray) -> np.ndarray:
+    """:func:`wishart_logpdf` from its data terms (:func:`scatter_log_density`) and Σ⁻¹."""
+    log_det = np.linalg.slogdet(covariance)[1]
+    quadratic = np.einsum("...ab,...ba->...", inverse, scatter)
+    return data - np.asarray(dof, dtype=float) / 2 * log_det - quadratic / 2
 
 
 def difference_loglik(means: np.ndarray, shifts: np.ndarray, variances: np.ndarray, pose_matrix: np.ndarray
@@ -79,6 +103,14 @@ def difference_loglik(means: np.ndarray, shifts: np.ndarray, variances: np.ndarr
     spread_back = weights @ np.einsum("pm,...pab->...mab", pose_matrix, inverse_information) @ weights
     d_variance = 0.5 * (d_shift[..., :, None] * d_shift[..., None, :] - weights + spread_back)
     return value, d_shift, d_variance
+
+
+def _scatter_terms(data: SeriesStack) -> np.ndarray:
+    """(..., m) :func:`scatter_log_density` of the data's series, computed once per data set."""
+    terms = _SCATTER_TERMS.get(data)
+    if terms is None:
+        terms = _SCATTER_TERMS[data] = scatter_log_density(data.scatter_m2, data.cycles - 1)
+    return terms
 
 
 def log_likelihood(model: JointModel, theta: np.ndarray, data: SeriesStack) -> np.ndarray:
@@ -115,10 +147,10 @@ def log_likelihood_and_data_derivatives(model: JointModel, theta: np.ndarray, da
     covariance, shift = predict_series(k, b, noise[..., None], data.jacobian, data.signs, data.torque_mean,
                                        data.torque_std, model.joint_noise)
     dof = data.cycles - 1
-    spread = wishart_logpdf(data.scatter_m2, dof, covariance).sum(axis=-1)
+    inverse = np.linalg.inv(covariance)
+    spread = _wishart_logpdf(_scatter_terms(data), dof, inverse, covariance, data.scatter_m2).sum(axis=-1)
     n = data.cycles[:, None, None]
     differences, d_shift, d_variance = difference_loglik(data.mean_m, shift, covariance / n, data.pose_matrix)
-    inverse = np.linalg.inv(covariance)
     d_covariance = 0.5 * (inverse @ data.scatter_m2 @ inverse - dof[:, None, None] * inverse) + d_variance / n
     # Σ = Σ_i v_i J_i J_iᵀ + σ_n² I, v_i = (s σ_τ / k_i)² (+ σ_q²); m = Σ_i J_i s_i (τ̄_i / k_i + b_i / 2).
     d_v = np.einsum("mai,...mab,mbi->...mi", data.jacobian, d_covariance, data.jacobian)

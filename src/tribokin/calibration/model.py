@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -110,6 +111,11 @@ class JointModel:
         if np.any(self.stiffness <= 0) or np.any(self.backlash < 0) or not self.noise_floor_m > 0:
             raise ValueError("stiffness and the noise floor must be positive, backlash not negative")
 
+    @cached_property
+    def _free(self) -> tuple[np.ndarray, np.ndarray]:
+        """(nv,) masks of the free stiffnesses and backlashes (a fit's objective unpacks θ thousands of times)."""
+        return np.array(self.fit_stiffness, dtype=bool), np.array(self.fit_backlash, dtype=bool)
+
     @property
     def tied(self) -> bool:
         """One common stiffness factor for the free joints."""
@@ -159,7 +165,7 @@ class JointModel:
         """Stiffness (..., nv), backlash (..., nv) and noise floor (...) of θ of shape (p, ...)."""
         theta = np.asarray(theta, dtype=float)
         batch = theta.shape[1:]
-        free_k, free_b = np.array(self.fit_stiffness), np.array(self.fit_backlash)
+        free_k, free_b = self._free
         n_k = 1 if self.tied else int(free_k.sum())
         n_b = int(free_b.sum())
         values = np.exp(np.moveaxis(theta, 0, -1))
@@ -183,7 +189,7 @@ class JointModel:
                  ) -> np.ndarray:
         """(p, ...) derivative with respect to θ of derivatives with respect to every joint's log k
         (..., nv), log b (..., nv) and log σ_n (...)."""
-        free_k, free_b = list(self.fit_stiffness), list(self.fit_backlash)
+        free_k, free_b = self._free
         stiff = d_log_stiffness[..., free_k]
         if self.tied:
             stiff = stiff.sum(axis=-1, keepdims=True)

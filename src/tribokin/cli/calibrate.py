@@ -28,6 +28,9 @@ def add_parser(commands) -> None:
                            help="report.html with the tables and figures (full, default) or no report")
     parser.add_argument("--workers", type=int, default=1,
                            help="local processes computing the calibrated study's map, if it has one (default 1)")
+    parser.add_argument("--intervals", choices=("profile", "wald"), default="profile",
+                        help="the parameters' 95 %% intervals: profile likelihood (default; a few seconds of re-fits) "
+                             "or Wald in log space (from the standard errors; no re-fit)")
     add_registration_options(parser)
     parser.set_defaults(handler=calibrate)
 
@@ -44,7 +47,7 @@ def calibrate(args) -> None:
             map_progress(warm_up=args.workers, compiling=kernels_to_compile()) as progress:
         with options_located({"seed": "--seed"}), registration_noted():
             result = calibrate(args.study, args.measurements, args.seed, out=args.out, executor=executor,
-                               progress=progress, registration=registration)
+                               progress=progress, registration=registration, intervals=args.intervals)
         warn_registration(result.inputs.frame)
         write_calibration(result, args.out, args.force, args.report)
     _print(result, args)
@@ -53,6 +56,8 @@ def calibrate(args) -> None:
 def _print(result, args) -> None:
     """The frame, the series left out, the parameters with their intervals, the fit's figures and the held-out
     predictions."""
+    from tribokin.measured.calibrated import INTERVALS
+
     frame, calibration = result.inputs.frame, result.calibration
     if frame.registration is None:
         print(f"frame: not registered ({frame.choice}); {result.registration_why}")
@@ -62,7 +67,8 @@ def _print(result, args) -> None:
     for item in result.inputs.left_out:
         print(f"left out: {item.pose} '{item.direction}' ({item.cycles} cycles): {item.why}")
     width = max(len(p.name) for p in calibration.parameters)
-    print(f"{'parameter':<{width}} {'value':>12} {'std error':>12}  95 % interval (profile likelihood)")
+    print(f"{'parameter':<{width}} {'value':>12} {'std error':>12}  95 % interval "
+          f"({INTERVALS[result.interval_kind][1]})")
     for p in calibration.parameters:
         if not p.identifiable:
             print(f"{p.name:<{width}} {'not identifiable':>25}  {p.hint}")

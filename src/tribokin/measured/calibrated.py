@@ -31,7 +31,7 @@ from tribokin.calibration.cross_validation import (
 from tribokin.calibration.data import PoseData
 from tribokin.calibration.fit import Calibration, ParameterEstimate, fit, profile_interval
 from tribokin.checks import argument, seed_int
-from tribokin.errors import InputError
+from tribokin.errors import InputError, SettingsError
 from tribokin.execution import local_workers
 from tribokin.kinematics.robot import Robot
 from tribokin.maps import budget
@@ -61,7 +61,14 @@ from tribokin.units import UM_PER_M, um
 
 PARITY_FIGURE = "parity.png"
 SEED = 9283
-INTERVAL_METHOD = "profile likelihood (chi-squared, 1 degree of freedom, 95 %); Wald in log space beside it"
+#: Per kind of interval (``calibrate(..., intervals=)``, ``--intervals``): what ``calibration.json`` says of it, and
+#: the label beside an interval in the printed table, ``calibrated.toml``'s comments and the report.
+INTERVALS = {
+    "profile": ("profile likelihood (chi-squared, 1 degree of freedom, 95 %); Wald in log space beside it",
+                "profile likelihood"),
+    "wald": ("Wald in log space, value x exp(+-1.96 standard errors of log value) from the observed information "
+             "(intervals 'wald': no profile likelihood)", "Wald, log scale"),
+}
 PREDICTION_METHOD = (f"expected figure of one test at the fitted values (mean over {DRAWS} simulated tests of the "
                      "measured cycles, first-order model); 95 % prediction interval: 2.5th-97.5th percentile over "
                      f"{DRAWS} tests, each at parameters drawn from the fit's approximate posterior (parameter "
@@ -125,9 +132,9 @@ def _compared(inputs: CalibrationInput, fitted: tuple[PosePrediction, ...], held
 
 
 def _written_values(inputs: CalibrationInput, calibration: Calibration,
-                    intervals: dict[str, tuple[float | None, float | None]]) -> list[WrittenValue]:
+                    intervals: dict[str, tuple[float | None, float | None]], label: str) -> list[WrittenValue]:
     """The joint keys of ``calibrated.toml``: every joint parameter ``[calibration]`` frees, at the fit's value,
-    each with a comment saying what is known of it."""
+    each with a comment saying what is known of it (its interval's kind as ``label``)."""
     model, fitted = inputs.model, calibration.model
     estimates = {e.name: e for e in calibration.parameters}
     values = []
@@ -150,7 +157,7 @@ def _written_values(inputs: CalibrationInput, calibration: Calibration,
                 low, high = (None if v is None else v * float(model.stiffness[i]) for v in (low, high))
             shown = ", ".join("unbounded" if v is None else f"{v:.4g}" for v in (low, high))
             values.append(WrittenValue(joint, key, float(getattr(fitted, key)[i]),
-                                       f"fitted{factor}: 95 % interval [{shown}] {unit} (profile likelihood)"))
+                                       f"fitted{factor}: 95 % interval [{shown}] {unit} ({label})"))
     return values
 
 
@@ -247,7 +254,7 @@ class CalibrationResult(Written):
         robot: its robot (kinematics only).
         inputs: the calibration's data and model (per measured pose its configuration, Jacobian, series).
         calibration: the fit.
-        intervals: per identifiable parameter, its profile-likelihood 95 % interval (``None``: unbounded).
+        intervals: per identifiable parameter, its 95 % interval (``None``: unbounded), of ``interval_kind``.
         fitted: per pose, its figures predicted by the fit to every pose.
         held_out: per pose, its figures predicted by the fit to the other poses.
         seed: seed of the predictions' simulated tests.
@@ -258,6 +265,7 @@ class CalibrationResult(Written):
         values: the joint values ``calibrated.toml`` writes, each with its comment.
         written_poses: the measured poses ``calibrated.toml`` adds: (name, configuration, approach labels).
         study_text: the study file's own text, which ``calibrated.toml`` keeps.
+        interval_kind: ``"profile"`` (profile likelihood) or ``"wald"`` (Wald in log space) intervals.
     """
 
     study_file: str
@@ -278,6 +286,7 @@ class CalibrationResult(Written):
     values: tuple[WrittenValue, ...] = field(repr=False)
     written_poses: tuple = field(repr=False)
     study_text: str = field(repr=False)
+    interval_kind: str = "profile"
 
     @property
     def registration_why(self) -> str | None:
@@ -319,7 +328,7 @@ class CalibrationResult(Written):
                                    "q": {p.label: q.tolist()
                                          for p, q in zip(inputs.poses, inputs.configurations, strict=True)}},
                 "left_out": [asdict(item) for item in inputs.left_out],
-                "intervals": INTERVAL_METHOD, "predictions": PREDICTION_METHOD, "seed": self.seed,
+                "intervals": INTERVALS[self.interval_kind][0], "predictions": PREDICTION_METHOD, "seed": self.seed,
             },
             "parameters": [_parameter_entry(e, self.intervals.get(e.name)) for e in calibration.parameters],
             "log_likelihood": calibration.log_likelihood, "aic": calibration.aic,
@@ -334,7 +343,7 @@ class CalibrationResult(Written):
 
 @single_threaded_blas()
 def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None, progress=None,
-              registration: Choice | Transform = "auto") -> CalibrationResult:
+              registration: Choice | Transform = "auto", intervals: str = "profile") -> CalibrationResult:
     """Fit the study's joint model to the measurements (module docstring), on one BLAS thread
     (:mod:`tribokin.calibration.blas_threads`): the same bytes on any machine.
 
@@ -350,16 +359,22 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
             (:mod:`tribokin.measurement.registration`), ``"none"`` fits its rotation with the model (profiled out),
             ``"best-fit"`` registers it (a :class:`~tribokin.measurement.registration.RegistrationWarning` where that
             absorbs accuracy), a :class:`~tribokin.measurement.registration.Transform` is applied as given.
+        intervals: the identifiable parameters' 95 % intervals: ``"profile"`` (profile likelihood,
+            :func:`~tribokin.calibration.fit.profile_interval`: a few seconds of re-fits) or ``"wald"`` (Wald in log
+            space, ``value·exp(±1.96·se)`` with se the standard error of log value from the observed information:
+            no re-fit, symmetric in log space, less exact where the likelihood is not Gaussian in log space).
 
     Returns:
-        the fit, its intervals and predictions, and the calibrated study (and its map). A bad ``seed`` or
-        ``registration`` is a :class:`~tribokin.errors.SettingsError` naming it; bad files, an
+        the fit, its intervals and predictions, and the calibrated study (and its map). A bad ``seed``,
+        ``registration`` or ``intervals`` is a :class:`~tribokin.errors.SettingsError` naming it; bad files, an
         :class:`~tribokin.errors.InputError` naming the file and key.
     """
     study_path, measurements_path = Path(study), measurements
     out = study_path.parent if out is None else Path(out)
     seed = argument(seed_int, seed, "seed")
     registration = checked_choice(registration)
+    if not isinstance(intervals, str) or intervals not in INTERVALS:
+        raise SettingsError(f"must be one of {', '.join(INTERVALS)} (got {intervals!r})", "intervals")
     study = read_study_file(study_path)
     if study.calibration is None:
         raise InputError("no [calibration] section: add one naming what to fit (fit = [\"stiffness\", ...])",
@@ -382,12 +397,13 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
 
     frame = "registered" if inputs.registration is not None else "unknown"
     calibration = fit(inputs.model, inputs.poses, frame=frame)
-    intervals = {e.name: profile_interval(calibration, inputs.poses, e.name)
-                 for e in calibration.parameters if e.identifiable}
+    interval_kind, intervals = intervals, {
+        e.name: profile_interval(calibration, inputs.poses, e.name) if intervals == "profile" else e.ci95
+        for e in calibration.parameters if e.identifiable}
     fitted = tuple(predict_pose(calibration, pose, np.random.default_rng([seed, i]))
                    for i, pose in enumerate(inputs.poses))
     held_out = leave_one_pose_out(inputs.model, inputs.poses, seed=seed, frame=frame)
-    values = _written_values(inputs, calibration, intervals)
+    values = _written_values(inputs, calibration, intervals, INTERVALS[interval_kind][1])
     header = _header(study_path, measurements_path, calibration, _noise_text(calibration, intervals))
     study_text = study_path.read_text(encoding="utf-8")
     poses = _written_poses(inputs, names)
@@ -408,4 +424,4 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
     return CalibrationResult(str(study_path), str(measurements_path),
                              hashlib.sha256(Path(measurements_path).read_bytes()).hexdigest(), study, robot, inputs,
                              calibration, intervals, fitted, held_out, seed, calibrated, workspace_map,
-                             software_versions(), tuple(header), tuple(values), poses, study_text)
+                             software_versions(), tuple(header), tuple(values), poses, study_text, interval_kind)

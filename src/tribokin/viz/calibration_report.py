@@ -6,6 +6,7 @@ from __future__ import annotations
 import html
 from pathlib import Path
 
+from tribokin.measured.calibrated import INTERVALS
 from tribokin.viz.report import STYLE, embedded_figures, html_table, key_value_table, write_page
 
 #: Columns of the comparison table: (``comparison.csv`` key, header with unit).
@@ -67,13 +68,14 @@ def calibration_report_html(summary: dict, rows: list[dict], folder: Path, figur
                 f"{information['condition_number']:.3g}, optimiser converged: {information['converged']}"),
     }
     table = [[row[key] for key, _ in COMPARISON_COLUMNS] for row in rows]
+    label = next(label for method, label in INTERVALS.values() if method == settings["intervals"])
     title = html.escape(f"tribokin calibrate — {Path(settings['study']).name} on {Path(settings['measurements']).name}")
     return f"""<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>{title}</title><style>{STYLE}</style></head>
 <body><h1>{title}</h1>
 <h2>Inputs</h2>{key_value_table(inputs)}
-<h2>Fitted parameters</h2>{html_table(["parameter", "value", "standard error", "95 % interval (profile likelihood)",
-                                      "note"], _parameter_rows(summary["parameters"]), text_columns=(0, 4))}
+<h2>Fitted parameters</h2>{html_table(["parameter", "value", "standard error", f"95 % interval ({label})", "note"],
+                                     _parameter_rows(summary["parameters"]), text_columns=(0, 4))}
 <h2>Measured against predicted</h2>
 <p>RP_l per approach direction and vAP_p per pose; predicted by the fit to every pose, and by the fit without the
 pose (what the model predicts where it was not measured).</p>
