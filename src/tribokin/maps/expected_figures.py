@@ -65,6 +65,7 @@ from tribokin.iso9283.gaussian_tests import (
     ASYMPTOTIC_CYCLES,
     BAND_PERCENTILES,
     ShapeTable,
+    barycentre_shares,
     c4,
     eigenvalues,
     expected_maximum,
@@ -74,6 +75,7 @@ from tribokin.iso9283.gaussian_tests import (
     normal_band,
     percentile_error,
     rp_l_from_moments,
+    sign_mixture_directions,
     sign_mixture_moments,
     standardised_shape,
 )
@@ -679,6 +681,17 @@ def cycle_moments(positions: np.ndarray, cycles: int, normals: np.ndarray) -> tu
     return tuple(moments), distances
 
 
+def cycles_shares(positions: np.ndarray, cycles: int) -> np.ndarray:
+    """The eigenvalues (k, 3) [m²] of U Σ̄ / n (:func:`~tribokin.iso9283.gaussian_tests.barycentre_shares`) of tests of
+    ``cycles`` cycles from (k, M, 3) single cycles: U = E[û ûᵀ] over their unit offsets from their mean, Σ̄ their
+    covariance."""
+    centred = positions - positions.mean(axis=1, keepdims=True)
+    norms = np.linalg.norm(centred, axis=-1, keepdims=True)
+    units = np.divide(centred, norms, out=np.zeros_like(centred), where=norms > 0)
+    directions = np.einsum("kmi,kmj->kij", units, units) / positions.shape[1]
+    return barycentre_shares(directions, sample_covariance(positions), cycles)
+
+
 def barycentre_normals(count: int) -> np.ndarray:
     """(count, 3) standard normals drawing the barycentre of each single cycle (:func:`cycle_moments`), the same at
     every target and scenario."""
@@ -736,17 +749,19 @@ def relative(error: np.ndarray, value: np.ndarray) -> np.ndarray:
     return np.divide(error, np.abs(value), out=np.zeros(np.shape(error)), where=value != 0)
 
 
-def moments_errors(distances: np.ndarray, moments: tuple[np.ndarray, ...], cycles: int) -> tuple[np.ndarray, ...]:
+def moments_errors(distances: np.ndarray, moments: tuple[np.ndarray, ...], cycles: int,
+                   shared: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
     """Relative standard errors of E[RP_l] and its normal band's two ends (:func:`~tribokin.iso9283.gaussian_tests.
-    rp_l_from_moments`, :func:`~tribokin.iso9283.gaussian_tests.normal_band`) taken from ``moments`` of (k, M)
-    single cycles' ``distances``: the delta method, each one's gradient in the four moments by central differences
-    times the covariance of (l, l², l³, l⁴) over M."""
+    rp_l_from_moments`, with the barycentre's ``shared`` form if given; :func:`~tribokin.iso9283.gaussian_tests.
+    normal_band`) taken from ``moments`` of (k, M) single cycles' ``distances``: the delta method, each one's
+    gradient in the four moments by central differences times the covariance of (l, l², l³, l⁴) over M (the shared
+    form held: its own error, of a term 0.1-0.5 % of RP_l estimated to about 1/√M, is some 1e-5)."""
     powers = distances[..., None] ** np.arange(1, 5)  # (k, M, 4)
     centred = powers - powers.mean(axis=1, keepdims=True)
     covariance = np.einsum("kmi,kmj->kij", centred, centred) / (distances.shape[1] - 1) / distances.shape[1]
 
     def ends(point):
-        mean, spread = rp_l_from_moments(tuple(point), cycles)
+        mean, spread = rp_l_from_moments(tuple(point), cycles, shared)
         return np.stack([mean, *normal_band(mean, spread)], axis=-1)  # (k, 3)
 
     point = np.stack(moments)  # (4, k)
@@ -966,7 +981,9 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
     def repeatability(positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # (k, tests, cycles, 3) -> (k,) each
         if n >= ASYMPTOTIC_CYCLES:
             distance_moments, distances = cycle_moments(positions[:, 0], n, barycentre_normals(shape[1]))
-            return rp_l_from_moments(distance_moments, n)[0], moments_errors(distances, distance_moments, n)[0]
+            shared = cycles_shares(positions[:, 0], n)
+            return (rp_l_from_moments(distance_moments, n, shared)[0],
+                    moments_errors(distances, distance_moments, n, shared)[0])
         per_test = position_repeatability(positions)[0]
         return per_test.mean(axis=1), mean_error(per_test)
 
@@ -1009,4 +1026,5 @@ def _multi_moments(model: LinearModel, moments: JointMoments, cycles: int) -> np
     pattern = np.einsum("kin,kn,kjn->kij", position, spread, position)
     pooled = pattern + np.einsum("kni,knj->kij", columns, columns)
     covariance = (1 - 1 / n) ** 2 * pattern + (n - 1) / n ** 2 * pooled
-    return rp_l_from_moments(sign_mixture_moments((1 - 1 / n) * columns, covariance), n)[0]
+    shared = barycentre_shares(sign_mixture_directions(columns, pattern), pooled, n)
+    return rp_l_from_moments(sign_mixture_moments((1 - 1 / n) * columns, covariance), n, shared)[0]
