@@ -653,10 +653,12 @@ def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chose
     return {**values, "mc_errors": errors}
 
 
-def cycle_moments(positions: np.ndarray, cycles: int, normals: np.ndarray) -> tuple[tuple[np.ndarray, ...],
-                                                                                     np.ndarray]:
+def cycle_moments(positions: np.ndarray, cycles: int, normals: np.ndarray, centre: np.ndarray | None = None
+                  ) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
     """E[l^k], k = 1..4 (k,) each, of the distance l [m] of one of ``cycles`` cycles to their barycentre, from (k, M, 3)
-    single cycles, and the distances (k, M).
+    single cycles, and the distances (k, M); the cycles' mean their ``centre`` (k, 3) [m] where known, else their
+    sample mean (whose own error δ ~ N(0, Σ / M), shared by the M cycles, adds δᵀ U δ to their distances' variance
+    as a test's barycentre does to its S_l²: where sign flips dominate, twice the variance the delta method states).
 
     The cycle x_j and the barycentre x̄ = x_j / n + (the other n - 1 cycles' sum) / n: the latter is drawn for each
     single cycle as a normal of the cycles' covariance times (n - 1) / n² (the other cycles' mean, by the central
@@ -665,8 +667,12 @@ def cycle_moments(positions: np.ndarray, cycles: int, normals: np.ndarray) -> tu
     """
     n = cycles
     coordinates = np.moveaxis(positions, 2, 1).copy()  # (k, 3, M): each coordinate's cycles together in memory
-    centred = coordinates - coordinates.mean(axis=2, keepdims=True)
-    covariance = centred @ np.swapaxes(centred, 1, 2) / (positions.shape[1] - 1)
+    if centre is None:
+        centred = coordinates - coordinates.mean(axis=2, keepdims=True)
+        covariance = centred @ np.swapaxes(centred, 1, 2) / (positions.shape[1] - 1)
+    else:
+        centred = coordinates - centre[:, :, None]
+        covariance = centred @ np.swapaxes(centred, 1, 2) / positions.shape[1]
     lam, vectors = np.linalg.eigh(covariance)
     roots = vectors * np.sqrt(np.maximum(lam, 0.0) * (n - 1))[:, None, :] / n
     offsets = (1 - 1 / n) * centred
@@ -978,9 +984,11 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
         signs = rng.integers(0, 2, size=(*shape, len(runner.models))) * 2.0 - 1.0
         return common_numbers(runner, signs, shape[0], "multi")
 
-    def repeatability(positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # (k, tests, cycles, 3) -> (k,) each
+    def repeatability(positions: np.ndarray, centre: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(k,) each of (k, tests, cycles, 3) ``positions``, from ``ASYMPTOTIC_CYCLES`` cycles on about the mixture's
+        mean ``centre`` (k, 3) (:func:`cycle_moments`)."""
         if n >= ASYMPTOTIC_CYCLES:
-            distance_moments, distances = cycle_moments(positions[:, 0], n, barycentre_normals(shape[1]))
+            distance_moments, distances = cycle_moments(positions[:, 0], n, barycentre_normals(shape[1]), centre)
             shared = cycles_shares(positions[:, 0], n)
             return (rp_l_from_moments(distance_moments, n, shared)[0],
                     moments_errors(distances, distance_moments, n, shared)[0])
@@ -996,14 +1004,16 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
         rp, error = np.empty(len(qs)), np.empty(len(qs))
         for block in blocks_of(np.arange(len(qs)), math.prod(shape)):
             rp[block], error[block] = repeatability(sampled_tests(model, moments, block, numbers(), shape,
-                                                                  slice(0, 3)))
+                                                                  slice(0, 3)), model.position_m[block])
     rp *= UM_PER_M
     used = EngineUsed.first_order(model)
     fallen = ~serves(model.bound, n, {"RP_l_multi_um": rp}, "multi")  # exact: NaN, served nowhere
     for k in np.flatnonzero(fallen):
         positions, _, engine = engine_tests(runner, model, moments, k, qs[k], numbers(), shape)
         used.fall_back(k, EngineUsed.of(engine))
-        again, again_error = repeatability(positions[None])
+        own = sampled_tests(model, moments, np.array([k]), numbers(), shape, slice(0, 3))[0]  # a control variate
+        centre = model.position_m[k] + positions.mean(axis=(0, 1)) - own.mean(axis=(0, 1))
+        again, again_error = repeatability(positions[None], centre[None])
         rp[k], error[k] = again[0] * UM_PER_M, again_error[0]
     return rp, error, used, (fallen & (not exact)).astype(int)
 
