@@ -45,7 +45,10 @@ fallback: orders 2-3, else exact FK), whose own bound then takes b's place. Per 
 - ``RP_l_multi_um``: cycles each approached from a random joint-space direction (every joint's sign drawn at
   random, with equal odds): the mean RP_l over ``multi_tests`` sampled tests of that mixture; from
   ``ASYMPTOTIC_CYCLES`` cycles on with every law Gaussian, from the mixture's moments, sums over the joints' sign
-  patterns of Gaussian norm moments (:func:`_multi_moments`).
+  patterns of Gaussian norm moments (:func:`_multi_moments`), else from sampled single cycles' moments about the
+  mixture's mean (:func:`cycle_moments`); either with a test's barycentre one draw its cycles share, whose offset
+  ε adds εᵀUε to S_l² (:func:`~tribokin.iso9283.gaussian_tests.barycentre_shares`; 0.5 % of RP_l where sign flips
+  dominate the cloud).
 - The dominant joint and its share are those of the population variance (what many cycles give).
 """
 
@@ -1027,7 +1030,9 @@ def _multi_moments(model: LinearModel, moments: JointMoments, cycles: int) -> np
     to the barycentre is the norm of (1 - 1/n) J (s ⊙ m) plus a normal of covariance (1 - 1/n)² Σ + (n - 1) / n² Σ̄:
     its moments over the patterns (:func:`~tribokin.iso9283.gaussian_tests.sign_mixture_moments`; the shared term of
     :func:`cycle_moments` is 0, the mixture being symmetric about its mean) give RP_l
-    (:func:`~tribokin.iso9283.gaussian_tests.rp_l_from_moments`)."""
+    (:func:`~tribokin.iso9283.gaussian_tests.rp_l_from_moments`), with the barycentre a test's cycles share through
+    U = E[û ûᵀ] of a cycle's offset J (s ⊙ m) + N(0, Σ) from the mean
+    (:func:`~tribokin.iso9283.gaussian_tests.sign_mixture_directions`) and Σ̄."""
     n = cycles
     position = model.jacobian[:, :3]
     lost = model.lever * moments.mean + moments.half_backlash
