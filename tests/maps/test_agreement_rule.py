@@ -31,14 +31,16 @@ here, to 7e-4): eight targets of one seed are about one comparison of
 such a figure, not eight, and the rule's allowance of 10 % beyond 2 standard errors counts independent ones. For the
 same reason the Monte Carlo draws each figure from its own series.
 
-At 30 cycles only (every shipped study's): from ``ASYMPTOTIC_CYCLES`` on, RP_l_multi from the cycles' moments (the
-sign mixture's in closed form, or sampled single cycles) does not meet the rule yet. It draws each cycle's barycentre
-apart, where a test's barycentre is one draw shared by its cycles: along a joint whose sign flips dominate the
-cloud it moves every cycle's distance by ± its offset, so S_l² varies from test to test about 75 times as much as
-over independent cycles, and E[S_l] (Jensen) lies below the delta method's. Measured on the first-order model's own
-tests of 500 cycles (UR5, Gaussian law, 4 000 tests): the closed form 0.17-0.52 % above them (4-9 standard errors),
-against exact FK at 400 tests up to 0.75 % (z +4.2); UR5 at 500 cycles fails the rule (9 of 80 beyond 2 standard
-errors, RP_l_multi's z-scores mean +1.16).
+At 30 cycles only (every shipped study's): at 500 cycles a case's exact FK Monte Carlo (500 tests of 500 cycles per
+series) costs about 47 CPU s for its eight targets. From ``ASYMPTOTIC_CYCLES`` on,
+RP_l_multi from the cycles' moments once missed the rule: it drew each cycle's barycentre apart, where a test's
+barycentre is one draw shared by its cycles (along a joint whose sign flips dominate the cloud it moves every cycle's
+distance by ± its offset, so S_l² varies from test to test about 75 times as much as over independent cycles, and
+E[S_l] lay 0.17-0.52 % above the first-order model's own tests, 4-9 standard errors; UR5 at 500 cycles: 9 of 80
+beyond 2 standard errors, RP_l_multi's z-scores mean +1.16). With the shared barycentre counted
+(:func:`~tribokin.iso9283.gaussian_tests.barycentre_shares`) the UR5 Gaussian case at 500 cycles gives RP_l_multi's
+z-scores -1.95 to +2.63 (mean -0.07), every figure's |z| at most 2.63, and 4-5 of 80 comparisons beyond 2 standard
+errors (the rule allows 8).
 """
 
 import dataclasses

@@ -86,10 +86,15 @@ def norm_moments(lam: np.ndarray) -> tuple[np.ndarray, ...]:
     return tuple(m * scale ** k for k, m in enumerate(_unit_moments(unit), start=1))
 
 
-def rp_l_from_moments(moments: tuple[np.ndarray, ...], cycles: int) -> tuple[np.ndarray, np.ndarray]:
+def rp_l_from_moments(moments: tuple[np.ndarray, ...], cycles: int, shared: np.ndarray | None = None
+                      ) -> tuple[np.ndarray, np.ndarray]:
     """E[RP_l] and the standard deviation of one test's RP_l [m] over tests of ``cycles`` cycles, from the first four
     moments E[l^k] [m^k] of one cycle's distance l to the barycentre, the cycles independent: to second order in the
-    delta method, E[S_l] = σ (1 - Var(S_l²) / (8 σ⁴)), Var(RP_l) = (σ² + 9 (μ₄ - σ⁴) / (4 σ²) + 3 μ₃ / σ) / n."""
+    delta method, E[S_l] = σ (1 - Var(S_l²) / (8 σ⁴)), Var(RP_l) = (σ² + 9 (μ₄ - σ⁴) / (4 σ²) + 3 μ₃ / σ) / n.
+
+    With ``shared`` (k, 3) [m²], the eigenvalues of U Σ̄ / n (:func:`barycentre_shares`): a test's barycentre is one
+    draw ε ~ N(0, Σ̄ / n) shared by its cycles, which adds εᵀ U ε to its S_l² (to second order in ε); then
+    E[S_l] = E√(σ² - tr(U Σ̄) / n + εᵀ U ε) (:func:`expected_root`) times the same factor (the mean only)."""
     n = cycles
     m1, m2, m3, m4 = moments
     variance = np.maximum(m2 - m1 ** 2, 0.0)
@@ -98,7 +103,9 @@ def rp_l_from_moments(moments: tuple[np.ndarray, ...], cycles: int) -> tuple[np.
     variance_of_s2 = central4 / n - variance ** 2 * (n - 3) / (n * (n - 1))
     sigma = np.sqrt(variance)
     with np.errstate(divide="ignore", invalid="ignore"):
-        mean = m1 + 3 * sigma * (1 - np.where(variance > 0, variance_of_s2 / (8 * variance ** 2), 0.0))
+        factor = 1 - np.where(variance > 0, variance_of_s2 / (8 * variance ** 2), 0.0)
+        deviation = sigma if shared is None else expected_root(np.maximum(variance - shared.sum(axis=-1), 0.0), shared)
+        mean = m1 + 3 * deviation * factor
         spread = np.where(variance > 0, variance + 9 * (central4 - variance ** 2) / (4 * variance)
                           + 3 * central3 / sigma, 0.0) / n
     return mean, np.sqrt(np.maximum(spread, 0.0))
@@ -179,13 +186,26 @@ _NODE_TIMES, _NODE_WEIGHTS = np.exp(_LOG_NODES), np.exp(-_LOG_NODES / 2)  # e^u,
 
 def _norm_by_quadrature(centre: np.ndarray, covariance: np.ndarray) -> np.ndarray:
     lam, vectors = np.linalg.eigh(covariance)
-    lam = np.maximum(lam, 0.0)
     beta2 = np.einsum("kij,ki->kj", vectors, centre) ** 2
-    scale2 = np.maximum(beta2.sum(axis=-1) + lam.sum(axis=-1), np.finfo(float).tiny)
+    return _root_by_quadrature(np.zeros(len(lam)), np.maximum(lam, 0.0), beta2)
+
+
+def _root_by_quadrature(constant: np.ndarray, lam: np.ndarray, beta2: np.ndarray) -> np.ndarray:
+    """E√(a + Σ_i λ_i (z_i + β_i / √λ_i)²) (k,), z standard normal: (2√π)⁻¹ ∫₀^∞ (1 - e^{-ta} L(t)) t^{-3/2} dt, L the
+    Laplace transform of the quadratic form, by the trapezoid rule on ``_LOG_NODES``; ``constant`` a (k,), ``lam``
+    and ``beta2`` (k, 3) (any unit u: the result's √u)."""
+    scale2 = np.maximum(constant + beta2.sum(axis=-1) + lam.sum(axis=-1), np.finfo(float).tiny)
     t = _NODE_TIMES[None, :, None] / scale2[:, None, None]
     log_transform = (-0.5 * np.log1p(2 * t * lam[:, None]) - t * beta2[:, None] / (1 + 2 * t * lam[:, None])).sum(-1)
-    integrand = -np.expm1(log_transform) * _NODE_WEIGHTS
+    integrand = -np.expm1(log_transform - t[..., 0] * constant[:, None]) * _NODE_WEIGHTS
     return integrand.sum(axis=-1) * _LOG_STEP * np.sqrt(scale2) / (2 * math.sqrt(math.pi))
+
+
+def expected_root(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
+    """E√(a + εᵀ U ε) (k,) for ε ~ N(0, S): ``constant`` a (k,) >= 0, ``lam`` (k, 3) the eigenvalues of U S (their
+    unit u: the result's √u)."""
+    return _root_by_quadrature(np.asarray(constant, dtype=float), np.maximum(np.asarray(lam, dtype=float), 0.0),
+                               np.zeros(np.shape(lam)))
 
 
 #: The quadrature of :func:`sign_mixture_moments`: the trapezoid rule on u = ln t (t in units of the mixture's E|x|²)
@@ -266,6 +286,48 @@ def _mixture_block(columns: np.ndarray, covariance: np.ndarray, times: np.ndarra
     scale = np.sqrt(np.where(scale2 > 0, scale2, 0.0))
     return (first / (2 * math.sqrt(math.pi)) * scale, scale2, 3 * third / (4 * math.sqrt(math.pi)) * scale ** 3,
             mean_fourth * scale2 ** 2)
+
+
+def sign_mixture_directions(columns: np.ndarray, covariance: np.ndarray) -> np.ndarray:
+    """U = E[x xᵀ / |x|²] (k, 3, 3) of the sign mixture x of :func:`sign_mixture_moments` (its ``columns`` (k, m, 3),
+    ``covariance`` (k, 3, 3)): a mean over the sign patterns p of ∫₀^∞ E[x xᵀ e^{-t|x|²}] dt, x ~ N(c_p, S), whose
+    integrand is L(t) (S_t + m_t m_tᵀ), S_t = S (I + 2 t S)⁻¹, m_t = (I + 2 t S)⁻¹ c_p (the Gaussian tilted by
+    e^{-t|x|²}); on the grid of :func:`sign_mixture_moments` (t in units of E|x|², eigenvalues of S raised to
+    ``EIGENVALUE_FLOOR`` of it), ``MIXTURE_BLOCK`` patterns × targets at once. Its trace is 1 to the rule's error."""
+    columns, covariance = np.asarray(columns, dtype=float), np.asarray(covariance, dtype=float)
+    lam, vectors = np.linalg.eigh(covariance)
+    scale2 = np.einsum("kmi,kmi->k", columns, columns) + np.maximum(lam, 0.0).sum(axis=-1)
+    unit2 = np.where(scale2 > 0, scale2, 1.0)
+    lam = np.maximum(lam / unit2[:, None], EIGENVALUE_FLOOR)
+    patterns = sign_patterns(columns.shape[1])
+    times = np.exp(_MIXTURE_LOGS)
+    grown = 1 + 2 * times[None, :, None] * lam[:, None, :]  # (k, nodes, 3)
+    out = np.empty((len(columns), 3, 3))
+    step = max(1, MIXTURE_BLOCK // len(patterns))
+    for start in range(0, len(columns), step):
+        part = slice(start, start + step)
+        beta = np.einsum("pm,kmi,kij->kpj", patterns, columns[part], vectors[part]) / np.sqrt(unit2[part])[:, None,
+                                                                                                          None]
+        tilted = beta[:, :, None, :] / grown[part, None]  # (k, patterns, nodes, 3): m_t
+        weight = times * np.exp(-0.5 * np.log(grown[part]).sum(axis=-1)[:, None, :]
+                                - times * np.einsum("kpj,kptj->kpt", beta, tilted))  # t L(t): dt = t du
+        inner = (np.einsum("kpt,kptj,kpti->kij", weight, tilted, tilted)
+                 + np.einsum("kpt,ktj->kj", weight, lam[part, None] / grown[part])[..., None] * np.eye(3))
+        out[part] = vectors[part] @ (MIXTURE_LOG_STEP * inner / len(patterns)) @ np.swapaxes(vectors[part], 1, 2)
+    return out
+
+
+def barycentre_shares(directions: np.ndarray, pooled: np.ndarray, cycles: int) -> np.ndarray:
+    """The eigenvalues (k, 3) [m²] of U Σ̄ / n (``directions`` U (k, 3, 3), ``pooled`` Σ̄ (k, 3, 3) [m²], n
+    ``cycles``): a test's shared barycentre ε ~ N(0, Σ̄ / n) adds εᵀ U ε to its S_l² (:func:`rp_l_from_moments`).
+
+    S_l² = mean_j l_j² - l̄², l_j = |d_j - ε| (d_j a cycle's offset from the cycles' mean, ε = mean_j d_j): mean_j l_j²
+    = mean_j |d_j|² - |ε|² exactly, and l_j = |d_j| - û_jᵀ ε + O(ε² / |d_j|), so S_l² ≈ Var_j |d_j| + εᵀ Cov_j(û) ε
+    less terms in the spread of |d_j| (which vanish where it is small beside Σ̄, the only case the term counts:
+    then Cov_j(û) → U = E[û ûᵀ], ū being of order ε / |d|)."""
+    lam, vectors = np.linalg.eigh(pooled)
+    root = vectors * np.sqrt(np.maximum(lam, 0.0))[:, None, :] @ np.swapaxes(vectors, 1, 2)
+    return np.linalg.eigvalsh(root @ directions @ root) / cycles
 
 
 #: Gauss-Legendre nodes on either side of the kink of :func:`expected_maximum`'s integral, and how many standard

@@ -45,7 +45,10 @@ fallback: orders 2-3, else exact FK), whose own bound then takes b's place. Per 
 - ``RP_l_multi_um``: cycles each approached from a random joint-space direction (every joint's sign drawn at
   random, with equal odds): the mean RP_l over ``multi_tests`` sampled tests of that mixture; from
   ``ASYMPTOTIC_CYCLES`` cycles on with every law Gaussian, from the mixture's moments, sums over the joints' sign
-  patterns of Gaussian norm moments (:func:`_multi_moments`).
+  patterns of Gaussian norm moments (:func:`_multi_moments`), else from sampled single cycles' moments about the
+  mixture's mean (:func:`cycle_moments`); either with a test's barycentre one draw its cycles share, whose offset
+  ε adds εᵀUε to S_l² (:func:`~tribokin.iso9283.gaussian_tests.barycentre_shares`; 0.5 % of RP_l where sign flips
+  dominate the cloud).
 - The dominant joint and its share are those of the population variance (what many cycles give).
 """
 
@@ -65,6 +68,7 @@ from tribokin.iso9283.gaussian_tests import (
     ASYMPTOTIC_CYCLES,
     BAND_PERCENTILES,
     ShapeTable,
+    barycentre_shares,
     c4,
     eigenvalues,
     expected_maximum,
@@ -74,6 +78,7 @@ from tribokin.iso9283.gaussian_tests import (
     normal_band,
     percentile_error,
     rp_l_from_moments,
+    sign_mixture_directions,
     sign_mixture_moments,
     standardised_shape,
 )
@@ -651,10 +656,12 @@ def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chose
     return {**values, "mc_errors": errors}
 
 
-def cycle_moments(positions: np.ndarray, cycles: int, normals: np.ndarray) -> tuple[tuple[np.ndarray, ...],
-                                                                                     np.ndarray]:
+def cycle_moments(positions: np.ndarray, cycles: int, normals: np.ndarray, centre: np.ndarray | None = None
+                  ) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
     """E[l^k], k = 1..4 (k,) each, of the distance l [m] of one of ``cycles`` cycles to their barycentre, from (k, M, 3)
-    single cycles, and the distances (k, M).
+    single cycles, and the distances (k, M); the cycles' mean their ``centre`` (k, 3) [m] where known, else their
+    sample mean (whose own error δ ~ N(0, Σ / M), shared by the M cycles, adds δᵀ U δ to their distances' variance
+    as a test's barycentre does to its S_l²: where sign flips dominate, twice the variance the delta method states).
 
     The cycle x_j and the barycentre x̄ = x_j / n + (the other n - 1 cycles' sum) / n: the latter is drawn for each
     single cycle as a normal of the cycles' covariance times (n - 1) / n² (the other cycles' mean, by the central
@@ -663,8 +670,12 @@ def cycle_moments(positions: np.ndarray, cycles: int, normals: np.ndarray) -> tu
     """
     n = cycles
     coordinates = np.moveaxis(positions, 2, 1).copy()  # (k, 3, M): each coordinate's cycles together in memory
-    centred = coordinates - coordinates.mean(axis=2, keepdims=True)
-    covariance = centred @ np.swapaxes(centred, 1, 2) / (positions.shape[1] - 1)
+    if centre is None:
+        centred = coordinates - coordinates.mean(axis=2, keepdims=True)
+        covariance = centred @ np.swapaxes(centred, 1, 2) / (positions.shape[1] - 1)
+    else:
+        centred = coordinates - centre[:, :, None]
+        covariance = centred @ np.swapaxes(centred, 1, 2) / positions.shape[1]
     lam, vectors = np.linalg.eigh(covariance)
     roots = vectors * np.sqrt(np.maximum(lam, 0.0) * (n - 1))[:, None, :] / n
     offsets = (1 - 1 / n) * centred
@@ -677,6 +688,17 @@ def cycle_moments(positions: np.ndarray, cycles: int, normals: np.ndarray) -> tu
     moments = [distances.mean(axis=1), squares.mean(axis=1) - shared, (squares * distances).mean(axis=1),
                np.square(squares).mean(axis=1)]
     return tuple(moments), distances
+
+
+def cycles_shares(positions: np.ndarray, cycles: int) -> np.ndarray:
+    """The eigenvalues (k, 3) [m²] of U Σ̄ / n (:func:`~tribokin.iso9283.gaussian_tests.barycentre_shares`) of tests of
+    ``cycles`` cycles from (k, M, 3) single cycles: U = E[û ûᵀ] over their unit offsets from their mean, Σ̄ their
+    covariance."""
+    centred = positions - positions.mean(axis=1, keepdims=True)
+    norms = np.linalg.norm(centred, axis=-1, keepdims=True)
+    units = np.divide(centred, norms, out=np.zeros_like(centred), where=norms > 0)
+    directions = np.einsum("kmi,kmj->kij", units, units) / positions.shape[1]
+    return barycentre_shares(directions, sample_covariance(positions), cycles)
 
 
 def barycentre_normals(count: int) -> np.ndarray:
@@ -736,17 +758,19 @@ def relative(error: np.ndarray, value: np.ndarray) -> np.ndarray:
     return np.divide(error, np.abs(value), out=np.zeros(np.shape(error)), where=value != 0)
 
 
-def moments_errors(distances: np.ndarray, moments: tuple[np.ndarray, ...], cycles: int) -> tuple[np.ndarray, ...]:
+def moments_errors(distances: np.ndarray, moments: tuple[np.ndarray, ...], cycles: int,
+                   shared: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
     """Relative standard errors of E[RP_l] and its normal band's two ends (:func:`~tribokin.iso9283.gaussian_tests.
-    rp_l_from_moments`, :func:`~tribokin.iso9283.gaussian_tests.normal_band`) taken from ``moments`` of (k, M)
-    single cycles' ``distances``: the delta method, each one's gradient in the four moments by central differences
-    times the covariance of (l, l², l³, l⁴) over M."""
+    rp_l_from_moments`, with the barycentre's ``shared`` form if given; :func:`~tribokin.iso9283.gaussian_tests.
+    normal_band`) taken from ``moments`` of (k, M) single cycles' ``distances``: the delta method, each one's
+    gradient in the four moments by central differences times the covariance of (l, l², l³, l⁴) over M (the shared
+    form held: its own error, of a term 0.1-0.5 % of RP_l estimated to about 1/√M, is some 1e-5)."""
     powers = distances[..., None] ** np.arange(1, 5)  # (k, M, 4)
     centred = powers - powers.mean(axis=1, keepdims=True)
     covariance = np.einsum("kmi,kmj->kij", centred, centred) / (distances.shape[1] - 1) / distances.shape[1]
 
     def ends(point):
-        mean, spread = rp_l_from_moments(tuple(point), cycles)
+        mean, spread = rp_l_from_moments(tuple(point), cycles, shared)
         return np.stack([mean, *normal_band(mean, spread)], axis=-1)  # (k, 3)
 
     point = np.stack(moments)  # (4, k)
@@ -963,10 +987,14 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
         signs = rng.integers(0, 2, size=(*shape, len(runner.models))) * 2.0 - 1.0
         return common_numbers(runner, signs, shape[0], "multi")
 
-    def repeatability(positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # (k, tests, cycles, 3) -> (k,) each
+    def repeatability(positions: np.ndarray, centre: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(k,) each of (k, tests, cycles, 3) ``positions``, from ``ASYMPTOTIC_CYCLES`` cycles on about the mixture's
+        mean ``centre`` (k, 3) (:func:`cycle_moments`)."""
         if n >= ASYMPTOTIC_CYCLES:
-            distance_moments, distances = cycle_moments(positions[:, 0], n, barycentre_normals(shape[1]))
-            return rp_l_from_moments(distance_moments, n)[0], moments_errors(distances, distance_moments, n)[0]
+            distance_moments, distances = cycle_moments(positions[:, 0], n, barycentre_normals(shape[1]), centre)
+            shared = cycles_shares(positions[:, 0], n)
+            return (rp_l_from_moments(distance_moments, n, shared)[0],
+                    moments_errors(distances, distance_moments, n, shared)[0])
         per_test = position_repeatability(positions)[0]
         return per_test.mean(axis=1), mean_error(per_test)
 
@@ -979,14 +1007,16 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
         rp, error = np.empty(len(qs)), np.empty(len(qs))
         for block in blocks_of(np.arange(len(qs)), math.prod(shape)):
             rp[block], error[block] = repeatability(sampled_tests(model, moments, block, numbers(), shape,
-                                                                  slice(0, 3)))
+                                                                  slice(0, 3)), model.position_m[block])
     rp *= UM_PER_M
     used = EngineUsed.first_order(model)
     fallen = ~serves(model.bound, n, {"RP_l_multi_um": rp}, "multi")  # exact: NaN, served nowhere
     for k in np.flatnonzero(fallen):
         positions, _, engine = engine_tests(runner, model, moments, k, qs[k], numbers(), shape)
         used.fall_back(k, EngineUsed.of(engine))
-        again, again_error = repeatability(positions[None])
+        own = sampled_tests(model, moments, np.array([k]), numbers(), shape, slice(0, 3))[0]  # a control variate
+        centre = model.position_m[k] + positions.mean(axis=(0, 1)) - own.mean(axis=(0, 1))
+        again, again_error = repeatability(positions[None], centre[None])
         rp[k], error[k] = again[0] * UM_PER_M, again_error[0]
     return rp, error, used, (fallen & (not exact)).astype(int)
 
@@ -1000,7 +1030,9 @@ def _multi_moments(model: LinearModel, moments: JointMoments, cycles: int) -> np
     to the barycentre is the norm of (1 - 1/n) J (s ⊙ m) plus a normal of covariance (1 - 1/n)² Σ + (n - 1) / n² Σ̄:
     its moments over the patterns (:func:`~tribokin.iso9283.gaussian_tests.sign_mixture_moments`; the shared term of
     :func:`cycle_moments` is 0, the mixture being symmetric about its mean) give RP_l
-    (:func:`~tribokin.iso9283.gaussian_tests.rp_l_from_moments`)."""
+    (:func:`~tribokin.iso9283.gaussian_tests.rp_l_from_moments`), with the barycentre a test's cycles share through
+    U = E[û ûᵀ] of a cycle's offset J (s ⊙ m) + N(0, Σ) from the mean
+    (:func:`~tribokin.iso9283.gaussian_tests.sign_mixture_directions`) and Σ̄."""
     n = cycles
     position = model.jacobian[:, :3]
     lost = model.lever * moments.mean + moments.half_backlash
@@ -1009,4 +1041,5 @@ def _multi_moments(model: LinearModel, moments: JointMoments, cycles: int) -> np
     pattern = np.einsum("kin,kn,kjn->kij", position, spread, position)
     pooled = pattern + np.einsum("kni,knj->kij", columns, columns)
     covariance = (1 - 1 / n) ** 2 * pattern + (n - 1) / n ** 2 * pooled
-    return rp_l_from_moments(sign_mixture_moments((1 - 1 / n) * columns, covariance), n)[0]
+    shared = barycentre_shares(sign_mixture_directions(columns, pattern), pooled, n)
+    return rp_l_from_moments(sign_mixture_moments((1 - 1 / n) * columns, covariance), n, shared)[0]
