@@ -194,11 +194,11 @@ def test_the_fit_writes_the_same_bytes_on_one_blas_thread_or_two(registered):
     standard errors 4e-5 apart (one thread: what dask's workers set in the process that starts them, and so in every
     command a test starts after a dask test in the same process). calibrate() fits on one
     (tribokin.calibration.blas_threads)."""
-    study, fitted = registered
+    study, fitted, _ = registered
     threads = "2" if os.environ.get("OPENBLAS_NUM_THREADS") == "1" else "1"  # not what the fixture's command had
     out = fitted.parent / f"fit-on-{threads}"  # beside the fixture's: calibrated.toml names the study alike
-    done = tribokin("calibrate", study, "--measurements", DATA, "--out", out, "--report", "none",
-                    env={"OPENBLAS_NUM_THREADS": threads, "OMP_NUM_THREADS": threads})
+    done = tribokin("calibrate", study, "--measurements", DATA, "--out", out, "--report", "none", "--intervals",
+                    "wald", env={"OPENBLAS_NUM_THREADS": threads, "OMP_NUM_THREADS": threads})
     assert done.returncode == 0, done.stderr
     for name in ("calibration.json", "calibrated.toml", "comparison.csv"):
         assert (out / name).read_bytes() == (fitted / name).read_bytes(), name

@@ -1014,8 +1014,10 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
     for k in np.flatnonzero(fallen):
         positions, _, engine = engine_tests(runner, model, moments, k, qs[k], numbers(), shape)
         used.fall_back(k, EngineUsed.of(engine))
-        own = sampled_tests(model, moments, np.array([k]), numbers(), shape, slice(0, 3))[0]  # a control variate
-        centre = model.position_m[k] + positions.mean(axis=(0, 1)) - own.mean(axis=(0, 1))
+        centre = model.position_m[k]
+        if n >= ASYMPTOTIC_CYCLES:  # the mixture's mean: the model's, less its own samples' error (a control variate)
+            own = sampled_tests(model, moments, np.array([k]), numbers(), shape, slice(0, 3))[0]
+            centre = centre + positions.mean(axis=(0, 1)) - own.mean(axis=(0, 1))
         again, again_error = repeatability(positions[None], centre[None])
         rp[k], error[k] = again[0] * UM_PER_M, again_error[0]
     return rp, error, used, (fallen & (not exact)).astype(int)
