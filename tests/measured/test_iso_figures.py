@@ -173,3 +173,32 @@ def test_the_command_prints_what_the_registration_absorbed_and_warns_once(tmp_pa
     summary = json.loads((tmp_path / "given" / "summary.json").read_text())
     np.testing.assert_allclose(summary["settings"]["registration"]["rotation"], TRACKER.as_matrix(), atol=1e-12)
     assert summary["poses"][0]["directions"]["+"]["AP_p_um"] == pytest.approx(0.0, abs=1e-6)
+
+
+@pytest.mark.filterwarnings("ignore::tribokin.measurement.registration.RegistrationWarning")
+def test_each_series_has_its_test_of_independence_in_time_order_and_a_short_one_none(tmp_path):
+    # P1: 12 cycles on one world-frame line, the tracker turned and shifted, measured in an order its t_s undoes;
+    # P2, P3: 4 cycles each (below the 10 the test needs). Registered, the deviations are the line's offsets.
+    along_um = np.array([3, -1, 4, 1, -5, 9, -2, 6, -5, 3, 5, -8], dtype=float)
+    order = np.random.default_rng(0).permutation(12)
+    lines = ["pose,cycle,x_m,y_m,z_m,cx_m,cy_m,cz_m,t_s"]
+    for k, commanded in enumerate(COMMANDED_M):
+        offsets = along_um[:, None] * [0.6e-6, 0.0, 0.8e-6] if k == 0 else CYCLES_UM * 1e-6
+        times = order if k == 0 else np.arange(4)
+        for cycle, (offset, t) in enumerate(zip(offsets[times], times, strict=True), start=1):
+            measured = TRACKER.inv().apply(commanded + offset - SHIFT_M)
+            lines.append(",".join([f"P{k + 1}", str(cycle), *(repr(float(v)) for v in (*measured, *commanded)),
+                                   repr(float(100 * k + t))]))
+    (path := tmp_path / "tracker.csv").write_text("\n".join(lines) + "\n")
+    summary = measure(path, registration="best-fit").summary()
+    d = along_um - along_um.mean()
+    r1 = float(d[:-1] @ d[1:] / (d @ d))
+    q = 12 * 14 * sum((d[:-k] @ d[k:] / (d @ d)) ** 2 / (12 - k) for k in (1, 2))
+    first = summary["poses"][0]["directions"]["+"]
+    assert first["lag1_autocorrelation"] == pytest.approx(r1, rel=1e-6)
+    assert first["ljung_box_p"] == pytest.approx(np.exp(-q / 2), rel=1e-6) and first["ljung_box_lags"] == 2
+    assert first["independent"] == (np.exp(-q / 2) >= 0.05)
+    for pose in summary["poses"][1:]:
+        assert pose["directions"]["+"]["lag1_autocorrelation"] is None
+        assert pose["directions"]["+"]["independent"] is None
+    assert summary["settings"]["independence"]["min_cycles"] == 10

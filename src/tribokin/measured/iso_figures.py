@@ -24,6 +24,7 @@ from tribokin.measurement.figures import (
     bootstrap_bytes,
     measurement_figures,
 )
+from tribokin.measurement.independence import Independence, independence_settings, pose_independence
 from tribokin.measurement.noise import Flag, NoiseFloor, flag_figures, noise_floor
 from tribokin.measurement.registration import Choice, Frame, Registration, Transform, checked_choice, choose_frame
 from tribokin.measurement.segmentation import (
@@ -133,6 +134,8 @@ class MeasurementResult(Written):
         floor: the instrument's noise floor, or ``None``.
         flags: the figures within 2x the floor.
         drifts: per pose, the drift of its series (:func:`~tribokin.measurement.drift.pose_drift`).
+        independence: per pose, each series' lag-one autocorrelation and Ljung-Box test in time order
+            (:func:`~tribokin.measurement.independence.pose_independence`).
         versions: the software that computed them (:func:`~tribokin.output.provenance.software_versions`).
     """
 
@@ -147,6 +150,7 @@ class MeasurementResult(Written):
     floor: NoiseFloor | None
     flags: tuple[Flag, ...]
     drifts: tuple[tuple, ...]
+    independence: tuple[tuple[Independence, ...], ...]
     versions: dict = field(repr=False)
 
     @property
@@ -191,7 +195,7 @@ class MeasurementResult(Written):
             "std_um": (self.floor.std_m * UM_PER_M).tolist(), "flag_factor": 2.0, "rule": FLAG_RULE}
         rows = iter(self.rows())
         poses = []
-        for figures, drift in zip(self.figures, self.drifts, strict=True):
+        for figures, drift, tests in zip(self.figures, self.drifts, self.independence, strict=True):
             pose_rows = [next(rows) for _ in figures.directions]
             pose = {"name": figures.pose, "cycles": sum(d.cycles for d in figures.directions),
                     **{key: pose_rows[0][key] for key in POSE_KEYS}, "directions": {}}
@@ -199,6 +203,8 @@ class MeasurementResult(Written):
                 pose["directions"][row["direction"]] = {key: value for key, value in row.items()
                                                         if key not in (*POSE_KEYS, "name", "direction")}
                 pose["directions"][row["direction"]]["noise_flags"] = self.flag_names(figures.pose, row["direction"])
+            for test in tests:
+                pose["directions"][test.direction].update(test.report_fields())
             pose["drift"] = [d.report_row() for d in drift]
             pose["noise_flags"] = self.flag_names(figures.pose, None)
             poses.append(pose)
@@ -213,6 +219,7 @@ class MeasurementResult(Written):
                                          "largest_spread_um": correction.largest_spread_um},
                 "bootstrap": {"resamples": BOOTSTRAP_RESAMPLES, "seed": self.seed, "interval": "percentile, 95 %"},
                 "noise_floor": floor,
+                "independence": independence_settings(),
             },
             "reproduce": {"versions": self.versions},
             "poses": poses,
@@ -274,7 +281,8 @@ def measure(path, seed: int = BOOTSTRAP_SEED, segmenting: Segmenting | None = No
     figures = measurement_figures(measurements, registration, seed=seed)
     flags = () if floor is None else tuple(flag_figures(figures, floor))
     drifts = tuple(tuple(pose_drift(pose, registration)) for pose in measurements.poses)
+    independence = tuple(pose_independence(pose, registration) for pose in measurements.poses)
     return MeasurementResult(str(path), hashlib.sha256(Path(path).read_bytes()).hexdigest(), measurements,
                              segmentation, frame, tuple(figures), seed,
                              None if noise_path is None else str(noise_path), floor, flags, drifts,
-                             software_versions())
+                             independence, software_versions())
