@@ -253,8 +253,15 @@ def approach_signs(mode: str, cycles: int, directions: np.ndarray, rng: np.rando
     return directions[group].astype(float), group
 
 
+def require_cycle_time(models: list[JointErrorModel], cycle_time_s: float | None) -> None:
+    """Refuse a joint whose friction heats it every cycle (its series' ``thermal``) without ``cycle_time_s``."""
+    if cycle_time_s is None and any(m.series is not None and m.series.thermal is not None for m in models):
+        raise SettingsError("a joint's friction heats it every cycle (its series' thermal): give cycle_time_s, "
+                            "one cycle's duration [s]", "cycle_time_s")
+
+
 def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Generator, tests: int = 1,
-                  torque_per_value: np.ndarray | None = None, cycle_time_s: float | None = None,
+                  torque_per_unit: np.ndarray | None = None, cycle_time_s: float | None = None,
                   warm: bool = False) -> np.ndarray:
     """Friction coefficients mu (cycles, nv) [-], drawn joint by joint (all cycles of the first joint,
     then of the second...): in one call when all joints share one law, the usual case.
@@ -263,7 +270,7 @@ def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Gen
     consecutive tests of ``cycles / tests`` cycles each, every one from the series' start (its ``age_cycles``, a
     cold joint), by :func:`~tribokin.tribology.friction_series.draw_series`; then every joint draws so, the
     independent ones ``law.rvs((tests, cycles / tests))``. Its ``thermal`` heats it by the friction power
-    :func:`~tribokin.tribology.thermal.power_per_value` gives from ``torque_per_value`` (nv,) [N·m or N per unit
+    :func:`~tribokin.tribology.thermal.power_per_value` gives from ``torque_per_unit`` (nv,) [N·m or N per unit
     of the law's value: :func:`sample_joint_deviations`'), its ``travel_per_cycle`` and ``cycle_time_s`` [s], from
     ambient or (``warm``) from the temperature the law's mean settles it at
     (:meth:`~tribokin.tribology.thermal.Thermal.settled_C`).
@@ -276,14 +283,12 @@ def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Gen
         return np.array([law.rvs(size=cycles, random_state=rng) for law in laws]).T
     if cycles % tests:
         raise ValueError(f"{cycles} cycles do not split into {tests} tests")
+    require_cycle_time(models, cycle_time_s)
     drawn = []
     for i, model in enumerate(models):
         series, power, start = model.series or FrictionSeries(), None, None
         if series.thermal is not None:
-            if cycle_time_s is None:
-                raise SettingsError("a joint's friction heats it every cycle (series.thermal): give cycle_time_s, "
-                                    "one cycle's duration [s]", "cycle_time_s")
-            power = power_per_value(model.travel_per_cycle, cycle_time_s, float(torque_per_value[i]))
+            power = power_per_value(model.travel_per_cycle, cycle_time_s, float(torque_per_unit[i]))
             start = series.thermal.settled_C(power, model.friction.mean()) if warm else None
         drawn.append(draw_series(model.friction, series, tests, cycles // tests, rng, power, cycle_time_s,
                                  start).values)

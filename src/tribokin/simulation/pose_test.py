@@ -27,6 +27,7 @@ from tribokin.simulation.joint_errors import (
     approach_signs,
     check_travel,
     joint_travel,
+    require_cycle_time,
     sample_joint_deviations,
 )
 from tribokin.simulation.pose_result import PoseResult
@@ -178,10 +179,7 @@ class PoseRunner:
     def __init__(self, settings: RunSettings, robot: Robot, models: list[JointErrorModel],
                  locate: Callable[[TribokinError], TribokinError] | None = None):
         self.settings, self.robot, self.models, self.locate = settings, robot, list(models), locate
-        if settings.cycle_time_s is None and any(m.series is not None and m.series.thermal is not None
-                                                 for m in self.models):
-            raise SettingsError("a joint's friction heats it every cycle (its series' thermal): give cycle_time_s, "
-                                "one cycle's duration [s]", "cycle_time_s")
+        require_cycle_time(self.models, settings.cycle_time_s)
         self.offsets = np.array([m.offset for m in models])
         self.loads = None
         if any(m.normal_force_N is None for m in models):
