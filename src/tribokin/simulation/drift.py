@@ -187,7 +187,8 @@ def drift_tests(runner: PoseRunner, task: PoseTask, forces_N: np.ndarray, direct
     temperature = joint_temperatures(runner.models_at(task), runner.robot.joint_is_prismatic, forces_N, drawn, tests,
                                      runner.settings.cycle_time_s, drift.warm)
     mean = temperature.mean(axis=0)
-    return DriftBlock(figures, ap_p, rp_l, mean, ((temperature - mean) ** 2).sum(axis=0))
+    squares = np.array([((temperature[..., k] - mean[:, k]) ** 2).sum(axis=0) for k in range(mean.shape[1])])
+    return DriftBlock(figures, ap_p, rp_l, mean, squares.T.reshape(mean.shape))
 
 
 def pose_drift(runner: PoseRunner, task: PoseTask, drift: DriftTest, index: int) -> tuple[dict[str, dict], PoseDrift]:

@@ -358,9 +358,9 @@ def joint_temperatures(models: list[JointErrorModel], prismatic: np.ndarray, nor
     ``warm``: each cycle's draw (its factor at its temperature included) dissipates its power over the cycle
     (:meth:`~tribokin.tribology.thermal.Thermal.path`), as it heated the next cycle there."""
     values = np.asarray(drawn).reshape(tests, -1, len(models))
-    torque = torque_per_value(models, prismatic, normal_forces_N)
-    paths = []
-    for i in warming_joints(models):
+    torque, warming = torque_per_value(models, prismatic, normal_forces_N), warming_joints(models)
+    out = np.empty(values.shape[:2] + (len(warming),))
+    for k, i in enumerate(warming):  # joint by joint into one array: no stacked copy
         power, start = thermal_drive(models[i], torque[i], cycle_time_s, warm)
-        paths.append(models[i].series.thermal.path(values[:, :, i] * power, cycle_time_s, start))
-    return np.stack(paths, axis=-1) if paths else np.empty(values.shape[:2] + (0,))
+        out[:, :, k] = models[i].series.thermal.path(values[:, :, i] * power, cycle_time_s, start)
+    return out
