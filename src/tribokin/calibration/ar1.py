@@ -112,33 +112,44 @@ class _Bucket:
     """The series of one length, stacked: their deviations (m, n), shares (m, G) and the lag matrix |j − k|."""
 
     def __init__(self, series: list[TimedSeries]):
-        self.u = np.array([s.deviations_m for s in series], dtype=float)
-        self.u /= np.sqrt(np.mean(self.u ** 2, axis=1, keepdims=True))  # v profiled out: scale-free, well-conditioned
+        u = np.array([s.deviations_m for s in series], dtype=float)
+        u -= u.mean(axis=1, keepdims=True)  # ℓ is the same for u + c·1 (P·1 = 0): rᵀPr is then no cancellation
+        self.u = u / np.sqrt(np.mean(u ** 2, axis=1, keepdims=True))  # and for c·u (v profiled out)
         self.shares = np.array([s.shares for s in series], dtype=float)
         n = self.u.shape[1]
         self.lags = np.abs(np.subtract.outer(np.arange(n), np.arange(n)))
         self.identity = np.eye(n)
 
-    def log_likelihood(self, rho: np.ndarray) -> float:
-        """Σ over the bucket's series of their restricted log-likelihood at ρ (G,), constants dropped."""
-        correlation = np.power.outer(rho, self.lags)  # (G, n, n)
+    def log_likelihood(self, rho: np.ndarray) -> tuple[float, np.ndarray]:
+        """Σ over the bucket's series of their restricted log-likelihood at ρ (G,), constants dropped, and its
+        gradient (G,): with P = C⁻¹ − C⁻¹11ᵀC⁻¹/(1ᵀC⁻¹1), a = C⁻¹1 and D_g = ∂C/∂ρ_g,
+        ∂ℓ/∂ρ_g = ½[(n − 1)·(Pu)ᵀD_g(Pu)/(uᵀPu) − tr(C⁻¹D_g) + aᵀD_g a/(1ᵀa)]."""
+        lags = self.lags
+        correlation = np.power.outer(rho, lags)  # (G, n, n)
+        slope = lags * np.power.outer(rho, np.maximum(lags - 1, 0))  # ∂T/∂ρ, 0 on the diagonal
         noise = 1.0 - self.shares.sum(axis=1)
         c = np.einsum("mg,gjk->mjk", self.shares, correlation) + noise[:, None, None] * self.identity
         factor = np.linalg.cholesky(c)
         log_det = 2.0 * np.log(np.diagonal(factor, axis1=1, axis2=2)).sum(axis=1)
-        ones = np.ones_like(self.u)
-        solved = np.linalg.solve(c, np.stack([self.u, ones], axis=2))  # (m, n, 2)
-        u_c_u = np.einsum("mj,mj->m", self.u, solved[..., 0])
-        one_c_u = np.einsum("mj,mj->m", ones, solved[..., 0])
-        one_c_one = np.einsum("mj,mj->m", ones, solved[..., 1])
-        residual = u_c_u - one_c_u ** 2 / one_c_one
+        inverse = np.linalg.inv(c)
+        a = inverse.sum(axis=2)  # C⁻¹1
+        one_a = a.sum(axis=1)
+        c_u = np.einsum("mjk,mk->mj", inverse, self.u)
+        p_u = c_u - a * (np.einsum("mj,mj->m", a, self.u) / one_a)[:, None]
+        quadratic = np.einsum("mj,mj->m", self.u, p_u)
         n = self.u.shape[1]
-        return float(-0.5 * np.sum((n - 1) * np.log(residual) + log_det + np.log(one_c_one)))
+        value = float(-0.5 * np.sum((n - 1) * np.log(quadratic) + log_det + np.log(one_a)))
+        pdp = np.einsum("mj,gjk,mk->mg", p_u, slope, p_u)
+        trace = np.einsum("mjk,gkj->mg", inverse, slope)
+        ada = np.einsum("mj,gjk,mk->mg", a, slope, a)
+        gradient = 0.5 * self.shares * ((n - 1) * pdp / quadratic[:, None] - trace + ada / one_a[:, None])
+        return value, gradient.sum(axis=0)
 
 
-def restricted_log_likelihood(rho: np.ndarray, series: list[TimedSeries]) -> float:
-    """ℓ(ρ) of the module docstring: the series' restricted log-likelihood at the groups' ρ (G,)."""
-    return sum(bucket.log_likelihood(np.asarray(rho, dtype=float)) for bucket in _buckets(series))
+def restricted_log_likelihood(rho: np.ndarray, series: list[TimedSeries]) -> tuple[float, np.ndarray]:
+    """ℓ(ρ) of the module docstring, the series' restricted log-likelihood at the groups' ρ (G,), and its gradient."""
+    parts = [bucket.log_likelihood(np.asarray(rho, dtype=float)) for bucket in _buckets(series)]
+    return sum(v for v, _ in parts), sum(g for _, g in parts)
 
 
 def _buckets(series: list[TimedSeries]) -> list[_Bucket]:
@@ -147,21 +158,30 @@ def _buckets(series: list[TimedSeries]) -> list[_Bucket]:
 
 
 class _Problem:
-    """ℓ over the free groups' ρ (the others' shares kept, their ρ 0), maximised and profiled."""
+    """−ℓ over the free groups' ρ (the others' shares kept, their ρ 0), minimised and profiled."""
 
     def __init__(self, series: list[TimedSeries], free: np.ndarray):
         self.buckets = _buckets(series)
         self.free = free
-        self.groups = len(free)
 
-    def value(self, rho_free: np.ndarray) -> float:
-        rho = np.zeros(self.groups)
+    def negative(self, rho_free: np.ndarray) -> tuple[float, np.ndarray]:
+        """−ℓ and its gradient at the free groups' ρ."""
+        rho = np.zeros(len(self.free))
         rho[self.free] = rho_free
-        return sum(bucket.log_likelihood(rho) for bucket in self.buckets)
+        parts = [bucket.log_likelihood(rho) for bucket in self.buckets]
+        return -sum(v for v, _ in parts), -sum(g for _, g in parts)[self.free]
+
+    def start(self) -> np.ndarray:
+        """The free groups' start: least squares of the series' lag-one autocorrelations on their shares (r₁ ≈
+        Σ_g w_g·ρ_g), within ±0.9 (a start near ρ = ±1 may stay on that bound's side mode)."""
+        r1 = np.concatenate([np.sum(b.u[:, 1:] * b.u[:, :-1], axis=1) / np.sum(b.u ** 2, axis=1)
+                             for b in self.buckets])
+        shares = np.concatenate([b.shares for b in self.buckets])[:, self.free]
+        return np.clip(np.linalg.lstsq(shares, r1, rcond=None)[0], -0.9, 0.9)
 
     def maximise(self, start: np.ndarray, held: int | None = None, at: float = 0.0) -> tuple[np.ndarray, float]:
-        """The maximum of ℓ over the free ρ (their indices among the free), ``held`` (if given) fixed ``at``."""
-        others = np.array([i for i in range(len(start)) if i != held], dtype=int)
+        """ρ̂ of the free groups and ℓ there, ``held`` (its index among them, if given) fixed ``at``."""
+        others = np.arange(len(start)) != (-1 if held is None else held)
 
         def full(x: np.ndarray) -> np.ndarray:
             rho = np.array(start, dtype=float)
@@ -169,18 +189,23 @@ class _Problem:
             if held is not None:
                 rho[held] = at
             return rho
-        if not len(others):
-            return full(np.array([])), self.value(full(np.array([])))
-        if len(others) == 1:
-            best = minimize_scalar(lambda x: -self.value(full(np.array([x]))), bounds=(-RHO_BOUND, RHO_BOUND),
+
+        def objective(x: np.ndarray) -> tuple[float, np.ndarray]:
+            value, gradient = self.negative(full(x))
+            return value, gradient[others]
+        if not others.any():
+            return full(np.array([])), -self.negative(full(np.array([])))[0]
+        if others.sum() == 1:  # a bounded scalar search: no gradient needed
+            best = minimize_scalar(lambda x: objective(np.array([x]))[0], bounds=(-RHO_BOUND, RHO_BOUND),
                                    method="bounded", options={"xatol": 1e-7})
             return full(np.array([best.x])), -float(best.fun)
-        best = minimize(lambda x: -self.value(full(x)), start[others], method="L-BFGS-B",
-                        bounds=[(-RHO_BOUND, RHO_BOUND)] * len(others), options={"ftol": 1e-12, "gtol": 1e-8})
+        best = minimize(objective, np.clip(start[others], -RHO_BOUND, RHO_BOUND), jac=True, method="L-BFGS-B",
+                        bounds=[(-RHO_BOUND, RHO_BOUND)] * int(others.sum()), options={"ftol": 1e-13, "gtol": 1e-9})
         return full(best.x), -float(best.fun)
 
     def interval(self, rho_hat: np.ndarray, best: float, i: int) -> tuple[float, float]:
-        """The 95 % profile interval of the free group ``i`` (its index among the free)."""
+        """The 95 % profile interval of the free group ``i`` (its index among the free): each end by
+        ``scipy.optimize.brentq`` (to 1e-6), ±1 where the profile stays above its drop up to the bound."""
         def excess(value: float) -> float:
             return best - self.maximise(rho_hat, held=i, at=value)[1] - DROP
 
@@ -209,7 +234,7 @@ def fit_group_ar1(series: list[TimedSeries], groups: list[tuple[str, tuple[str, 
     dominated = (shares >= DOMINANT).sum(axis=0)
     free = largest > 0
     problem = _Problem(used, free)
-    rho_hat, best = problem.maximise(np.zeros(int(free.sum())))
+    rho_hat, best = problem.maximise(problem.start())
     index = np.cumsum(free) - 1
     fitted = []
     for g, (name, joints) in enumerate(groups):
