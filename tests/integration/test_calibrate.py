@@ -398,10 +398,12 @@ def gantry_study(folder, layout: str, calibration: str = 'fit = ["stiffness", "n
     return path
 
 
-def gantry_measurements(path, backlash_m: float = 0.0, noise_m: float = 1e-6) -> None:
-    """Three poses of the gantry, each approached from + and - 8 times: every joint's lost motion from a friction
-    force of 20 ± 5 N on stiffnesses 2e6, 1e6, 3e6 N/m and half its ``backlash_m``, ``noise_m`` of instrument noise
-    (with commanded positions: registered by ``--registration best-fit``; three poses are too few for ``auto``)."""
+def gantry_measurements(path, backlash_m: float = 0.0, noise_m: float = 1e-6, rho: float | None = None,
+                        cycles: int = 8) -> None:
+    """Three poses of the gantry, each approached from + and - ``cycles`` times: every joint's lost motion from a
+    friction force of 20 ± 5 N (independent between cycles, or with ``rho`` an AR(1) of that lag-one correlation) on
+    stiffnesses 2e6, 1e6, 3e6 N/m and half its ``backlash_m``, ``noise_m`` of instrument noise (with commanded
+    positions: registered by ``--registration best-fit``; three poses are too few for ``auto``)."""
     from tribokin.kinematics.robot import load_urdf
 
     robot, rng = load_urdf(GANTRY, tool_frame="tool"), np.random.default_rng(35)
@@ -410,8 +412,14 @@ def gantry_measurements(path, backlash_m: float = 0.0, noise_m: float = 1e-6) ->
     for name, q in {"P1": [0.1, 0.2, 0.3], "P2": [0.3, 0.1, 0.2], "P3": [0.2, 0.3, 0.1]}.items():
         commanded = robot.tool_placement(np.array(q)).translation
         for direction, sign in (("+", 1.0), ("-", -1.0)):
-            for cycle in range(1, 9):
-                lost = rng.normal(20.0, 5.0, 3) / stiffness + backlash_m / 2
+            force = None  # the AR(1)'s standard normal state
+            for cycle in range(1, cycles + 1):
+                if rho is None:
+                    lost = rng.normal(20.0, 5.0, 3) / stiffness + backlash_m / 2
+                else:
+                    shock = rng.normal(0.0, 1.0, 3)
+                    force = shock if force is None else rho * force + np.sqrt(1 - rho * rho) * shock
+                    lost = (20.0 + 5.0 * force) / stiffness + backlash_m / 2
                 point = commanded + sign * lost + rng.normal(0.0, noise_m, 3)
                 rows.append({"pose": name, "cycle": cycle, "direction": direction,
                              **{f"{a}_m": repr(float(v)) for a, v in zip("xyz", point, strict=True)},
@@ -525,27 +533,6 @@ def test_a_map_beyond_the_memory_is_refused_before_the_fit(tmp_path, capsys, mon
     assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]
 
 
-def gantry_ar1_measurements(path, rho: float, cycles: int = 40) -> None:
-    """:func:`gantry_measurements`' poses and approaches with each joint's friction force an AR(1) of lag-one
-    correlation ``rho`` over the ``cycles`` cycles of each series (Gaussian, 20 ± 5 N), 1 µm of instrument noise."""
-    from tribokin.kinematics.robot import load_urdf
-
-    robot, rng = load_urdf(GANTRY, tool_frame="tool"), np.random.default_rng(38)
-    stiffness = np.array([2e6, 1e6, 3e6])
-    rows = []
-    for name, q in {"P1": [0.1, 0.2, 0.3], "P2": [0.3, 0.1, 0.2], "P3": [0.2, 0.3, 0.1]}.items():
-        commanded = robot.tool_placement(np.array(q)).translation
-        for direction, sign in (("+", 1.0), ("-", -1.0)):
-            force = rng.normal(0.0, 1.0, 3)
-            for cycle in range(1, cycles + 1):
-                force = rho * force + np.sqrt(1 - rho * rho) * rng.normal(0.0, 1.0, 3) if cycle > 1 else force
-                point = commanded + sign * (20.0 + 5.0 * force) / stiffness + rng.normal(0.0, 1e-6, 3)
-                rows.append({"pose": name, "cycle": cycle, "direction": direction,
-                             **{f"{a}_m": repr(float(v)) for a, v in zip("xyz", point, strict=True)},
-                             **{f"q_{a}": v for a, v in zip("xyz", q, strict=True)}})
-    write_rows(path, list(rows[0]), rows)
-
-
 def test_fit_ar1_on_series_too_short_says_so_in_one_line_and_writes_no_ar1(tmp_path):
     """The gantry's 8-cycle series (the IPA UR10 file has 2-5): calibrate --fit-ar1 fits the rest and says in one
     line, and in calibration.json's ar1.reason, why it fits no ar1; calibrated.toml carries none."""
@@ -568,7 +555,7 @@ def test_fit_ar1_recovers_the_friction_s_correlation_and_writes_it_into_its_tabl
     joint) dominates all six series, its ar1's 95 % interval covers 0.7, and calibrated.toml gives it in the
     friction's table with its interval, and the console the same."""
     study = gantry_study(tmp_path, "joint-tables-out-of-order")
-    gantry_ar1_measurements(tmp_path / "data.csv", 0.7)
+    gantry_measurements(tmp_path / "data.csv", rho=0.7, cycles=40)
     done = tribokin("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
                     "--report", "none", "--intervals", "wald", "--fit-ar1")
     assert done.returncode == 0, done.stderr
