@@ -567,3 +567,12 @@ def test_fit_ar1_recovers_the_friction_s_correlation_and_writes_it_into_its_tabl
                 if line.startswith("friction_force_N"))
     assert f"ar1 = {group['value']!r}" in line and f"95 % interval [{low:.3g}, {high:.3g}]" in line
     assert f"ar1 joints.friction_force_N (x, y, z): {group['value']:.3f}" in done.stdout
+
+
+def test_fit_ar1_other_than_true_or_false_is_refused_before_anything_is_read(tmp_path):
+    from tribokin import calibrate
+    from tribokin.errors import SettingsError
+
+    with pytest.raises(SettingsError, match="must be True or False") as refused:
+        calibrate(tmp_path / "absent.toml", DATA, fit_ar1="yes")
+    assert refused.value.argument == "fit_ar1"
