@@ -83,6 +83,9 @@ def test_no_group_dominating_a_series_is_the_fit_s_reason():
     fitted = fit_group_ar1(deviations([0.5], [0.3], 5, 20, rng), GROUP)
     assert fitted.reason.startswith(f"no joint group gives {DOMINANT:g} or more of the deviations")
     assert fitted.groups[0].estimate is None
+    no_friction = fit_group_ar1([TimedSeries(s.deviations_m, np.zeros(0)) for s in deviations([0.5], [0.3], 5, 20,
+                                                                                                rng)], [])
+    assert no_friction.groups == () and no_friction.reason.startswith("no joint group gives")
 
 
 def test_the_likelihood_of_one_group_without_noise_is_the_ar1_restricted_likelihood():

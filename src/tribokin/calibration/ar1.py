@@ -229,9 +229,14 @@ def fit_group_ar1(series: list[TimedSeries], groups: list[tuple[str, tuple[str, 
         return Ar1Fit(tuple(GroupAr1(g, joints, None, 0, 0.0, "no series long enough") for g, joints in groups),
                       0, longest, f"no series has {MIN_CYCLES} or more cycles in time order (the longest has "
                       f"{longest}): too short to tell one cycle's friction from the next's")
-    shares = np.array([s.shares for s in used])
-    largest = shares.max(axis=0)
+    shares = np.array([s.shares for s in used]).reshape(len(used), len(groups))
+    largest = shares.max(axis=0, initial=0.0)
     dominated = (shares >= DOMINANT).sum(axis=0)
+    if not dominated.any():
+        reason = (f"no joint group gives {DOMINANT:g} or more of the deviations of a series of {MIN_CYCLES} or more "
+                  f"cycles (largest share {largest.max(initial=0.0):.2f})")
+        return Ar1Fit(tuple(_not_dominated(name, joints, share) for (name, joints), share in
+                            zip(groups, largest, strict=True)), len(used), longest, reason)
     free = largest > 0
     problem = _Problem(used, free)
     rho_hat, best = problem.maximise(problem.start())
@@ -239,18 +244,20 @@ def fit_group_ar1(series: list[TimedSeries], groups: list[tuple[str, tuple[str, 
     fitted = []
     for g, (name, joints) in enumerate(groups):
         if not dominated[g]:
-            why = (f"its joints give at most {largest[g]:.2f} of a series' deviations (at least {DOMINANT:g} needed "
-                   f"in a series of {MIN_CYCLES} or more cycles): measure poses and directions where they move the "
-                   "tool most")
-            fitted.append(GroupAr1(name, joints, None, 0, float(largest[g]), why))
+            fitted.append(_not_dominated(name, joints, largest[g]))
             continue
         low, high = problem.interval(rho_hat, best, int(index[g]))
         fitted.append(GroupAr1(name, joints, Estimate(float(rho_hat[index[g]]), low, high), int(dominated[g]),
                                float(largest[g])))
-    reason = "" if dominated.any() else (
-        f"no joint group gives {DOMINANT:g} or more of the deviations of a series of {MIN_CYCLES} or more cycles "
-        f"(largest share {largest.max():.2f})")
-    return Ar1Fit(tuple(fitted), len(used), longest, reason)
+    return Ar1Fit(tuple(fitted), len(used), longest)
+
+
+def _not_dominated(name: str, joints: tuple[str, ...], largest: float) -> GroupAr1:
+    """A group that dominates no series long enough, and why it has no estimate."""
+    return GroupAr1(name, joints, None, 0, float(largest),
+                    f"its joints give at most {largest:.2f} of a series' deviations (at least {DOMINANT:g} needed in a "
+                    f"series of {MIN_CYCLES} or more cycles): measure poses and directions where they move the tool "
+                    "most")
 
 
 def timed_series(model: JointModel, poses: list[PoseData] | tuple[PoseData, ...], group_of_joint: np.ndarray,
