@@ -553,11 +553,11 @@ def test_fit_ar1_on_series_too_short_says_so_in_one_line_and_writes_no_ar1(tmp_p
 def test_fit_ar1_recovers_the_friction_s_correlation_and_writes_it_into_its_table(tmp_path):
     """Gantry series of 40 cycles whose friction forces are AR(1)s of 0.7: the [joints] friction's group (every
     joint) dominates all six series, its ar1's 95 % interval covers 0.7, and calibrated.toml gives it in the
-    friction's table with its interval, and the console the same."""
+    friction's table with its interval, and the console and the report the same."""
     study = gantry_study(tmp_path, "joint-tables-out-of-order")
     gantry_measurements(tmp_path / "data.csv", rho=0.7, cycles=40)
     done = tribokin("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
-                    "--report", "none", "--intervals", "wald", "--fit-ar1")
+                    "--intervals", "wald", "--fit-ar1")
     assert done.returncode == 0, done.stderr
     (group,) = json.loads((tmp_path / "fit" / "calibration.json").read_text(encoding="utf-8"))["ar1"]["groups"]
     assert group["key"] == "joints.friction_force_N" and group["joints"] == ["x", "y", "z"]
@@ -567,6 +567,8 @@ def test_fit_ar1_recovers_the_friction_s_correlation_and_writes_it_into_its_tabl
                 if line.startswith("friction_force_N"))
     assert f"ar1 = {group['value']!r}" in line and f"95 % interval [{low:.3g}, {high:.3g}]" in line
     assert f"ar1 joints.friction_force_N (x, y, z): {group['value']:.3f}" in done.stdout
+    report = (tmp_path / "fit" / "report.html").read_text(encoding="utf-8")
+    assert f"joints.friction_force_N: {group['value']:.3f} [{low:.3f}, {high:.3f}] (6 series)" in report
 
 
 def test_fit_ar1_other_than_true_or_false_is_refused_before_anything_is_read(tmp_path):
