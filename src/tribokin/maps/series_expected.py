@@ -33,10 +33,9 @@ A test's n cycles are not independent draws, so neither the closed forms of inde
 Both draw :func:`series_tests` tests: ``tests_for(SAMPLED_CYCLES, n)`` (2 000 of 30 cycles) times a factor decided
 before any pose is sampled (:func:`series_factor`), the same at every pose and direction, so that their numbers are
 common (:func:`~tribokin.streams.expected_stream`). Cycles that move together spread less within a test and more
-from test to test: at ``ar1`` = 0.9 one test's RP_l varies about twice as much, relatively, as over independent cycles,
-and its band's ends at 2 000 tests state errors of 1.5-2.5 %; the factor brings each stated error of a
-one-dimensional cloud of each joint's series within ``MC_ERROR_AIM`` (up to ``MAX_BAND_FACTOR``).
-"""
+from test to test: at ``ar1`` = 0.9 on the agreement rule's UR5 pose, RP_l's band's ends at 2 000 tests would state
+errors of about 1.5 % (a Gaussian law) and 3.5 % (a uniform one); the factor brings each stated error of a
+one-dimensional cloud of each joint's series within ``MC_ERROR_AIM`` (up to ``MAX_SERIES_FACTOR``)."""
 
 from __future__ import annotations
 
@@ -48,7 +47,7 @@ import numpy as np
 from tribokin.iso9283.gaussian_tests import BAND_PERCENTILES, expected_norm, expected_root, mean_error, percentile_error
 from tribokin.iso9283.metrics import orientation_repeatability, position_repeatability, position_spread
 from tribokin.maps.expected_figures import (
-    MAX_BAND_FACTOR,
+    BLOCK_CYCLES,
     MC_ERROR_AIM,
     NEGLIGIBLE_TRUNCATION_SIGMAS,
     SAMPLED_CYCLES,
@@ -72,6 +71,11 @@ from tribokin.units import MDEG_PER_RAD, UM_PER_M
 ANALYTIC_MAX_CYCLES = 2_000
 #: Where the figures came from.
 ANALYTIC, SAMPLED = "analytic", "sampled"
+#: The most times the default tests a pose's correlated figures take (:func:`series_factor`): 128 000 tests of 30
+#: cycles, about 4 CPU s a direction through the fast engine on a UR5. Few series need more: a uniform law at
+#: ``ar1`` = 0.99 would take about 390 (its lower band end then states 1.1 % at this cap on the agreement rule's UR5
+#: pose).
+MAX_SERIES_FACTOR = 64
 
 
 @dataclass(frozen=True)
@@ -113,7 +117,7 @@ def series_factor(runner: PoseRunner) -> int:
     """How many times ``tests_for(SAMPLED_CYCLES, cycles)`` tests every pose's correlated figures take, the same at
     every pose (common random numbers): the largest stated error of RP_l's mean, its band's ends and an angle's mean S
     in those tests of a one-dimensional cloud of each joint's values (its law and time keys but ``thermal``, whose
-    power depends on the pose), over ``MC_ERROR_AIM``, squared; at most ``MAX_BAND_FACTOR``. One joint alone is the
+    power depends on the pose), over ``MC_ERROR_AIM``, squared; at most ``MAX_SERIES_FACTOR``. One joint alone is the
     heaviest case; clouds of several joints mix towards the Gaussian."""
     cycles = runner.settings.cycles
     tests = tests_for(SAMPLED_CYCLES, cycles)
@@ -129,7 +133,13 @@ def series_factor(runner: PoseRunner) -> int:
         errors = (mean_error(rp_l), mean_error(cloud.std(axis=1, ddof=1)),
                   *(percentile_error(rp_l, p) for p in BAND_PERCENTILES))
         worst = max(worst, *(float(error) for error in errors))
-    return int(np.clip(math.ceil((worst / MC_ERROR_AIM) ** 2), 1, MAX_BAND_FACTOR))
+    return int(np.clip(math.ceil((worst / MC_ERROR_AIM) ** 2), 1, MAX_SERIES_FACTOR))
+
+
+def blocks_of_tests(tests: int, cycles: int) -> list[int]:
+    """``tests`` tests of ``cycles`` cycles in blocks drawn one after another, each within ``BLOCK_CYCLES`` cycles."""
+    size = max(1, BLOCK_CYCLES // cycles)
+    return [min(size, tests - start) for start in range(0, tests, size)]
 
 
 def correlated_figures(runner: PoseRunner, task: PoseTask, forces_N: np.ndarray, direction: np.ndarray,
@@ -194,15 +204,18 @@ def analytic_figures(runner: PoseRunner, task: PoseTask, forces_N: np.ndarray, d
         lam = np.maximum(np.linalg.eigvalsh(centring @ angle @ centring), 0.0) / max(n - 1, 1)
         deviation = float(expected_root(np.zeros(1), lam[None])[0]) if lam.sum() > 0 else 0.0  # still: S = 0
         values[f"RP_{axis}_mdeg"] = 3 * deviation * MDEG_PER_RAD
-    tests = series_tests(runner, factor)
     rng = expected_stream(runner.settings.seed, "series gaussian tests")
-    shocks = rng.standard_normal((len(models), tests, n))
-    z = np.stack([ar1_filter(shocks[k], r) if r else shocks[k] for k, r in enumerate(ar1)], axis=-1)
-    draws = z * std @ per_unit[:, :3] + rng.standard_normal((tests, n, len(models))) @ noise[:, :3]
-    rp_l, distances = position_repeatability(draws)
-    controls = np.stack([distances.mean(axis=-1), np.square(distances).mean(axis=-1)], axis=-1)
+    rp_l, controls = [], []
+    for count in blocks_of_tests(series_tests(runner, factor), n):
+        shocks = rng.standard_normal((len(models), count, n))
+        z = np.stack([ar1_filter(shocks[k], r) if r else shocks[k] for k, r in enumerate(ar1)], axis=-1)
+        draws = z * std @ per_unit[:, :3] + rng.standard_normal((count, n, len(models))) @ noise[:, :3]
+        repeatability, distances = position_repeatability(draws)
+        rp_l.append(repeatability)
+        controls.append(np.stack([distances.mean(axis=-1), np.square(distances).mean(axis=-1)], axis=-1))
+    rp_l = np.concatenate(rp_l)
     known = np.array([mean_distance, float(np.trace(offsets, axis1=1, axis2=2).mean())])
-    rp_l_mean, rp_l_error = controlled(rp_l, controls, known)
+    rp_l_mean, rp_l_error = controlled(rp_l, np.concatenate(controls), known)
     values["RP_l_um"] = rp_l_mean * UM_PER_M
     mc = {name: 0.0 for name in values}
     mc["RP_l_um"] = rp_l_error
@@ -231,27 +244,30 @@ def sampled_figures(runner: PoseRunner, task: PoseTask, forces_N: np.ndarray, di
                     factor: int) -> SeriesFigures:
     """:func:`correlated_figures` from whole tests drawn as the pose's own (each joint's series from its start in every
     test, :meth:`~tribokin.simulation.pose_test.PoseRunner.deviations`) through the study's engine: each figure the
-    mean over :func:`series_tests` tests, the band their RP_l's percentiles; the numbers common to every pose and
-    direction (``"series tests"``)."""
-    cycles = runner.settings.cycles
-    tests = series_tests(runner, factor)
-    signs = np.broadcast_to(direction, (tests * cycles, len(direction)))
-    dq, _ = runner.deviations(task, forces_N, signs, expected_stream(runner.settings.seed, "series tests"), tests)
+    mean over :func:`series_tests` tests (drawn in :func:`blocks_of_tests`), the band their RP_l's percentiles; the
+    numbers common to every pose and direction (``"series tests"``); the bound the largest of the blocks' engines'."""
+    cycles, engine = runner.settings.cycles, runner.settings.engine
+    rng = expected_stream(runner.settings.seed, "series tests")
     twists, translations = tool_frames(runner.robot, task.q[None])
-    used = engine_orders(twists, dq[None], runner.settings.engine)
-    positions, angles = tool_deviations_at_poses(runner.robot, task.q[None], dq[None], runner.settings.engine, twists,
-                                                 translations, used)
-    spread = position_spread(positions[0].reshape(tests, cycles, 3))
-    rp_abc = orientation_repeatability(angles[0].reshape(tests, cycles, 3)) * MDEG_PER_RAD
     commanded = runner.robot.tool_placement(task.q).translation
-    per_test = {"RP_l_um": spread.RP_l_m * UM_PER_M,
-                "AP_p_um": np.linalg.norm(spread.barycenter_m - commanded, axis=-1) * UM_PER_M,
-                **{f"RP_{axis}_mdeg": rp_abc[:, i] for i, axis in enumerate("abc")}}
+    blocks, bounds = [], []
+    for count in blocks_of_tests(series_tests(runner, factor), cycles):
+        signs = np.broadcast_to(direction, (count * cycles, len(direction)))
+        dq, _ = runner.deviations(task, forces_N, signs, rng, count)
+        used = engine_orders(twists, dq[None], engine)
+        positions, angles = tool_deviations_at_poses(runner.robot, task.q[None], dq[None], engine, twists,
+                                                     translations, used)
+        spread = position_spread(positions[0].reshape(count, cycles, 3))
+        rp_abc = orientation_repeatability(angles[0].reshape(count, cycles, 3)) * MDEG_PER_RAD
+        blocks.append({"RP_l_um": spread.RP_l_m * UM_PER_M,
+                       "AP_p_um": np.linalg.norm(spread.barycenter_m - commanded, axis=-1) * UM_PER_M,
+                       **{f"RP_{axis}_mdeg": rp_abc[:, i] for i, axis in enumerate("abc")}})
+        bounds.append([float(used.position_m[0]), float(used.angle_rad[0])])
+    per_test = {name: np.concatenate([block[name] for block in blocks]) for name in blocks[0]}
     values = {name: float(figure.mean()) for name, figure in per_test.items()}
     mc = {name: float(mean_error(figure)) for name, figure in per_test.items()}
     for name, percentile in zip(("RP_l_lo_um", "RP_l_hi_um"), BAND_PERCENTILES, strict=True):
         values[name] = float(np.percentile(per_test["RP_l_um"], percentile))
         mc[name] = float(percentile_error(per_test["RP_l_um"], percentile))
-    bound = np.array([float(used.position_m[0]), float(used.angle_rad[0])])
     return SeriesFigures({name: values[name] for name in SPLIT_FIGURES}, {name: mc[name] for name in SPLIT_FIGURES},
-                         SAMPLED, bound)
+                         SAMPLED, np.max(bounds, axis=0))
