@@ -66,9 +66,9 @@ from tribokin.tribology.friction_series import FrictionSeries, ar1_filter, draw_
 from tribokin.tribology.laws import Constant, Gaussian, Scaled
 from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
-#: Most cycles of a test whose angle figures the analytic path takes from the eigenvalues of an n × n covariance
-#: (n³ work); longer tests are sampled.
-ANALYTIC_MAX_CYCLES = 2_000
+#: Most cycles of a test the analytic path takes: it holds the cycles' (n, n, 3, 3) covariance (18 MB at 500) and
+#: takes each angle's figure from the eigenvalues of an n × n matrix (n³ work); longer tests are sampled.
+ANALYTIC_MAX_CYCLES = 500
 #: Where the figures came from.
 ANALYTIC, SAMPLED = "analytic", "sampled"
 #: The most times the default tests a pose's correlated figures take (:func:`series_factor`): 128 000 tests of 30
