@@ -203,7 +203,8 @@ def _root_by_quadrature(constant: np.ndarray, lam: np.ndarray, beta2: np.ndarray
 
 def expected_root(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
     """E√(a + εᵀ U ε) (k,) for ε ~ N(0, S): ``constant`` a (k,) >= 0, ``lam`` (k, 3) the eigenvalues of U S (their
-    unit u: the result's √u)."""
+    unit u: the result's √u); any number m of them, (k, m): E√(Σ λ_i z_i²) of a Gaussian quadratic form (a correlated
+    series' sample standard deviation, :mod:`tribokin.maps.series_expected`; not all λ 0)."""
     return _root_by_quadrature(np.asarray(constant, dtype=float), np.maximum(np.asarray(lam, dtype=float), 0.0),
                                np.zeros(np.shape(lam)))
 

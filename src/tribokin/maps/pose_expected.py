@@ -1,7 +1,7 @@
 """A pose's expected figures beside its one simulated test: per approach direction, each figure's mean over ISO tests
 of ``cycles`` cycles, computed as a map target's (:func:`~tribokin.maps.expected_figures.direction_tests`), under their
 own keys (``expected_RP_l_um``...; never a second ``RP_l_um``). Where a joint's friction is a time series, sampled
-tests through the study's engine instead (:func:`series_expected_figures`)."""
+tests, or in closed form where the model allows, with their Monte Carlo errors (:func:`series_expected_figures`)."""
 
 from __future__ import annotations
 
@@ -9,24 +9,15 @@ from dataclasses import replace
 
 import numpy as np
 
-from tribokin.iso9283.gaussian_tests import ASYMPTOTIC_CYCLES, BAND_PERCENTILES
-from tribokin.iso9283.metrics import orientation_repeatability, position_spread
+from tribokin.iso9283.gaussian_tests import ASYMPTOTIC_CYCLES
 from tribokin.kinematics.robot import Robot
-from tribokin.maps.expected_figures import (
-    SAMPLED_CYCLES,
-    SPLIT_FIGURES,
-    ExpectedSetup,
-    direction_tests,
-    shape_table,
-    tests_for,
-)
-from tribokin.propagation.exact import tool_deviations
+from tribokin.maps.expected_figures import SPLIT_FIGURES, ExpectedSetup, direction_tests, shape_table
+from tribokin.maps.schema import mc_error_name
+from tribokin.maps.series_expected import correlated_figures, series_factor
 from tribokin.simulation.joint_errors import JointErrorModel, friction_lever, friction_loads
 from tribokin.simulation.pose_result import PoseResult
 from tribokin.simulation.pose_test import PoseRunner, PoseTask, TestSettings, pose_task, run_poses
-from tribokin.streams import expected_stream
 from tribokin.tribology.laws import FrictionLaw
-from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 
 def expected_key(name: str) -> str:
@@ -34,18 +25,21 @@ def expected_key(name: str) -> str:
     return f"expected_{name}"
 
 
-def pose_expected_figures(runner: PoseRunner, task: PoseTask) -> dict[str, dict[str, float]]:
+def pose_expected_figures(runner: PoseRunner, task: PoseTask, factor: int | None = None
+                          ) -> dict[str, dict[str, float]]:
     """Per approach direction the ``approach`` mode tests at ``task`` (label -> figures), the expected figures
     (:data:`~tribokin.maps.expected_figures.SPLIT_FIGURES`, :func:`expected_key`) [µm, mdeg] of tests of the runner's
     ``cycles`` cycles every one from that direction: at the pose's configuration, bearing loads and joint models (its
     own friction law too), as a map target's with the same settings gives them; where a joint's friction is a time
-    series, by :func:`series_expected_figures`."""
+    series, by :func:`series_expected_figures` (``factor``: :func:`~tribokin.maps.series_expected.series_factor`,
+    computed here when not given)."""
     task = task.tested(runner.settings.approach)
     if task.friction is not None:  # the sampled tests draw from the pose's own law
         runner = PoseRunner(runner.settings, runner.robot, runner.models_at(task), runner.locate)
     if any(m.correlated for m in runner.models):
         forces = runner.normal_forces(task)
-        return {label: series_expected_figures(runner, task, forces, direction.astype(float))
+        factor = series_factor(runner) if factor is None else factor
+        return {label: series_expected_figures(runner, task, forces, direction.astype(float), factor)
                 for label, direction in zip(task.labels, task.directions, strict=True)}
     cycles, seed = runner.settings.cycles, runner.settings.seed
     setup = ExpectedSetup.build(runner, None if cycles >= ASYMPTOTIC_CYCLES else shape_table(cycles, seed), "expected")
@@ -59,39 +53,27 @@ def pose_expected_figures(runner: PoseRunner, task: PoseTask) -> dict[str, dict[
     return figures
 
 
-def series_expected_figures(runner: PoseRunner, task: PoseTask, forces_N: np.ndarray, direction: np.ndarray
-                            ) -> dict[str, float]:
+def series_expected_figures(runner: PoseRunner, task: PoseTask, forces_N: np.ndarray, direction: np.ndarray,
+                            factor: int) -> dict[str, float | str]:
     """The expected figures (:data:`~tribokin.maps.expected_figures.SPLIT_FIGURES`, :func:`expected_key`) [µm, mdeg]
     of tests of the runner's ``cycles`` cycles at ``task``'s pose under bearing loads ``forces_N`` (nv,) [N], every
-    cycle approached with joint signs ``direction`` (nv,), where a joint's friction is a time series: cycles that move
-    together are not the independent ones the closed forms and the map's common random numbers assume, and a
-    running-in or warm-up moves the mean about which the first-order model is taken. So the tests are sampled whole
-    (:func:`~tribokin.maps.expected_figures.tests_for` of ``SAMPLED_CYCLES`` cycles: 2 000 tests of 30 cycles), each
-    joint's series from its start in every test (:meth:`PoseRunner.deviations`), through the study's engine (fast with
-    its bound, or exact FK): each figure the mean over the tests, the band RP_l's 2.5 and 97.5 % points. The numbers
-    are common to every pose and direction (:func:`~tribokin.streams.expected_stream` ``"series tests"``)."""
-    cycles = runner.settings.cycles
-    tests = tests_for(SAMPLED_CYCLES, cycles)
-    signs = np.broadcast_to(direction, (tests * cycles, len(direction)))
-    dq, _ = runner.deviations(task, forces_N, signs, expected_stream(runner.settings.seed, "series tests"), tests)
-    positions, angles = tool_deviations(runner.robot, task.q, dq, runner.settings.engine)
-    spread = position_spread(positions.reshape(tests, cycles, 3))
-    rp_l = spread.RP_l_m * UM_PER_M
-    rp_abc = orientation_repeatability(angles.reshape(tests, cycles, 3)) * MDEG_PER_RAD
-    commanded = runner.robot.tool_placement(task.q).translation
-    low, high = np.percentile(rp_l, BAND_PERCENTILES)
-    figures = {"RP_l_um": rp_l.mean(), "RP_l_lo_um": low, "RP_l_hi_um": high,
-               "AP_p_um": np.linalg.norm(spread.barycenter_m - commanded, axis=-1).mean() * UM_PER_M,
-               **{f"RP_{axis}_mdeg": rp_abc[:, i].mean() for i, axis in enumerate("abc")}}
-    return {expected_key(name): float(figures[name]) for name in SPLIT_FIGURES}
+    cycle approached with joint signs ``direction`` (nv,), where a joint's friction is a time series
+    (:func:`~tribokin.maps.series_expected.correlated_figures`, ``factor`` times the default tests), each with its
+    relative Monte Carlo standard error (``expected_<stem>_mc_error``: ``expected_RP_l_mc_error``...) and how they were
+    computed (``expected_method``: ``"analytic"`` or ``"sampled"``)."""
+    figures = correlated_figures(runner, task, forces_N, direction, factor)
+    return {**{expected_key(name): figures.values[name] for name in SPLIT_FIGURES},
+            **{expected_key(mc_error_name(name)): figures.mc_errors[name] for name in SPLIT_FIGURES},
+            expected_key("method"): figures.method}
 
 
 def with_expected_figures(runner: PoseRunner, tasks: list[PoseTask], results: list[PoseResult]) -> list[PoseResult]:
     """``results`` (of ``tasks``, :func:`~tribokin.simulation.pose_test.run_poses`) with each direction's expected
     figures (:func:`pose_expected_figures`) among its further figures."""
     out = []
+    factor = series_factor(runner) if any(m.correlated for m in runner.models) else None  # the same at every pose
     for task, result in zip(tasks, results, strict=True):
-        expected = pose_expected_figures(runner, task)
+        expected = pose_expected_figures(runner, task, factor)
         extra = {label: {**result.direction_extra.get(label, {}), **expected.get(label, {})}
                  for label in dict.fromkeys([*result.direction_extra, *expected])}
         out.append(replace(result, direction_extra=extra))

@@ -259,13 +259,19 @@ def _solved(correlation, ar1: float, law: str) -> float:
 
 def latent_series(tests: int, cycles: int, r: float, rng: np.random.Generator) -> np.ndarray:
     """A stationary Gaussian AR(1) of unit variance and lag-one correlation ``r``, (tests, cycles): z₀ ~ N(0, 1),
-    z_k = r·z_{k−1} + √(1 − r²)·ε_k (scipy's lfilter along the cycles)."""
+    z_k = r·z_{k−1} + √(1 − r²)·ε_k (:func:`ar1_filter` of standard normal shocks)."""
+    return ar1_filter(rng.standard_normal((tests, cycles)), r)
+
+
+def ar1_filter(shocks: np.ndarray, r: float) -> np.ndarray:
+    """The stationary Gaussian AR(1) of unit variance and lag-one correlation ``r`` made of standard normal
+    ``shocks`` (..., cycles) (overwritten): z₀ = ε₀, z_k = r·z_{k−1} + √(1 − r²)·ε_k, so cov(z_i, z_j) = r^|i−j|
+    exactly (scipy's lfilter along the last axis)."""
     from scipy.signal import lfilter
 
-    shocks = rng.standard_normal((tests, cycles))
     scale = math.sqrt(1.0 - r * r)
-    shocks[:, 0] /= scale  # the first value is z₀ itself
-    return lfilter([scale], [1.0, -r], shocks, axis=1)
+    shocks[..., 0] /= scale  # the first value is z₀ itself
+    return lfilter([scale], [1.0, -r], shocks, axis=-1)
 
 
 def draw_series(law: FrictionLaw, series: FrictionSeries, tests: int, cycles: int, rng: np.random.Generator,
@@ -320,3 +326,8 @@ def expected_sample_variance(std: float, ar1: float, cycles: int) -> float:
     k = np.arange(1, n)
     return std * std * (1.0 - 2.0 / (n * (n - 1)) * float(np.sum((n - k) * ar1 ** k)))
 
+
+def lag_correlations(ar1: float, cycles: int) -> np.ndarray:
+    """(cycles, cycles) the correlations ar1^|i − j| of a stationary AR(1)'s values at cycles i and j."""
+    lags = np.abs(np.subtract.outer(np.arange(cycles), np.arange(cycles)))
+    return np.power(float(ar1), lags)
