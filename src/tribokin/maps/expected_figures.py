@@ -165,6 +165,16 @@ class JointMoments:
     gaussian: bool
 
     @classmethod
+    def of_draws(cls, models: list[JointErrorModel], draws: np.ndarray) -> JointMoments:
+        """Of joints whose friction is a time series: each joint's mean, standard deviation and largest departure
+        from its mean over ``draws`` (..., nv), the very values its sampled tests draw (:func:`series_draws`), so the
+        first-order model's bound covers every one; never Gaussian (its tests are sampled whole)."""
+        draws = draws.reshape(-1, draws.shape[-1])
+        mean = draws.mean(axis=0)
+        return cls(mean, draws.std(axis=0), np.abs(draws - mean).max(axis=0), np.array([m.offset for m in models]),
+                   np.array([m.backlash / 2 for m in models]), np.array([m.noise_std for m in models]), False)
+
+    @classmethod
     def of(cls, models: list[JointErrorModel]) -> JointMoments:
         laws = [m.friction for m in models]
         return cls(np.array([law.mean() for law in laws]), np.array([law.std() for law in laws]),
@@ -258,18 +268,29 @@ class ExpectedSetup:
     """What every block of one scenario's expected map shares, built once per map: the tests' ``cycles`` (of each
     approach direction), the scenario's :class:`JointMoments`, the shape table of Gaussian tests
     (:class:`~tribokin.iso9283.gaussian_tests.ShapeTable`; ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on), the map's
-    ``figure_set`` (``"directional"``: vAP_p and RP_l_multi too) and ``band_factor`` (:func:`band_factor`)."""
+    ``figure_set`` (``"directional"``: vAP_p and RP_l_multi too) and ``band_factor`` (:func:`band_factor`);
+    ``series``: a joint's friction is a time series, every test sampled whole from the runner's state
+    (:func:`series_draws`), its moments those of the draws (:meth:`JointMoments.of_draws`)."""
 
     cycles: int
     moments: JointMoments
     table: ShapeTable | None
     figure_set: str
     band_factor: int = 1
+    series: bool = False
 
     @classmethod
     def build(cls, runner: PoseRunner, table: ShapeTable | None, figure_set: str) -> ExpectedSetup:
-        return cls(runner.settings.cycles, JointMoments.of(runner.models), table, figure_set,
-                   band_factor(runner, runner.settings.cycles))
+        cycles = runner.settings.cycles
+        factor = band_factor(runner, cycles)
+        if not runner.correlated:
+            return cls(cycles, JointMoments.of(runner.models), table, figure_set, factor)
+        tests = sampled_shape(SAMPLED_CYCLES, cycles, whole_tests=True)[0]
+        draws = [series_draws(runner, tests, cycles, "tests")]
+        if factor > 1:
+            draws.append(series_draws(runner, (factor - 1) * tests, cycles, "band tests"))
+        moments = JointMoments.of_draws(runner.models, np.concatenate(draws))
+        return cls(cycles, moments, table, figure_set, factor, series=True)
 
 
 def band_factor(runner: PoseRunner, cycles: int) -> int:
@@ -277,13 +298,14 @@ def band_factor(runner: PoseRunner, cycles: int) -> int:
     scenario takes, the same at every target: its stated error (that of E[RP_l] too) in tests of a one-dimensional
     cloud of each joint's law and of a Gaussian, over ``MC_ERROR_AIM``, squared. One joint's law alone is the
     heaviest case of its tails; clouds of several joints mix towards the Gaussian."""
-    shape = sampled_shape(SAMPLED_CYCLES, cycles)
+    whole = runner.correlated
+    shape = sampled_shape(SAMPLED_CYCLES, cycles, whole_tests=whole)
     rng = expected_stream(runner.settings.seed, "band pilot")
     clouds = [rng.standard_normal(shape)] + [m.friction.rvs(size=shape, random_state=rng) for m in runner.models
                                              if m.friction.std() > 0]
     worst = 0.0
     for cloud in clouds:
-        if cycles >= ASYMPTOTIC_CYCLES:
+        if cycles >= ASYMPTOTIC_CYCLES and not whole:
             points = np.zeros((1, shape[1], 3))
             points[0, :, 0] = cloud[0]
             moments, distances = cycle_moments(points, cycles, barycentre_normals(shape[1]))
@@ -309,9 +331,21 @@ def common_numbers(runner: PoseRunner, signs: np.ndarray, tests: int, purpose: s
     times its :func:`responses`' rows, less E[dq] - offset."""
     rng = expected_stream(runner.settings.seed, purpose)
     cycles, nv = signs.shape[1], len(runner.models)
-    mu = np.stack([m.friction.rvs(size=(tests, cycles), random_state=rng) for m in runner.models], axis=-1)
+    if runner.correlated:
+        mu = series_draws(runner, tests, cycles, rng)
+    else:
+        mu = np.stack([m.friction.rvs(size=(tests, cycles), random_state=rng) for m in runner.models], axis=-1)
     noise = rng.standard_normal((tests, cycles, nv))
     return np.concatenate([signs * mu, np.broadcast_to(signs, mu.shape), noise], axis=-1).reshape(-1, 3 * nv)
+
+
+def series_draws(runner: PoseRunner, tests: int, cycles: int, purpose) -> np.ndarray:
+    """(tests, cycles, nv) the joints' friction draws of one scenario's sampled tests where a joint's friction is a
+    time series: each test from the runner's state, the series running through its cycles
+    (:meth:`~tribokin.simulation.pose_test.PoseRunner.friction_tests`), from ``purpose``'s stream (its name, or the
+    stream itself) first: the same at every target."""
+    rng = expected_stream(runner.settings.seed, purpose) if isinstance(purpose, str) else purpose
+    return runner.friction_tests(tests, cycles, rng)
 
 
 def responses(model: LinearModel, moments: JointMoments, chosen: np.ndarray, rows: slice) -> np.ndarray:
@@ -595,10 +629,12 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     return out
 
 
-def sampled_shape(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> tuple[int, int]:
+def sampled_shape(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS,
+                  whole_tests: bool = False) -> tuple[int, int]:
     """(tests, cycles per test) sampled for tests of ``cycles`` cycles: :func:`tests_for` tests (at least ``fewest``),
-    or from ``ASYMPTOTIC_CYCLES`` on one series of ``cycles_in_all`` single cycles (:func:`cycle_moments`)."""
-    if cycles >= ASYMPTOTIC_CYCLES:
+    or from ``ASYMPTOTIC_CYCLES`` on one series of ``cycles_in_all`` single cycles (:func:`cycle_moments`), unless
+    ``whole_tests`` (cycles that are not independent: a friction time series)."""
+    if cycles >= ASYMPTOTIC_CYCLES and not whole_tests:
         return 1, cycles_in_all
     return tests_for(cycles_in_all, cycles, fewest), cycles
 
@@ -610,8 +646,8 @@ def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chose
     with ``used``, through the fast engine (each target's engine recorded there). Every direction's tests draw the
     same numbers."""
     n, moments = setup.cycles, setup.moments
-    asymptotic = n >= ASYMPTOTIC_CYCLES
-    shape = sampled_shape(SAMPLED_CYCLES * (setup.band_factor if asymptotic else 1), n)
+    asymptotic = n >= ASYMPTOTIC_CYCLES and not setup.series
+    shape = sampled_shape(SAMPLED_CYCLES * (setup.band_factor if asymptotic else 1), n, whole_tests=setup.series)
     signs = np.broadcast_to(direction, (1, shape[1], len(direction)))
     numbers = common_numbers(runner, np.broadcast_to(signs, (*shape, signs.shape[2])), shape[0], "tests")
     extra = (0 if asymptotic else (setup.band_factor - 1) * shape[0], n)  # the band's further tests
@@ -630,6 +666,8 @@ def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chose
                               (model, targets, linear))
         else:
             control = position_control(model, moments, targets, means, direction, commanded[targets], n)
+            if setup.series:  # a series' test means have no known expectation: no control variate
+                control = (control[0], np.zeros_like(control[1]))
             _summarise_tests(values, errors, slots, positions, angles, commanded[targets], more, control)
 
     if used is None:

@@ -22,6 +22,7 @@ from tribokin.propagation.exact import tool_deviations
 from tribokin.simulation.pose_result import PoseResult
 from tribokin.simulation.pose_test import PoseRunner, PoseTask
 from tribokin.streams import drift_stream
+from tribokin.tribology.friction_series import COLD, WARM
 from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 #: The drift figures of a test [µm, mdeg].
@@ -58,7 +59,8 @@ def drift_tests(runner: PoseRunner, task: PoseTask, forces_N: np.ndarray, direct
     as the pose's test draws it (:meth:`~tribokin.simulation.pose_test.PoseRunner.deviations`), the two sets through
     the study's engine."""
     span, size, nv = drift.span_cycles, drift.set_cycles, len(direction)
-    dq, _ = runner.deviations(task, forces_N, np.broadcast_to(direction, (tests * span, nv)), rng, tests, drift.warm)
+    dq, _ = runner.deviations(task, forces_N, np.broadcast_to(direction, (tests * span, nv)), rng, tests,
+                               WARM if drift.warm else COLD)
     dq = dq.reshape(tests, span, nv)
     sets = np.concatenate([dq[:, :size], dq[:, span - size:]], axis=1).reshape(-1, nv)
     positions, angles = tool_deviations(runner.robot, task.q, sets, runner.settings.engine)

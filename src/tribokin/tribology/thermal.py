@@ -100,6 +100,20 @@ class Thermal:
                 break
         return now
 
+    def after_C(self, power_per_value_W: float, value: float, duration_s: float, cycle_time_s: float) -> float:
+        """The temperature [°C] a joint reaches from ambient after ``duration_s`` [s] of cycles of ``cycle_time_s``
+        [s], whose friction of ``value`` at ambient (times its factor at the cycle's starting temperature) dissipates
+        ``power_per_value_W`` [W] per unit of it: :meth:`step` cycle by cycle, the last cycle's part for the rest of
+        the time; ``math.inf``: :meth:`settled_C`. Without a factor's change (``mu_per_K = 0``) this is
+        :meth:`temperature`'s closed form."""
+        if math.isinf(duration_s):
+            return self.settled_C(power_per_value_W, value)
+        whole, rest = divmod(duration_s, cycle_time_s)
+        now = self.ambient_C
+        for step in [cycle_time_s] * int(whole) + ([rest] if rest > 0 else []):
+            now = float(self.step(now, power_per_value_W * value * float(self.factor(now)), step))
+        return now
+
     def temperature(self, time_s, power_W: float, start_C: float | None = None) -> np.ndarray:
         """Closed form of the temperature [°C] at ``time_s`` [s] under a constant ``power_W`` [W] from ``start_C``
         (``None``: ambient): T∞ + (T₀ − T∞)·exp(−t/τ)."""
