@@ -629,6 +629,36 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     return out
 
 
+def change_errors(start: tuple[PoseRunner, ExpectedSetup], end: tuple[PoseRunner, ExpectedSetup], qs: np.ndarray,
+                  forces: np.ndarray, commanded: np.ndarray) -> np.ndarray:
+    """(k, 2) Monte Carlo standard errors [µm] of the changes of E[RP_l] and E[AP_p] (:data:`~tribokin.maps.schema.
+    CHANGE_FIGURES`) from state ``start`` to state ``end`` (each a runner and its setup, the same joints in two
+    states of their friction series) at configurations ``qs`` (k, nv) under bearing loads ``forces`` (k, nv) [N],
+    commanded positions ``commanded`` (k, 3) [m]: both states' sampled tests share their random numbers (the same
+    streams), so a test's change is paired; each test's RP_l and AP_p in both states through the states' first-order
+    models, the differences' standard deviation over √tests (the band's further tests left out: a larger error than
+    the figures' own over every test). Approached from both directions: the larger of the two directions' errors."""
+    runner = start[0]
+    lever = friction_loads(runner.models, forces) * friction_lever(runner.models, runner.robot.joint_is_prismatic)
+    both = per_direction(runner.settings.approach)
+    errors = np.zeros((len(qs), 2))
+    for sign in (1.0, -1.0) if both else (1.0,):
+        direction = np.full(len(runner.models), sign)
+        shape = sampled_shape(SAMPLED_CYCLES, start[1].cycles, whole_tests=True)
+        signs = np.broadcast_to(direction, (*shape, len(direction)))
+        states = [(linear_model(r.robot, setup.moments, qs, lever, np.broadcast_to(direction, lever.shape), False),
+                   setup.moments, common_numbers(r, signs, shape[0], "tests")) for r, setup in (start, end)]
+        for block in blocks_of(np.arange(len(qs)), 2 * shape[0] * shape[1]):
+            figures = []
+            for model, moments, numbers in states:
+                spread = position_spread(sampled_tests(model, moments, block, numbers, shape, slice(0, 3)))
+                figures.append(np.stack([spread.RP_l_m, np.linalg.norm(
+                    spread.barycenter_m - commanded[block, None], axis=-1)], axis=-1))  # (block, tests, 2)
+            change = (figures[1] - figures[0]) * UM_PER_M
+            errors[block] = np.fmax(errors[block], change.std(axis=1, ddof=1) / math.sqrt(shape[0]))
+    return errors
+
+
 def sampled_shape(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS,
                   whole_tests: bool = False) -> tuple[int, int]:
     """(tests, cycles per test) sampled for tests of ``cycles`` cycles: :func:`tests_for` tests (at least ``fewest``),

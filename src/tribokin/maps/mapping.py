@@ -27,7 +27,7 @@ from tribokin.execution import local_pool, run_chunks
 from tribokin.iso9283.gaussian_tests import ASYMPTOTIC_CYCLES
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
-from tribokin.maps.expected_figures import ExpectedSetup, expected_targets, shape_table
+from tribokin.maps.expected_figures import ExpectedSetup, change_errors, expected_targets, shape_table
 from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
 from tribokin.maps.measure import measure_targets
 from tribokin.maps.result import MapResult, ScenarioMap
@@ -186,6 +186,8 @@ def _measure_block(arrays: dict, slots: np.ndarray, robot: Robot, scenarios: lis
         values, forces = measured(runner, setup)
         if compared is not None:
             values.update(change_figures(values, measured(*compared)[0], runner.settings.approach, setup))
+            if setup is not None:  # the paired tests' standard errors
+                values["change_mc_errors"] = change_errors((runner, setup), compared, qs, forces, translations)
         values["normal_forces_N"] = forces
         for name, value in values.items():
             arrays[scenario_column(s, name)][slots] = value
@@ -193,17 +195,10 @@ def _measure_block(arrays: dict, slots: np.ndarray, robot: Robot, scenarios: lis
 
 def change_figures(start: dict, end: dict, approach: str, setup: ExpectedSetup | None) -> dict[str, np.ndarray]:
     """The change (:data:`~tribokin.maps.schema.CHANGE_FIGURES`) from figures ``start`` to ``end`` (a block's
-    :func:`measure_into` values in the two states), end minus start [µm] (k, 2), and an expected map's Monte Carlo
-    standard errors [µm] (k, 2): at most the sum of the two states' (whatever their correlation; their tests share
-    random numbers, so the difference's own is smaller)."""
-    both = per_direction(approach)
+    :func:`measure_into` values in the two states), end minus start [µm] (k, 2)."""
     figure_set = "one-test" if setup is None else setup.figure_set
-    columns = [figure_index(name, figure_set, both) for name in CHANGED_FIGURES]
-    out = {"change": end["figures"][:, columns] - start["figures"][:, columns]}
-    if setup is not None:
-        out["change_mc_errors"] = sum(np.abs(values["figures"][:, columns]) * values["mc_errors"][:, columns]
-                                      for values in (start, end))
-    return out
+    columns = [figure_index(name, figure_set, per_direction(approach)) for name in CHANGED_FIGURES]
+    return {"change": end["figures"][:, columns] - start["figures"][:, columns]}
 
 
 #: The first tries of the holes from their neighbours go to an executor's workers in parts of about this many.

@@ -101,8 +101,8 @@ class ScenarioMap:
         return self.read("change", targets, CHANGE_FIGURES.index(name))
 
     def change_error(self, name: str, targets=slice(None)) -> np.ndarray:
-        """Change ``name``'s Monte Carlo standard error [µm] at ``targets`` (an expected map's): at most the two
-        states' summed."""
+        """Change ``name``'s Monte Carlo standard error [µm] at ``targets`` (an expected map's): its paired tests'
+        (:func:`~tribokin.maps.expected_figures.change_errors`)."""
         return self.read("change_mc_errors", targets, CHANGE_FIGURES.index(name))
 
     def has(self, name: str) -> bool:

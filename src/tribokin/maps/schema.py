@@ -113,7 +113,7 @@ CHANGED_FIGURES = ("RP_l_um", "AP_p_um")
 
 def change_error_name(name: str) -> str:
     """The ``map.csv`` column of change ``name``'s Monte Carlo standard error, in its unit (``RP_l_change_um``:
-    ``RP_l_change_mc_error_um``): at most the two states' standard errors summed."""
+    ``RP_l_change_mc_error_um``): the paired tests' (:func:`~tribokin.maps.expected_figures.change_errors`)."""
     return f"{figure_stem(name)}_mc_error_um"
 
 
