@@ -524,9 +524,6 @@ CASES = [
              id="thermal-without-mu-dependence"),
     study("q = [0.25]", 'q = [0.25]\nfriction = { preset = "42CD4-raw", ar1 = 0.5 }',
           expected=("poses[0].friction.ar1", "a pose's friction is a law only"), id="ar1-on-a-pose"),
-    study('{ preset = "42CD4-raw" }', '{ preset = "42CD4-raw", ar1 = 0.5 }', base=AXIS_JOINT_MAP,
-          expected=("map.directional", "vAP_p and RP_l_multi with friction time keys are not simulated yet"),
-          id="time-keys-in-a-directional-map"),
     study("counts = [4]", 'counts = [4]\nstate = "warm"', base=AXIS_JOINT_MAP,
           expected=("map.state", "no joint's friction is a time series"), id="map-state-without-time-keys"),
     map_state('state = "hot"', SERIES_MAP, ("map.state", 'must be "cold", "warm" or a table'), "map-state-misspelt"),
@@ -544,9 +541,9 @@ CASES = [
     study("seed = 3", "seed = 3\ncycle_time_s = 10.0", base=STUDY + "\n[drift]\nduration_s = 200\n",
           expected=("drift.duration_s", "200 s hold 20 cycles of 10 s, fewer than the first and last sets' 24"),
           id="drift-too-short"),
-    study('[map]', '[[scenarios]]\nname = "worn"\n\n[[scenarios]]\nname = "warm"\njoints = { friction = { preset = '
-          '"42CD4-raw", steady_mean_std = 0.01 } }\n\n[map]', base=AXIS_JOINT_MAP,
-          expected=("scenarios[1].map.directional", "not simulated yet"), id="time-keys-in-a-map-scenario"),
+    study("[map]", '[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "worn"\njoints = { friction = { preset = '
+          '"42CD4-raw", ar1 = 0.5 } }\n\n[map]\nstate = { age_cycles = 100 }', base=AXIS_JOINT_MAP,
+          expected=("map.state.age_cycles", "no joint's friction has run_in"), id="map-state-age-no-scenario-runs-in"),
     study('{ preset = "42CD4-raw" }', '{ preset = "42CD4-raw", ar1 = 0.5 }',
           base=_replace(GANTRY_MAP, "chunk_rows = 1", "chunk_rows = 1\ndirectional = false\n\n[placement]\n"
                         "candidates = [[0.0, 0.0, 0.0]]"),

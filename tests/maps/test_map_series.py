@@ -11,13 +11,12 @@ import pytest
 
 from conftest import AXIS_URDF, ROOT
 from tribokin import workspace_map
-from tribokin.errors import JointModelError
 from tribokin.kinematics.robot import load_urdf
 from tribokin.maps.pose_expected import series_expected_figures
 from tribokin.simulation.joint_errors import JointErrorModel
 from tribokin.simulation.pose_test import PoseRunner, TestSettings, pose_task
 from tribokin.study.map_spec import JointMap
-from tribokin.tribology.friction_series import COLD, WARM, FrictionSeries, FrictionState, RunIn
+from tribokin.tribology.friction_series import COLD, WARM, FrictionSeries, FrictionState, RunIn, draw_series
 from tribokin.tribology.laws import Uniform
 from tribokin.tribology.thermal import Thermal
 
@@ -99,13 +98,38 @@ def test_the_state_moves_the_figures(axis):
     assert new.figure("AP_p_um")[0] == pytest.approx(np.mean(mu) * LOAD_N / STIFFNESS * 1e6, rel=0.01)
 
 
-def test_a_directional_library_map_refuses_a_correlated_joint(axis):
-    """vAP_p and RP_l_multi draw their cycles independently: a directional map refuses a joint whose friction is a
-    time series, naming it and its ``series``, before any target is solved."""
-    model = JointErrorModel(LAW, STIFFNESS, normal_force_N=LOAD_N, series=FrictionSeries(ar1=0.5))
-    with pytest.raises(JointModelError, match="directional map's vAP_p and RP_l_multi") as error:
-        workspace_map(axis, [model], JointMap(joints=("x",), ranges=((0.0, 0.3),), counts=(4,)))
-    assert (error.value.joint, error.value.part) == ("x", "series")
+def test_a_directional_maps_vap_p_and_rp_l_multi_with_time_keys_are_an_independent_monte_carlos():
+    """A directional map of the gantry (3 prismatic joints, fixed loads) whose joints' friction runs in, warms up and
+    is correlated (ar1 0.9), from { age 5, 600 s }: its vAP_p (the three directions' tests sampled whole through the
+    fast engine) and RP_l_multi (each cycle's joint signs drawn at random, the series running on) against a Monte
+    Carlo computed here from draw_series and the tool's position Jacobian (exact for prismatic joints), 4 000
+    independent tests each: within 4 combined standard errors."""
+    gantry = load_urdf(ROOT / "urdf" / "cartesian_xyz.urdf", "tool")
+    model = JointErrorModel(LAW, STIFFNESS, normal_force_N=LOAD_N, series=SERIES, travel_per_cycle=1.0)
+    state, q = FrictionState(age_cycles=5.0, after_s=600.0), np.array([0.3, 0.2, 0.1])
+    spec = JointMap(joints=("x",), ranges=((0.3, 0.3),), counts=(1,), start_q=tuple(q), state=state)
+    mapped = workspace_map(gantry, [model] * 3, spec, cycles=CYCLES, seed=5, cycle_time_s=CYCLE_S).reference
+    jacobian = gantry.tool_jacobian(q)[:3]
+    power = LOAD_N * 1.0 / CYCLE_S
+    series, start = state.start(LAW, SERIES, power, CYCLE_S)
+    rng, tests, lever = np.random.default_rng(2024), 4000, LOAD_N / STIFFNESS
+
+    def lost(count: int) -> np.ndarray:  # (count, cycles, 3) each joint's lost motion, its own series
+        return lever * np.stack([draw_series(LAW, series, count, CYCLES, rng, power, CYCLE_S, start).values
+                                 for _ in range(3)], axis=-1)
+
+    directions = np.sign(np.round(np.linalg.pinv(jacobian) @ np.eye(3), 12)).T  # +x, +y, +z: joint signs
+    barycentres = [(lost(tests) * signs).mean(axis=1) @ jacobian.T for signs in directions]
+    vap = np.max([np.linalg.norm(barycentres[a] - barycentres[b], axis=1) for a, b in ((0, 1), (0, 2), (1, 2))],
+                 axis=0) * 1e6
+    positions = (lost(tests) * rng.choice([-1.0, 1.0], size=(tests, CYCLES, 3))) @ jacobian.T
+    distances = np.linalg.norm(positions - positions.mean(axis=1, keepdims=True), axis=-1)
+    multi = (distances.mean(axis=1) + 3 * distances.std(axis=1, ddof=1)) * 1e6
+    for name, sampled in (("vAP_p_um", vap), ("RP_l_multi_um", multi)):
+        value, error = mapped.figure(name)[0], mapped.mc_error(name)[0] * mapped.figure(name)[0]
+        assert 0 < error <= 0.01 * value, (name, error)
+        combined = math.hypot(error, sampled.std(ddof=1) / math.sqrt(tests))
+        assert abs(value - sampled.mean()) <= 4 * combined, (name, value, sampled.mean(), combined)
 
 
 def test_the_change_is_the_two_states_difference(axis):

@@ -289,7 +289,10 @@ class ExpectedSetup:
         draws = [series_draws(runner, tests, cycles, "tests")]
         if factor > 1:
             draws.append(series_draws(runner, (factor - 1) * tests, cycles, "band tests"))
-        moments = JointMoments.of_draws(runner.models, np.concatenate(draws))
+        if figure_set == "directional":  # RP_l_multi's, through the mixed first-order model (vAP_p's: the engine)
+            draws.append(series_draws(runner, sampled_shape(MULTI_CYCLES, cycles, MIN_MULTI_TESTS, True)[0], cycles,
+                                      "multi").reshape(-1, len(runner.models)))
+        moments = JointMoments.of_draws(runner.models, np.concatenate([d.reshape(-1, d.shape[-1]) for d in draws]))
         return cls(cycles, moments, table, figure_set, factor, series=True)
 
 
@@ -914,14 +917,18 @@ def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.nd
     bound holds for every sign pattern's deviations, so for each direction's); where it does not serve, through each
     direction's own model about its mean deviation (the three's least exact engine, their largest bound), and where
     those do not serve either, :func:`_vap_tests`. With ``study.engine = "exact"``, :func:`_vap_tests` through exact
-    FK at every target (none counted as a fallback)."""
+    FK at every target (none counted as a fallback); where a joint's friction is a time series (its barycentres not
+    the Gaussians of independent cycles), :func:`_vap_tests` through the fast engine at every target, each test's
+    series drawn from the runner's state (none counted as a fallback either)."""
     directions = np.array([APPROACH_DIRECTIONS[label] for label in VAP_DIRECTIONS])
     signs = approach_signs_from_jacobians(twists, directions)  # (k, 3, nv)
-    if runner.settings.engine == "exact":
+    if runner.settings.engine == "exact" or runner.correlated:
         models = [linear_model(runner.robot, moments, qs, lever, signs[:, d], mixed=False)
                   for d in range(len(directions))]
         used = EngineUsed.first_order(models[0])
-        sampled = np.array([_vap_tests(runner, models, moments, k, qs[k], signs[k], cycles, used)
+        unsigned = common_numbers(runner, np.ones((1, cycles, qs.shape[1])),
+                                  len(directions) * tests_for(SAMPLED_CYCLES, cycles), "vap tests")
+        sampled = np.array([_vap_tests(runner, models, moments, k, qs[k], signs[k], cycles, used, unsigned)
                             for k in range(len(qs))]).reshape(len(qs), 2)
         return sampled[:, 0] * UM_PER_M, sampled[:, 1], used, np.zeros(len(qs), dtype=int)
     position = mixed.jacobian[:, :3]
@@ -1019,14 +1026,17 @@ def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.nd
 
 
 def _vap_tests(runner: PoseRunner, models: list[LinearModel], moments: JointMoments, k: int, q: np.ndarray,
-               signs: np.ndarray, cycles: int, used: EngineUsed) -> tuple[float, float]:
+               signs: np.ndarray, cycles: int, used: EngineUsed, unsigned: np.ndarray | None = None
+               ) -> tuple[float, float]:
     """vAP_p [m] of target ``k`` through the engine of :func:`engine_tests`: the mean over ``tests_for``
-    sampled tests (common random numbers) of the largest distance between the barycentres of ``cycles`` cycles
-    approached with each direction's joint signs ``signs`` (3, nv), and its relative standard error; the directions'
-    engines recorded in ``used``."""
+    sampled tests (common random numbers, ``unsigned``: :func:`common_numbers` of ``"vap tests"`` with every sign +1,
+    drawn here when not given) of the largest distance between the barycentres of ``cycles`` cycles approached with
+    each direction's joint signs ``signs`` (3, nv), and its relative standard error; the directions' engines recorded
+    in ``used``."""
     tests = tests_for(SAMPLED_CYCLES, cycles)
     nv = len(q)
-    unsigned = common_numbers(runner, np.ones((1, cycles, nv)), len(signs) * tests, "vap tests")
+    if unsigned is None:
+        unsigned = common_numbers(runner, np.ones((1, cycles, nv)), len(signs) * tests, "vap tests")
     barycentres, engines = [], []
     for d, part in enumerate(np.split(unsigned, len(signs))):
         numbers = np.concatenate([part[:, :nv] * signs[d], np.broadcast_to(signs[d], (len(part), nv)),
@@ -1047,7 +1057,8 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
     sign drawn per cycle, about q + offset); with ``study.engine = "exact"`` sampled through exact FK at every target
     (none counted as a fallback)."""
     n, moments = setup.cycles, setup.moments
-    shape = sampled_shape(MULTI_CYCLES, n, MIN_MULTI_TESTS)
+    single = n >= ASYMPTOTIC_CYCLES and not setup.series  # single cycles, not whole tests
+    shape = sampled_shape(MULTI_CYCLES, n, MIN_MULTI_TESTS, whole_tests=setup.series)
 
     @lru_cache(maxsize=1)
     def numbers() -> np.ndarray:  # the sampled cycles' common random numbers, drawn only where cycles are sampled
@@ -1058,7 +1069,7 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
     def repeatability(positions: np.ndarray, centre: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(k,) each of (k, tests, cycles, 3) ``positions``, from ``ASYMPTOTIC_CYCLES`` cycles on about the mixture's
         mean ``centre`` (k, 3) (:func:`cycle_moments`)."""
-        if n >= ASYMPTOTIC_CYCLES:
+        if single:
             distance_moments, distances = cycle_moments(positions[:, 0], n, barycentre_normals(shape[1]), centre)
             shared = cycles_shares(positions[:, 0], n)
             return (rp_l_from_moments(distance_moments, n, shared)[0],
@@ -1083,7 +1094,7 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
         positions, _, engine = engine_tests(runner, model, moments, k, qs[k], numbers(), shape)
         used.fall_back(k, EngineUsed.of(engine))
         centre = model.position_m[k]
-        if n >= ASYMPTOTIC_CYCLES:  # the mixture's mean: the model's, less its own samples' error (a control variate)
+        if single:  # the mixture's mean: the model's, less its own samples' error (a control variate)
             own = sampled_tests(model, moments, np.array([k]), numbers(), shape, slice(0, 3))[0]
             centre = centre + positions.mean(axis=(0, 1)) - own.mean(axis=(0, 1))
         again, again_error = repeatability(positions[None], centre[None])

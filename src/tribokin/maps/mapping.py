@@ -22,7 +22,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from tribokin.compiled import kernels_used
-from tribokin.errors import InputError, JointModelError, TribokinError
+from tribokin.errors import InputError, TribokinError
 from tribokin.execution import local_pool, run_chunks
 from tribokin.iso9283.gaussian_tests import ASYMPTOTIC_CYCLES
 from tribokin.kinematics.chain import serial_chain
@@ -343,20 +343,12 @@ def plan_map(spec: MapSpec, robots: tuple[Robot, ...], runners: list[PoseRunner]
         GridError: a spec that does not fit a robot; its ``robot`` is that robot's number.
         JointRangeError: (or what a runner's ``locate`` makes of it) a deviation beyond a joint's range at a row's
             start; its ``scenario`` is the scenario's number.
-        JointModelError: a joint whose friction is a time series (its ``series``) in a directional map, whose vAP_p
-            and RP_l_multi do not simulate them yet.
 
     Where a joint's friction is a time series, every test at every target starts from ``spec.state`` (``None``:
     each joint's own age, cold), and a warming joint's power rests on its bearing load averaged over the
     configurations the grid's rows start from (solved here, before any work: the same whatever the chunks), not on
     the target's: the robot warms up running its cycle, wherever the map's test is.
     """
-    for runner in runners:
-        for name, model in zip(runner.robot.joint_names, runner.models, strict=True):
-            if model.correlated and spec.figure_set == "directional":
-                raise JointModelError(f"joint '{name}': a directional map's vAP_p and RP_l_multi do not simulate "
-                                      "friction time series yet (they would draw every cycle independently): map "
-                                      "without them (directional=False), or give it series=None", name, "series")
     places = tuple(next(r for r, robot in enumerate(robots) if robot is runner.robot) for runner in runners)
     grids = []
     for r, robot in enumerate(robots):

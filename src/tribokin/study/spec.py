@@ -534,7 +534,7 @@ def _one_friction(values: dict, source, prefix: str) -> None:
                          f"{prefix}.{given[1]}")
 
 
-def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(".")) -> Study:
+def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path("."), scenario: bool = False) -> Study:
     """Validate a study mapping (as read from TOML) into a :class:`Study`."""
     table(mapping, source, "study file")
     for key in mapping:
@@ -620,8 +620,8 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         drift=drift,
     )
     check_motion(parsed, list(joint_overrides) or [None])  # a robot's every joint: study.assembly.joint_models
-    if map_spec is not None:
-        check_map_series(parsed, [None, *joint_overrides])
+    if map_spec is not None and not scenario:  # a scenario's map is its study's, checked with every scenario's joints
+        check_map_series(parsed)
     return parsed
 
 
@@ -655,15 +655,17 @@ def joint_series(study: Study, joints: list[str | None]) -> list[FrictionSeries]
     return found
 
 
-def check_map_series(study: Study, joints: list[str | None]) -> None:
-    """Refuse a ``[map]`` whose friction time series it cannot simulate, or whose ``state`` or ``compare`` changes
-    nothing: a directional map's vAP_p and RP_l_multi with a joint's friction a time series; a state's age without a
-    running-in joint, its warm-up without a warming joint (or longer than ``MAX_WARM_UP_CYCLES`` cycles)."""
-    series = joint_series(study, joints)
-    if series and study.map.figure_set == "directional":
-        raise InputError("a map's vAP_p and RP_l_multi with friction time keys are not simulated yet (their cycles "
-                         "would be drawn independently): set map.directional = false", study.source,
-                         "map.directional")
+def map_series(study: Study) -> list[FrictionSeries]:
+    """The time series of the joints' friction in the study's map: its own joints' and every scenario's."""
+    return [series for s in [study, *(c.study for c in study.scenarios)]
+            for series in joint_series(s, [None, *s.joint_overrides])]
+
+
+def check_map_series(study: Study) -> None:
+    """Refuse a ``[map]`` whose ``state`` or ``compare`` changes nothing or cannot be reached: a state on a map whose
+    joints' friction is no time series (in no scenario), a state's age without a running-in joint, its warm-up
+    without a warming joint (or longer than ``MAX_WARM_UP_CYCLES`` cycles)."""
+    series = map_series(study)
     for name in ("state", "compare"):
         state = getattr(study.map, name)
         if state is None:
@@ -677,10 +679,11 @@ def check_map_series(study: Study, joints: list[str | None]) -> None:
         if state.after_s > 0 and not any(s.thermal is not None for s in series):
             raise InputError("warms the joints up, and no joint's friction has thermal: give one, or make the state "
                              "\"cold\"", study.source, f"map.{name}.after_s")
-        if math.isfinite(state.after_s) and state.after_s > MAX_WARM_UP_CYCLES * (study.cycle_time_s or math.inf):
-            raise InputError(f"{state.after_s:g} s are more than {MAX_WARM_UP_CYCLES:,} cycles of "
-                             f"{study.cycle_time_s:g} s, stepped one by one: give \"warm\" (settled) instead",
-                             study.source, f"map.{name}.after_s")
+        cycle_time = min(s.cycle_time_s or math.inf for s in [study, *(c.study for c in study.scenarios)])
+        if math.isfinite(state.after_s) and state.after_s > MAX_WARM_UP_CYCLES * cycle_time:
+            raise InputError(f"{state.after_s:g} s are more than {MAX_WARM_UP_CYCLES:,} cycles of {cycle_time:g} s, "
+                             "stepped one by one: give \"warm\" (settled) instead", study.source,
+                             f"map.{name}.after_s")
 
 
 def check_motion(study: Study, joints: list[str | None]) -> None:
@@ -830,7 +833,7 @@ def parse_scenarios(mapping: dict, source, base_dir) -> tuple[ScenarioSpec, ...]
             table(values, source, f"{key}.{section}")
         _check_robot_overrides(overrides.get("robot", {}), i, mapping, source)
         try:
-            study = parse_study(merge_overrides(base, overrides), source, base_dir)
+            study = parse_study(merge_overrides(base, overrides), source, base_dir, scenario=True)
         except InputError as error:
             raise InputError(error.message, error.source, f"{key}.{error.key}") from None
         scenarios.append(ScenarioSpec(name, overrides, study))
