@@ -485,7 +485,9 @@ def workspace_map(robot: Robot, joints: list[JointErrorModel], map_spec: MapSpec
     Args:
         robot: the robot (:class:`~tribokin.kinematics.robot.Robot`).
         joints: one error model per joint (:func:`~tribokin.simulation.joint_errors.joint_models`).
-        map_spec: the map: :class:`~tribokin.study.map_spec.PlaneMap`, ``BoxMap`` or ``JointMap``.
+        map_spec: the map: :class:`~tribokin.study.map_spec.PlaneMap`, ``BoxMap`` or ``JointMap``; its ``state``
+            and ``compare`` (:class:`~tribokin.tribology.friction_series.FrictionState`) where a joint's friction is a
+            time series.
         scenarios: what-if variants measured instead of the robot itself (:class:`MapScenario`), the first the
             reference; ``()``: the robot alone, a scenario called ``name``.
         name: the map's one scenario's name, without ``scenarios``.
