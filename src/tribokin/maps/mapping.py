@@ -106,8 +106,7 @@ def scenarios_of(job: MapJob, runners: list[PoseRunner]) -> list[list[tuple]]:
     ``compared`` the runner and setup of the map's ``compare`` state (``None``: none)."""
     compared = [None] * len(runners)
     if job.compare is not None:
-        compared = [(PoseRunner(r.settings, r.robot, r.models, r.locate, job.compare, r.warm_up_loads_N), setup)
-                    for r, setup in zip(runners, job.compare_setups, strict=True)]
+        compared = [(r.at(job.compare), setup) for r, setup in zip(runners, job.compare_setups, strict=True)]
     return [[(s, runners[s], job.setups[s], compared[s]) for s in job.layout.scenarios_of(r)]
             for r in range(len(job.robots))]
 
@@ -339,15 +338,15 @@ def plan_map(spec: MapSpec, robots: tuple[Robot, ...], runners: list[PoseRunner]
     each robot's grid rows start, checked before any work: the map's joints, ranges, start posture and orientation for
     each robot, and each scenario's loads at each row's start (``runners``: one per scenario, of one of ``robots``).
 
-    Raises:
-        GridError: a spec that does not fit a robot; its ``robot`` is that robot's number.
-        JointRangeError: (or what a runner's ``locate`` makes of it) a deviation beyond a joint's range at a row's
-            start; its ``scenario`` is the scenario's number.
-
     Where a joint's friction is a time series, every test at every target starts from ``spec.state`` (``None``:
     each joint's own age, cold), and a warming joint's power rests on its bearing load averaged over the
     configurations the grid's rows start from (solved here, before any work: the same whatever the chunks), not on
     the target's: the robot warms up running its cycle, wherever the map's test is.
+
+    Raises:
+        GridError: a spec that does not fit a robot; its ``robot`` is that robot's number.
+        JointRangeError: (or what a runner's ``locate`` makes of it) a deviation beyond a joint's range at a row's
+            start; its ``scenario`` is the scenario's number.
     """
     places = tuple(next(r for r, robot in enumerate(robots) if robot is runner.robot) for runner in runners)
     grids = []
@@ -426,8 +425,7 @@ def measure_map(prepared: PreparedMap, executor: Executor | None = None, checkpo
     grid = prepared.grids[0]
     chunks = chunk_rows(prepared.spec, grid.row_count)
     compare = prepared.spec.compare
-    compared = [] if compare is None else [PoseRunner(r.settings, r.robot, r.models, r.locate, compare,
-                                                      r.warm_up_loads_N) for r in runners]
+    compared = [] if compare is None else [r.at(compare) for r in runners]
     job = MapJob(uuid.uuid4().hex, tuple(TestSettings.of(r.settings) for r in runners),
                  tuple(tuple(r.models) for r in runners), tuple(r.locate for r in runners),
                  tuple(r.state for r in runners), tuple(r.warm_up_loads_N for r in runners),

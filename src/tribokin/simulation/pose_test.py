@@ -252,6 +252,10 @@ class PoseRunner:
                                        tests, self.settings.cycle_time_s, self.state if state is None else state,
                                        self.warm_up_loads_N)
 
+    def at(self, state: FrictionState) -> PoseRunner:
+        """This runner with its joints' friction series starting from ``state``."""
+        return PoseRunner(self.settings, self.robot, self.models, self.locate, state, self.warm_up_loads_N)
+
     @property
     def correlated(self) -> bool:
         """A joint's friction is a time series
