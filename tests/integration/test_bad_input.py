@@ -544,6 +544,9 @@ CASES = [
     study("[map]", '[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "worn"\njoints = { friction = { preset = '
           '"42CD4-raw", ar1 = 0.5 } }\n\n[map]\nstate = { age_cycles = 100 }', base=AXIS_JOINT_MAP,
           expected=("map.state.age_cycles", "no joint's friction has run_in"), id="map-state-age-no-scenario-runs-in"),
+    study("[map]", '[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "change"\n\n[map]\ncompare = "cold"',
+          base=SERIES_MAP, expected=("scenarios[1].name", "writes map_RP_l_change.png, as map.compare does"),
+          id="scenario-named-like-a-change-map"),
     study('{ preset = "42CD4-raw" }', '{ preset = "42CD4-raw", ar1 = 0.5 }',
           base=_replace(GANTRY_MAP, "chunk_rows = 1", "chunk_rows = 1\ndirectional = false\n\n[placement]\n"
                         "candidates = [[0.0, 0.0, 0.0]]"),

@@ -16,7 +16,7 @@ from matplotlib.patches import Patch
 
 from tribokin.maps.grid import GridAxis, TargetGrid
 from tribokin.maps.result import REACHED_BY, MapResult, ScenarioMap
-from tribokin.study.names import map_figure_file
+from tribokin.study.names import CHANGE_MAP_FILES, map_figure_file
 from tribokin.viz.canvas import NO_MATH, agg_figure, save_png
 
 UNREACHABLE_GREY = "#c8c8c8"
@@ -277,8 +277,7 @@ EXPECTED_HEAT_MAPS = (
 
 
 #: Heat maps of a map comparing two states of its friction series: (file, change, the figure that changes).
-CHANGE_HEAT_MAPS = (("map_RP_l_change.png", "RP_l_change_um", "RP_l"),
-                    ("map_AP_p_change.png", "AP_p_change_um", "AP_p"))
+CHANGE_HEAT_MAPS = tuple(zip(CHANGE_MAP_FILES, ("RP_l_change_um", "AP_p_change_um"), ("RP_l", "AP_p"), strict=True))
 
 
 def state_label(state: dict) -> str:
