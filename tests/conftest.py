@@ -12,6 +12,14 @@ from pathlib import Path
 
 import pytest
 from hypothesis import settings
+from threadpoolctl import threadpool_limits
+
+#: One BLAS thread in each test process and in the commands it starts: the suite's workers already fill the cores
+#: (make test: one per core), and two BLAS threads in each of two workers on two cores spin for each other (a pose
+#: study: 5.3-6.3 s of CPU on two threads, 2.8 s on one, in no less time). Outputs do not depend on it (calibrate
+#: fits on one thread whatever the setting; test_calibrate checks one against two).
+os.environ.update(dict.fromkeys(("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"), "1"))
+threadpool_limits(1)  # this process's BLAS, if NumPy loaded it before the variables were set
 
 ROOT = Path(__file__).resolve().parents[1]
 AXIS_URDF = ROOT / "urdf" / "prismatic_axis.urdf"

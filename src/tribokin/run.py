@@ -23,7 +23,7 @@ from tribokin.maps.schema import MapLayout, study_approaches
 from tribokin.output.provenance import software_versions
 from tribokin.placement.result import PlacementResult
 from tribokin.placement.search import run_placement
-from tribokin.simulation.drift import DriftTest, with_drift
+from tribokin.simulation.drift import DriftTest, PoseDrift, with_drift
 from tribokin.simulation.pose_result import PoseResult, pose_frame
 from tribokin.simulation.pose_test import run_poses
 from tribokin.study.assembly import (
@@ -45,7 +45,8 @@ from tribokin.study.spec import ScenarioSpec, check_drift
 class StudyResult:
     """Results of a whole study: ``poses`` in file order, the workspace ``map`` or, with ``[placement]``, the
     ``placement`` search over its task region (if any), and what produced them (``robot``, for views; ``reproduce``:
-    seed, study file hash, versions, command line)."""
+    seed, study file hash, versions, command line); with ``[drift]``, each pose's drift test along its span
+    (``drifts``, in pose order: their figures, ``drift_<pose>.png``)."""
 
     name: str
     poses: list[PoseResult]
@@ -54,6 +55,7 @@ class StudyResult:
     map: MapResult | None = None
     reproduce: dict = field(default_factory=dict)
     placement: PlacementResult | None = None
+    drifts: tuple[PoseDrift, ...] = ()
 
     def display_configuration(self) -> np.ndarray:
         """Where to draw the robot [m or rad]: the first pose, else the first reachable map target,
@@ -206,8 +208,9 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     prepared_map = None if robots is None else prepare_map(study, robots)  # the map's keys checked at any base
     runner = study_runner(study, robot, models)
     poses = with_expected_figures(runner, tasks, run_poses(runner, tasks))
+    drifts = ()
     if drift is not None:
-        poses = with_drift(runner, tasks, poses, drift)
+        poses, drifts = with_drift(runner, tasks, poses, drift)
     workspace_map = placement = None
     if study.placement is not None:
         placement = run_placement(study, executor, checkpoint, resume, progress)
@@ -236,4 +239,4 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     }
     reproduce = {"seed": study.seed, "study_sha256": study.sha256, "versions": software_versions(),
                  "kernels": kernels, "command": None}
-    return StudyResult(study.name, poses, settings, robot, workspace_map, reproduce, placement)
+    return StudyResult(study.name, poses, settings, robot, workspace_map, reproduce, placement, drifts)

@@ -55,11 +55,11 @@ def parameters(folder) -> dict[str, dict]:
 
 
 def study_with_small_map(folder) -> Path:
-    """ur5-calibrate.toml with its map at 10 x 8 targets rather than 37 x 29 (the same outputs, faster)."""
+    """ur5-calibrate.toml with its map at 5 x 4 targets rather than 37 x 29 (the same outputs, faster)."""
     text = STUDY.read_text(encoding="utf-8")
     assert "resolution = [37, 29]" in text
     path = folder / "ur5-calibrate.toml"
-    path.write_text(text.replace("resolution = [37, 29]", "resolution = [10, 8]"), encoding="utf-8")
+    path.write_text(text.replace("resolution = [37, 29]", "resolution = [5, 4]"), encoding="utf-8")
     return path
 
 
@@ -398,10 +398,12 @@ def gantry_study(folder, layout: str, calibration: str = 'fit = ["stiffness", "n
     return path
 
 
-def gantry_measurements(path, backlash_m: float = 0.0, noise_m: float = 1e-6) -> None:
-    """Three poses of the gantry, each approached from + and - 8 times: every joint's lost motion from a friction
-    force of 20 ± 5 N on stiffnesses 2e6, 1e6, 3e6 N/m and half its ``backlash_m``, ``noise_m`` of instrument noise
-    (with commanded positions: registered by ``--registration best-fit``; three poses are too few for ``auto``)."""
+def gantry_measurements(path, backlash_m: float = 0.0, noise_m: float = 1e-6, rho: float | None = None,
+                        cycles: int = 8) -> None:
+    """Three poses of the gantry, each approached from + and - ``cycles`` times: every joint's lost motion from a
+    friction force of 20 ± 5 N (independent between cycles, or with ``rho`` an AR(1) of that lag-one correlation) on
+    stiffnesses 2e6, 1e6, 3e6 N/m and half its ``backlash_m``, ``noise_m`` of instrument noise (with commanded
+    positions: registered by ``--registration best-fit``; three poses are too few for ``auto``)."""
     from tribokin.kinematics.robot import load_urdf
 
     robot, rng = load_urdf(GANTRY, tool_frame="tool"), np.random.default_rng(35)
@@ -410,8 +412,14 @@ def gantry_measurements(path, backlash_m: float = 0.0, noise_m: float = 1e-6) ->
     for name, q in {"P1": [0.1, 0.2, 0.3], "P2": [0.3, 0.1, 0.2], "P3": [0.2, 0.3, 0.1]}.items():
         commanded = robot.tool_placement(np.array(q)).translation
         for direction, sign in (("+", 1.0), ("-", -1.0)):
-            for cycle in range(1, 9):
-                lost = rng.normal(20.0, 5.0, 3) / stiffness + backlash_m / 2
+            force = None  # the AR(1)'s standard normal state
+            for cycle in range(1, cycles + 1):
+                if rho is None:
+                    lost = rng.normal(20.0, 5.0, 3) / stiffness + backlash_m / 2
+                else:
+                    shock = rng.normal(0.0, 1.0, 3)
+                    force = shock if force is None else rho * force + np.sqrt(1 - rho * rho) * shock
+                    lost = (20.0 + 5.0 * force) / stiffness + backlash_m / 2
                 point = commanded + sign * lost + rng.normal(0.0, noise_m, 3)
                 rows.append({"pose": name, "cycle": cycle, "direction": direction,
                              **{f"{a}_m": repr(float(v)) for a, v in zip("xyz", point, strict=True)},
@@ -523,3 +531,50 @@ def test_a_map_beyond_the_memory_is_refused_before_the_fit(tmp_path, capsys, mon
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"tribokin: error: {study}: study.cycles: this run needs about")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]
+
+
+def test_fit_ar1_on_series_too_short_says_so_in_one_line_and_writes_no_ar1(tmp_path):
+    """The gantry's 8-cycle series (the IPA UR10 file has 2-5): calibrate --fit-ar1 fits the rest and says in one
+    line, and in calibration.json's ar1.reason, why it fits no ar1; calibrated.toml carries none."""
+    study = gantry_study(tmp_path, "joint-tables-out-of-order")
+    gantry_measurements(tmp_path / "data.csv")
+    done = tribokin("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
+                    "--report", "none", "--intervals", "wald", "--fit-ar1")
+    assert done.returncode == 0, done.stderr
+    reason = ("no series has 10 or more cycles in time order (the longest has 8): too short to tell one cycle's "
+              "friction from the next's")
+    assert [line for line in done.stdout.splitlines() if line.startswith("ar1")] == [f"ar1: not fitted: {reason}"]
+    summary = json.loads((tmp_path / "fit" / "calibration.json").read_text(encoding="utf-8"))
+    assert summary["ar1"]["reason"] == reason and summary["ar1"]["longest_series"] == 8
+    assert [g["value"] for g in summary["ar1"]["groups"]] == [None]
+    assert "ar1 =" not in (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8")
+
+
+def test_fit_ar1_recovers_the_friction_s_correlation_and_writes_it_into_its_table(tmp_path):
+    """Gantry series of 40 cycles whose friction forces are AR(1)s of 0.7: the [joints] friction's group (every
+    joint) dominates all six series, its ar1's 95 % interval covers 0.7, and calibrated.toml gives it in the
+    friction's table with its interval, and the console and the report the same."""
+    study = gantry_study(tmp_path, "joint-tables-out-of-order")
+    gantry_measurements(tmp_path / "data.csv", rho=0.7, cycles=40)
+    done = tribokin("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
+                    "--intervals", "wald", "--fit-ar1")
+    assert done.returncode == 0, done.stderr
+    (group,) = json.loads((tmp_path / "fit" / "calibration.json").read_text(encoding="utf-8"))["ar1"]["groups"]
+    assert group["key"] == "joints.friction_force_N" and group["joints"] == ["x", "y", "z"]
+    low, high = group["ci95"]
+    assert low < 0.7 < high and high - low < 0.25 and group["series"] == 6, group
+    line = next(line for line in (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8").splitlines()
+                if line.startswith("friction_force_N"))
+    assert f"ar1 = {group['value']!r}" in line and f"95 % interval [{low:.3g}, {high:.3g}]" in line
+    assert f"ar1 joints.friction_force_N (x, y, z): {group['value']:.3f}" in done.stdout
+    report = (tmp_path / "fit" / "report.html").read_text(encoding="utf-8")
+    assert f"joints.friction_force_N: {group['value']:.3f} [{low:.3f}, {high:.3f}] (6 series)" in report
+
+
+def test_fit_ar1_other_than_true_or_false_is_refused_before_anything_is_read(tmp_path):
+    from tribokin import calibrate
+    from tribokin.errors import SettingsError
+
+    with pytest.raises(SettingsError, match="must be True or False") as refused:
+        calibrate(tmp_path / "absent.toml", DATA, fit_ar1="yes")
+    assert refused.value.argument == "fit_ar1"

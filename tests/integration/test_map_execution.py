@@ -17,6 +17,7 @@ from tribokin import InputError, run_study
 from tribokin.cli import main
 from tribokin.compiled import kernels_used
 from tribokin.execution import executor_for
+from tribokin.maps.expected_figures import ANALYTIC, SAMPLED
 from tribokin.maps.store import ChunkStore
 from tribokin.output.writers import map_table_name, write_map_table, write_results, write_summary
 
@@ -31,7 +32,8 @@ UR5_MAP = {
                                     "joints": {"shoulder_lift_joint": {"friction": {"preset": "42CD4-treated"}}}}],
 }
 #: Scenarios measured with robots of their own: another robot, and the study's moved and turned on its table.
-OTHER_ROBOTS = [{"name": "ur10", "robot": {"name": "ur10"}},
+#: The UR10's figures sampled (the raw steel's uniform law), the others' in closed form (:data:`VARIANTS`).
+OTHER_ROBOTS = [{"name": "ur10", "robot": {"name": "ur10"}, "joints": {"friction": {"preset": "42CD4-raw"}}},
                 {"name": "moved", "robot": {"base_xyz_m": [0.05, -0.1, 0.0], "base_rpy_deg": [0.0, 0.0, 20.0]}}]
 
 
@@ -52,10 +54,11 @@ TIME_KEYS = {"ar1": 0.9, "run_in": {"start": 0.3, "tau_cycles": 40}, "steady_mea
 MOTION = {"study": {"cycle_time_s": 6.0}, "joints": {"travel_per_cycle": 1.0}}
 #: The map's figure sets: one simulated test per target; expected figures sampled by common random numbers (the
 #: raw steel's uniform law) with the directional ones; in closed form (the treated steel's Gaussian law everywhere);
-#: and those sampled with scenarios of other robots (:data:`OTHER_ROBOTS`), each solving its own IK.
+#: and with scenarios of other robots (:data:`OTHER_ROBOTS`), each solving its own IK, sampled on one of them and in
+#: closed form on the others.
 VARIANTS = {"one-test": ({"statistic": "one-test"}, "42CD4-raw", []),
             "directional": ({"directional": True}, "42CD4-raw", []),
-            "expected-closed-form": ({}, "42CD4-treated", []), "other-robots": ({}, "42CD4-raw", OTHER_ROBOTS)}
+            "expected-closed-form": ({}, "42CD4-treated", []), "other-robots": ({}, "42CD4-treated", OTHER_ROBOTS)}
 #: UR5_MAP without scenarios, its friction with time keys, from one state compared with another: 3 x 3 targets (the
 #: far column unreachable) in 3 chunks, tests of 10 cycles (sampled whole), the directional figures too.
 TIME_KEYS_MAP = {**UR5_MAP, "scenarios": [], "study": {**UR5_MAP["study"], "cycles": 10, **MOTION["study"]},
@@ -111,6 +114,9 @@ def test_reading_results_in_small_blocks_changes_nothing(variant, reference, tmp
     assert written(result, tmp_path / "out") == reference
     rp = result.map.reference.figure("RP_l_um")
     assert json.loads(reference["summary.json"])["map"]["RP_l_um"]["median"] == np.nanmedian(rp)
+    if len(result.map.scenarios) == 4:  # other robots: the UR10's figures sampled, the others' in closed form
+        methods = {name: set(s.read("method")[s.read_robot("reachable")]) for name, s in result.map.scenarios.items()}
+        assert methods == {"raw": {ANALYTIC}, "treated-shoulder": {ANALYTIC}, "ur10": {SAMPLED}, "moved": {ANALYTIC}}
 
 
 def test_two_local_workers_change_nothing(variant, reference, tmp_path, monkeypatch):

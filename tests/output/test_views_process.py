@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import GANTRY_MAP_TOML, STUDIES
+from conftest import AXIS_URDF, GANTRY_MAP_TOML, STUDIES
 from tribokin import InputError, run_study
 from tribokin.output.views_process import RemoteTraceback, ViewsProcess
 from tribokin.output.writers import write_results
@@ -69,6 +69,42 @@ def test_the_views_process_draws_the_same_files_and_summary_as_the_writing_proce
     there = files(tmp_path / "there")
     assert there == files(tmp_path / "here") and {"report.html", "map_RP_l.png", "field_P1.png"} <= set(there)
     assert result.map.summary() == json.loads(there["summary.json"])["map"]  # the summary it sent back
+
+
+#: The axis warming by its own friction, with a drift test of 12 cycles in sets of 4.
+DRIFT_STUDY = f"""
+[study]
+cycles = 10
+cycle_time_s = 10.0
+[robot]
+urdf = "{AXIS_URDF}"
+tool_frame = "tool"
+[joints]
+stiffness = 1.0e6
+normal_force_N = 100.0
+travel_per_cycle = 0.5
+friction = {{ law = "gaussian", mean = 0.12, std = 0.006, thermal = {{ mu_per_K = -0.005 }} }}
+[[poses]]
+name = "P1"
+q = [0.2]
+[drift]
+duration_s = 120.0
+set_cycles = 4
+"""
+
+
+def test_the_views_process_draws_the_drift_figures_as_the_writing_process(tmp_path, monkeypatch):
+    """A study with [drift]: its poses' drift along their span travel to the views' process, which draws the same
+    drift_<pose>.png and report."""
+    path = tmp_path / "drift.toml"
+    path.write_text(DRIFT_STUDY)
+    monkeypatch.setattr(threading, "active_count", lambda: 1)
+    write_results(run_study(path), tmp_path / "here", report="light")
+    views = ViewsProcess.start(path, None, None, "light")
+    assert views is not None
+    write_results(run_study(path), tmp_path / "there", report="light", views=views)
+    there = files(tmp_path / "there")
+    assert there == files(tmp_path / "here") and "drift_P1.png" in there
 
 
 def test_an_error_while_drawing_is_raised_by_the_command_and_nothing_is_written(study, tmp_path, monkeypatch):

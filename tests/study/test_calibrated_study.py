@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from tribokin.study.calibrated_study import WrittenValue, calibrated_study_text
+from tribokin.study.calibrated_study import REWRITTEN, WrittenFrictionKey, WrittenValue, calibrated_study_text
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -69,3 +69,22 @@ def test_data_dirs_are_moved_and_a_study_naming_no_files_gets_none(tmp_path):
     plain = STUDY.replace('friction = { file = "laws/law.toml" }', 'friction = { preset = "42CD4-raw" }').replace(
         'friction = { log = "logs/run.csv" }', "")
     assert "data_dirs" not in calibrated_study_text(plain, source, out, [], [], [])
+
+
+def test_a_friction_key_goes_into_its_table_with_its_comment(tmp_path):
+    """calibrate --fit-ar1's ar1: into an inline friction table (the comment on its line) and a friction table of its
+    own (the comment on the key); a root dotted key's inline table too, in place."""
+    study = STUDY + '\n[joints.j3.friction_torque_Nm]\nlaw = "gaussian"\nmean = 1.0\nstd = 0.1\n'
+    frictions = (WrittenFrictionKey(None, "friction", "ar1", 0.25, "ar1 fitted: [0.1, 0.4]"),
+                 WrittenFrictionKey("j3", "friction_torque_Nm", "ar1", -0.125, "ar1 fitted: [-0.3, 0.05]"))
+    text = calibrated_study_text(study, tmp_path, tmp_path, [], [], [], frictions)
+    parsed = tomllib.loads(text)
+    assert parsed["joints"]["friction"] == {"file": "laws/law.toml", "ar1": 0.25}
+    assert parsed["joints"]["j3"]["friction_torque_Nm"] == {"law": "gaussian", "mean": 1.0, "std": 0.1, "ar1": -0.125}
+    assert next(line for line in text.splitlines() if line.startswith("friction =")).endswith(
+        "# ar1 fitted: [0.1, 0.4]")
+    assert "ar1 = -0.125 # ar1 fitted: [-0.3, 0.05]" in text and REWRITTEN not in text
+    dotted = 'joints.stiffness = 1e5\njoints.friction = { law = "gaussian", mean = 0.1, std = 0.01 }\n'
+    text = calibrated_study_text(dotted, tmp_path, tmp_path, [], [], [], frictions[:1])
+    assert tomllib.loads(text)["joints"]["friction"] == {"law": "gaussian", "mean": 0.1, "std": 0.01, "ar1": 0.25}
+    assert text.endswith("ar1 = 0.25} # ar1 fitted: [0.1, 0.4]\n") and REWRITTEN not in text

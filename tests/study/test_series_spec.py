@@ -68,3 +68,17 @@ def test_where_time_keys_are_not_simulated_the_first_is_named():
                                       "does not simulate friction time keys yet (it would draw every cycle "
                                       "independently; only the study's poses and ISO cube draw them): remove the key")
     refuse_series(parse_study(study({"friction": {"preset": "42CD4-raw"}}), "s.toml"), "a calibration", "")
+
+
+def test_friction_groups_are_the_joints_each_friction_key_gives():
+    """calibrate --fit-ar1's groups: the [joints] friction's joints (those without their own), then each joint
+    whose own table gives a friction; a joint's other keys do not make it a group."""
+    from tribokin.study.assembly import friction_groups
+
+    names = ("shoulder_pan_joint", "elbow_joint", "wrist_1_joint")
+    given = parse_study(study({"friction": {"preset": "42CD4-raw"}, "wrist_1_joint": {"backlash": 1e-5},
+                               "elbow_joint": {"friction_torque_Nm": {"law": "gaussian", "mean": 1.0, "std": 0.1}}}),
+                        "s.toml")
+    assert friction_groups(given, names) == [("joints.friction", ("shoulder_pan_joint", "wrist_1_joint")),
+                                             ("joints.elbow_joint.friction_torque_Nm", ("elbow_joint",))]
+    assert friction_groups(given, ("elbow_joint",)) == [("joints.elbow_joint.friction_torque_Nm", ("elbow_joint",))]

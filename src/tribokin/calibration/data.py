@@ -21,11 +21,13 @@ class SeriesData:
         signs: (nv,) approach sign of each joint (+1, -1, or 0 for a joint that does not move).
         points_m: (n, 3) measured tool positions [m]. A one-cycle series (n = 1) has no spread but
             its barycentre still differs from the pose's other directions'.
+        times_s: (n,) times of the readings [s] (their time order, where it is not the cycles'), or None.
     """
 
     direction: str
     signs: np.ndarray
     points_m: np.ndarray
+    times_s: np.ndarray | None = None
 
 
 @dataclass(frozen=True, eq=False)

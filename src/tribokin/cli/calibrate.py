@@ -31,6 +31,11 @@ def add_parser(commands) -> None:
     parser.add_argument("--intervals", choices=("profile", "wald"), default="profile",
                         help="the parameters' 95 %% intervals: profile likelihood (default; a few seconds of re-fits) "
                              "or Wald in log space (from the standard errors; no re-fit)")
+    parser.add_argument("--fit-ar1", action="store_true",
+                        help="also fit each joint friction group's lag-one autocorrelation (ar1) from the series' "
+                             "time order (t_s, else cycle order; series of 10 or more cycles), into calibration.json "
+                             "and calibrated.toml's friction, or say why the measurements allow none (a study with a "
+                             "[map] is refused: maps do not simulate ar1 yet)")
     add_registration_options(parser)
     parser.set_defaults(handler=calibrate)
 
@@ -47,7 +52,8 @@ def calibrate(args) -> None:
             map_progress(warm_up=args.workers, compiling=kernels_to_compile()) as progress:
         with options_located({"seed": "--seed"}), registration_noted():
             result = calibrate(args.study, args.measurements, args.seed, out=args.out, executor=executor,
-                               progress=progress, registration=registration, intervals=args.intervals)
+                               progress=progress, registration=registration, intervals=args.intervals,
+                               fit_ar1=args.fit_ar1)
         warn_registration(result.inputs.frame)
         write_calibration(result, args.out, args.force, args.report)
     _print(result, args)
@@ -56,7 +62,7 @@ def calibrate(args) -> None:
 def _print(result, args) -> None:
     """The frame, the series left out, the parameters with their intervals, the fit's figures and the held-out
     predictions."""
-    from tribokin.measured.calibrated import INTERVALS
+    from tribokin.measured.calibrated import INTERVALS, ar1_lines
 
     frame, calibration = result.inputs.frame, result.calibration
     if frame.registration is None:
@@ -77,6 +83,8 @@ def _print(result, args) -> None:
         print(f"{p.name:<{width}} {p.value:>12.4g} {p.std_error:>12.4g}  {ends} {p.unit}")
     print(f"log L {calibration.log_likelihood:.6g}, AIC {calibration.aic:.6g}; information rank {calibration.rank} "
           f"of {len(calibration.parameters)}")
+    if result.ar1 is not None:
+        print("\n".join(ar1_lines(result.ar1)))
     print("held out one pose at a time: measured / predicted [95 % interval] RP_l [µm]")
     for pose in result.held_out:
         shown = [f"{d} {um(f.measured_m):.2f} / {um(f.predicted_m):.2f} [{um(f.interval_m[0]):.2f}, "

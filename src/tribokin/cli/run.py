@@ -58,7 +58,7 @@ def run(args) -> None:
     files = []
     if result.poses:
         _print_poses(result)
-        files += ["poses.csv", "samples.npz", "field_*.png"]
+        files += ["poses.csv", "samples.npz", "field_*.png"] + (["drift_*.png"] if result.drifts else [])
     if result.map is not None:
         _print_map(result.map.summary())
         files += [f"map*.{args.table_format}", "map_*.png"]

@@ -49,7 +49,7 @@ from tribokin.maps.schema import (
 )
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.propagation.exact import tool_frames
-from tribokin.simulation.joint_errors import JointErrorModel
+from tribokin.simulation.joint_errors import JointErrorModel, warming_joints
 from tribokin.simulation.pose_test import PoseRunner, TestSettings
 from tribokin.study.assembly import MapRobots, joint_models, study_runner
 from tribokin.study.map_spec import MapSpec
@@ -376,9 +376,8 @@ def series_runner(runner: PoseRunner, state: FrictionState | None, forces_N: np.
     warming joint's power on its mean load over ``forces_N`` (rows, nv) [N]; ``runner`` itself without a series."""
     if not runner.correlated:
         return runner
-    warming = any(m.series is not None and m.series.thermal is not None for m in runner.models)
     return PoseRunner(runner.settings, runner.robot, runner.models, runner.locate, state or COLD,
-                      forces_N.mean(axis=0) if warming else None)
+                      forces_N.mean(axis=0) if warming_joints(runner.models) else None)
 
 
 def prepare_map(study: Study, robots: MapRobots) -> PreparedMap:

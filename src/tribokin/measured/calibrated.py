@@ -8,6 +8,12 @@ calibrated study (its text, parsed and checked as ``tribokin run`` checks it) an
 the calibrated study's workspace map: a :class:`CalibrationResult`, which writes ``calibration.json``,
 ``comparison.csv``, ``calibrated.toml``, ``clouds_<pose>.png``, ``parity.png``, the map's figures and, unless
 ``report == "none"``, ``report.html``.
+
+With ``fit_ar1``, each joint friction group's lag-one autocorrelation (the ``ar1`` key) is fitted from the series'
+time order too (:mod:`tribokin.calibration.ar1`, the groups :func:`~tribokin.study.assembly.friction_groups`), given
+in ``calibration.json`` (``ar1``) and written into ``calibrated.toml``'s friction tables, or the reason the
+measurements allow none. The stiffness, backlash and noise floor are fitted as before, as if the cycles were
+independent (:data:`AR1_LIMITATION`).
 """
 
 from __future__ import annotations
@@ -19,6 +25,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from tribokin.calibration.ar1 import METHOD as AR1_METHOD
+from tribokin.calibration.ar1 import MIN_CYCLES, Ar1Fit, GroupAr1, fit_group_ar1, timed_series
 from tribokin.calibration.blas_threads import single_threaded_blas
 from tribokin.calibration.cross_validation import (
     DRAWS,
@@ -45,6 +53,7 @@ from tribokin.output.provenance import software_versions
 from tribokin.run import run_study
 from tribokin.study.assembly import (
     check_names,
+    friction_groups,
     joint_models,
     load_robot,
     map_robots,
@@ -52,7 +61,7 @@ from tribokin.study.assembly import (
     refuse_series,
     study_runner,
 )
-from tribokin.study.calibrated_study import WrittenValue, calibrated_study_text
+from tribokin.study.calibrated_study import WrittenFrictionKey, WrittenValue, calibrated_study_text
 from tribokin.study.calibration_data import CalibrationInput, calibration_input, read_robot_measurements
 from tribokin.study.names import calibrated_pose_names, check_measured_pose_names, cloud_figure_file
 from tribokin.study.reading import parse_study_text, read_study_file
@@ -159,6 +168,70 @@ def _written_values(inputs: CalibrationInput, calibration: Calibration,
             values.append(WrittenValue(joint, key, float(getattr(fitted, key)[i]),
                                        f"fitted{factor}: 95 % interval [{shown}] {unit} ({label})"))
     return values
+
+
+#: What the fit of the stiffness, backlash and noise floor assumes of the cycles (``calibration.json``'s
+#: ``ar1.limitation``).
+AR1_LIMITATION = ("the stiffness, backlash and noise floor are fitted as if each series' cycles were independent "
+                  "(Wishart likelihood of its scatter): with correlated friction a short series' scatter is smaller "
+                  "than the friction's spread (for an AR(1), E[S^2] = sigma^2 (1 - 2/(n(n - 1)) sum_k (n - k) "
+                  "rho^k)), so the stiffness is then overestimated")
+
+
+def _ar1_fit(study: Study, robot: Robot, poses: list[PoseData], calibration: Calibration) -> Ar1Fit:
+    """Each friction group's ``ar1`` from the series (their points in the world frame) and the fitted model."""
+    groups = friction_groups(study, robot.joint_names)
+    index = {joint: g for g, (_, joints) in enumerate(groups) for joint in joints}
+    group_of_joint = np.array([index.get(joint, -1) for joint in robot.joint_names])
+    return fit_group_ar1(timed_series(calibration.model, poses, group_of_joint, len(groups)), groups)
+
+
+def _ar1_group_entry(group: GroupAr1) -> dict:
+    estimate = group.estimate
+    return {"key": group.group, "joints": list(group.joints), "value": None if estimate is None else estimate.value,
+            "ci95": None if estimate is None else [estimate.low, estimate.high], "series": group.series,
+            "largest_share": group.largest_share, "reason": group.reason or None}
+
+
+def _ar1_entry(fitted: Ar1Fit) -> dict:
+    """``calibration.json``'s ``ar1``."""
+    return {"method": AR1_METHOD, "min_cycles": MIN_CYCLES, "series": fitted.series, "longest_series": fitted.longest,
+            "reason": fitted.reason or None, "groups": [_ar1_group_entry(g) for g in fitted.groups],
+            "limitation": AR1_LIMITATION}
+
+
+def _written_ar1(fitted: Ar1Fit | None) -> tuple[WrittenFrictionKey, ...]:
+    """The ``ar1`` keys ``calibrated.toml`` writes: each estimated group's, in its friction table."""
+    if fitted is None:
+        return ()
+    written = []
+    for group in fitted.groups:
+        if group.estimate is None:
+            continue
+        path = group.group.split(".")
+        joint, friction = (None, path[1]) if len(path) == 2 else (path[1], path[2])
+        estimate = group.estimate
+        written.append(WrittenFrictionKey(joint, friction, "ar1", estimate.value,
+                                          f"ar1 fitted from the measured series' time order: 95 % interval "
+                                          f"[{estimate.low:.3g}, {estimate.high:.3g}] (profile likelihood, "
+                                          f"{group.series} series)"))
+    return tuple(written)
+
+
+def ar1_lines(fitted: Ar1Fit) -> list[str]:
+    """What the console says of the ``ar1`` fit: one line if the time order allows none, else one per group."""
+    if fitted.reason:
+        return [f"ar1: not fitted: {fitted.reason}"]
+    lines = []
+    for group in fitted.groups:
+        joints = ", ".join(group.joints)
+        if group.estimate is None:
+            lines.append(f"ar1 {group.group} ({joints}): not fitted: {group.reason}")
+            continue
+        e = group.estimate
+        lines.append(f"ar1 {group.group} ({joints}): {e.value:.3f}, 95 % interval [{e.low:.3f}, {e.high:.3f}] "
+                     f"(profile likelihood; {group.series} series)")
+    return lines
 
 
 def _header(study_path, measurements_path, calibration: Calibration, noise: str | None) -> list[str]:
@@ -287,6 +360,7 @@ class CalibrationResult(Written):
     written_poses: tuple = field(repr=False)
     study_text: str = field(repr=False)
     interval_kind: str = "profile"
+    ar1: Ar1Fit | None = None
 
     @property
     def registration_why(self) -> str | None:
@@ -307,7 +381,7 @@ class CalibrationResult(Written):
         """``calibrated.toml``'s text for the folder ``out`` (its relative paths name the same files from there)."""
         path = Path(self.study_file)
         return calibrated_study_text(self.study_text, path.parent, Path(out), list(self.header), list(self.values),
-                                     list(self.written_poses))
+                                     list(self.written_poses), _written_ar1(self.ar1))
 
     def poses_in_base_frame(self) -> list[PoseData]:
         """The measured poses, their points in the world frame (turned by the fit's rotation when the frame was
@@ -337,13 +411,15 @@ class CalibrationResult(Written):
             "registration": _registration_entry(inputs, calibration),
             "predictions": [_prediction_entry(p) for p in self.fitted],
             "cross_validation": [_prediction_entry(p) for p in self.held_out],
+            **({} if self.ar1 is None else {"ar1": _ar1_entry(self.ar1)}),
             "reproduce": {"versions": self.versions},
         }
 
 
 @single_threaded_blas()
 def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None, progress=None,
-              registration: Choice | Transform = "auto", intervals: str = "profile") -> CalibrationResult:
+              registration: Choice | Transform = "auto", intervals: str = "profile", fit_ar1: bool = False
+              ) -> CalibrationResult:
     """Fit the study's joint model to the measurements (module docstring), on one BLAS thread
     (:mod:`tribokin.calibration.blas_threads`): the same bytes on any machine.
 
@@ -363,6 +439,9 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
             :func:`~tribokin.calibration.fit.profile_interval`: a few seconds of re-fits) or ``"wald"`` (Wald in log
             space, ``value·exp(±1.96·se)`` with se the standard error of log value from the observed information:
             no re-fit, symmetric in log space, less exact where the likelihood is not Gaussian in log space).
+        fit_ar1: also fit each joint friction group's ``ar1`` from the series' time order (module docstring), or
+            say why the measurements allow none; a study with a ``[map]`` is refused (a map does not simulate
+            friction time keys yet, so ``tribokin run`` would refuse the calibrated study).
 
     Returns:
         the fit, its intervals and predictions, and the calibrated study (and its map). A bad ``seed``,
@@ -375,11 +454,17 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
     registration = checked_choice(registration)
     if not isinstance(intervals, str) or intervals not in INTERVALS:
         raise SettingsError(f"must be one of {', '.join(INTERVALS)} (got {intervals!r})", "intervals")
+    if not isinstance(fit_ar1, bool):
+        raise SettingsError(f"must be True or False (got {fit_ar1!r})", "fit_ar1")
     study = read_study_file(study_path)
     if study.calibration is None:
         raise InputError("no [calibration] section: add one naming what to fit (fit = [\"stiffness\", ...])",
                          study.source, "calibration")
     refuse_series(study, "a calibration", "remove the key to calibrate the joints' independent-cycle model")
+    if fit_ar1 and study.map is not None:
+        raise InputError("--fit-ar1 writes ar1 into calibrated.toml's friction, which a [map] does not simulate yet "
+                         "(tribokin run would refuse it): remove the [map], or calibrate without --fit-ar1",
+                         study.source, "map")
     robot = load_robot(study, meshes=False)  # no robot drawn
     models = joint_models(study, robot)
     only_map = replace(study, poses=(), iso_cube=None, calibration=None)
@@ -405,11 +490,18 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
     held_out = leave_one_pose_out(inputs.model, inputs.poses, seed=seed, frame=frame)
     values = _written_values(inputs, calibration, intervals, INTERVALS[interval_kind][1])
     header = _header(study_path, measurements_path, calibration, _noise_text(calibration, intervals))
+    ar1 = _ar1_fit(study, robot, [_in_base_frame(p, calibration) for p in inputs.poses], calibration) \
+        if fit_ar1 else None
+    if ar1 is not None:
+        header.append("ar1: each friction group's lag-one autocorrelation fitted from the series' time order where "
+                      "they allow it (calibration.json's ar1); the other values are fitted as if cycles were "
+                      "independent.")
     study_text = study_path.read_text(encoding="utf-8")
     poses = _written_poses(inputs, names)
     workspace_map = None
     try:
-        text = calibrated_study_text(study_text, study_path.parent, out, header, values, list(poses))
+        text = calibrated_study_text(study_text, study_path.parent, out, header, values, list(poses),
+                                     _written_ar1(ar1))
         calibrated = parse_study_text(text, out / "calibrated.toml", out)
         _check_runnable(calibrated, robot)
         if calibrated.map is not None:
@@ -424,4 +516,5 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
     return CalibrationResult(str(study_path), str(measurements_path),
                              hashlib.sha256(Path(measurements_path).read_bytes()).hexdigest(), study, robot, inputs,
                              calibration, intervals, fitted, held_out, seed, calibrated, workspace_map,
-                             software_versions(), tuple(header), tuple(values), poses, study_text, interval_kind)
+                             software_versions(), tuple(header), tuple(values), poses, study_text, interval_kind,
+                             ar1)

@@ -62,11 +62,21 @@ class Independence:
                 "independent": None if box is None else box.independent}
 
 
+def main_axis(positions_m: np.ndarray) -> np.ndarray:
+    """(3,) the unit eigenvector of the largest eigenvalue of (n, 3) positions' scatter about their barycentre."""
+    offsets = positions_m - positions_m.mean(axis=0)
+    return np.linalg.eigh(offsets.T @ offsets)[1][:, -1]
+
+
 def deviations(positions_m: np.ndarray) -> np.ndarray:
     """(n,) signed offsets [m] of (n, 3) positions from their barycentre along their covariance's main axis."""
-    offsets = positions_m - positions_m.mean(axis=0)
-    _, vectors = np.linalg.eigh(offsets.T @ offsets)
-    return offsets @ vectors[:, -1]
+    return (positions_m - positions_m.mean(axis=0)) @ main_axis(positions_m)
+
+
+def time_order(n: int, times_s: np.ndarray | None) -> np.ndarray:
+    """(n,) the indices of a series' n cycles in time order: by ``times_s`` (a stable sort) where given, else as
+    they are (cycle order)."""
+    return np.arange(n) if times_s is None else np.argsort(times_s, kind="stable")
 
 
 def series_independence(series: Series, positions_m: np.ndarray) -> Independence:
@@ -76,8 +86,7 @@ def series_independence(series: Series, positions_m: np.ndarray) -> Independence
         return Independence(series.direction, n, None, None)
     if np.all(positions_m == positions_m[0]):
         return Independence(series.direction, n, None, None)
-    order = np.arange(n) if series.times_s is None else np.argsort(series.times_s, kind="stable")
-    u = deviations(positions_m[order])
+    u = deviations(positions_m[time_order(n, series.times_s)])
     return Independence(series.direction, n, fit_ar1(u), ljung_box(u))
 
 

@@ -260,6 +260,22 @@ def require_cycle_time(models: list[JointErrorModel], cycle_time_s: float | None
                             "one cycle's duration [s]", "cycle_time_s")
 
 
+def thermal_drive(model: JointErrorModel, torque_per_unit: float, cycle_time_s: float, state: FrictionState = COLD
+                  ) -> tuple[float, float | None]:
+    """A warming joint's (its series' ``thermal``) friction power per unit of its law's value [W]
+    (:func:`~tribokin.tribology.thermal.power_per_value` of its ``travel_per_cycle``, ``torque_per_unit`` [N·m or N]
+    and ``cycle_time_s`` [s]) and its temperature at a test's first cycle from ``state`` [°C]
+    (:meth:`~tribokin.tribology.friction_series.FrictionState.start`: where the law's mean settles it when warm,
+    :meth:`~tribokin.tribology.thermal.Thermal.settled_C`; after a time of warming up; ``None`` cold: ambient)."""
+    power = power_per_value(model.travel_per_cycle, cycle_time_s, float(torque_per_unit))
+    return power, state.start(model.friction, model.series, power, cycle_time_s)[1]
+
+
+def warming_joints(models: list[JointErrorModel]) -> list[int]:
+    """The indices of the joints whose friction heats them (their series' ``thermal``), in order."""
+    return [i for i, m in enumerate(models) if m.series is not None and m.series.thermal is not None]
+
+
 def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Generator, tests: int = 1,
                   torque_per_unit: np.ndarray | None = None, cycle_time_s: float | None = None,
                   state: FrictionState = COLD) -> np.ndarray:
@@ -287,7 +303,7 @@ def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Gen
     for i, model in enumerate(models):
         series, power = model.series or FrictionSeries(), None
         if series.thermal is not None:
-            power = power_per_value(model.travel_per_cycle, cycle_time_s, float(torque_per_unit[i]))
+            power = thermal_drive(model, torque_per_unit[i], cycle_time_s)[0]
         series, start = state.start(model.friction, series, power, cycle_time_s)
         drawn.append(draw_series(model.friction, series, tests, cycles // tests, rng, power, cycle_time_s,
                                  start).values)
@@ -337,3 +353,19 @@ def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray
     if any(m.noise_std > 0 for m in models):
         dq += rng.standard_normal(dq.shape) * np.array([m.noise_std for m in models])
     return dq, mu
+
+
+def joint_temperatures(models: list[JointErrorModel], prismatic: np.ndarray, normal_forces_N: np.ndarray,
+                       drawn: np.ndarray, tests: int, cycle_time_s: float, state: FrictionState = COLD) -> np.ndarray:
+    """(tests, n / ``tests``, j) each warming joint's (:func:`warming_joints`, in order) temperature [°C] at the
+    start of every cycle of ``tests`` tests one after another, from the law's draws ``drawn`` (n, nv) that
+    :func:`sample_joint_deviations` returned under the same ``normal_forces_N`` (nv,) [N], ``cycle_time_s`` [s] and
+    ``state``: each cycle's draw (its factor at its temperature included) dissipates its power over the cycle
+    (:meth:`~tribokin.tribology.thermal.Thermal.path`), as it heated the next cycle there."""
+    values = np.asarray(drawn).reshape(tests, -1, len(models))
+    torque, warming = torque_per_value(models, prismatic, normal_forces_N), warming_joints(models)
+    out = np.empty(values.shape[:2] + (len(warming),))
+    for k, i in enumerate(warming):  # joint by joint into one array: no stacked copy
+        power, start = thermal_drive(models[i], torque[i], cycle_time_s, state)
+        out[:, :, k] = models[i].series.thermal.path(values[:, :, i] * power, cycle_time_s, start)
+    return out

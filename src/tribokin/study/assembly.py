@@ -154,6 +154,17 @@ def refuse_series(study: Study, what: str, fix: str) -> None:
                                  scenario.source, at if i == 0 else f"scenarios[{i - 1}].{at}")
 
 
+def friction_groups(study: Study, joint_names) -> list[tuple[str, tuple[str, ...]]]:
+    """The study's joint friction groups, each the joints whose friction one study key gives: ``joints.<key>``,
+    the ``[joints]`` friction, for the joints without their own (first, if any), then ``joints.<joint>.<key>`` for
+    each joint of ``joint_names`` whose own table gives one, in their order. A joint without friction is in none."""
+    own = [name for name in joint_names if study.joint_overrides.get(name, {}).keys() & set(FRICTION_KEYS)]
+    shared = tuple(name for name in joint_names if name not in own)
+    key = study.joints.friction_key
+    groups = [(f"joints.{key}", shared)] if key is not None and shared else []
+    return groups + [(f"joints.{name}.{study.joint(name).friction_key}", (name,)) for name in own]
+
+
 @dataclass(frozen=True)
 class JointKeys:
     """The study key of a joint's value: called with a :class:`~tribokin.errors.JointRangeError` (or

@@ -4,7 +4,9 @@ The study's own text is kept (its comments and layout, through ``tomlkit``), wit
 
 - a header of comment lines saying where the values come from;
 - each fitted value set in its joint's table (``[joints.<joint>]``, made when missing), with a comment
-  giving its interval; a value the data cannot determine is left as the study gives it, and a comment says so.
+  giving its interval; a value the data cannot determine is left as the study gives it, and a comment says so;
+- when asked (``calibrate --fit-ar1``), a friction group's fitted ``ar1`` set in its friction table (``[joints]``'s
+  or a joint's), the comment on that table's line;
   Where the study's ``[joints]`` cannot carry a comment on each value (given as root-level dotted keys
   ``joints.stiffness = ...``, a root inline table ``joints = { ... }``, or a joint's inline table), ``[joints]`` is
   written anew as tables (its values kept, its comments not) and the header says so;
@@ -24,7 +26,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import tomlkit
-from tomlkit.items import AoT, Table
+from tomlkit.items import AoT, InlineTable, Table
 
 from tribokin.study.spec import JOINT_KEYS
 
@@ -45,6 +47,22 @@ class WrittenValue:
     key: str
     value: float
     comment: str
+
+
+@dataclass(frozen=True)
+class WrittenFrictionKey:
+    """A key of a friction table to set: ``joints.<friction>.<key>`` (``joint`` ``None``) or
+    ``joints.<joint>.<friction>.<key> = value``, ``comment`` on the table's line (an inline table's) or the key's."""
+
+    joint: str | None
+    friction: str
+    key: str
+    value: float
+    comment: str
+
+    def table(self, joints):
+        """The friction table in ``joints`` (a mapping of ``[joints]``)."""
+        return (joints if self.joint is None else joints[self.joint])[self.friction]
 
 
 def _moved(path: str, source_dir: Path, out: Path) -> str:
@@ -98,7 +116,8 @@ def _move_data_dirs(study, own: list[str], source_dir: Path, out: Path) -> None:
 
 
 def calibrated_study_text(study_text: str, source_dir: Path, out: Path, header: list[str],
-                          values: list[WrittenValue], poses: list[tuple[str, list[float], list[str]]]) -> str:
+                          values: list[WrittenValue], poses: list[tuple[str, list[float], list[str]]],
+                          frictions: tuple[WrittenFrictionKey, ...] = ()) -> str:
     """The calibrated study (module docstring).
 
     Args:
@@ -108,19 +127,22 @@ def calibrated_study_text(study_text: str, source_dir: Path, out: Path, header: 
         header: comment lines (without ``#``) put first.
         values: the joint keys to set.
         poses: (name, configuration, approach directions) of the poses to append as ``[[poses]]``.
+        frictions: the friction tables' keys to set (each table given by the study).
     """
     document = moved_study_document(study_text, source_dir, out)
     expected = document.unwrap()
     for value in values:
         expected["joints"].setdefault(value.joint, {})[value.key] = value.value
+    for friction in frictions:
+        friction.table(expected["joints"])[friction.key] = friction.value
     try:
-        _set_values(document["joints"], values)
-        rewritten = not _carried(tomlkit.dumps(document), expected, values)
+        _set_values(document["joints"], values, frictions)
+        rewritten = not _carried(tomlkit.dumps(document), expected, [*values, *frictions])
     except (AttributeError, KeyError, TypeError, ValueError):  # tomlkit cannot edit this layout in place
         rewritten = True
     if rewritten:
         document = moved_study_document(study_text, source_dir, out)
-        _set_values(_joints_as_tables(document), values)
+        _set_values(_joints_as_tables(document), values, frictions)
         header = [*header, REWRITTEN]
     if poses:
         entries = document["poses"] if "poses" in document else tomlkit.aot()
@@ -141,17 +163,26 @@ REWRITTEN = ("[joints] is written as tables below (the study gave it as dotted k
              "carry a comment on each value): its values are the study's, its comments are not kept.")
 
 
-def _set_values(joints, values: list[WrittenValue]) -> None:
-    """Set each of ``values`` in its joint's table of ``joints``, with its comment."""
+def _set_values(joints, values: list[WrittenValue], frictions: tuple[WrittenFrictionKey, ...] = ()) -> None:
+    """Set each of ``values`` in its joint's table of ``joints``, and each of ``frictions`` in its friction table,
+    with its comment."""
     for value in values:
         if value.joint not in joints:
             joints[value.joint] = tomlkit.table()
         item = tomlkit.item(value.value)
         item.comment(value.comment)
         joints[value.joint][value.key] = item
+    for friction in frictions:
+        table = friction.table(joints)
+        item = tomlkit.item(friction.value)
+        if isinstance(table, InlineTable):
+            table.comment(friction.comment)
+        else:
+            item.comment(friction.comment)
+        table[friction.key] = item
 
 
-def _carried(text: str, expected: dict, values: list[WrittenValue]) -> bool:
+def _carried(text: str, expected: dict, values: list[WrittenValue | WrittenFrictionKey]) -> bool:
     """Whether ``text`` parses into ``expected`` (a key tomlkit put in the wrong table would not) with the comment of
     each of ``values`` written (an inline table drops it)."""
     return tomllib.loads(text) == expected and all(f"# {v.comment}" in text for v in values)

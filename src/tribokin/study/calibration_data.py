@@ -193,7 +193,7 @@ def calibration_input(study: Study, robot: Robot, models: list[JointErrorModel],
                                  "same point, which leaves the fit nothing to measure the joints' spread by; an "
                                  "instrument reads repeated positions with some spread: check the file (copied "
                                  "rows?)", measurements.source, _position_column(measurements))
-            series.append(SeriesData(measured.direction, signs, np.asarray(points)))
+            series.append(SeriesData(measured.direction, signs, np.asarray(points), measured.times_s))
         if series:
             poses.append(PoseData(pose.name, robot.tool_jacobian(q)[:3], torque_mean, torque_std, tuple(series)))
             kept.append(q)

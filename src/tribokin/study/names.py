@@ -29,6 +29,11 @@ def pose_figure_file(pose: str) -> str:
     return f"field_{pose}.png"
 
 
+def drift_figure_file(pose: str) -> str:
+    """``drift_<pose>.png``: a pose's simulated drift test against time (a study with ``[drift]``)."""
+    return f"drift_{pose}.png"
+
+
 def cloud_figure_file(pose: str) -> str:
     """``clouds_<pose>.png``: a calibrated pose's measured clouds beside the model's."""
     return f"clouds_{pose}.png"

@@ -1,5 +1,6 @@
-"""The report page of a calibration (``tribokin calibrate``): inputs, fitted parameters, measured against
-predicted per pose, figures (parity plot, clouds, the calibrated study's map). No 3-D scene."""
+"""The report page of a calibration (``tribokin calibrate``): inputs, fitted parameters (and, with ``--fit-ar1``, the
+friction groups' ar1), measured against predicted per pose, figures (parity plot, clouds, the calibrated study's
+map). No 3-D scene."""
 
 from __future__ import annotations
 
@@ -49,6 +50,16 @@ def _frame_text(registration: dict) -> str:
     return text if registration["warning"] is None else f"{text} (warning: {registration['warning']})"
 
 
+def _ar1_text(entry: dict) -> str:
+    """``calibration.json``'s ``ar1`` in a line: each group's estimate and interval or why it has none, or why the
+    measurements allow none, and the fit's limitation."""
+    if entry["reason"] is not None:
+        return f"not fitted: {entry['reason']}"
+    groups = [f"{g['key']}: {g['value']:.3f} [{g['ci95'][0]:.3f}, {g['ci95'][1]:.3f}] ({g['series']} series)"
+              if g["value"] is not None else f"{g['key']}: not fitted ({g['reason']})" for g in entry["groups"]]
+    return "; ".join(groups) + f". Note: {entry['limitation']}"
+
+
 def calibration_report_html(summary: dict, rows: list[dict], folder: Path, figure_names: list[str]) -> str:
     """The page: inputs, parameters, fit, the comparison table of ``rows`` (``comparison.csv``), figures."""
     settings, registration, information = summary["settings"], summary["registration"], summary["information"]
@@ -67,6 +78,8 @@ def calibration_report_html(summary: dict, rows: list[dict], folder: Path, figur
                 f"{information['rank']} of {information['free_parameters']}, condition number "
                 f"{information['condition_number']:.3g}, optimiser converged: {information['converged']}"),
     }
+    if "ar1" in summary:
+        inputs["ar1 (calibrate --fit-ar1)"] = _ar1_text(summary["ar1"])
     table = [[row[key] for key, _ in COMPARISON_COLUMNS] for row in rows]
     label = next(label for method, label in INTERVALS.values() if method == settings["intervals"])
     title = html.escape(f"tribokin calibrate — {Path(settings['study']).name} on {Path(settings['measurements']).name}")

@@ -9,8 +9,8 @@ from matplotlib.figure import Figure
 
 from tribokin.maps.result import MapResult
 from tribokin.run import StudyResult
-from tribokin.study.names import pose_figure_file
-from tribokin.viz.figures import repeatability_field, save_repeatability_field
+from tribokin.study.names import drift_figure_file, pose_figure_file
+from tribokin.viz.figures import drift_figure, repeatability_field, save_drift_figure, save_repeatability_field
 from tribokin.viz.maps import map_figure_names, map_figures_drawn, save_map_figures
 from tribokin.viz.placement import PLACEMENT_FIGURE, placement_figure, save_placement_figure
 from tribokin.viz.report import write_report
@@ -48,8 +48,9 @@ def study_cube(result: StudyResult) -> Cube | None:
 
 
 def figure_names(result: StudyResult) -> list[str]:
-    """The figures of ``result``'s output folder in reading order: the placement's heat map, each pose's field
-    (poses in study order), then the map's (reference, scenarios, ratios, differences, winner)."""
+    """The figures of ``result``'s output folder in reading order, as the report's figures show them: the placement's
+    heat map, each pose's field (poses in study order), then the map's (reference, scenarios, ratios, differences,
+    winner); each pose's drift figure is in the report's drift section."""
     names = [PLACEMENT_FIGURE] if result.placement is not None else []
     names += [pose_figure_file(pose.name) for pose in result.poses]
     return names + (map_figure_names(result.map) if result.map is not None else [])
@@ -60,23 +61,33 @@ def pose_title(result: StudyResult, pose) -> str:
     return f"{result.name} — {pose.name}"
 
 
+def drift_title(result: StudyResult, drift) -> str:
+    """The title of a pose's drift figure in ``result``'s folder."""
+    return f"{result.name} — {drift.pose}: ISO 9283 drift test, simulated"
+
+
 def study_figures(result: StudyResult) -> dict[str, Figure]:
-    """The figures :func:`write_views` writes, by file name in :func:`figure_names`' order, as matplotlib Figures
-    (each saved as a PNG, the folder's bytes: :func:`tribokin.viz.canvas.save_png`)."""
+    """The figures :func:`write_views` writes, by file name in :func:`figure_names`' order (each pose's drift
+    figure after the poses' fields), as matplotlib Figures (each saved as a PNG, the folder's bytes:
+    :func:`tribokin.viz.canvas.save_png`)."""
     figures = {} if result.placement is None else {PLACEMENT_FIGURE: placement_figure(result.placement, result.name)}
     figures.update({pose_figure_file(pose.name): repeatability_field(pose, pose_title(result, pose))
                     for pose in result.poses})
+    figures.update({drift_figure_file(drift.pose): drift_figure(drift, drift_title(result, drift))
+                    for drift in result.drifts})
     return figures | (map_figures_drawn(result.map, result.name) if result.map is not None else {})
 
 
 def write_views(result: StudyResult, folder: Path, report: str = "full", map_layers: dict[str, MapLayer] | None = None,
                 cube: Cube | None = None) -> None:
-    """Draw into ``folder`` the placement's heat map, one figure per pose and the map's figures; with ``report``
-    ``"full"`` or ``"light"``
-    (robot visual or collision meshes) also ``report.html`` and ``scene.npz`` (for ``tribokin view``), drawing
-    ``map_layers`` (default: the map's scenarios, :func:`map_scene_layers`) and ``cube`` (default: the study's)."""
+    """Draw into ``folder`` the placement's heat map, one figure per pose (and its drift test's) and the map's
+    figures; with ``report`` ``"full"`` or ``"light"`` (robot visual or collision meshes) also ``report.html`` and
+    ``scene.npz`` (for ``tribokin view``), drawing ``map_layers`` (default: the map's scenarios,
+    :func:`map_scene_layers`) and ``cube`` (default: the study's)."""
     for pose in result.poses:
         save_repeatability_field(pose, folder / pose_figure_file(pose.name), pose_title(result, pose))
+    for drift in result.drifts:
+        save_drift_figure(drift, folder / drift_figure_file(drift.pose), drift_title(result, drift))
     if result.map is not None:
         save_map_figures(result.map, folder, result.name)
     if result.placement is not None:

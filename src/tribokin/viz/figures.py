@@ -1,4 +1,4 @@
-"""Matplotlib figures of results (PNG), in micrometres."""
+"""Matplotlib figures of results (PNG), in micrometres: a pose's repeatability field and its drift test."""
 
 from __future__ import annotations
 
@@ -6,16 +6,22 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
+from matplotlib import colormaps
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
+from tribokin.simulation.drift import PoseDrift
 from tribokin.simulation.pose_result import PoseResult
 from tribokin.units import UM_PER_M
 from tribokin.viz.canvas import NO_MATH, agg_figure, save_png
 
 #: Colours of the approach directions' barycenters and RP_l circles, in the order of the directions.
 DIRECTION_COLOURS = ("#e63946", "#457b9d", "#8338ec", "#fb8500", "#6a994e", "#b5179e")
+#: A drift figure's bands: this many Monte Carlo standard errors either side of a mean (about 95 %).
+BAND_ERRORS = 2
+#: A drift test this long [s] or longer is drawn against minutes, a shorter one against seconds.
+MINUTES_FROM_S = 120.0
 
 
 def field_axes(deviations_um: np.ndarray) -> tuple[int, int]:
@@ -100,4 +106,61 @@ def repeatability_field(pose: PoseResult, title: str = "") -> Figure:
     series.grid(alpha=0.3)
     fig.suptitle(title)
     fig.tight_layout(rect=(0, 0 if one else 0.15, 1, 1))
+    return fig
+
+
+@matplotlib.rc_context(NO_MATH)
+def save_drift_figure(drift: PoseDrift, path: Path, title: str = "") -> None:
+    """:func:`drift_figure` written to ``path`` (PNG)."""
+    save_png(drift_figure(drift, title), path)
+
+
+@matplotlib.rc_context(NO_MATH)
+def drift_figure(drift: PoseDrift, title: str = "") -> Figure:
+    """A pose's ISO 9283 drift test against time, in µm and °C: the change of AP_p and RP_l from the start set to
+    each set along the span (the end set's among them, and sets between; each a marker at its middle, a bar over its
+    cycles), one line per approach direction, means over the simulated tests with a band of ``BAND_ERRORS`` Monte
+    Carlo standard errors (of the tests' own changes); below, each warming joint's temperature at every cycle's start
+    (its mean over the tests, with its band)."""
+    test = drift.test
+    minutes = test.span_cycles * drift.cycle_time_s >= MINUTES_FROM_S
+    unit, scale = ("min", 1 / 60) if minutes else ("s", 1.0)
+    fig = agg_figure(figsize=(9, 8.5))
+    ap_axes, rp_axes, heat = fig.subplots(3, 1, sharex=True)
+    times, half = drift.set_times_s * scale, test.set_cycles * drift.cycle_time_s / 2 * scale
+    band = f"band: ±{BAND_ERRORS} Monte Carlo standard errors"
+    for (label, series), colour in zip(drift.directions.items(), DIRECTION_COLOURS * len(drift.directions),
+                                       strict=False):
+        for axes, figure, mean_m, error_m in ((ap_axes, "AP_p", series.AP_p_m, series.AP_p_change_error_m),
+                                              (rp_axes, "RP_l", series.RP_l_m, series.RP_l_change_error_m)):
+            change, error = (mean_m - mean_m[0]) * UM_PER_M, BAND_ERRORS * error_m * UM_PER_M
+            axes.fill_between(times, change - error, change + error, color=colour, alpha=0.25, lw=0)
+            axes.errorbar(times, change, xerr=half, fmt="o-", ms=4, lw=1.2, capsize=0, color=colour,
+                          label=f"approach {label} (start set: {figure} = {mean_m[0] * UM_PER_M:.2f} µm)")
+    for axes, figure in ((ap_axes, "AP_p"), (rp_axes, "RP_l")):
+        axes.axhline(0.0, color="#264653", lw=0.8, ls="--")
+        axes.set_ylabel(f"{figure} − start set's [µm]")
+        axes.set_title(f"{figure} of sets of {test.set_cycles} cycles from the start set's, means over {test.tests} "
+                       f"simulated tests ({band})", fontsize=9)
+        axes.grid(alpha=0.3)
+        axes.legend(fontsize=7, ncol=2)
+    cycle_times = drift.cycle_times_s * scale
+    colours = colormaps["viridis"](np.linspace(0, 0.9, max(len(drift.joints), 1)))
+    for j, (joint, colour) in enumerate(zip(drift.joints, colours, strict=False)):
+        mean, error = drift.temperature_C[:, j], BAND_ERRORS * drift.temperature_error_C[:, j]
+        heat.fill_between(cycle_times, mean - error, mean + error, color=colour, alpha=0.25, lw=0)
+        heat.plot(cycle_times, mean, lw=1.2, color=colour, label=joint)
+    if drift.joints:
+        heat.set_title(f"joint temperatures at each cycle's start ({test.start} start; {band})", fontsize=9)
+        heat.legend(fontsize=7, ncol=3)
+    else:
+        heat.text(0.5, 0.5, "no joint's friction has a thermal model: temperatures not modelled",
+                  transform=heat.transAxes, ha="center", va="center", fontsize=9)
+        heat.set_title("joint temperatures", fontsize=9)
+    heat.set_ylabel("temperature [°C]")
+    heat.set_xlabel(f"time from the drift test's start [{unit}]")
+    heat.set_xlim(0, test.span_cycles * drift.cycle_time_s * scale)
+    heat.grid(alpha=0.3)
+    fig.suptitle(title)
+    fig.tight_layout()
     return fig

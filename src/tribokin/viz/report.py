@@ -21,6 +21,7 @@ from tribokin.maps.grid import TargetGrid
 from tribokin.maps.result import MapResult
 from tribokin.run import StudyResult
 from tribokin.study.map_spec import BoxMap, MapSpec
+from tribokin.study.names import drift_figure_file
 from tribokin.viz.colours import ColourScale
 from tribokin.viz.scene import Cube, MapLayer, RobotDrawn, SceneInfo, build_scene
 from tribokin.viz.static import static_visualizer
@@ -34,6 +35,10 @@ ISO_COLUMNS = (("name", "pose"), ("direction", "direction"), ("cycles", "cycles"
                ("RP_l_all_directions_um", "RP_l all directions [µm]"), ("RP_a_mdeg", "RP_a [mdeg]"),
                ("RP_b_mdeg", "RP_b [mdeg]"), ("RP_c_mdeg", "RP_c [mdeg]"), ("AP_a_mdeg", "AP_a [mdeg]"),
                ("AP_b_mdeg", "AP_b [mdeg]"), ("AP_c_mdeg", "AP_c [mdeg]"))
+
+#: columns of the drift table: (key of a direction's ``drift`` in ``summary.json``, header with unit)
+DRIFT_COLUMNS = (("dAP_p_um", "dAP_p [µm]"), ("dRP_l_um", "dRP_l [µm]"), ("dRP_a_mdeg", "dRP_a [mdeg]"),
+                 ("dRP_b_mdeg", "dRP_b [mdeg]"), ("dRP_c_mdeg", "dRP_c [mdeg]"))
 
 STYLE = """
 body { font-family: sans-serif; margin: 1.5em; color: #222; max-width: 1200px; }
@@ -83,6 +88,29 @@ def iso_table(result: StudyResult) -> str:
     """The ISO 9283 figures (µm, mdeg) per pose and approach direction as an HTML table."""
     rows = [[row[key] for key, _ in ISO_COLUMNS] for pose in result.poses for row in pose.direction_rows()]
     return html_table([header for _, header in ISO_COLUMNS], rows)
+
+
+def drift_section(result: StudyResult, folder: Path) -> str:
+    """ISO 9283's drift test as the study simulated it (``[drift]``): what its figures rest on, per pose and approach
+    direction each figure's mean ± its Monte Carlo standard error (``summary.json``'s ``drift``), and each pose's
+    drift figure (``drift_<pose>.png`` of ``folder``); empty without ``[drift]``."""
+    if not result.drifts:
+        return ""
+    test, cycle_time_s = result.drifts[0].test, result.drifts[0].cycle_time_s
+    rows = []
+    for pose in result.poses:
+        for label in pose.metrics.directions:
+            drift = pose.direction_figures(label)["drift"]
+            rows.append([pose.name, label, *(f"{drift[key]:.3f} ± {drift[key] * drift['mc_errors'][key]:.3f}"
+                                             for key, _ in DRIFT_COLUMNS)])
+    text = (f"Each pose approached once every {cycle_time_s:g} s for {test.span_cycles} cycles "
+            f"({test.span_cycles * cycle_time_s:g} s) from a {test.start} start, its first and last sets of "
+            f"{test.set_cycles} cycles compared (ISO 9283:1998 §7.2.3); each figure is the mean ± Monte Carlo standard "
+            f"error over {test.tests} simulated tests of the joints' friction model, so it rests on friction-induced "
+            "change only (the friction's time series and warm-up), not on the thermal expansion of links or gears.")
+    table = html_table(["pose", "direction", *(header for _, header in DRIFT_COLUMNS)], rows)
+    figures = embedded_figures(folder, [drift_figure_file(drift.pose) for drift in result.drifts])
+    return f"<h2>ISO 9283 drift, simulated</h2><p>{html.escape(text)}</p>{table}{figures}"
 
 
 def map_statistics(workspace_map: MapResult) -> str:
@@ -355,7 +383,7 @@ def report_html(result: StudyResult, scene_page: str, info: SceneInfo, layers: d
 {scene_frame(scene_page)}
 {notes}
 {maps}
-{poses}
+{poses}{drift_section(result, folder)}
 {placement_section(result)}
 {inputs_section(result, prismatic)}
 <h2>Figures</h2>{embedded_figures(folder, figures)}
