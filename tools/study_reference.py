@@ -33,6 +33,7 @@ SECTIONS = {
     "poses": ("[[poses]]", spec.POSE_KEYS),
     "iso_cube": ("[iso_cube]", spec.ISO_CUBE_KEYS),
     "map": ("[map]", None),
+    "map.state": ("state, compare = { age_cycles, after_s } (or \"cold\", \"warm\")", series_spec.STATE_KEYS),
     "calibration": ("[calibration]", spec.CALIBRATION_KEYS),
     "placement": ("[placement]", spec.PLACEMENT_KEYS),
     "drift": ("[drift]", spec.DRIFT_KEYS),

@@ -190,16 +190,17 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     if resume and study.map is None and checkpoint is not None and Path(checkpoint).exists():
         raise InputError("this study has no [map], so these chunks are another run's; run that study with "
                          "--resume, or pass --force without --resume to start over", checkpoint, "--resume")
-    if study.map is not None:
-        refuse_series(study, "a placement search" if study.placement is not None else "a [map]",
-                      "remove the key, or the study's [map] to run its poses alone")
+    if study.placement is not None:
+        refuse_series(study, "a placement search", "remove the key, or the study's [placement] to map its task "
+                      "region with the robot where it stands")
     drift = drift_test(study)
     robot = load_robot(study, meshes)
     models = joint_models(study, robot)
     tasks, cube = pose_tasks(study, robot)
     check_names(study, tasks)
     robots = None if study.map is None else map_robots(study, robot)
-    layout = None if robots is None else MapLayout.of(robots, study.map.figure_set, study_approaches(study))
+    layout = None if robots is None else MapLayout.of(robots, study.map.figure_set, study_approaches(study),
+                                                       study.map.compare is not None)
     check_memory(study, robot.model.nv, [len(t.tested(study.approach).labels) for t in tasks],
                  local_workers(executor), ("command line", "--cycles") if cycles is not None else None, layout=layout)
     check_disk(study, robot.model.nv, tempfile.gettempdir() if checkpoint is None or study.placement else checkpoint,

@@ -44,6 +44,11 @@ GANTRY_MAP = _replace(_replace(GANTRY_SAMPLED_MAP_TOML, "cycles = 400", "cycles 
 #: the pose runs.
 GANTRY_MAP_AND_POSE = GANTRY_MAP + '\n[[poses]]\nname = "P1"\nq = [0.3, 0.2, 0.1]\n'
 AXIS_JOINT_MAP = STUDY + '\n[map]\nkind = "joint"\njoints = ["x"]\nranges = [[0.0, 0.3]]\ncounts = [4]\n'
+#: AXIS_JOINT_MAP whose joint's friction is a time series (lag-one correlation 0.5), and one that warms up too.
+SERIES_MAP = _replace(AXIS_JOINT_MAP, '{ preset = "42CD4-raw" }', '{ preset = "42CD4-raw", ar1 = 0.5 }')
+WARMING_MAP = _replace(_replace(_replace(SERIES_MAP, "ar1 = 0.5", "ar1 = 0.5, thermal = { mu_per_K = -0.005 }"),
+                                "seed = 3", "seed = 3\ncycle_time_s = 4.0"), "stiffness = 2.0e6",
+                       "stiffness = 2.0e6\ntravel_per_cycle = 0.5")
 SCENARIOS = '[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "b"\n\n[[scenarios]]\nname = "ratio_b"\n\n[map]'
 
 MESHY_URDF = """<?xml version="1.0"?>
@@ -103,6 +108,11 @@ def study(old: str | None = None, new: str = "", *options, expected, id, base=ST
 def friction(law: str, *, expected, id):
     """A `tribokin run` case with ``joints.friction = law`` (the profile of ``SURFACE_LAW`` beside the study)."""
     return study('{ preset = "42CD4-raw" }', law, expected=expected, id=id, files=TURNED_FILE)
+
+
+def map_state(line: str, base: str, expected, id):
+    """A `tribokin run` case of ``base``'s joint map, not directional, with the ``[map]`` line ``line`` added."""
+    return study("counts = [4]", f"counts = [4]\ndirectional = false\n{line}", base=base, expected=expected, id=id)
 
 
 def measurement(command: str, content, *options, expected, id, at_fault="{tmp}/in.csv", files=None):
@@ -521,18 +531,34 @@ CASES = [
              id="thermal-without-mu-dependence"),
     study("q = [0.25]", 'q = [0.25]\nfriction = { preset = "42CD4-raw", ar1 = 0.5 }',
           expected=("poses[0].friction.ar1", "a pose's friction is a law only"), id="ar1-on-a-pose"),
-    study('{ preset = "42CD4-raw" }', '{ preset = "42CD4-raw", ar1 = 0.5 }', base=AXIS_JOINT_MAP,
-          expected=("joints.friction.ar1", "a [map] does not simulate friction time keys yet"),
-          id="time-keys-in-a-map"),
+    study("counts = [4]", 'counts = [4]\nstate = "warm"', base=AXIS_JOINT_MAP,
+          expected=("map.state", "no joint's friction is a time series"), id="map-state-without-time-keys"),
+    map_state('state = "hot"', SERIES_MAP, ("map.state", 'must be "cold", "warm" or a table'), "map-state-misspelt"),
+    map_state("state = { age_cycles = 100 }", SERIES_MAP, ("map.state.age_cycles", "no joint's friction has run_in"),
+              "map-state-age-without-run-in"),
+    map_state('compare = "warm"', SERIES_MAP, ("map.compare.after_s", "no joint's friction has thermal"),
+              "map-compare-warm-without-thermal"),
+    map_state("state = { after_s = -60 }", WARMING_MAP, ("map.state.after_s", "must be >= 0 (got -60)"),
+              "map-state-negative-time"),
+    map_state("state = { after_s = 5e6 }", WARMING_MAP, ("map.state.after_s", "more than 1,000,000 cycles of 4 s"),
+              "map-state-too-long"),
+    map_state("compare = { after = 60 }", WARMING_MAP, ("map.compare.after", "unknown key"), "map-compare-unknown-key"),
     study("seed = 3", "seed = 3", base=STUDY + "\n[drift]\nduration_s = 3600\n",
           expected=("study.cycle_time_s", "[drift] approaches each pose once a cycle"), id="drift-without-cycle-time"),
     study("seed = 3", "seed = 3\ncycle_time_s = 10.0", base=STUDY + "\n[drift]\nduration_s = 200\n",
           expected=("drift.duration_s", "200 s hold 20 cycles of 10 s, fewer than the first and last sets' 24"),
           id="drift-too-short"),
-    study('[map]', '[[scenarios]]\nname = "worn"\n\n[[scenarios]]\nname = "warm"\njoints = { friction = { preset = '
-          '"42CD4-raw", steady_mean_std = 0.01 } }\n\n[map]', base=AXIS_JOINT_MAP,
-          expected=("scenarios[1].joints.friction.steady_mean_std", "a [map] does not simulate friction time keys"),
-          id="time-keys-in-a-map-scenario"),
+    study("[map]", '[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "worn"\njoints = { friction = { preset = '
+          '"42CD4-raw", ar1 = 0.5 } }\n\n[map]\nstate = { age_cycles = 100 }', base=AXIS_JOINT_MAP,
+          expected=("map.state.age_cycles", "no joint's friction has run_in"), id="map-state-age-no-scenario-runs-in"),
+    study("[map]", '[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "change"\n\n[map]\ncompare = "cold"',
+          base=SERIES_MAP, expected=("scenarios[1].name", "writes map_RP_l_change.png, as map.compare does"),
+          id="scenario-named-like-a-change-map"),
+    study('{ preset = "42CD4-raw" }', '{ preset = "42CD4-raw", ar1 = 0.5 }',
+          base=_replace(GANTRY_MAP, "chunk_rows = 1", "chunk_rows = 1\ndirectional = false\n\n[placement]\n"
+                        "candidates = [[0.0, 0.0, 0.0]]"),
+          expected=("joints.friction.ar1", "a placement search does not simulate friction time keys yet"),
+          id="time-keys-in-a-placement-search"),
     friction('{ law = "uniform", low = 0.1 }', expected=("joints.friction.high", "needs high"),
              id="uniform-high-missing"),
     friction('{ law = "gausian", mean = 0.1, std = 0.01 }', expected=("joints.friction.law", "did you mean 'gaussian'"),

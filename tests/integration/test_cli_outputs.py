@@ -104,3 +104,23 @@ def test_robots_lists_a_robots_candidate_tool_frames_default_first():
     assert unknown.returncode == 2 and unknown.stdout == ""
     assert unknown.stderr.startswith("tribokin: error: command line: --frames: unknown robot 'ur55' (did you mean "
                                      "'ur5'?)") and unknown.stderr.count("\n") == 1
+
+
+def test_run_of_a_map_comparing_two_states_prints_and_draws_the_changes(tmp_path):
+    """A map whose joint's friction runs in, from new to 5 000 cycles of age: the changes printed (signed: run in,
+    the lost motion falls), their columns in map.csv and their heat maps."""
+    study = tmp_path / "study.toml"
+    friction = '{ preset = "42CD4-raw", ar1 = 0.5, run_in = { start = 0.3, tau_cycles = 20 } }'
+    study.write_text(AXIS_STUDY_TOML.replace('{ preset = "42CD4-raw" }', friction) + '\n[map]\nkind = "joint"\n'
+                     'joints = ["x"]\nranges = [[0.1, 0.3]]\ncounts = [3]\ndirectional = false\n'
+                     'state = { age_cycles = 0 }\ncompare = { age_cycles = 5000 }\n')
+    done = tribokin("run", study, "--out", tmp_path / "out", "--report", "none")
+    assert done.returncode == 0, done.stderr
+    line = next(line for line in done.stdout.splitlines() if line.startswith("change from map.state"))
+    parts = line.split("RP_l ")[1].split("AP_p ")
+    rp_l, ap_p = (np.array(part.split(",")[0].split(" / "), dtype=float) for part in parts)
+    assert np.all(rp_l < 0) and np.all(ap_p < 0)
+    header = (tmp_path / "out" / "map.csv").read_text().splitlines()[0].split(",")
+    assert {"RP_l_change_um", "AP_p_change_um", "RP_l_change_mc_error_um", "AP_p_change_mc_error_um"} <= set(header)
+    assert (tmp_path / "out" / "map_RP_l_change.png").stat().st_size > 10_000
+    assert (tmp_path / "out" / "map_AP_p_change.png").stat().st_size > 10_000

@@ -48,6 +48,10 @@ def written(result, folder):
     return {name: (folder / name).read_bytes() for name in names}
 
 
+#: The raw steel as a time series that runs in and warms up (issue 38), and the joints' motion it needs.
+TIME_KEYS = {"ar1": 0.9, "run_in": {"start": 0.3, "tau_cycles": 40}, "steady_mean_std": 0.005,
+             "thermal": {"mu_per_K": -0.005}}
+MOTION = {"study": {"cycle_time_s": 6.0}, "joints": {"travel_per_cycle": 1.0}}
 #: The map's figure sets: one simulated test per target; expected figures sampled by common random numbers (the
 #: raw steel's uniform law) with the directional ones; in closed form (the treated steel's Gaussian law everywhere);
 #: and with scenarios of other robots (:data:`OTHER_ROBOTS`), each solving its own IK, sampled on one of them and in
@@ -55,6 +59,13 @@ def written(result, folder):
 VARIANTS = {"one-test": ({"statistic": "one-test"}, "42CD4-raw", []),
             "directional": ({"directional": True}, "42CD4-raw", []),
             "expected-closed-form": ({}, "42CD4-treated", []), "other-robots": ({}, "42CD4-treated", OTHER_ROBOTS)}
+#: UR5_MAP without scenarios, its friction with time keys, from one state compared with another: 3 x 3 targets (the
+#: far column unreachable) in 3 chunks, tests of 10 cycles (sampled whole), the directional figures too.
+TIME_KEYS_MAP = {**UR5_MAP, "scenarios": [], "study": {**UR5_MAP["study"], "cycles": 10, **MOTION["study"]},
+                 "joints": {**UR5_MAP["joints"], "friction": {"preset": "42CD4-raw", **TIME_KEYS}, **MOTION["joints"]},
+                 "map": {**UR5_MAP["map"], "resolution": [3, 3],
+                         "state": {"age_cycles": 0, "after_s": 600},
+                         "compare": {"age_cycles": 5000, "after_s": "warm"}}}
 
 
 def variant_study(name: str) -> dict:
@@ -150,6 +161,46 @@ def test_dask_cluster_changes_nothing(variant, reference, tmp_path):
         with executor_for(scheduler=cluster.scheduler_address) as executor:
             result = run_study(variant, executor=executor)
     assert written(result, tmp_path / "out") == reference
+
+
+@pytest.fixture(scope="module")
+def time_keys_reference(tmp_path_factory):
+    """:data:`TIME_KEYS_MAP`'s tables and summary, run here in one go."""
+    return written(run_study(TIME_KEYS_MAP), tmp_path_factory.mktemp("time-keys") / "out")
+
+
+def test_a_map_with_time_keys_has_its_changes_and_their_errors(time_keys_reference):
+    summary = json.loads(time_keys_reference["summary.json"])["map"]
+    assert 0 < summary["unreachable"] < summary["count"] == 9
+    assert summary["state"] == {"age_cycles": 0, "after_s": 600} and summary["compare"]["after_s"] == "warm"
+    assert summary["RP_l_change_um"]["max"] < 0 and summary["AP_p_change_um"]["max"] < 0  # run in and warm: less
+    header = time_keys_reference["map.csv"].split(b"\n", 1)[0].decode().split(",")
+    assert {"RP_l_change_um", "AP_p_change_um", "RP_l_change_mc_error_um", "AP_p_change_mc_error_um"} <= set(header)
+
+
+def test_a_map_with_time_keys_gives_the_same_bytes_chunked_on_two_workers(time_keys_reference, tmp_path):
+    with executor_for(workers=2) as executor:
+        result = run_study(with_chunk_rows(TIME_KEYS_MAP, 2), executor=executor)
+    assert written(result, tmp_path / "out") == time_keys_reference
+
+
+def test_a_map_with_time_keys_gives_the_same_bytes_on_dask(time_keys_reference, tmp_path):
+    from dask.distributed import LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with executor_for(scheduler=cluster.scheduler_address) as executor:
+            result = run_study(TIME_KEYS_MAP, executor=executor)
+    assert written(result, tmp_path / "out") == time_keys_reference
+
+
+def test_a_map_with_time_keys_interrupted_resumes_to_the_same_bytes(time_keys_reference, tmp_path, monkeypatch):
+    folder = tmp_path / "chunks"
+    with monkeypatch.context() as patch:
+        interrupted_at(patch, "save", 2)
+        with pytest.raises(KeyboardInterrupt):
+            run_study(TIME_KEYS_MAP, checkpoint=folder)
+    assert finished(folder) == 1
+    assert written(run_study(TIME_KEYS_MAP, checkpoint=folder, resume=True), tmp_path / "out") == time_keys_reference
 
 
 def test_unreachable_scheduler_is_refused_before_any_work(tmp_path, monkeypatch):

@@ -3,6 +3,7 @@
 import time
 import tracemalloc
 
+import numpy as np
 import pytest
 
 from conftest import ROOT, axis_study
@@ -134,3 +135,35 @@ def test_a_study_that_fits_runs_and_one_that_does_not_is_refused(monkeypatch):
     with pytest.raises(InputError) as error:
         run_study(study)
     assert error.value.key == "study.cycles" and "lower study.cycles" in error.value.message
+
+
+def test_a_map_with_friction_time_keys_counts_its_whole_sampled_tests():
+    """Where a joint's friction is a time series, an expected map's worker holds its sampled tests whole: the estimate
+    counts them (twice with ``compare``), and they hold more than what tracemalloc measures of a scenario's setup and
+    a block of targets' figures drawn from them (the gantry, 10 cycles: 2 000 tests, the band's at most 16 times)."""
+    from tribokin.maps.budget import series_bytes
+    from tribokin.maps.expected_figures import ExpectedSetup, expected_targets
+    from tribokin.maps.mapping import series_runner
+    from tribokin.propagation.exact import tool_frames
+    from tribokin.study.assembly import joint_models, load_robot, study_runner
+
+    friction = {"preset": "42CD4-raw", "ar1": 0.9, "run_in": {"start": 0.3, "tau_cycles": 40.0}}
+    mapping = {**GANTRY_MAP, "study": {**GANTRY_MAP["study"], "cycles": 10},
+               "joints": {**GANTRY_MAP["joints"], "friction": friction},
+               "map": {**GANTRY_MAP["map"], "directional": False, "state": "cold"}}
+    plain = {key: size for size, key, _ in estimate(load_study({**mapping, "joints": GANTRY_MAP["joints"],
+                                                                "map": GANTRY_MAP["map"]}), 3, [])}
+    series = load_study(mapping)
+    parts = [size for size, _, what in estimate(series, 3, []) if "friction series" in what]
+    assert parts == [series_bytes(10, 3, False)] and series_bytes(10, 3, True) > parts[0]
+    assert sum(plain.values()) < sum(size for size, _, _ in estimate(series, 3, []))
+    robot = load_robot(series)
+    runner = series_runner(study_runner(series, robot, joint_models(series, robot)), None, np.zeros((1, 3)))
+    qs = np.array([[0.2, 0.2, 0.1], [0.3, 0.1, 0.2]])
+    twists, translations = tool_frames(robot, qs)
+    tracemalloc.start()
+    setup = ExpectedSetup.build(runner, None, "expected")
+    expected_targets(runner, setup, qs, runner.normal_forces_at(qs), twists, translations)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert setup.series and peak < parts[0], (peak, parts[0])

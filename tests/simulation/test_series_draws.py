@@ -97,16 +97,3 @@ def test_a_warm_up_needs_the_cycle_time_and_travel(axis):
     model = JointErrorModel(Constant(mu=MEAN), STIFFNESS, series=thermal, travel_per_cycle=0.5)
     with pytest.raises(SettingsError, match="cycle_time_s"):
         PoseRunner(TestSettings(30), axis, [model])
-
-
-def test_a_library_map_refuses_a_correlated_joint(axis):
-    """Maps draw every cycle independently: workspace_map refuses a joint whose friction is a time series, naming it
-    and its ``series``, before any target is solved."""
-    from tribokin import workspace_map
-    from tribokin.study.map_spec import JointMap
-
-    model = JointErrorModel(Gaussian(mean=MEAN, std=STD), STIFFNESS, normal_force_N=LOAD_N,
-                            series=FrictionSeries(ar1=0.5))
-    with pytest.raises(JointModelError, match="a map does not simulate friction time series") as error:
-        workspace_map(axis, [model], JointMap(joints=("x",), ranges=((0.0, 0.3),), counts=(4,)))
-    assert (error.value.joint, error.value.part) == ("x", "series")

@@ -144,6 +144,9 @@ def _print_map(summary: dict) -> None:
         print(f"{scenario['name']:<{width}} {_spread_um(scenario['RP_l_um']):>30}{wins}{reachable}")
     if "unsuffixed_figures" in summary:
         print(f"approached from both directions: {summary['unsuffixed_figures']}")
+    if "RP_l_change_um" in summary:  # [map] compare: from the map's state to the second one
+        print(f"change from map.state to map.compare, min / median / max [µm]: RP_l "
+              f"{_spread_um(summary['RP_l_change_um'])}, AP_p {_spread_um(summary['AP_p_change_um'])}")
 
 
 def _print_placement(summary: dict, out: Path) -> None:

@@ -15,8 +15,9 @@ import shutil
 from pathlib import Path
 
 from tribokin.errors import InputError
+from tribokin.maps.expected_figures import BLOCK_CYCLES, MAX_BAND_FACTOR, SAMPLED_CYCLES, tests_for
 from tribokin.maps.schema import MapLayout, study_approaches
-from tribokin.study.spec import Study
+from tribokin.study.spec import Study, map_series
 from tribokin.units import gib
 
 FLOAT = 8
@@ -72,7 +73,8 @@ def _count(number: int, word: str) -> str:
 
 def map_layout(study: Study, nv: int, layout: MapLayout | None) -> MapLayout:
     """``layout``, or by default that of the study's scenarios all measured with its robot of ``nv`` active joints."""
-    return layout or MapLayout.shared(nv, max(1, len(study.scenarios)), study.map.figure_set, study_approaches(study))
+    return layout or MapLayout.shared(nv, max(1, len(study.scenarios)), study.map.figure_set, study_approaches(study),
+                                      study.map.compare is not None)
 
 
 def check_disk(study: Study, nv: int, folder, layout: MapLayout | None = None) -> None:
@@ -128,7 +130,26 @@ def estimate(study: Study, nv: int, directions: list[int], workers: int = 1,
         most = max(layout.joints)
         parts.append((max(1, workers) * block * (kept_per_cycle(most) + computed_per_cycle(most)), "study.cycles",
                       f"{_count(cycles, 'cycle')} per map target × {_count(max(1, workers), 'worker')}"))
+        if study.map.statistic == "expected" and map_series(study):
+            parts.append((max(1, workers) * series_bytes(cycles, most, study.map.compare is not None,
+                                                         study.map.figure_set == "directional"), "study.cycles",
+                          f"the friction series' sampled tests of {_count(cycles, 'cycle')} × "
+                          f"{_count(max(1, workers), 'worker')}"))
     return parts
+
+
+def series_bytes(cycles: int, nv: int, compare: bool, directional: bool = False) -> int:
+    """Bytes an expected map's worker holds where a joint's friction is a time series: its sampled tests drawn whole
+    (:func:`~tribokin.maps.expected_figures.series_draws`; from ``ASYMPTOTIC_CYCLES`` cycles on too, not as single
+    cycles), the band's further tests at most ``MAX_BAND_FACTOR`` times as many: per cycle the common numbers (3 nv),
+    the draws (nv) and a joint's latent series, values and temperatures (3), twice with ``compare`` (each state's);
+    and a block of targets' sampled positions, angles and the band's positions (3 each) of ``BLOCK_CYCLES``. A
+    ``directional`` map's vAP_p draws three directions' tests at once (their common numbers, a target's positions and
+    angles through the engine: 3 nv + 6 a cycle)."""
+    tests = tests_for(SAMPLED_CYCLES, cycles)
+    tested = tests * cycles * MAX_BAND_FACTOR
+    vap = 3 * tests * cycles * (3 * nv + 6) if directional else 0
+    return (tested * (4 * nv + 3) + vap) * FLOAT * (2 if compare else 1) + BLOCK_CYCLES * FLOAT * 9
 
 
 def check_memory(study: Study, nv: int, directions: list[int], workers: int = 1,

@@ -165,6 +165,16 @@ class JointMoments:
     gaussian: bool
 
     @classmethod
+    def of_draws(cls, models: list[JointErrorModel], draws: np.ndarray) -> JointMoments:
+        """Of joints whose friction is a time series: each joint's mean, standard deviation and largest departure
+        from its mean over ``draws`` (..., nv), the very values its sampled tests draw (:func:`series_draws`), so the
+        first-order model's bound covers every one; never Gaussian (its tests are sampled whole)."""
+        draws = draws.reshape(-1, draws.shape[-1])
+        mean = draws.mean(axis=0)
+        return cls(mean, draws.std(axis=0), np.abs(draws - mean).max(axis=0), np.array([m.offset for m in models]),
+                   np.array([m.backlash / 2 for m in models]), np.array([m.noise_std for m in models]), False)
+
+    @classmethod
     def of(cls, models: list[JointErrorModel]) -> JointMoments:
         laws = [m.friction for m in models]
         return cls(np.array([law.mean() for law in laws]), np.array([law.std() for law in laws]),
@@ -258,18 +268,32 @@ class ExpectedSetup:
     """What every block of one scenario's expected map shares, built once per map: the tests' ``cycles`` (of each
     approach direction), the scenario's :class:`JointMoments`, the shape table of Gaussian tests
     (:class:`~tribokin.iso9283.gaussian_tests.ShapeTable`; ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on), the map's
-    ``figure_set`` (``"directional"``: vAP_p and RP_l_multi too) and ``band_factor`` (:func:`band_factor`)."""
+    ``figure_set`` (``"directional"``: vAP_p and RP_l_multi too) and ``band_factor`` (:func:`band_factor`);
+    ``series``: a joint's friction is a time series, every test sampled whole from the runner's state
+    (:func:`series_draws`), its moments those of the draws (:meth:`JointMoments.of_draws`)."""
 
     cycles: int
     moments: JointMoments
     table: ShapeTable | None
     figure_set: str
     band_factor: int = 1
+    series: bool = False
 
     @classmethod
     def build(cls, runner: PoseRunner, table: ShapeTable | None, figure_set: str) -> ExpectedSetup:
-        return cls(runner.settings.cycles, JointMoments.of(runner.models), table, figure_set,
-                   band_factor(runner, runner.settings.cycles))
+        cycles = runner.settings.cycles
+        factor = band_factor(runner, cycles)
+        if not runner.correlated:
+            return cls(cycles, JointMoments.of(runner.models), table, figure_set, factor)
+        tests = sampled_shape(SAMPLED_CYCLES, cycles, whole_tests=True)[0]
+        draws = [series_draws(runner, tests, cycles, "tests")]
+        if factor > 1:
+            draws.append(series_draws(runner, (factor - 1) * tests, cycles, "band tests"))
+        if figure_set == "directional":  # RP_l_multi's, through the mixed first-order model (vAP_p's: the engine)
+            draws.append(series_draws(runner, sampled_shape(MULTI_CYCLES, cycles, MIN_MULTI_TESTS, True)[0], cycles,
+                                      "multi").reshape(-1, len(runner.models)))
+        moments = JointMoments.of_draws(runner.models, np.concatenate([d.reshape(-1, d.shape[-1]) for d in draws]))
+        return cls(cycles, moments, table, figure_set, factor, series=True)
 
 
 def band_factor(runner: PoseRunner, cycles: int) -> int:
@@ -277,13 +301,14 @@ def band_factor(runner: PoseRunner, cycles: int) -> int:
     scenario takes, the same at every target: its stated error (that of E[RP_l] too) in tests of a one-dimensional
     cloud of each joint's law and of a Gaussian, over ``MC_ERROR_AIM``, squared. One joint's law alone is the
     heaviest case of its tails; clouds of several joints mix towards the Gaussian."""
-    shape = sampled_shape(SAMPLED_CYCLES, cycles)
+    whole = runner.correlated
+    shape = sampled_shape(SAMPLED_CYCLES, cycles, whole_tests=whole)
     rng = expected_stream(runner.settings.seed, "band pilot")
     clouds = [rng.standard_normal(shape)] + [m.friction.rvs(size=shape, random_state=rng) for m in runner.models
                                              if m.friction.std() > 0]
     worst = 0.0
     for cloud in clouds:
-        if cycles >= ASYMPTOTIC_CYCLES:
+        if cycles >= ASYMPTOTIC_CYCLES and not whole:
             points = np.zeros((1, shape[1], 3))
             points[0, :, 0] = cloud[0]
             moments, distances = cycle_moments(points, cycles, barycentre_normals(shape[1]))
@@ -309,9 +334,21 @@ def common_numbers(runner: PoseRunner, signs: np.ndarray, tests: int, purpose: s
     times its :func:`responses`' rows, less E[dq] - offset."""
     rng = expected_stream(runner.settings.seed, purpose)
     cycles, nv = signs.shape[1], len(runner.models)
-    mu = np.stack([m.friction.rvs(size=(tests, cycles), random_state=rng) for m in runner.models], axis=-1)
+    if runner.correlated:
+        mu = series_draws(runner, tests, cycles, rng)
+    else:
+        mu = np.stack([m.friction.rvs(size=(tests, cycles), random_state=rng) for m in runner.models], axis=-1)
     noise = rng.standard_normal((tests, cycles, nv))
     return np.concatenate([signs * mu, np.broadcast_to(signs, mu.shape), noise], axis=-1).reshape(-1, 3 * nv)
+
+
+def series_draws(runner: PoseRunner, tests: int, cycles: int, purpose) -> np.ndarray:
+    """(tests, cycles, nv) the joints' friction draws of one scenario's sampled tests where a joint's friction is a
+    time series: each test from the runner's state, the series running through its cycles
+    (:meth:`~tribokin.simulation.pose_test.PoseRunner.friction_tests`), from ``purpose``'s stream (its name, or the
+    stream itself) first: the same at every target."""
+    rng = expected_stream(runner.settings.seed, purpose) if isinstance(purpose, str) else purpose
+    return runner.friction_tests(tests, cycles, rng)
 
 
 def responses(model: LinearModel, moments: JointMoments, chosen: np.ndarray, rows: slice) -> np.ndarray:
@@ -595,10 +632,42 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     return out
 
 
-def sampled_shape(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> tuple[int, int]:
+def change_errors(start: tuple[PoseRunner, ExpectedSetup], end: tuple[PoseRunner, ExpectedSetup], qs: np.ndarray,
+                  forces: np.ndarray, commanded: np.ndarray) -> np.ndarray:
+    """(k, 2) Monte Carlo standard errors [µm] of the changes of E[RP_l] and E[AP_p] (:data:`~tribokin.maps.schema.
+    CHANGE_FIGURES`) from state ``start`` to state ``end`` (each a runner and its setup, the same joints in two
+    states of their friction series) at configurations ``qs`` (k, nv) under bearing loads ``forces`` (k, nv) [N],
+    commanded positions ``commanded`` (k, 3) [m]: both states' sampled tests share their random numbers (the same
+    streams), so a test's change is paired; each test's RP_l and AP_p in both states through the states' first-order
+    models, the differences' standard deviation over √tests (the band's further tests left out: a larger error than
+    the figures' own over every test). Approached from both directions: the larger of the two directions' errors."""
+    runner = start[0]
+    lever = friction_loads(runner.models, forces) * friction_lever(runner.models, runner.robot.joint_is_prismatic)
+    both = per_direction(runner.settings.approach)
+    errors = np.zeros((len(qs), 2))
+    for sign in (1.0, -1.0) if both else (1.0,):
+        direction = np.full(len(runner.models), sign)
+        shape = sampled_shape(SAMPLED_CYCLES, start[1].cycles, whole_tests=True)
+        signs = np.broadcast_to(direction, (*shape, len(direction)))
+        states = [(linear_model(r.robot, setup.moments, qs, lever, np.broadcast_to(direction, lever.shape), False),
+                   setup.moments, common_numbers(r, signs, shape[0], "tests")) for r, setup in (start, end)]
+        for block in blocks_of(np.arange(len(qs)), 2 * shape[0] * shape[1]):
+            figures = []
+            for model, moments, numbers in states:
+                spread = position_spread(sampled_tests(model, moments, block, numbers, shape, slice(0, 3)))
+                figures.append(np.stack([spread.RP_l_m, np.linalg.norm(
+                    spread.barycenter_m - commanded[block, None], axis=-1)], axis=-1))  # (block, tests, 2)
+            change = (figures[1] - figures[0]) * UM_PER_M
+            errors[block] = np.fmax(errors[block], change.std(axis=1, ddof=1) / math.sqrt(shape[0]))
+    return errors
+
+
+def sampled_shape(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS,
+                  whole_tests: bool = False) -> tuple[int, int]:
     """(tests, cycles per test) sampled for tests of ``cycles`` cycles: :func:`tests_for` tests (at least ``fewest``),
-    or from ``ASYMPTOTIC_CYCLES`` on one series of ``cycles_in_all`` single cycles (:func:`cycle_moments`)."""
-    if cycles >= ASYMPTOTIC_CYCLES:
+    or from ``ASYMPTOTIC_CYCLES`` on one series of ``cycles_in_all`` single cycles (:func:`cycle_moments`), unless
+    ``whole_tests`` (cycles that are not independent: a friction time series)."""
+    if cycles >= ASYMPTOTIC_CYCLES and not whole_tests:
         return 1, cycles_in_all
     return tests_for(cycles_in_all, cycles, fewest), cycles
 
@@ -610,8 +679,8 @@ def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chose
     with ``used``, through the fast engine (each target's engine recorded there). Every direction's tests draw the
     same numbers."""
     n, moments = setup.cycles, setup.moments
-    asymptotic = n >= ASYMPTOTIC_CYCLES
-    shape = sampled_shape(SAMPLED_CYCLES * (setup.band_factor if asymptotic else 1), n)
+    asymptotic = n >= ASYMPTOTIC_CYCLES and not setup.series
+    shape = sampled_shape(SAMPLED_CYCLES * (setup.band_factor if asymptotic else 1), n, whole_tests=setup.series)
     signs = np.broadcast_to(direction, (1, shape[1], len(direction)))
     numbers = common_numbers(runner, np.broadcast_to(signs, (*shape, signs.shape[2])), shape[0], "tests")
     extra = (0 if asymptotic else (setup.band_factor - 1) * shape[0], n)  # the band's further tests
@@ -630,6 +699,8 @@ def _sampled(runner: PoseRunner, setup: ExpectedSetup, model: LinearModel, chose
                               (model, targets, linear))
         else:
             control = position_control(model, moments, targets, means, direction, commanded[targets], n)
+            if setup.series:  # a series' test means have no known expectation: no control variate
+                control = (control[0], np.zeros_like(control[1]))
             _summarise_tests(values, errors, slots, positions, angles, commanded[targets], more, control)
 
     if used is None:
@@ -846,14 +917,18 @@ def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.nd
     bound holds for every sign pattern's deviations, so for each direction's); where it does not serve, through each
     direction's own model about its mean deviation (the three's least exact engine, their largest bound), and where
     those do not serve either, :func:`_vap_tests`. With ``study.engine = "exact"``, :func:`_vap_tests` through exact
-    FK at every target (none counted as a fallback)."""
+    FK at every target (none counted as a fallback); where a joint's friction is a time series (its barycentres not
+    the Gaussians of independent cycles), :func:`_vap_tests` through the fast engine at every target, each test's
+    series drawn from the runner's state (none counted as a fallback either)."""
     directions = np.array([APPROACH_DIRECTIONS[label] for label in VAP_DIRECTIONS])
     signs = approach_signs_from_jacobians(twists, directions)  # (k, 3, nv)
-    if runner.settings.engine == "exact":
+    if runner.settings.engine == "exact" or runner.correlated:
         models = [linear_model(runner.robot, moments, qs, lever, signs[:, d], mixed=False)
                   for d in range(len(directions))]
         used = EngineUsed.first_order(models[0])
-        sampled = np.array([_vap_tests(runner, models, moments, k, qs[k], signs[k], cycles, used)
+        unsigned = common_numbers(runner, np.ones((1, cycles, qs.shape[1])),
+                                  len(directions) * tests_for(SAMPLED_CYCLES, cycles), "vap tests")
+        sampled = np.array([_vap_tests(runner, models, moments, k, qs[k], signs[k], cycles, used, unsigned)
                             for k in range(len(qs))]).reshape(len(qs), 2)
         return sampled[:, 0] * UM_PER_M, sampled[:, 1], used, np.zeros(len(qs), dtype=int)
     position = mixed.jacobian[:, :3]
@@ -951,14 +1026,17 @@ def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.nd
 
 
 def _vap_tests(runner: PoseRunner, models: list[LinearModel], moments: JointMoments, k: int, q: np.ndarray,
-               signs: np.ndarray, cycles: int, used: EngineUsed) -> tuple[float, float]:
+               signs: np.ndarray, cycles: int, used: EngineUsed, unsigned: np.ndarray | None = None
+               ) -> tuple[float, float]:
     """vAP_p [m] of target ``k`` through the engine of :func:`engine_tests`: the mean over ``tests_for``
-    sampled tests (common random numbers) of the largest distance between the barycentres of ``cycles`` cycles
-    approached with each direction's joint signs ``signs`` (3, nv), and its relative standard error; the directions'
-    engines recorded in ``used``."""
+    sampled tests (common random numbers, ``unsigned``: :func:`common_numbers` of ``"vap tests"`` with every sign +1,
+    drawn here when not given) of the largest distance between the barycentres of ``cycles`` cycles approached with
+    each direction's joint signs ``signs`` (3, nv), and its relative standard error; the directions' engines recorded
+    in ``used``."""
     tests = tests_for(SAMPLED_CYCLES, cycles)
     nv = len(q)
-    unsigned = common_numbers(runner, np.ones((1, cycles, nv)), len(signs) * tests, "vap tests")
+    if unsigned is None:
+        unsigned = common_numbers(runner, np.ones((1, cycles, nv)), len(signs) * tests, "vap tests")
     barycentres, engines = [], []
     for d, part in enumerate(np.split(unsigned, len(signs))):
         numbers = np.concatenate([part[:, :nv] * signs[d], np.broadcast_to(signs[d], (len(part), nv)),
@@ -979,7 +1057,8 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
     sign drawn per cycle, about q + offset); with ``study.engine = "exact"`` sampled through exact FK at every target
     (none counted as a fallback)."""
     n, moments = setup.cycles, setup.moments
-    shape = sampled_shape(MULTI_CYCLES, n, MIN_MULTI_TESTS)
+    single = n >= ASYMPTOTIC_CYCLES and not setup.series  # single cycles, not whole tests
+    shape = sampled_shape(MULTI_CYCLES, n, MIN_MULTI_TESTS, whole_tests=setup.series)
 
     @lru_cache(maxsize=1)
     def numbers() -> np.ndarray:  # the sampled cycles' common random numbers, drawn only where cycles are sampled
@@ -990,7 +1069,7 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
     def repeatability(positions: np.ndarray, centre: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(k,) each of (k, tests, cycles, 3) ``positions``, from ``ASYMPTOTIC_CYCLES`` cycles on about the mixture's
         mean ``centre`` (k, 3) (:func:`cycle_moments`)."""
-        if n >= ASYMPTOTIC_CYCLES:
+        if single:
             distance_moments, distances = cycle_moments(positions[:, 0], n, barycentre_normals(shape[1]), centre)
             shared = cycles_shares(positions[:, 0], n)
             return (rp_l_from_moments(distance_moments, n, shared)[0],
@@ -1015,7 +1094,7 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
         positions, _, engine = engine_tests(runner, model, moments, k, qs[k], numbers(), shape)
         used.fall_back(k, EngineUsed.of(engine))
         centre = model.position_m[k]
-        if n >= ASYMPTOTIC_CYCLES:  # the mixture's mean: the model's, less its own samples' error (a control variate)
+        if single:  # the mixture's mean: the model's, less its own samples' error (a control variate)
             own = sampled_tests(model, moments, np.array([k]), numbers(), shape, slice(0, 3))[0]
             centre = centre + positions.mean(axis=(0, 1)) - own.mean(axis=(0, 1))
         again, again_error = repeatability(positions[None], centre[None])

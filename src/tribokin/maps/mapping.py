@@ -22,12 +22,12 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from tribokin.compiled import kernels_used
-from tribokin.errors import InputError, JointModelError, TribokinError
+from tribokin.errors import InputError, TribokinError
 from tribokin.execution import local_pool, run_chunks
 from tribokin.iso9283.gaussian_tests import ASYMPTOTIC_CYCLES
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
-from tribokin.maps.expected_figures import ExpectedSetup, expected_targets, shape_table
+from tribokin.maps.expected_figures import ExpectedSetup, change_errors, expected_targets, shape_table
 from tribokin.maps.grid import GridError, TargetGrid, make_grid, target_positions_m
 from tribokin.maps.measure import measure_targets
 from tribokin.maps.result import MapResult, ScenarioMap
@@ -39,14 +39,22 @@ from tribokin.maps.rows import (
     solve_rows,
     solve_tries,
 )
-from tribokin.maps.schema import MapLayout, per_direction, robot_column, scenario_column
+from tribokin.maps.schema import (
+    CHANGED_FIGURES,
+    MapLayout,
+    figure_index,
+    per_direction,
+    robot_column,
+    scenario_column,
+)
 from tribokin.maps.store import ChunkStore, fingerprint, temporary_store
 from tribokin.propagation.exact import tool_frames
-from tribokin.simulation.joint_errors import JointErrorModel
+from tribokin.simulation.joint_errors import JointErrorModel, warming_joints
 from tribokin.simulation.pose_test import PoseRunner, TestSettings
 from tribokin.study.assembly import MapRobots, joint_models, study_runner
 from tribokin.study.map_spec import MapSpec
 from tribokin.study.spec import Study
+from tribokin.tribology.friction_series import COLD, FrictionState
 
 
 @dataclass(frozen=True)
@@ -57,33 +65,50 @@ class MapJob:
     ``token`` names the job, so each process builds the runners once per job. ``setups``: each scenario's
     :class:`~tribokin.maps.expected_figures.ExpectedSetup` (``None`` for a one-test map). ``robots``: each robot the
     scenarios measure with (pickled as its kinematics: :meth:`~tribokin.kinematics.robot.Robot.__reduce__`), ``grids``
-    its grid of the map's targets, ``layout`` the store's (each scenario's robot).
+    its grid of the map's targets, ``layout`` the store's (each scenario's robot). ``states`` and ``warm_up_loads``:
+    each scenario's runner's (where its joints' friction series start, the loads their warm-up rests on); ``compare``
+    the map's second state (``None``: none) and ``compare_setups`` each scenario's setup in it.
     """
 
     token: str
     settings: tuple[TestSettings, ...]
     models: tuple[tuple[JointErrorModel, ...], ...]
     locators: tuple[Callable | None, ...]
+    states: tuple[FrictionState, ...]
+    warm_up_loads: tuple[np.ndarray | None, ...]
     setups: tuple[ExpectedSetup | None, ...]
     robots: tuple[Robot, ...]
     grids: tuple[TargetGrid, ...]
     layout: MapLayout
+    compare: FrictionState | None = None
+    compare_setups: tuple[ExpectedSetup | None, ...] = ()
 
 
 #: Per thread (Pinocchio data is mutable, and a dask worker may run chunks in several threads):
-#: the last job's token and its (robots, runners).
+#: the last job's token and its (robots, runners, scenarios: :func:`scenarios_of`).
 _local = threading.local()
 
 
-def _job_context(job: MapJob) -> tuple[list[Robot], list[PoseRunner]]:
-    """(robots, runners) of ``job``, built once per thread."""
+def _job_context(job: MapJob) -> tuple[list[Robot], list[PoseRunner], list[list[tuple]]]:
+    """(robots, runners, each robot's scenarios) of ``job``, built once per thread."""
     cache = getattr(_local, "cache", None)
     if cache is None or cache[0] != job.token:
         robots = list(job.robots)
-        runners = [PoseRunner(settings, robots[r], models, locate) for settings, models, locate, r
-                   in zip(job.settings, job.models, job.locators, job.layout.places, strict=True)]
-        _local.cache = (job.token, robots, runners)
+        runners = [PoseRunner(settings, robots[r], models, locate, state, loads) for settings, models, locate, state,
+                   loads, r in zip(job.settings, job.models, job.locators, job.states, job.warm_up_loads,
+                                   job.layout.places, strict=True)]
+        _local.cache = (job.token, robots, runners, scenarios_of(job, runners))
     return _local.cache[1:]
+
+
+def scenarios_of(job: MapJob, runners: list[PoseRunner]) -> list[list[tuple]]:
+    """Per robot of ``job``, its scenarios as :func:`measure_into` takes them: (number, runner, setup, compared),
+    ``compared`` the runner and setup of the map's ``compare`` state (``None``: none)."""
+    compared = [None] * len(runners)
+    if job.compare is not None:
+        compared = [(r.at(job.compare), setup) for r, setup in zip(runners, job.compare_setups, strict=True)]
+    return [[(s, runners[s], job.setups[s], compared[s]) for s in job.layout.scenarios_of(r)]
+            for r in range(len(job.robots))]
 
 
 def compute_chunk(job: MapJob, chunk: int, rows: list[int], starts: tuple[np.ndarray, ...],
@@ -97,11 +122,11 @@ def compute_chunk(job: MapJob, chunk: int, rows: list[int], starts: tuple[np.nda
         saved there instead as chunk ``chunk`` (:meth:`~tribokin.maps.store.ChunkStore.save`), not sent back through
         a pipe.
     """
-    robots, runners = _job_context(job)
+    robots, _, scenarios_by_robot = _job_context(job)
     row_length = job.grids[0].row_length
     arrays = empty_arrays(len(rows) * row_length, job.layout)
     for r, (robot, grid, robot_starts) in enumerate(zip(robots, job.grids, starts, strict=True)):
-        scenarios = [(s, runners[s], job.setups[s]) for s in job.layout.scenarios_of(r)]
+        scenarios = scenarios_by_robot[r]
         solved = solve_rows(robot, grid, rows, robot_starts)
         for k, (row, q, reachable, closest, routes) in enumerate(zip(rows, *solved, strict=True)):
             span = slice(k * row_length, (k + 1) * row_length)
@@ -132,33 +157,47 @@ def empty_arrays(n: int, layout: MapLayout, robot: int | None = None) -> dict[st
 MEASURE_TARGETS = 1024
 
 
-def measure_into(arrays: dict, slots: np.ndarray, robot: Robot,
-                 scenarios: list[tuple[int, PoseRunner, ExpectedSetup | None]], qs: np.ndarray,
+def measure_into(arrays: dict, slots: np.ndarray, robot: Robot, scenarios: list[tuple], qs: np.ndarray,
                  indices: np.ndarray) -> None:
     """Measure targets ``indices`` at ``robot``'s configurations ``qs`` for each of ``scenarios`` (number, runner,
-    setup), into ``slots`` of ``arrays``: their expected figures (a scenario with a setup), else one test each;
+    setup, compared: :func:`scenarios_of`), into ``slots`` of ``arrays``: their expected figures (a scenario with a
+    setup), else one test each, and with ``compared`` the change to its state (:func:`change_figures`);
     ``MEASURE_TARGETS`` at a time."""
     for start in range(0, len(qs), MEASURE_TARGETS):
         part = slice(start, start + MEASURE_TARGETS)
         _measure_block(arrays, slots[part], robot, scenarios, qs[part], indices[part])
 
 
-def _measure_block(arrays: dict, slots: np.ndarray, robot: Robot,
-                   scenarios: list[tuple[int, PoseRunner, ExpectedSetup | None]], qs: np.ndarray,
+def _measure_block(arrays: dict, slots: np.ndarray, robot: Robot, scenarios: list[tuple], qs: np.ndarray,
                    indices: np.ndarray) -> None:
     chain = serial_chain(robot)
     placements = None if chain is None else chain.tool_in_joint(qs)  # for the tool frames and the loads
-    twists, translations = tool_frames(robot, qs, placements)
-    for s, runner, setup in scenarios:
+
+    def measured(runner: PoseRunner, setup: ExpectedSetup | None) -> tuple[dict, np.ndarray]:
         if setup is None:
             figures, forces, dominant = measure_targets(runner, qs, indices, twists, translations)
-            values = {"figures": figures, "dominant_joint": dominant}
-        else:
-            forces = runner.normal_forces_at(qs, placements)
-            values = expected_targets(runner, setup, qs, forces, twists, translations)
+            return {"figures": figures, "dominant_joint": dominant}, forces
+        forces = runner.normal_forces_at(qs, placements)
+        return expected_targets(runner, setup, qs, forces, twists, translations), forces
+
+    twists, translations = tool_frames(robot, qs, placements)
+    for s, runner, setup, compared in scenarios:
+        values, forces = measured(runner, setup)
+        if compared is not None:
+            values.update(change_figures(values, measured(*compared)[0], runner.settings.approach, setup))
+            if setup is not None:  # the paired tests' standard errors
+                values["change_mc_errors"] = change_errors((runner, setup), compared, qs, forces, translations)
         values["normal_forces_N"] = forces
         for name, value in values.items():
             arrays[scenario_column(s, name)][slots] = value
+
+
+def change_figures(start: dict, end: dict, approach: str, setup: ExpectedSetup | None) -> dict[str, np.ndarray]:
+    """The change (:data:`~tribokin.maps.schema.CHANGE_FIGURES`) from figures ``start`` to ``end`` (a block's
+    :func:`measure_into` values in the two states), end minus start [µm] (k, 2)."""
+    figure_set = "one-test" if setup is None else setup.figure_set
+    columns = [figure_index(name, figure_set, per_direction(approach)) for name in CHANGED_FIGURES]
+    return {"change": end["figures"][:, columns] - start["figures"][:, columns]}
 
 
 #: The first tries of the holes from their neighbours go to an executor's workers in parts of about this many.
@@ -167,7 +206,7 @@ TRIES_PER_PART = 16
 
 def solve_tries_of(job: MapJob, robot: int, tries: list[tuple[int, np.ndarray]]) -> list:
     """:func:`~tribokin.maps.rows.solve_tries` of ``job``'s robot number ``robot`` (run where the executor runs it)."""
-    robots, _ = _job_context(job)
+    robots = _job_context(job)[0]
     return solve_tries(robots[robot], job.grids[robot], tries)
 
 
@@ -187,12 +226,12 @@ def first_tries_solved(job: MapJob, robot: int, read, executor: Executor) -> dic
     return solved
 
 
-def fill_holes(job: MapJob, robots: list[Robot], runners: list[PoseRunner], store: ChunkStore,
+def fill_holes(job: MapJob, robots: list[Robot], scenarios_by_robot: list[list[tuple]], store: ChunkStore,
                executor: Executor | None = None) -> None:
     """Reach and measure, in ``store``, the targets that each of ``robots`` (``job``'s, loaded) reaches by IK from a
     neighbour's configuration (:func:`~tribokin.maps.rows.fill_from_neighbours`) though not along their own row, for
-    the scenarios measured with it (``runners``); with an ``executor``, the first tries solved beforehand on its
-    workers (:func:`first_tries_solved`).
+    the scenarios measured with it (``scenarios_by_robot``: :func:`scenarios_of`); with an ``executor``, the first
+    tries solved beforehand on its workers (:func:`first_tries_solved`).
 
     Each robot's outcome is kept as a record (``filled``, ``robot<k>_filled``) before the store is changed, so a run
     killed while changing it writes the same values again on resume instead of searching anew from a changed store.
@@ -212,8 +251,7 @@ def fill_holes(job: MapJob, robots: list[Robot], runners: list[PoseRunner], stor
                 q = np.array(list(reached.values()))
                 filled[robot_column(r, "q")], filled[robot_column(r, "reachable")][:] = q, True
                 filled[robot_column(r, "ik_route")][:] = FROM_NEIGHBOUR
-                scenarios = [(s, runners[s], job.setups[s]) for s in job.layout.scenarios_of(r)]
-                measure_into(filled, np.arange(len(indices)), robot, scenarios, q, indices)
+                measure_into(filled, np.arange(len(indices)), robot, scenarios_by_robot[r], q, indices)
             store.save_record(record, filled)
         indices = filled.pop("index")
         if len(indices):
@@ -300,18 +338,16 @@ def plan_map(spec: MapSpec, robots: tuple[Robot, ...], runners: list[PoseRunner]
     each robot's grid rows start, checked before any work: the map's joints, ranges, start posture and orientation for
     each robot, and each scenario's loads at each row's start (``runners``: one per scenario, of one of ``robots``).
 
+    Where a joint's friction is a time series, every test at every target starts from ``spec.state`` (``None``:
+    each joint's own age, cold), and a warming joint's power rests on its bearing load averaged over the
+    configurations the grid's rows start from (solved here, before any work: the same whatever the chunks), not on
+    the target's: the robot warms up running its cycle, wherever the map's test is.
+
     Raises:
         GridError: a spec that does not fit a robot; its ``robot`` is that robot's number.
         JointRangeError: (or what a runner's ``locate`` makes of it) a deviation beyond a joint's range at a row's
             start; its ``scenario`` is the scenario's number.
-        JointModelError: a joint whose friction is a time series (its ``series``), which maps do not simulate yet.
     """
-    for runner in runners:
-        for name, model in zip(runner.robot.joint_names, runner.models, strict=True):
-            if model.correlated:
-                raise JointModelError(f"joint '{name}': a map does not simulate friction time series yet (it would "
-                                      "draw every cycle independently): pose tests do; give it series=None",
-                                      name, "series")
     places = tuple(next(r for r, robot in enumerate(robots) if robot is runner.robot) for runner in runners)
     grids = []
     for r, robot in enumerate(robots):
@@ -321,15 +357,27 @@ def plan_map(spec: MapSpec, robots: tuple[Robot, ...], runners: list[PoseRunner]
             error.robot = r
             raise
     starts = tuple(solve_row_starts(robot, grid) for robot, grid in zip(robots, grids, strict=True))
+    started = []
     for i, (runner, r) in enumerate(zip(runners, places, strict=True)):
         try:
-            runner.normal_forces_at(starts[r])  # the loads at each row's start, checked before any chunk runs
+            forces = runner.normal_forces_at(starts[r])  # the loads at each row's start, checked before any chunk runs
         except TribokinError as error:
             error.scenario = i
             raise
-    return PreparedMap(spec, tuple(names), tuple(robots), tuple(grids), starts, list(runners),
+        started.append(series_runner(runner, spec.state, forces))
+    return PreparedMap(spec, tuple(names), tuple(robots), tuple(grids), starts, started,
                        MapLayout(tuple(robot.model.nv for robot in robots), places, spec.figure_set,
-                                 tuple(per_direction(runner.settings.approach) for runner in runners)), identity)
+                                 tuple(per_direction(runner.settings.approach) for runner in runners),
+                                 spec.compare is not None), identity)
+
+
+def series_runner(runner: PoseRunner, state: FrictionState | None, forces_N: np.ndarray) -> PoseRunner:
+    """``runner`` as a map runs it: its joints' friction series from ``state`` (``None``: cold at their own age), a
+    warming joint's power on its mean load over ``forces_N`` (rows, nv) [N]; ``runner`` itself without a series."""
+    if not runner.correlated:
+        return runner
+    return PoseRunner(runner.settings, runner.robot, runner.models, runner.locate, state or COLD,
+                      forces_N.mean(axis=0) if warming_joints(runner.models) else None)
 
 
 def prepare_map(study: Study, robots: MapRobots) -> PreparedMap:
@@ -375,13 +423,18 @@ def measure_map(prepared: PreparedMap, executor: Executor | None = None, checkpo
     runners = prepared.runners
     grid = prepared.grids[0]
     chunks = chunk_rows(prepared.spec, grid.row_count)
+    compare = prepared.spec.compare
+    compared = [] if compare is None else [r.at(compare) for r in runners]
     job = MapJob(uuid.uuid4().hex, tuple(TestSettings.of(r.settings) for r in runners),
                  tuple(tuple(r.models) for r in runners), tuple(r.locate for r in runners),
-                 expected_setups(prepared.spec, runners), prepared.robots, prepared.grids, prepared.layout)
+                 tuple(r.state for r in runners), tuple(r.warm_up_loads_N for r in runners),
+                 expected_setups(prepared.spec, runners), prepared.robots, prepared.grids, prepared.layout, compare,
+                 expected_setups(prepared.spec, compared))
     store = open_store(prepared, job, chunks, checkpoint, resume)
     finished = set(store.finished())
     robots = list(prepared.robots)
-    _local.cache = (job.token, robots, runners)  # chunks run in this thread need not rebuild them
+    scenarios_by_robot = scenarios_of(job, runners)
+    _local.cache = (job.token, robots, runners, scenarios_by_robot)  # chunks run in this thread need not rebuild them
     writer = store if local_pool(executor) is not None else None  # a local worker saves its chunk in the store
     todo = {k: (job, k, chunks[k], tuple(starts[chunks[k]] for starts in prepared.row_starts), writer)
             for k in chunk_order(len(chunks)) if k not in finished}
@@ -399,12 +452,16 @@ def measure_map(prepared: PreparedMap, executor: Executor | None = None, checkpo
                 report(done_targets, grid.size)
     finally:
         _local.cache = None
-    fill_holes(job, robots, runners, store, executor)
+    fill_holes(job, robots, scenarios_by_robot, store, executor)
     maps = {name: ScenarioMap(name, settings.cycles, i, robots[r].joint_names, store, prepared.spec.figure_set, r,
-                              prepared.layout.both_directions(i), settings.engine)
+                              prepared.layout.both_directions(i), settings.engine, prepared.layout.change)
             for i, (name, settings, r)
             in enumerate(zip(prepared.names, job.settings, prepared.layout.places, strict=True))}
-    return MapResult(prepared.grids, robots[0].joint_names, store, maps, prepared.robots[0])
+    states = {}
+    if any(runner.correlated for runner in runners):  # where the tests' friction series start (summary.json)
+        states = {"state": (prepared.spec.state or COLD).describe(),
+                  **({} if compare is None else {"compare": compare.describe()})}
+    return MapResult(prepared.grids, robots[0].joint_names, store, maps, prepared.robots[0], states)
 
 
 def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = None, checkpoint=None,
@@ -418,14 +475,16 @@ def run_map(study: Study, prepared: PreparedMap, executor: Executor | None = Non
 def workspace_map(robot: Robot, joints: list[JointErrorModel], map_spec: MapSpec, *,
                   scenarios: tuple[MapScenario, ...] = (), name: str = "map", cycles: int = 30, seed: int = 0,
                   approach: str = "unidirectional", engine: str = "fast", payload_kg: float = 0.0,
-                  executor: Executor | None = None, checkpoint=None, resume: bool = False,
-                  progress: Callable[[int, int], None] | None = None) -> MapResult:
+                  cycle_time_s: float | None = None, executor: Executor | None = None, checkpoint=None,
+                  resume: bool = False, progress: Callable[[int, int], None] | None = None) -> MapResult:
     """The ISO 9283 figures at every target of a workspace map, for the robot or each of its ``scenarios``.
 
     Args:
         robot: the robot (:class:`~tribokin.kinematics.robot.Robot`).
         joints: one error model per joint (:func:`~tribokin.simulation.joint_errors.joint_models`).
-        map_spec: the map: :class:`~tribokin.study.map_spec.PlaneMap`, ``BoxMap`` or ``JointMap``.
+        map_spec: the map: :class:`~tribokin.study.map_spec.PlaneMap`, ``BoxMap`` or ``JointMap``; its ``state``
+            and ``compare`` (:class:`~tribokin.tribology.friction_series.FrictionState`) where a joint's friction is a
+            time series.
         scenarios: what-if variants measured instead of the robot itself (:class:`MapScenario`), the first the
             reference; ``()``: the robot alone, a scenario called ``name``.
         name: the map's one scenario's name, without ``scenarios``.
@@ -435,6 +494,8 @@ def workspace_map(robot: Robot, joints: list[JointErrorModel], map_spec: MapSpec
         approach: ``"unidirectional"``, ``"bidirectional"`` or ``"random"``.
         engine: ``"fast"`` or ``"exact"``.
         payload_kg: the payload at the tool point [kg].
+        cycle_time_s: one cycle's duration [s], what a joint's friction warm-up (its ``series``' ``thermal``) reads;
+            the map's tests start from ``map_spec.state``.
         executor: where chunks run (:func:`~tribokin.execution.executor_for`; ``None``: here).
         checkpoint: folder where finished chunks are kept (``None``: a temporary one).
         resume: reuse the chunks an interrupted run saved in ``checkpoint``.
@@ -448,7 +509,7 @@ def workspace_map(robot: Robot, joints: list[JointErrorModel], map_spec: MapSpec
         SettingsError: a bad setting.
         JointRangeError: a joint whose deviation could exceed its range.
     """
-    settings = TestSettings(cycles, seed, approach, engine, payload_kg)
+    settings = TestSettings(cycles, seed, approach, engine, payload_kg, cycle_time_s)
     scenarios = tuple(scenarios) or (MapScenario(name),)
     robots = [robot]
     for scenario in scenarios:

@@ -13,7 +13,14 @@ from tribokin.maps.expected_figures import ANALYTIC, SAMPLED, TARGET_ENGINES, st
 from tribokin.maps.frames import map_dataset, map_frame
 from tribokin.maps.grid import TargetGrid
 from tribokin.maps.rows import IK_ROUTES, unreachable_reasons
-from tribokin.maps.schema import figure_index, figure_stem, map_figures, robot_column, scenario_column
+from tribokin.maps.schema import (
+    CHANGE_FIGURES,
+    figure_index,
+    figure_stem,
+    map_figures,
+    robot_column,
+    scenario_column,
+)
 from tribokin.maps.store import ChunkStore
 from tribokin.maps.streaming import blocks, spread
 
@@ -43,6 +50,8 @@ class ScenarioMap:
             (:func:`~tribokin.maps.schema.map_figures`).
         engine: its ``study.engine``: ``"fast"`` (an expected map's engine chosen at each target by the bound) or
             ``"exact"`` (an expected map's every figure sampled through exact FK).
+        change: the map compares two states of the joints' friction series: each target's change from the first to
+            the second (:data:`~tribokin.maps.schema.CHANGE_FIGURES`, :meth:`change`).
     """
 
     name: str
@@ -54,6 +63,7 @@ class ScenarioMap:
     robot: int = 0
     both_directions: bool = False
     engine: str = "fast"
+    change: bool = False
 
     def read_robot(self, name: str, targets=slice(None)) -> np.ndarray:
         """Its robot's column ``name`` at ``targets``: ``q`` (k, nv) [m or rad] (NaN where unreachable),
@@ -84,6 +94,16 @@ class ScenarioMap:
         """An expected map's relative Monte Carlo standard error of figure ``name`` at ``targets`` (0: in closed form;
         :func:`~tribokin.maps.expected_figures.expected_targets`)."""
         return self.read("mc_errors", targets, figure_index(name, self.figure_set, self.both_directions))
+
+    def change_figure(self, name: str, targets=slice(None)) -> np.ndarray:
+        """Change ``name`` (:data:`~tribokin.maps.schema.CHANGE_FIGURES`) [µm] at ``targets``: the figure in the map's
+        ``compare`` state less the figure in its ``state`` (NaN where unreachable)."""
+        return self.read("change", targets, CHANGE_FIGURES.index(name))
+
+    def change_error(self, name: str, targets=slice(None)) -> np.ndarray:
+        """Change ``name``'s Monte Carlo standard error [µm] at ``targets`` (an expected map's): its paired tests'
+        (:func:`~tribokin.maps.expected_figures.change_errors`)."""
+        return self.read("change_mc_errors", targets, CHANGE_FIGURES.index(name))
 
     def has(self, name: str) -> bool:
         """Whether the map has figure ``name``."""
@@ -132,6 +152,8 @@ class MapResult:
         scenarios: one :class:`ScenarioMap` per scenario, by name, in the study's order; the first is the
             reference of comparisons (measured with the study's robot).
         robot: the study's robot, which the 3-D scene draws (:meth:`_repr_html_`; ``None``: no scene).
+        states: where the tests' friction series start, where a joint's friction is a time series: ``state`` and
+            ``compare`` (:meth:`~tribokin.tribology.friction_series.FrictionState.describe`); empty: none.
     """
 
     grids: tuple[TargetGrid, ...]
@@ -139,6 +161,7 @@ class MapResult:
     store: ChunkStore = field(repr=False)
     scenarios: dict[str, ScenarioMap]
     robot: Robot | None = field(default=None, repr=False)
+    states: dict = field(default_factory=dict)
     _summary: dict | Future | None = field(default=None, init=False, repr=False)
 
     def __getstate__(self) -> dict:
@@ -282,6 +305,9 @@ class MapResult:
             **({"unsuffixed_figures": DIRECTIONS_NOTE} if reference.both_directions else {}),
             **{f.name: spread(lambda part, f=f: reference.figure(f.name, part), size)
                for f in reference.figure_list if f.summarised},
+            **self.states,
+            **{name: spread(lambda part, name=name: reference.change_figure(name, part), size)
+               for name in (CHANGE_FIGURES if reference.change else ())},
             "dominant_joint_counts": {name: int(count) for name, count in zip(self.joint_names, dominant, strict=True)},
         }
         if self.grid.kind != "joint":
@@ -324,13 +350,18 @@ class MapResult:
             bound = np.fmax(bound, np.nanmax(scenario.read("engine_bound", part)[flags], axis=0, initial=0.0))
             mc_errors = np.fmax(mc_errors, np.nanmax(scenario.read("mc_errors", part)[flags][:, columns], axis=0,
                                                      initial=0.0))
+        change = {}
+        if scenario.change:  # each change's largest Monte Carlo standard error [µm]
+            change = {f"{figure_stem(name)}_max_mc_error_um": spread(
+                lambda part, name=name: scenario.change_error(name, part), self.grid.size)["max"]
+                for name in CHANGE_FIGURES}
         return {"engine": scenario.engine, "analytic_targets": analytic, "sampled_targets": sampled,
                 "fallback_targets": fallback,
                 "engine_targets": {name: int(count) for name, count in zip(TARGET_ENGINES, engines, strict=True)},
                 "engine_max_deviation_nm": float(bound[0] * 1e9),
                 "engine_max_angle_deviation_nrad": float(bound[1] * 1e9),
                 **{f"{figure_stem(name)}_max_mc_error": float(error)
-                   for name, error in zip(stated, mc_errors, strict=True)}}
+                   for name, error in zip(stated, mc_errors, strict=True)}, **change}
 
     def to_pandas(self):
         """Every scenario's table (``map.csv``, ``map_<scenario>.csv``: the same columns and numbers, NaN where a cell

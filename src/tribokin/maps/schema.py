@@ -103,6 +103,20 @@ def mc_error_name(name: str) -> str:
     return f"{figure_stem(name)}_mc_error"
 
 
+#: A map's change from its ``state`` to its ``compare`` state (:attr:`~tribokin.study.map_spec.MapSpec.compare`), end
+#: minus start, signed [µm]: RP_l's and AP_p's (the figures of each state's tests, not ISO 9283's drift figures, which
+#: are absolute differences within one test).
+CHANGE_FIGURES = ("RP_l_change_um", "AP_p_change_um")
+#: The figures each change is of (:func:`~tribokin.maps.schema.figure_index`).
+CHANGED_FIGURES = ("RP_l_um", "AP_p_um")
+
+
+def change_error_name(name: str) -> str:
+    """The ``map.csv`` column of change ``name``'s Monte Carlo standard error, in its unit (``RP_l_change_um``:
+    ``RP_l_change_mc_error_um``): the paired tests' (:func:`~tribokin.maps.expected_figures.change_errors`)."""
+    return f"{figure_stem(name)}_mc_error_um"
+
+
 def table_figures(figure_set: str, both_directions: bool = False) -> list[str]:
     """The figures' columns of ``map.csv`` in order, ``dominant_joint`` (the joint's name) among them."""
     figures = map_figures(figure_set, both_directions)
@@ -120,12 +134,14 @@ class MapColumn:
             :func:`map_figures`), or ``None`` (one value, no axis).
         dtype: NumPy type code.
         sets: the figure sets whose maps have it.
+        change: only a map that compares two states has it (:data:`CHANGE_FIGURES`).
     """
 
     name: str
     width: int | str | None
     dtype: str
     sets: tuple[str, ...] = FIGURE_SETS
+    change: bool = False
 
     def shape(self, nv: int, figure_set: str, both_directions: bool = False) -> tuple[int, ...]:
         """Shape of one target's value, with ``nv`` active joints (``both_directions``: :func:`map_figures`)."""
@@ -146,7 +162,9 @@ SCENARIO_COLUMNS = (MapColumn("figures", "figures", "f8"), MapColumn("normal_for
                     MapColumn("fallbacks", None, "i8", _EXPECTED), MapColumn("engine", None, "i1", _EXPECTED),
                     MapColumn("engine_bound", 2, "f8", _EXPECTED),
                     MapColumn("figure_errors", "figures", "f8", _EXPECTED),
-                    MapColumn("mc_errors", "figures", "f8", _EXPECTED))
+                    MapColumn("mc_errors", "figures", "f8", _EXPECTED),
+                    MapColumn("change", len(CHANGE_FIGURES), "f8", change=True),
+                    MapColumn("change_mc_errors", len(CHANGE_FIGURES), "f8", _EXPECTED, change=True))
 
 
 def scenario_column(scenario: int, name: str) -> str:
@@ -165,26 +183,31 @@ def robot_column(robot: int, name: str) -> str:
 @dataclass(frozen=True)
 class MapLayout:
     """What a map's store holds: ``joints``, the active joints of each robot its scenarios measure with (the study's
-    first), ``places``, each scenario's robot (an index in ``joints``), the ``figure_set``, and ``directions``, the
-    scenarios approached from both directions (:func:`per_direction`; empty: none)."""
+    first), ``places``, each scenario's robot (an index in ``joints``), the ``figure_set``, ``directions``, the
+    scenarios approached from both directions (:func:`per_direction`; empty: none), and ``change``: the map compares
+    two states (:data:`CHANGE_FIGURES`)."""
 
     joints: tuple[int, ...]
     places: tuple[int, ...]
     figure_set: str
     directions: tuple[bool, ...] = ()
+    change: bool = False
 
     @classmethod
-    def of(cls, robots: MapRobots, figure_set: str, approaches: tuple[str, ...] = ()) -> MapLayout:
+    def of(cls, robots: MapRobots, figure_set: str, approaches: tuple[str, ...] = (),
+           change: bool = False) -> MapLayout:
         """The layout of the map's ``robots`` (:func:`~tribokin.study.assembly.map_robots`), its scenarios
-        approached in modes ``approaches`` (``()``: unidirectional)."""
+        approached in modes ``approaches`` (``()``: unidirectional), comparing two states or not."""
         return cls(tuple(robot.model.nv for robot in robots.robots), robots.places, figure_set,
-                   tuple(per_direction(approach) for approach in approaches))
+                   tuple(per_direction(approach) for approach in approaches), change)
 
     @classmethod
-    def shared(cls, nv: int, scenarios: int, figure_set: str, approaches: tuple[str, ...] = ()) -> MapLayout:
-        """The layout of ``scenarios`` scenarios measured with one robot of ``nv`` active joints (``approaches``: as
-        :meth:`of`)."""
-        return cls((nv,), (0,) * scenarios, figure_set, tuple(per_direction(approach) for approach in approaches))
+    def shared(cls, nv: int, scenarios: int, figure_set: str, approaches: tuple[str, ...] = (),
+               change: bool = False) -> MapLayout:
+        """The layout of ``scenarios`` scenarios measured with one robot of ``nv`` active joints (``approaches``,
+        ``change``: as :meth:`of`)."""
+        return cls((nv,), (0,) * scenarios, figure_set, tuple(per_direction(approach) for approach in approaches),
+                   change)
 
     def both_directions(self, scenario: int) -> bool:
         """Whether scenario number ``scenario`` is approached from both directions (:func:`map_figures`)."""
@@ -207,7 +230,8 @@ class MapLayout:
             if robot in (None, r):
                 columns.update({scenario_column(s, column.name): (column.shape(self.joints[r], self.figure_set,
                                                                                self.both_directions(s)), column.dtype)
-                                for column in SCENARIO_COLUMNS if self.figure_set in column.sets})
+                                for column in SCENARIO_COLUMNS
+                                if self.figure_set in column.sets and (self.change or not column.change)})
         return columns
 
     @property

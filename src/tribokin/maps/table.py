@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from tribokin.maps.expected_figures import TARGET_ENGINES, stated_figures
-from tribokin.maps.schema import figure_index, mc_error_name, table_figures
+from tribokin.maps.schema import CHANGE_FIGURES, change_error_name, figure_index, mc_error_name, table_figures
 from tribokin.study.names import map_table_file
 
 
@@ -24,8 +24,10 @@ def reached_by_cells(workspace_map, scenario, targets: slice) -> np.ndarray:
 
 def map_table_columns(workspace_map, scenario, targets: slice) -> dict[str, np.ndarray]:
     """``scenario``'s table at ``targets``, by header: position [m], reachable (by its robot), the figures (µm, mdeg),
-    an expected map's engine, its bound [nm, nrad] and each sampled figure's relative Monte Carlo standard error
-    (:func:`~tribokin.maps.schema.mc_error_name`), ratio and difference of RP_l to the reference scenario (other
+    the change from the map's state to its ``compare`` state (:data:`~tribokin.maps.schema.CHANGE_FIGURES`), an
+    expected map's engine, its bound [nm, nrad] and each sampled figure's relative Monte Carlo standard error
+    (:func:`~tribokin.maps.schema.mc_error_name`; a change's in µm, :func:`~tribokin.maps.schema.change_error_name`),
+    ratio and difference of RP_l to the reference scenario (other
     scenarios), who reaches the target (a scenario measured with another robot than the reference's), grid
     coordinates, q_<joint> [m or rad],
     normal_force_<joint>_N [N] (its robot's joints), and the reason a target is unreachable. Floats (NaN: no
@@ -37,6 +39,8 @@ def map_table_columns(workspace_map, scenario, targets: slice) -> dict[str, np.n
     columns.update({name: scenario.dominant_joint_names(targets) if name == "dominant_joint"
                     else figures[:, figure_index(name, scenario.figure_set, scenario.both_directions)]
                     for name in table_figures(scenario.figure_set, scenario.both_directions)})
+    if scenario.change:
+        columns.update({name: scenario.change_figure(name, targets) for name in CHANGE_FIGURES})
     if scenario.figure_set != "one-test":
         engines = scenario.read("engine", targets)
         bound = scenario.read("engine_bound", targets) * 1e9
@@ -48,6 +52,8 @@ def map_table_columns(workspace_map, scenario, targets: slice) -> dict[str, np.n
         columns.update({mc_error_name(name): np.where(reachable, mc_errors[:, figure_index(
             name, scenario.figure_set, scenario.both_directions)], np.nan)
             for name in stated_figures(scenario.figure_set, scenario.both_directions)})
+        if scenario.change:
+            columns.update({change_error_name(name): scenario.change_error(name, targets) for name in CHANGE_FIGURES})
     if scenario is not workspace_map.reference:
         columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
         columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario, targets)

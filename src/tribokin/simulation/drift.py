@@ -29,6 +29,7 @@ from tribokin.simulation.joint_errors import joint_temperatures, warming_joints
 from tribokin.simulation.pose_result import PoseResult
 from tribokin.simulation.pose_test import PoseRunner, PoseTask
 from tribokin.streams import drift_stream
+from tribokin.tribology.friction_series import COLD, WARM
 from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 #: The drift figures of a test [µm, mdeg].
@@ -164,8 +165,8 @@ def drift_tests(runner: PoseRunner, task: PoseTask, forces_N: np.ndarray, direct
     (:meth:`~tribokin.simulation.pose_test.PoseRunner.deviations`), the start and end sets through the study's engine
     (the figures), then the sets between them (the figure's; apart, so the figures' engine sees their cycles alone)."""
     span, size, nv = drift.span_cycles, drift.set_cycles, len(direction)
-    dq, drawn = runner.deviations(task, forces_N, np.broadcast_to(direction, (tests * span, nv)), rng, tests,
-                                  drift.warm)
+    state = WARM if drift.warm else COLD
+    dq, drawn = runner.deviations(task, forces_N, np.broadcast_to(direction, (tests * span, nv)), rng, tests, state)
     dq = dq.reshape(tests, span, nv)
     sets = np.concatenate([dq[:, :size], dq[:, span - size:]], axis=1).reshape(-1, nv)
     positions, angles = tool_deviations(runner.robot, task.q, sets, runner.settings.engine)
@@ -185,7 +186,7 @@ def drift_tests(runner: PoseRunner, task: PoseTask, forces_N: np.ndarray, direct
         rp_l = np.concatenate([rp_l[:, :1], inner.RP_l_m, rp_l[:, 1:]], axis=1)
     ap_p = np.linalg.norm(barycentres - runner.robot.tool_placement(task.q).translation, axis=-1)
     temperature = joint_temperatures(runner.models_at(task), runner.robot.joint_is_prismatic, forces_N, drawn, tests,
-                                     runner.settings.cycle_time_s, drift.warm)
+                                     runner.settings.cycle_time_s, state)
     mean = temperature.mean(axis=0)
     squares = np.array([((temperature[..., k] - mean[:, k]) ** 2).sum(axis=0) for k in range(mean.shape[1])])
     return DriftBlock(figures, ap_p, rp_l, mean, squares.T.reshape(mean.shape))

@@ -20,7 +20,7 @@ import numpy as np
 
 from tribokin.errors import JointModelError, JointRangeError, SettingsError, closest_hint
 from tribokin.kinematics.robot import Robot
-from tribokin.tribology.friction_series import FrictionSeries, draw_series
+from tribokin.tribology.friction_series import COLD, FrictionSeries, FrictionState, draw_series
 from tribokin.tribology.laws import FrictionLaw
 from tribokin.tribology.thermal import power_per_value
 
@@ -260,14 +260,15 @@ def require_cycle_time(models: list[JointErrorModel], cycle_time_s: float | None
                             "one cycle's duration [s]", "cycle_time_s")
 
 
-def thermal_drive(model: JointErrorModel, torque_per_unit: float, cycle_time_s: float, warm: bool
+def thermal_drive(model: JointErrorModel, torque_per_unit: float, cycle_time_s: float, state: FrictionState = COLD
                   ) -> tuple[float, float | None]:
     """A warming joint's (its series' ``thermal``) friction power per unit of its law's value [W]
     (:func:`~tribokin.tribology.thermal.power_per_value` of its ``travel_per_cycle``, ``torque_per_unit`` [N·m or N]
-    and ``cycle_time_s`` [s]) and its temperature at a test's first cycle [°C]: where the law's mean settles it
-    (``warm``, :meth:`~tribokin.tribology.thermal.Thermal.settled_C`), else ``None`` (ambient)."""
+    and ``cycle_time_s`` [s]) and its temperature at a test's first cycle from ``state`` [°C]
+    (:meth:`~tribokin.tribology.friction_series.FrictionState.start`: where the law's mean settles it when warm,
+    :meth:`~tribokin.tribology.thermal.Thermal.settled_C`; after a time of warming up; ``None`` cold: ambient)."""
     power = power_per_value(model.travel_per_cycle, cycle_time_s, float(torque_per_unit))
-    return power, model.series.thermal.settled_C(power, model.friction.mean()) if warm else None
+    return power, state.start(model.friction, model.series, power, cycle_time_s)[1]
 
 
 def warming_joints(models: list[JointErrorModel]) -> list[int]:
@@ -277,18 +278,17 @@ def warming_joints(models: list[JointErrorModel]) -> list[int]:
 
 def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Generator, tests: int = 1,
                   torque_per_unit: np.ndarray | None = None, cycle_time_s: float | None = None,
-                  warm: bool = False) -> np.ndarray:
+                  state: FrictionState = COLD) -> np.ndarray:
     """Friction coefficients mu (cycles, nv) [-], drawn joint by joint (all cycles of the first joint,
     then of the second...): in one call when all joints share one law, the usual case.
 
     A joint whose friction is a time series (:attr:`JointErrorModel.correlated`) draws its cycles as ``tests``
-    consecutive tests of ``cycles / tests`` cycles each, every one from the series' start (its ``age_cycles``, a
-    cold joint), by :func:`~tribokin.tribology.friction_series.draw_series`; then every joint draws so, the
-    independent ones ``law.rvs((tests, cycles / tests))``. Its ``thermal`` heats it by the friction power
-    :func:`~tribokin.tribology.thermal.power_per_value` gives from ``torque_per_unit`` (nv,) [N·m or N per unit
-    of the law's value: :func:`sample_joint_deviations`'), its ``travel_per_cycle`` and ``cycle_time_s`` [s], from
-    ambient or (``warm``) from the temperature the law's mean settles it at
-    (:meth:`~tribokin.tribology.thermal.Thermal.settled_C`).
+    consecutive tests of ``cycles / tests`` cycles each, every one from the series' start: ``state``'s
+    (:class:`~tribokin.tribology.friction_series.FrictionState`: its age, else the series' ``age_cycles``; cold,
+    warm, or after a time of warming up), by :func:`~tribokin.tribology.friction_series.draw_series`; then every joint
+    draws so, the independent ones ``law.rvs((tests, cycles / tests))``. Its ``thermal`` heats it by the friction
+    power :func:`~tribokin.tribology.thermal.power_per_value` gives from ``torque_per_unit`` (nv,) [N·m or N per
+    unit of the law's value: :func:`sample_joint_deviations`'), its ``travel_per_cycle`` and ``cycle_time_s`` [s].
 
     Returns a view of (nv, cycles) memory, so each joint's cycles are contiguous."""
     laws = [m.friction for m in models]
@@ -301,9 +301,10 @@ def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Gen
     require_cycle_time(models, cycle_time_s)
     drawn = []
     for i, model in enumerate(models):
-        series, power, start = model.series or FrictionSeries(), None, None
+        series, power = model.series or FrictionSeries(), None
         if series.thermal is not None:
-            power, start = thermal_drive(model, torque_per_unit[i], cycle_time_s, warm)
+            power = thermal_drive(model, torque_per_unit[i], cycle_time_s)[0]
+        series, start = state.start(model.friction, series, power, cycle_time_s)
         drawn.append(draw_series(model.friction, series, tests, cycles // tests, rng, power, cycle_time_s,
                                  start).values)
     return np.array(drawn).reshape(len(models), cycles).T
@@ -311,12 +312,14 @@ def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Gen
 
 def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray, normal_forces_N: np.ndarray,
                             signs: np.ndarray, rng: np.random.Generator, tests: int = 1,
-                            cycle_time_s: float | None = None, warm: bool = False) -> tuple[np.ndarray, np.ndarray]:
+                            cycle_time_s: float | None = None, state: FrictionState = COLD,
+                            warm_up_loads_N: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Draw the joint deviations dq of every cycle.
 
     A joint's friction time series (:attr:`JointErrorModel.series`) runs through each of ``tests`` consecutive
     tests of n / ``tests`` cycles from its start (:func:`draw_friction`). Its ``thermal`` power rests on the bearing
-    load ``normal_forces_N`` at the tested pose, held over the joint's whole ``travel_per_cycle``: a cycle dissipates
+    load ``normal_forces_N`` at the tested pose (or ``warm_up_loads_N``, a map's), held over the joint's whole
+    ``travel_per_cycle``: a cycle dissipates
     the friction torque (force) mu·N·r (the law's own torque or force) times that travel, spread over
     ``cycle_time_s`` (the joint's motion to and from the pose, its dwell included); the loads of the path between
     are not computed.
@@ -329,7 +332,9 @@ def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray
         rng: random generator; draws mu (:func:`draw_friction`), then the noise.
         tests: the tests the n cycles are, one after another (each n / ``tests`` cycles long).
         cycle_time_s: one cycle's duration [s], required by a joint's ``thermal``.
-        warm: each test's joints start at the temperature their mean friction settles them at, not ambient.
+        state: where each test's series start (:class:`~tribokin.tribology.friction_series.FrictionState`: cold
+            at each joint's own age, warm, after a time warming up, at another age).
+        warm_up_loads_N: (nv,) the bearing loads [N] the warm-up's power rests on (``None``: ``normal_forces_N``).
 
     Returns:
         dq (n, nv) [m or rad] and the draws of the friction laws (n, nv): coefficients mu [-], or torques [N·m]
@@ -337,8 +342,8 @@ def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray
     """
     torque = None
     if any(m.correlated for m in models):  # the friction torque (force) per unit of the law's value, for thermal
-        torque = torque_per_value(models, prismatic, normal_forces_N)
-    mu = draw_friction(models, signs.shape[0], rng, tests, torque, cycle_time_s, warm)
+        torque = torque_per_value(models, prismatic, normal_forces_N if warm_up_loads_N is None else warm_up_loads_N)
+    mu = draw_friction(models, signs.shape[0], rng, tests, torque, cycle_time_s, state)
     dq = mu * (friction_loads(models, np.asarray(normal_forces_N, dtype=float)) * friction_lever(models, prismatic))
     if any(m.backlash for m in models):
         dq += np.array([m.backlash / 2 for m in models])
@@ -351,16 +356,16 @@ def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray
 
 
 def joint_temperatures(models: list[JointErrorModel], prismatic: np.ndarray, normal_forces_N: np.ndarray,
-                       drawn: np.ndarray, tests: int, cycle_time_s: float, warm: bool = False) -> np.ndarray:
+                       drawn: np.ndarray, tests: int, cycle_time_s: float, state: FrictionState = COLD) -> np.ndarray:
     """(tests, n / ``tests``, j) each warming joint's (:func:`warming_joints`, in order) temperature [°C] at the
     start of every cycle of ``tests`` tests one after another, from the law's draws ``drawn`` (n, nv) that
     :func:`sample_joint_deviations` returned under the same ``normal_forces_N`` (nv,) [N], ``cycle_time_s`` [s] and
-    ``warm``: each cycle's draw (its factor at its temperature included) dissipates its power over the cycle
+    ``state``: each cycle's draw (its factor at its temperature included) dissipates its power over the cycle
     (:meth:`~tribokin.tribology.thermal.Thermal.path`), as it heated the next cycle there."""
     values = np.asarray(drawn).reshape(tests, -1, len(models))
     torque, warming = torque_per_value(models, prismatic, normal_forces_N), warming_joints(models)
     out = np.empty(values.shape[:2] + (len(warming),))
     for k, i in enumerate(warming):  # joint by joint into one array: no stacked copy
-        power, start = thermal_drive(models[i], torque[i], cycle_time_s, warm)
+        power, start = thermal_drive(models[i], torque[i], cycle_time_s, state)
         out[:, :, k] = models[i].series.thermal.path(values[:, :, i] * power, cycle_time_s, start)
     return out

@@ -26,12 +26,15 @@ from tribokin.simulation.joint_errors import (
     JointErrorModel,
     approach_signs,
     check_travel,
+    draw_friction,
     joint_travel,
     require_cycle_time,
     sample_joint_deviations,
+    torque_per_value,
 )
 from tribokin.simulation.pose_result import PoseResult
 from tribokin.streams import pose_stream, replicate_stream
+from tribokin.tribology.friction_series import COLD, FrictionState
 from tribokin.tribology.laws import FrictionLaw
 from tribokin.units import UM_PER_M
 
@@ -174,11 +177,17 @@ class PoseRunner:
         models: one error model per active joint, in the robot's joint order.
         locate: what a :class:`~tribokin.errors.JointRangeError` becomes (a study's: an error naming its file and
             key); ``None``: raised as it is. Picklable, when a map's job carries it to its workers.
+        state: where the joints' friction series start in every test
+            (:class:`~tribokin.tribology.friction_series.FrictionState`; a map's ``state``).
+        warm_up_loads_N: (nv,) the bearing loads [N] a warming joint's power rests on in every test (a map's, the same
+            at every target); ``None``: the tested pose's.
     """
 
     def __init__(self, settings: RunSettings, robot: Robot, models: list[JointErrorModel],
-                 locate: Callable[[TribokinError], TribokinError] | None = None):
+                 locate: Callable[[TribokinError], TribokinError] | None = None, state: FrictionState = COLD,
+                 warm_up_loads_N: np.ndarray | None = None):
         self.settings, self.robot, self.models, self.locate = settings, robot, list(models), locate
+        self.state, self.warm_up_loads_N = state, warm_up_loads_N
         require_cycle_time(self.models, settings.cycle_time_s)
         self.offsets = np.array([m.offset for m in models])
         self.loads = None
@@ -233,13 +242,35 @@ class PoseRunner:
         dq, mu = self.deviations(task, forces_N, signs, rng)
         return dq, mu, group
 
-    def deviations(self, task: PoseTask, forces_N, signs: np.ndarray, rng, tests: int = 1, warm: bool = False):
+    def deviations(self, task: PoseTask, forces_N, signs: np.ndarray, rng, tests: int = 1,
+                   state: FrictionState | None = None):
         """Joint deviations dq (n, nv) [m or rad] and the friction laws' draws (n, nv) of n cycles at a pose under
         bearing loads ``forces_N`` (nv,) [N], joint signs ``signs`` (n, nv): ``tests`` tests one after another, a
-        joint's friction series running through each from its start (``warm``: a warm-up from its settled
-        temperature) (:func:`~tribokin.simulation.joint_errors.sample_joint_deviations`)."""
+        joint's friction series running through each from its start, ``state`` (``None``: the runner's)
+        (:func:`~tribokin.simulation.joint_errors.sample_joint_deviations`)."""
         return sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs, rng,
-                                       tests, self.settings.cycle_time_s, warm)
+                                       tests, self.settings.cycle_time_s, self.state if state is None else state,
+                                       self.warm_up_loads_N)
+
+    def at(self, state: FrictionState) -> PoseRunner:
+        """This runner with its joints' friction series starting from ``state``."""
+        return PoseRunner(self.settings, self.robot, self.models, self.locate, state, self.warm_up_loads_N)
+
+    @property
+    def correlated(self) -> bool:
+        """A joint's friction is a time series
+        (:attr:`~tribokin.simulation.joint_errors.JointErrorModel.correlated`)."""
+        return any(m.correlated for m in self.models)
+
+    def friction_tests(self, tests: int, cycles: int, rng: np.random.Generator) -> np.ndarray:
+        """(tests, cycles, nv) the joints' friction draws of ``tests`` tests of ``cycles`` cycles, each from the
+        runner's ``state``, a warming joint's power on its ``warm_up_loads_N`` (a map's common random numbers: the
+        same at every target)."""
+        torque = None
+        if self.warm_up_loads_N is not None:
+            torque = torque_per_value(self.models, self.robot.joint_is_prismatic, self.warm_up_loads_N)
+        mu = draw_friction(self.models, tests * cycles, rng, tests, torque, self.settings.cycle_time_s, self.state)
+        return mu.reshape(tests, cycles, len(self.models))
 
     def approach_sequence(self, task: PoseTask, rng) -> tuple[np.ndarray, np.ndarray]:
         """The joints' signs of travel (n, nv) and the approach index (n,) of every cycle at a pose:

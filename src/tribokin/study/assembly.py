@@ -10,7 +10,14 @@ from tribokin.kinematics.robot import Robot, load_example_robot, load_urdf, rigi
 from tribokin.simulation.joint_errors import JointErrorModel
 from tribokin.simulation.joint_errors import joint_models as joint_error_models
 from tribokin.simulation.pose_test import PoseRunner, PoseTask, TestSettings, pose_task
-from tribokin.study.names import check_file_name_part, check_files_apart, check_name, pose_figure_file, scenario_files
+from tribokin.study.names import (
+    CHANGE_MAP_FILES,
+    check_file_name_part,
+    check_files_apart,
+    check_name,
+    pose_figure_file,
+    scenario_files,
+)
 from tribokin.study.series_spec import law_table
 from tribokin.study.spec import FRICTION_KEYS, FRICTION_SCALE, RobotSpec, Study, check_motion
 from tribokin.tribology.friction_series import TIME_KEYS, FrictionSeries, latent_correlation
@@ -211,5 +218,7 @@ def check_names(study: Study, tasks: list[PoseTask]) -> None:
         check_file_name_part(name, study.source, key)
     cube = [("iso_cube", task.name) for task in tasks[len(study.poses):]]
     files = [(key, pose_figure_file(name)) for key, name in cube + poses]
+    if study.map is not None and study.map.compare is not None:  # the reference's change maps: a scenario renames
+        files = [("map.compare", file) for file in CHANGE_MAP_FILES] + files
     files += [(key, file) for key, name in scenarios[1:] for file in scenario_files(name)]  # [0]: the reference
     check_files_apart(files, study.source)

@@ -126,6 +126,15 @@ KEY_DOCS = {
                      "test per target",
     "map.directional": "an expected map's vAP_p and RP_l_multi too; default: on for an expected map (`false` turns "
                        "them off), off for a one-test map, which has none",
+    "map.state": "where every test's friction time series start: `\"cold\"` (each joint at its own `age_cycles`, "
+                 "ambient), `\"warm\"` (settled) or `{ age_cycles, after_s }`; only with a joint's time keys "
+                 "([maps over time](../maps.md#maps-over-time-friction-time-keys))",
+    "map.state.age_cycles": "cycles every running-in joint has run before the tests (replacing its own "
+                            "`age_cycles`); default: each joint's own; `map.compare`'s likewise",
+    "map.state.after_s": "how long the joints have run the study's cycle from cold [s], the warm-up stepped cycle by "
+                         "cycle on the law's mean, or `\"warm\"` (settled); at most 1 000 000 cycles",
+    "map.compare": "a second state, same forms as `map.state`: each target's `RP_l_change_um` and `AP_p_change_um` "
+                   "(compare's minus state's, signed) and their heat maps",
     "map.origin_m": "a point of the plane, world frame",
     "map.axis_u": "unit vector along the plane; targets are `origin + u·axis_u + v·axis_v`",
     "map.axis_v": "unit vector along the plane, perpendicular to `axis_u`",

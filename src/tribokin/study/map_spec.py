@@ -10,6 +10,8 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar
 
+from tribokin.tribology.friction_series import FrictionState
+
 #: ``map.statistic``: the expected figures over tests of ``cycles`` cycles (:mod:`tribokin.maps.expected_figures`), or
 #: one simulated test per target (:mod:`tribokin.maps.measure`).
 STATISTICS = ("expected", "one-test")
@@ -33,7 +35,10 @@ class MapSpec:
     a joint grid; ``None``: chosen) and ``chunk_rows`` (grid rows per chunk; ``None``: :attr:`rows_per_chunk`),
     ``statistic`` (``"expected"``: each figure's mean over tests, or ``"one-test"``) and ``directional``
     (an expected map's vAP_p and RP_l_multi too: the default; a study's ``map.directional = false`` turns them off, a
-    one-test map has none). Each kind has ``counts``: the targets along each axis, columns first."""
+    one-test map has none), ``state`` (where the joints' friction series start in every test:
+    :class:`~tribokin.tribology.friction_series.FrictionState`; ``None``: each joint's own age, cold) and ``compare``
+    (a second state: the change of RP_l and AP_p from ``state`` to it; ``None``: none). Each kind has ``counts``: the
+    targets along each axis, columns first."""
 
     kind: ClassVar[str]
     #: The study key that sets the number of targets.
@@ -43,6 +48,8 @@ class MapSpec:
     chunk_rows: int | None = None
     statistic: str = "expected"
     directional: bool = True
+    state: FrictionState | None = None
+    compare: FrictionState | None = None
 
     @property
     def figure_set(self) -> str:

@@ -20,6 +20,8 @@ MAX_NAME_CHARACTERS = 100
 MAX_FILE_NAME_BYTES = 255
 #: Figures of each scenario other than the reference: ``map_<kind>_<scenario>.png``.
 SCENARIO_FIGURES = ("RP_l", "RP_l_ratio", "RP_l_diff")
+#: The heat maps of a map comparing two states (``map.compare``): its RP_l's and AP_p's change.
+CHANGE_MAP_FILES = ("map_RP_l_change.png", "map_AP_p_change.png")
 
 
 def pose_figure_file(pose: str) -> str:

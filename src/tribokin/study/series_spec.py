@@ -1,6 +1,7 @@
 """The time keys of a joint's friction (``ar1``, ``run_in``, ``age_cycles``, ``steady_mean_std``, ``thermal``) and the
 joints' motion they need (``[study] cycle_time_s``, ``[joints] travel_per_cycle``): checked, each with its range,
-and made into a :class:`~tribokin.tribology.friction_series.FrictionSeries`.
+and made into a :class:`~tribokin.tribology.friction_series.FrictionSeries`; a map's ``state`` and ``compare``
+(where its tests' series start) into a :class:`~tribokin.tribology.friction_series.FrictionState`.
 
 ``run_in.start`` and ``steady_mean_std`` are in the law's quantity: mu for ``friction``, N·m for
 ``friction_torque_Nm``, N for ``friction_force_N`` (each checked against that quantity's range).
@@ -8,12 +9,13 @@ and made into a :class:`~tribokin.tribology.friction_series.FrictionSeries`.
 
 from __future__ import annotations
 
+import math
 from functools import partial
 
 from tribokin.checks import finite, non_negative, number_list, positive, table, within
 from tribokin.errors import InputError, LawError
 from tribokin.study.schema import REQUIRED, check_table
-from tribokin.tribology.friction_series import TIME_KEYS, FrictionSeries, RunIn
+from tribokin.tribology.friction_series import COLD, TIME_KEYS, WARM, FrictionSeries, FrictionState, RunIn
 from tribokin.tribology.laws import coefficient
 from tribokin.tribology.thermal import ISO_AMBIENT_C, Thermal
 
@@ -32,6 +34,33 @@ relative_per_K = within(finite, -0.1, 0.1, "1/K", "beyond ±10 % per kelvin a fe
                         "friction")
 temperature = within(finite, -60.0, 400.0, "°C", "greased joints run from freezers to a few hundred °C")
 factor = within(non_negative, 0.0, 100.0, "", "a factor of mu, never negative; a hundredfold change is no warm-up")
+
+
+warm_up_time = within(non_negative, 0.0, 1e8, "s", "three years of warming up: use \"warm\", the settled state")
+#: A map's maximum warm-up in cycles (``after_s`` over ``cycle_time_s``): the warm-up is stepped cycle by cycle.
+MAX_WARM_UP_CYCLES = 1_000_000
+
+
+def after_time(value, source, key) -> float:
+    """Seconds of warming up >= 0, or ``"warm"``: settled (``math.inf``)."""
+    return math.inf if value == "warm" else warm_up_time(value, source, key)
+
+
+#: ``state = { age_cycles, after_s }`` of a map (or ``"cold"``, ``"warm"``).
+STATE_KEYS = {"age_cycles": (age, None), "after_s": (after_time, 0.0)}
+
+
+def friction_state(value, source, key) -> FrictionState:
+    """A map's ``state`` (or ``compare``): ``"cold"`` (each joint's own age, ambient), ``"warm"`` (settled), or
+    ``{ age_cycles = ..., after_s = ... }`` (every running-in joint's age; seconds of the study's cycle from cold, or
+    ``"warm"``)."""
+    if isinstance(value, str):
+        if value not in ("cold", "warm"):
+            raise InputError(f'must be "cold", "warm" or a table {{ age_cycles = ..., after_s = ... }} (got '
+                             f'{value!r})', source, key)
+        return COLD if value == "cold" else WARM
+    checked = check_table(table(value, source, key), STATE_KEYS, source, key)
+    return FrictionState(checked["age_cycles"], checked["after_s"])
 
 
 def ar1(value, source, key) -> float:

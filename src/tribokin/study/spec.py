@@ -37,8 +37,10 @@ from tribokin.study.map_spec import MAP_SPECS, STATISTICS, MapSpec
 from tribokin.study.placement_spec import OBJECTIVES, PlacementSpec
 from tribokin.study.schema import REQUIRED, check_table
 from tribokin.study.series_spec import (
+    MAX_WARM_UP_CYCLES,
     cycle_time,
     friction_series,
+    friction_state,
     law_and_time_keys,
     travel,
     without_time_keys,
@@ -236,6 +238,8 @@ MAP_COMMON_KEYS = {
     "chunk_rows": (chunk_count, None),
     "statistic": (one_of(*STATISTICS), "expected"),
     "directional": (boolean, None),  # None: an expected map's default, on (check_map)
+    "state": (friction_state, None),
+    "compare": (friction_state, None),
 }
 #: What ``[calibration]`` may free (``fit``), and the instrument's noise floor range.
 CALIBRATION_PARAMETERS = ("stiffness", "backlash", "noise_floor")
@@ -530,7 +534,7 @@ def _one_friction(values: dict, source, prefix: str) -> None:
                          f"{prefix}.{given[1]}")
 
 
-def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(".")) -> Study:
+def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path("."), scenario: bool = False) -> Study:
     """Validate a study mapping (as read from TOML) into a :class:`Study`."""
     table(mapping, source, "study file")
     for key in mapping:
@@ -616,6 +620,8 @@ def parse_study(mapping: dict, source: str = "<mapping>", base_dir: Path = Path(
         drift=drift,
     )
     check_motion(parsed, list(joint_overrides) or [None])  # a robot's every joint: study.assembly.joint_models
+    if map_spec is not None and not scenario:  # a scenario's map is its study's, checked with every scenario's joints
+        check_map_series(parsed)
     return parsed
 
 
@@ -633,6 +639,51 @@ def check_drift(drift: DriftSpec, cycles: int, cycle_time_s: float | None, has_p
         raise InputError(f"{drift.duration_s:g} s hold {int(drift.duration_s // cycle_time_s)} cycles of "
                          f"{cycle_time_s:g} s, fewer than the first and last sets' {sets}: lengthen it, or lower "
                          "drift.set_cycles", source, "drift.duration_s")
+
+
+def joint_series(study: Study, joints: list[str | None]) -> list[FrictionSeries]:
+    """The time series of each joint of ``joints`` (``None``: the ``[joints]`` defaults) that gives time keys."""
+    found = []
+    for name in joints:
+        spec = study.joints if name is None else study.joint(name)
+        key = spec.friction_key
+        if key is not None:
+            at = "joints" if name is None else study.joint_key(name, key).rsplit(".", 1)[0]
+            series = friction_series(getattr(spec, key), study.source, f"{at}.{key}")
+            if series is not None and not series.independent:
+                found.append(series)
+    return found
+
+
+def map_series(study: Study) -> list[FrictionSeries]:
+    """The time series of the joints' friction in the study's map: its own joints' and every scenario's."""
+    return [series for s in [study, *(c.study for c in study.scenarios)]
+            for series in joint_series(s, [None, *s.joint_overrides])]
+
+
+def check_map_series(study: Study) -> None:
+    """Refuse a ``[map]`` whose ``state`` or ``compare`` changes nothing or cannot be reached: a state on a map whose
+    joints' friction is no time series (in no scenario), a state's age without a running-in joint, its warm-up
+    without a warming joint (or longer than ``MAX_WARM_UP_CYCLES`` cycles)."""
+    series = map_series(study)
+    for name in ("state", "compare"):
+        state = getattr(study.map, name)
+        if state is None:
+            continue
+        if not series:
+            raise InputError("no joint's friction is a time series (ar1, run_in, steady_mean_std, thermal), so every "
+                             f"state gives the same map: remove map.{name}", study.source, f"map.{name}")
+        if state.age_cycles is not None and not any(s.run_in is not None for s in series):
+            raise InputError("places the map's tests on a running-in, and no joint's friction has run_in: give one, "
+                             f"or remove map.{name}.age_cycles", study.source, f"map.{name}.age_cycles")
+        if state.after_s > 0 and not any(s.thermal is not None for s in series):
+            raise InputError("warms the joints up, and no joint's friction has thermal: give one, or make the state "
+                             "\"cold\"", study.source, f"map.{name}.after_s")
+        cycle_time = min(s.cycle_time_s or math.inf for s in [study, *(c.study for c in study.scenarios)])
+        if math.isfinite(state.after_s) and state.after_s > MAX_WARM_UP_CYCLES * cycle_time:
+            raise InputError(f"{state.after_s:g} s are more than {MAX_WARM_UP_CYCLES:,} cycles of {cycle_time:g} s, "
+                             "stepped one by one: give \"warm\" (settled) instead", study.source,
+                             f"map.{name}.after_s")
 
 
 def check_motion(study: Study, joints: list[str | None]) -> None:
@@ -782,7 +833,7 @@ def parse_scenarios(mapping: dict, source, base_dir) -> tuple[ScenarioSpec, ...]
             table(values, source, f"{key}.{section}")
         _check_robot_overrides(overrides.get("robot", {}), i, mapping, source)
         try:
-            study = parse_study(merge_overrides(base, overrides), source, base_dir)
+            study = parse_study(merge_overrides(base, overrides), source, base_dir, scenario=True)
         except InputError as error:
             raise InputError(error.message, error.source, f"{key}.{error.key}") from None
         scenarios.append(ScenarioSpec(name, overrides, study))

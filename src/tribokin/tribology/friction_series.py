@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -93,6 +93,49 @@ class FrictionSeries:
     def independent(self) -> bool:
         """Every cycle an independent draw of the law: no key changes anything."""
         return self.ar1 == 0 and self.run_in is None and self.steady_mean_std == 0 and self.thermal is None
+
+
+@dataclass(frozen=True)
+class FrictionState:
+    """Where a test's friction series start: each running-in joint's age and each warming joint's temperature.
+
+    Attributes:
+        age_cycles: cycles every running-in joint has run before the test [-], >= 0 (``None``: each joint's own
+            ``age_cycles``); a joint without ``run_in`` has no age.
+        after_s: how long the joints have run their cycle from cold [s], >= 0: 0 cold (ambient), ``math.inf`` warm
+            (settled, :meth:`~tribokin.tribology.thermal.Thermal.settled_C`), else the warm-up's temperature then
+            (:meth:`~tribokin.tribology.thermal.Thermal.after_C`), driven by the law's mean (the steady state's: a
+            running-in during the warm-up is not counted).
+    """
+
+    age_cycles: float | None = None
+    after_s: float = 0.0
+
+    def __post_init__(self):
+        if self.age_cycles is not None and not (math.isfinite(self.age_cycles) and self.age_cycles >= 0):
+            raise LawError(f"must be a finite number >= 0 (got {self.age_cycles})", "age_cycles")
+        if not (self.after_s >= 0):  # math.inf: warm
+            raise LawError(f"must be a number >= 0 s (got {self.after_s})", "after_s")
+
+    def start(self, law: FrictionLaw, series: FrictionSeries, power_per_value_W: float | None,
+              cycle_time_s: float | None) -> tuple[FrictionSeries, float | None]:
+        """A joint's ``series`` at this state's age, and its temperature [°C] at the test's first cycle (``None``:
+        ambient), its friction ``law``'s mean dissipating ``power_per_value_W`` [W] per unit every ``cycle_time_s``
+        [s] (:func:`draw_series`' arguments)."""
+        if self.age_cycles is not None and series.run_in is not None:
+            series = replace(series, age_cycles=self.age_cycles)
+        if series.thermal is None or self.after_s == 0:
+            return series, None
+        return series, series.thermal.after_C(power_per_value_W, law.mean(), self.after_s, cycle_time_s)
+
+    def describe(self) -> dict:
+        """The state as a study gives it: ``{"age_cycles": ..., "after_s": ...}``, ``after_s`` "warm" when settled."""
+        after = "warm" if math.isinf(self.after_s) else self.after_s
+        return {"after_s": after} if self.age_cycles is None else {"age_cycles": self.age_cycles, "after_s": after}
+
+
+#: A test from each joint's own age at ambient temperature, and from the temperature its mean friction settles it at.
+COLD, WARM = FrictionState(), FrictionState(after_s=math.inf)
 
 
 @dataclass(frozen=True, eq=False)

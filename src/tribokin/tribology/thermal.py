@@ -16,6 +16,7 @@ thermal expansion of links and gears is not modelled.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -113,12 +114,38 @@ class Thermal:
                 break
         return now
 
+    def after_C(self, power_per_value_W: float, value: float, duration_s: float, cycle_time_s: float) -> float:
+        """The temperature [°C] a joint reaches from ambient after ``duration_s`` [s] of cycles of ``cycle_time_s``
+        [s], whose friction of ``value`` at ambient (times its factor at the cycle's starting temperature) dissipates
+        ``power_per_value_W`` [W] per unit of it: :meth:`step` cycle by cycle, the last cycle's part for the rest of
+        the time, until the gap left to the settled temperature (a cycle's change over the share of the gap a cycle
+        closes, 1 − exp(−Δt/τ)) is below 1e-13 of it; ``math.inf``: :meth:`settled_C`. Without a factor's change
+        (``mu_per_K = 0``) this is :meth:`temperature`'s closed form. Kept per arguments (a map's every block asks
+        again)."""
+        return _after(self, power_per_value_W, value, duration_s, cycle_time_s)
+
     def temperature(self, time_s, power_W: float, start_C: float | None = None) -> np.ndarray:
         """Closed form of the temperature [°C] at ``time_s`` [s] under a constant ``power_W`` [W] from ``start_C``
         (``None``: ambient): T∞ + (T₀ − T∞)·exp(−t/τ)."""
         start = self.ambient_C if start_C is None else start_C
         settled = self.ambient_C + self.resistance_K_per_W * power_W
         return settled + (start - settled) * np.exp(-np.asarray(time_s, dtype=float) / self.time_constant_s)
+
+
+@functools.lru_cache(maxsize=256)
+def _after(thermal: Thermal, power_per_value_W: float, value: float, duration_s: float, cycle_time_s: float) -> float:
+    """:meth:`Thermal.after_C`."""
+    if math.isinf(duration_s):
+        return thermal.settled_C(power_per_value_W, value)
+    whole, rest = divmod(duration_s, cycle_time_s)
+    now, rate = thermal.ambient_C, -math.expm1(-cycle_time_s / thermal.time_constant_s)  # a cycle's share of the gap
+    for _ in range(int(whole)):
+        then, now = now, float(thermal.step(now, power_per_value_W * value * float(thermal.factor(now)), cycle_time_s))
+        if abs(now - then) / rate <= 1e-13 * max(1.0, abs(now)):  # the gap left to the settled temperature
+            return now
+    if rest > 0:
+        now = float(thermal.step(now, power_per_value_W * value * float(thermal.factor(now)), rest))
+    return now
 
 
 def power_per_value(travel_per_cycle: float, cycle_time_s: float, lever: float = 1.0) -> float:

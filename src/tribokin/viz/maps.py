@@ -16,7 +16,7 @@ from matplotlib.patches import Patch
 
 from tribokin.maps.grid import GridAxis, TargetGrid
 from tribokin.maps.result import REACHED_BY, MapResult, ScenarioMap
-from tribokin.study.names import map_figure_file
+from tribokin.study.names import CHANGE_MAP_FILES, map_figure_file
 from tribokin.viz.canvas import NO_MATH, agg_figure, save_png
 
 UNREACHABLE_GREY = "#c8c8c8"
@@ -276,6 +276,17 @@ EXPECTED_HEAT_MAPS = (
      "RP_l of cycles each approached from a random joint-space direction"))
 
 
+#: Heat maps of a map comparing two states of its friction series: (file, change, the figure that changes).
+CHANGE_HEAT_MAPS = tuple(zip(CHANGE_MAP_FILES, ("RP_l_change_um", "AP_p_change_um"), ("RP_l", "AP_p"), strict=True))
+
+
+def state_label(state: dict) -> str:
+    """A map's friction state (:meth:`~tribokin.tribology.friction_series.FrictionState.describe`) in words."""
+    after = state["after_s"]
+    thermal = "cold" if after == 0 else "warm" if after == "warm" else f"{after:g} s warmed up"
+    return thermal if "age_cycles" not in state else f"{thermal} at {state['age_cycles']:g} cycles of age"
+
+
 #: What a map approached from both directions shows as RP_l (its titles say so).
 LARGER_DIRECTION = " (the larger of the + and − approach directions')"
 
@@ -304,6 +315,12 @@ def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | No
     }
     figures.update({file: (lambda shown, name=name: reference.figure(name, shown), label, title, {})
                     for file, name, label, title in EXPECTED_HEAT_MAPS if reference.has(name)})
+    if reference.change:
+        start, end = (state_label(workspace_map.states[key]) for key in ("state", "compare"))
+        figures.update({file: (lambda shown, name=name: reference.change_figure(name, shown), f"{figure} change [µm]",
+                               f"{figure} from {start} to {end}, end − start{compared} (near 0: drifts least)",
+                               {"cmap": "RdBu_r", "centre": 0.0})
+                        for file, name, figure in CHANGE_HEAT_MAPS})
     for s in others:
         figures[map_figure_file("RP_l", s.name)] = (lambda shown, s=s: s.figure("RP_l_um", shown), "RP_l [µm]",
                                              f"RP_l{LARGER_DIRECTION if s.both_directions else ''}, {s.name}{shared}",
