@@ -13,6 +13,7 @@ from conftest import AXIS_URDF, ROOT
 from tribokin import workspace_map
 from tribokin.kinematics.robot import load_urdf
 from tribokin.maps.pose_expected import series_expected_figures
+from tribokin.maps.series_expected import series_factor
 from tribokin.simulation.joint_errors import JointErrorModel
 from tribokin.simulation.pose_test import PoseRunner, TestSettings, pose_task
 from tribokin.study.map_spec import JointMap
@@ -63,7 +64,7 @@ def map_and_pose(axis, state: FrictionState, seed: int = 5):
     mapped = workspace_map(axis, [model], spec, cycles=CYCLES, seed=seed, cycle_time_s=CYCLE_S).reference
     runner = PoseRunner(TestSettings(CYCLES, seed, cycle_time_s=CYCLE_S), axis, [model], state=state)
     task = pose_task(axis, "P1", [0.2])
-    pose = series_expected_figures(runner, task, runner.normal_forces(task), np.ones(1))
+    pose = series_expected_figures(runner, task, runner.normal_forces(task), np.ones(1), series_factor(runner))
     return mapped, pose
 
 
