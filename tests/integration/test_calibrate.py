@@ -13,7 +13,7 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 from conftest import ROOT
-from helpers.command import tribokin
+from helpers.command import in_process, tribokin
 from helpers.folders import assert_frame_matches_csv, assert_frozen, assert_same_files
 from helpers.profile_deviance import profile_deviance
 from tribokin.calibration.data import stack
@@ -78,8 +78,8 @@ def registered(tmp_path_factory) -> tuple[Path, Path, str]:
     check values, frames and the Wald intervals, the calibrated fixture's run the profile ones), and what it printed."""
     folder = tmp_path_factory.mktemp("registered")
     study = study_without_map(folder)
-    done = tribokin("calibrate", study, "--measurements", DATA, "--out", folder / "fit", "--report", "none",
-                    "--intervals", "wald")
+    done = in_process("calibrate", study, "--measurements", DATA, "--out", folder / "fit", "--report", "none",
+                      "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     return study, folder / "fit", done.stdout
 
@@ -181,7 +181,7 @@ def test_the_calibrated_study_runs_with_the_fitted_values(calibrated, tmp_path):
     pan = found["joints.shoulder_pan_joint.stiffness"]["value"]
     assert f"stiffness = {pan!r}" in text and "profile likelihood" in text
     assert "not identifiable from the measurements" in text  # wrist_3 keeps the fit's value, and says so
-    done = tribokin("run", out / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
+    done = in_process("run", out / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
     assert done.returncode == 0, done.stderr
     summary = json.loads((tmp_path / "predicted" / "summary.json").read_text(encoding="utf-8"))
     assert [p["name"] for p in summary["poses"]] == [f"P{i}" for i in range(1, 6)]
@@ -212,8 +212,8 @@ def test_rotating_and_shifting_the_measurements_changes_no_fitted_value(register
         point = rotation @ [float(row[k]) for k in ("x_m", "y_m", "z_m")] + np.array([-3.2, 1.7, 0.9])
         row.update({k: repr(float(v)) for k, v in zip(("x_m", "y_m", "z_m"), point, strict=True)})
     write_rows(tmp_path / "moved.csv", header, rows)
-    done = tribokin("calibrate", study, "--measurements", tmp_path / "moved.csv", "--out", tmp_path / "moved",
-                    "--report", "none", "--intervals", "wald")
+    done = in_process("calibrate", study, "--measurements", tmp_path / "moved.csv", "--out", tmp_path / "moved",
+                      "--report", "none", "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     first, moved = parameters(fitted), parameters(tmp_path / "moved")
     for name, entry in first.items():
@@ -250,7 +250,7 @@ def test_intervals_other_than_profile_or_wald_are_refused_before_anything_is_rea
     with pytest.raises(SettingsError, match="must be one of profile, wald") as refused:
         calibrate(tmp_path / "absent.toml", DATA, intervals="bootstrap")
     assert refused.value.argument == "intervals"
-    done = tribokin("calibrate", tmp_path / "absent.toml", "--measurements", DATA, "--intervals", "bootstrap")
+    done = in_process("calibrate", tmp_path / "absent.toml", "--measurements", DATA, "--intervals", "bootstrap")
     assert done.returncode == 2 and "argument --intervals: invalid choice: 'bootstrap'" in done.stderr
 
 
@@ -258,15 +258,15 @@ def test_too_few_poses_name_the_parameters_they_cannot_determine_and_tying_the_j
     comments, header, rows = read_rows(DATA)
     write_rows(tmp_path / "two.csv", header, [r for r in rows if r["pose"] in ("P1", "P2")])
     per_joint = study_without_map(tmp_path, fit=["stiffness", "noise_floor"])
-    done = tribokin("calibrate", per_joint, "--measurements", tmp_path / "two.csv", "--out", tmp_path / "per-joint",
-                    "--report", "none", "--intervals", "wald")
+    done = in_process("calibrate", per_joint, "--measurements", tmp_path / "two.csv", "--out", tmp_path / "per-joint",
+                      "--report", "none", "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     found = parameters(tmp_path / "per-joint")
     blind = [n for n, p in found.items() if n.endswith("stiffness") and not p["identifiable"]]
     assert blind and all(n in done.stdout for n in blind)
     tied = study_without_map(tmp_path, fit=["stiffness", "noise_floor"], tie="all")
-    done = tribokin("calibrate", tied, "--measurements", tmp_path / "two.csv", "--out", tmp_path / "tied",
-                    "--report", "none", "--intervals", "wald")
+    done = in_process("calibrate", tied, "--measurements", tmp_path / "two.csv", "--out", tmp_path / "tied",
+                      "--report", "none", "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     assert parameters(tmp_path / "tied")["joints.stiffness_factor"]["identifiable"]
 
@@ -290,7 +290,7 @@ def test_bad_study_is_one_line_and_writes_nothing(case, tmp_path):
     if case == "no-calibration-section":
         text = text.split(old)[0] + old
     (tmp_path / "study.toml").write_text(text.replace(old, new), encoding="utf-8")
-    done = tribokin("calibrate", tmp_path / "study.toml", "--measurements", DATA, "--out", tmp_path / "fit")
+    done = in_process("calibrate", tmp_path / "study.toml", "--measurements", DATA, "--out", tmp_path / "fit")
     assert done.returncode == 2 and len(done.stderr.strip().splitlines()) == 1, done.stderr
     assert message in done.stderr
     assert not (tmp_path / "fit").exists()
@@ -300,8 +300,8 @@ def test_measurements_without_configurations_or_commanded_positions_are_refused(
     _, header, rows = read_rows(DATA)
     kept = [h for h in header if not h.startswith(("q_", "cx_", "cy_", "cz_"))]
     write_rows(tmp_path / "bare.csv", kept, [{k: r[k] for k in kept} for r in rows])
-    done = tribokin("calibrate", study_without_map(tmp_path), "--measurements", tmp_path / "bare.csv",
-                    "--out", tmp_path / "fit")
+    done = in_process("calibrate", study_without_map(tmp_path), "--measurements", tmp_path / "bare.csv",
+                      "--out", tmp_path / "fit")
     assert done.returncode == 2 and "q_<joint> columns, or commanded positions" in done.stderr
     assert not (tmp_path / "fit").exists()
 
@@ -311,8 +311,8 @@ def test_a_joint_column_the_robot_does_not_have_is_refused(tmp_path):
     renamed = ["q_elbow" if h == "q_elbow_joint" else h for h in header]
     write_rows(tmp_path / "renamed.csv", renamed,
                [{("q_elbow" if k == "q_elbow_joint" else k): v for k, v in r.items()} for r in rows])
-    done = tribokin("calibrate", study_without_map(tmp_path), "--measurements", tmp_path / "renamed.csv",
-                    "--out", tmp_path / "fit")
+    done = in_process("calibrate", study_without_map(tmp_path), "--measurements", tmp_path / "renamed.csv",
+                      "--out", tmp_path / "fit")
     assert done.returncode == 2 and "q_elbow: not a joint of ur5" in done.stderr
 
 
@@ -328,8 +328,8 @@ def test_configurations_from_commanded_positions_by_ik(tmp_path):
     cube_rpy = next(line for line in read_rows(DATA)[0] if "rpy_deg" in line).split("rpy_deg=[")[1].split("]")[0]
     rpy = [float(v) for v in cube_rpy.split(",")]
     study = study_without_map(tmp_path, fit=["stiffness", "backlash", "noise_floor"], tool_rpy_deg=rpy)
-    done = tribokin("calibrate", study, "--measurements", tmp_path / "commanded.csv", "--out", tmp_path / "ik",
-                    "--report", "none", "--intervals", "wald")
+    done = in_process("calibrate", study, "--measurements", tmp_path / "commanded.csv", "--out", tmp_path / "ik",
+                      "--report", "none", "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     summary = json.loads((tmp_path / "ik" / "calibration.json").read_text(encoding="utf-8"))
     assert summary["settings"]["configurations"]["source"].startswith("inverse kinematics")
@@ -344,7 +344,7 @@ def test_configurations_from_commanded_positions_by_ik(tmp_path):
 
 
 def test_run_refuses_a_study_with_nothing_but_calibration(tmp_path):
-    done = tribokin("run", study_without_map(tmp_path), "--out", tmp_path / "out")
+    done = in_process("run", study_without_map(tmp_path), "--out", tmp_path / "out")
     assert done.returncode == 2 and "tribokin calibrate" in done.stderr
 
 
@@ -353,8 +353,8 @@ def test_without_a_registration_the_frame_is_fitted_and_the_output_says_so(regis
     the tracker frame's rotation is profiled out; the determined stiffnesses agree with the registered fit's within
     their standard errors."""
     study, fitted, _ = registered
-    done = tribokin("calibrate", study, "--measurements", DATA, "--out", tmp_path / "unknown", "--report", "none",
-                    "--registration", "none", "--intervals", "wald")
+    done = in_process("calibrate", study, "--measurements", DATA, "--out", tmp_path / "unknown", "--report", "none",
+                      "--registration", "none", "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     assert "frame: not registered (none)" in done.stdout
     summary = json.loads((tmp_path / "unknown" / "calibration.json").read_text(encoding="utf-8"))
@@ -431,9 +431,9 @@ def gantry_measurements(path, backlash_m: float = 0.0, noise_m: float = 1e-6, rh
 @pytest.mark.parametrize("layout", JOINTS_LAYOUTS)
 def test_every_layout_of_joints_calibrates_and_the_calibrated_study_runs(layout, tmp_path):
     gantry_measurements(tmp_path / "data.csv")
-    done = tribokin("calibrate", gantry_study(tmp_path, layout), "--measurements", tmp_path / "data.csv", "--out",
-                    tmp_path / "fit", "--report", "none", "--registration", "best-fit",  # registered, as before auto
-                    "--intervals", "wald")
+    done = in_process("calibrate", gantry_study(tmp_path, layout), "--measurements", tmp_path / "data.csv", "--out",
+                      tmp_path / "fit", "--report", "none", "--registration", "best-fit",  # registered, as before auto
+                      "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     text = (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8")
     found = parameters(tmp_path / "fit")
@@ -447,7 +447,7 @@ def test_every_layout_of_joints_calibrates_and_the_calibrated_study_runs(layout,
     assert ("[joints] is written as tables below" in text) == (layout not in KEPT_LAYOUTS)
     if layout in KEPT_LAYOUTS:
         assert text.count("[joints.z]\nbacklash = 1.0e-6\n") == 1  # the user's own text, edited in place
-    done = tribokin("run", tmp_path / "fit" / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
+    done = in_process("run", tmp_path / "fit" / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
     assert done.returncode == 0, done.stderr
     summary = json.loads((tmp_path / "predicted" / "summary.json").read_text(encoding="utf-8"))
     models = summary["study"]["joint_models"]
@@ -490,9 +490,9 @@ def test_a_fit_beyond_the_study_s_range_is_held_at_its_end_said_so_and_the_calib
     study = gantry_study(tmp_path, "joint-tables-out-of-order", 'fit = ["backlash"]\nnoise_floor_m = 1e-3')
     text = study.read_text(encoding="utf-8")
     study.write_text(text.replace("stiffness = 2.0e6", "stiffness = 2.0e6\nbacklash = 0.09"), encoding="utf-8")
-    done = tribokin("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
-                    "--report", "none", "--registration", "best-fit",  # three poses: auto keeps the tracker's frame
-                    "--intervals", "wald")
+    done = in_process("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
+                      "--report", "none", "--registration", "best-fit",  # three poses: auto keeps the tracker's frame
+                      "--intervals", "wald")
     assert done.returncode == 0, done.stderr
     text = (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8")
     for joint in "xyz":
@@ -501,7 +501,7 @@ def test_a_fit_beyond_the_study_s_range_is_held_at_its_end_said_so_and_the_calib
         assert entry["kept_value"] == pytest.approx(0.1, rel=1e-12) and entry["kept_value"] <= 0.1
         assert f"backlash = {entry['kept_value']!r} # the fit's value" in text
     assert done.stdout.count("held at the end of the range a study allows") == 3
-    done = tribokin("run", tmp_path / "fit" / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
+    done = in_process("run", tmp_path / "fit" / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
     assert done.returncode == 0, done.stderr
 
 
@@ -538,8 +538,8 @@ def test_fit_ar1_on_series_too_short_says_so_in_one_line_and_writes_no_ar1(tmp_p
     line, and in calibration.json's ar1.reason, why it fits no ar1; calibrated.toml carries none."""
     study = gantry_study(tmp_path, "joint-tables-out-of-order")
     gantry_measurements(tmp_path / "data.csv")
-    done = tribokin("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
-                    "--report", "none", "--intervals", "wald", "--fit-ar1")
+    done = in_process("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
+                      "--report", "none", "--intervals", "wald", "--fit-ar1")
     assert done.returncode == 0, done.stderr
     reason = ("no series has 10 or more cycles in time order (the longest has 8): too short to tell one cycle's "
               "friction from the next's")
@@ -556,8 +556,8 @@ def test_fit_ar1_recovers_the_friction_s_correlation_and_writes_it_into_its_tabl
     friction's table with its interval, and the console and the report the same."""
     study = gantry_study(tmp_path, "joint-tables-out-of-order")
     gantry_measurements(tmp_path / "data.csv", rho=0.7, cycles=40)
-    done = tribokin("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
-                    "--intervals", "wald", "--fit-ar1")
+    done = in_process("calibrate", study, "--measurements", tmp_path / "data.csv", "--out", tmp_path / "fit",
+                      "--intervals", "wald", "--fit-ar1")
     assert done.returncode == 0, done.stderr
     (group,) = json.loads((tmp_path / "fit" / "calibration.json").read_text(encoding="utf-8"))["ar1"]["groups"]
     assert group["key"] == "joints.friction_force_N" and group["joints"] == ["x", "y", "z"]

@@ -256,10 +256,11 @@ def linear_model(robot, moments: JointMoments, qs: np.ndarray, lever: np.ndarray
                        np.column_stack([position, angle]).reshape(len(qs), 2))
 
 
-@lru_cache(maxsize=4)
+@lru_cache(maxsize=64)
 def shape_table(cycles: int, seed: int) -> ShapeTable:
     """The shape table of tests of ``cycles`` cycles from study seed ``seed``'s common random numbers, simulated once
-    per process (a placement search maps its task region once per candidate)."""
+    per process (a placement search maps its task region once per candidate; a notebook runs study after study), up
+    to 64 of them kept (5 kB each; simulating one takes up to about a second)."""
     return ShapeTable.simulate(cycles, expected_stream(seed, "table"))
 
 
