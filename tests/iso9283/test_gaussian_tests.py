@@ -11,7 +11,13 @@ import sys
 import numpy as np
 import pytest
 
-from tribokin.iso9283.gaussian_tests import eigenvalues, expected_norm, expected_rp_l, rp_l_from_moments
+from tribokin.iso9283.gaussian_tests import (
+    eigenvalues,
+    expected_norm,
+    expected_rp_l,
+    largest_eigenvalue,
+    rp_l_from_moments,
+)
 
 #: E|w| of w ~ N(0, σ² I₃) over σ: the mean of the Maxwell distribution, 2 √(2/π).
 MAXWELL_MEAN = 2 * math.sqrt(2 / math.pi)
@@ -169,3 +175,23 @@ def test_the_expected_maximum_of_three_normals_agrees_with_a_monte_carlo_and_ign
     for order in ([1, 0, 2], [2, 1, 0], [0, 2, 1]):
         np.testing.assert_allclose(expected_maximum(means[:, order], covariance[:, order][:, :, order]), expected,
                                    rtol=1e-12)
+
+
+def test_the_largest_eigenvalue_in_closed_form_is_lapacks():
+    """Sample covariances of 5 Gaussian cycles (the shape table's) scaled to every shape, and the cases where the
+    cubic's angle is ill-conditioned: two eigenvalues equal (largest or not), three equal, a zero and a rank-one
+    matrix, axis-aligned and turned, and extremes of scale."""
+    rng = np.random.default_rng(3)
+    draws = rng.standard_normal((4000, 5, 3))
+    draws -= draws.mean(axis=1, keepdims=True)
+    covariances = np.einsum("tni,tnj->tij", draws, draws) / 4
+    turn = np.linalg.qr(rng.standard_normal((3, 3)))[0]
+    special = [np.diag(d) for d in ([2.0, 2.0, 1.0], [2.0, 1.0, 1.0], [3.0, 3.0, 3.0], [0.0, 0.0, 0.0],
+                                    [5.0, 0.0, 0.0], [1e-300, 1e-300, 2e-300], [1e150, 1.0, 0.0])]
+    special += [turn @ m @ turn.T for m in special[:3]] + [np.outer([1.0, 2.0, 3.0], [1.0, 2.0, 3.0])]
+    for a in np.linspace(0.0, 1.0, 5):
+        for b in np.linspace(0.0, 1.0, 5):
+            scale = np.array([1.0, a, a * b])
+            matrices = np.concatenate([covariances * np.outer(scale, scale), np.array(special)])
+            lapack = np.linalg.eigvalsh(matrices)[:, -1]
+            np.testing.assert_allclose(largest_eigenvalue(matrices), lapack, rtol=2e-14, atol=0.0)
