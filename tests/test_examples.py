@@ -1,12 +1,15 @@
-"""The scripts in examples/ run (each in a subprocess, from an empty folder) and print honest numbers: each printed
-figure is checked against the same computation made another way (a study file's run, a closed form, the file the
-script wrote)."""
+"""The scripts in examples/ run (each as ``__main__`` in this process, from an empty folder) and print honest numbers:
+each printed figure is checked against the same computation made another way (a study file's run, a closed form, the
+file the script wrote)."""
 
 from __future__ import annotations
 
+import io
+import os
 import re
-import subprocess
-import sys
+import runpy
+from contextlib import redirect_stdout
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -21,11 +24,16 @@ GANTRY = {"robot": {"urdf": URDF, "tool_frame": "tool", "payload_kg": 5.0},
 
 
 def run_example(name: str, folder) -> str:
-    """The printed output of ``examples/<name>``, run with ``folder`` as its current folder (exit status 0)."""
-    done = subprocess.run([sys.executable, str(EXAMPLES / name)], cwd=folder, capture_output=True, text=True,
-                          timeout=300)
-    assert done.returncode == 0, done.stderr
-    return done.stdout
+    """The printed output of ``examples/<name>``, run as ``__main__`` with ``folder`` as its current folder (in this
+    process: a new interpreter's imports would cost more than most examples)."""
+    printed, previous = io.StringIO(), Path.cwd()
+    os.chdir(folder)
+    try:
+        with redirect_stdout(printed):
+            runpy.run_path(str(EXAMPLES / name), run_name="__main__")
+    finally:
+        os.chdir(previous)
+    return printed.getvalue()
 
 
 def numbers(pattern: str, text: str) -> list[tuple[str, ...]]:

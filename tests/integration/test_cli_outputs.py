@@ -12,7 +12,7 @@ import pytest
 import scipy
 
 from conftest import AXIS_STUDY_TOML, STUDIES
-from helpers.command import tribokin
+from helpers.command import in_process, tribokin
 from tribokin import __version__ as tribokin_version
 from tribokin.compiled import kernels_used
 
@@ -70,7 +70,7 @@ def test_existing_output_is_kept_without_force(study_file, tmp_path):
 
 def test_shipped_paper_studies_run(tmp_path):
     for study in sorted(STUDIES.glob("paper-fig1*.toml")):
-        done = tribokin("run", study, "--out", tmp_path / study.stem)
+        done = in_process("run", study, "--out", tmp_path / study.stem)
         assert done.returncode == 0, done.stderr
         summary = json.loads((tmp_path / study.stem / "summary.json").read_text())
         assert [p["name"] for p in summary["poses"]] == ["40N", "150N"]
