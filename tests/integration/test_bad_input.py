@@ -554,6 +554,12 @@ CASES = [
     study("[map]", '[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "change"\n\n[map]\ncompare = "cold"',
           base=SERIES_MAP, expected=("scenarios[1].name", "writes map_RP_l_change.png, as map.compare does"),
           id="scenario-named-like-a-change-map"),
+    study(None, base=GANTRY_MAP + '\n[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "hi"\n',
+          expected=("scenarios[1].name", "writes map_RP_l_hi.png, as map.statistic does"),
+          id="scenario-named-like-the-band-map"),
+    study(None, base=GANTRY_MAP + '\n[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "Multi"\n',
+          expected=("scenarios[1].name", "writes map_RP_l_Multi.png, as map.statistic does (map_RP_l_multi.png"),
+          id="scenario-named-like-the-multi-directional-map"),
     study('{ preset = "42CD4-raw" }', '{ preset = "42CD4-raw", ar1 = 0.5 }',
           base=_replace(GANTRY_MAP, "chunk_rows = 1", "chunk_rows = 1\ndirectional = false\n\n[placement]\n"
                         "candidates = [[0.0, 0.0, 0.0]]"),

@@ -12,6 +12,7 @@ from tribokin.simulation.joint_errors import joint_models as joint_error_models
 from tribokin.simulation.pose_test import PoseRunner, PoseTask, TestSettings, pose_task
 from tribokin.study.names import (
     CHANGE_MAP_FILES,
+    EXPECTED_MAP_FILES,
     check_file_name_part,
     check_files_apart,
     check_name,
@@ -218,7 +219,9 @@ def check_names(study: Study, tasks: list[PoseTask]) -> None:
         check_file_name_part(name, study.source, key)
     cube = [("iso_cube", task.name) for task in tasks[len(study.poses):]]
     files = [(key, pose_figure_file(name)) for key, name in cube + poses]
-    if study.map is not None and study.map.compare is not None:  # the reference's change maps: a scenario renames
-        files = [("map.compare", file) for file in CHANGE_MAP_FILES] + files
+    if study.map is not None:  # the reference's own heat maps, which a scenario named "hi" or "multi" would write
+        files = [("map.statistic", file) for file in EXPECTED_MAP_FILES.get(study.map.figure_set, ())] + files
+        if study.map.compare is not None:  # and its change maps: a scenario renames
+            files = [("map.compare", file) for file in CHANGE_MAP_FILES] + files
     files += [(key, file) for key, name in scenarios[1:] for file in scenario_files(name)]  # [0]: the reference
     check_files_apart(files, study.source)

@@ -22,6 +22,10 @@ MAX_FILE_NAME_BYTES = 255
 SCENARIO_FIGURES = ("RP_l", "RP_l_ratio", "RP_l_diff")
 #: The heat maps of a map comparing two states (``map.compare``): its RP_l's and AP_p's change.
 CHANGE_MAP_FILES = ("map_RP_l_change.png", "map_AP_p_change.png")
+#: The heat maps of an expected map's own figures, by the figure set that draws them (``MapSpec.figure_set``): its
+#: RP_l band's high end; with the directional figures, vAP_p and RP_l_multi too.
+EXPECTED_MAP_FILES = {"expected": ("map_RP_l_hi.png",),
+                      "directional": ("map_RP_l_hi.png", "map_vAP_p.png", "map_RP_l_multi.png")}
 
 
 def pose_figure_file(pose: str) -> str:
