@@ -149,9 +149,14 @@ def kernel_path(request, monkeypatch):
 
 def pytest_itemcollected(item):
     """A test that uses its module's own module-scoped fixtures runs on the xdist worker of the module's other such
-    tests (make test passes --dist loadgroup), so that each fixture is built once, not once per worker."""
+    tests (make test passes --dist loadgroup), so that each fixture is built once, not once per worker; where such a
+    fixture is parametrized, each of its parameters is a group of its own (``<module>[<fixture>=<index>]``), so that a
+    module's variants spread over the workers."""
     module = item.nodeid.split("::")[0]
     definitions = getattr(item, "_fixtureinfo", None)
-    if definitions and any(d[-1].scope == "module" and d[-1].baseid == module
-                           for d in definitions.name2fixturedefs.values()):
-        item.add_marker(pytest.mark.xdist_group(module))
+    own = [d[-1] for d in definitions.name2fixturedefs.values()
+           if d[-1].scope == "module" and d[-1].baseid == module] if definitions else []
+    if own:
+        indices = getattr(getattr(item, "callspec", None), "indices", {})
+        params = [f"{d.argname}={indices[d.argname]}" for d in own if d.params is not None and d.argname in indices]
+        item.add_marker(pytest.mark.xdist_group(module + (f"[{','.join(params)}]" if params else "")))
