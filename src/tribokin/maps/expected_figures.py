@@ -315,11 +315,24 @@ def band_factor(runner: PoseRunner, cycles: int) -> int:
             moments, distances = cycle_moments(points, cycles, barycentre_normals(shape[1]))
             errors = moments_errors(distances, moments, cycles)
         else:
-            distances = np.abs(cloud - cloud.mean(axis=1, keepdims=True))
-            rp_l = distances.mean(axis=1) + 3 * distances.std(axis=1, ddof=1)
-            errors = (mean_error(rp_l), *(percentile_error(rp_l, p) for p in BAND_PERCENTILES))
+            errors = rp_l_errors(cloud)
         worst = max(worst, *(float(np.max(error)) for error in errors))
-    return int(np.clip(math.ceil((worst / MC_ERROR_AIM) ** 2), 1, MAX_BAND_FACTOR))
+    return pilot_factor(worst, MAX_BAND_FACTOR)
+
+
+def rp_l_errors(cloud: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The relative Monte Carlo standard errors of RP_l's mean and of its band's ends over tests of a one-dimensional
+    ``cloud`` (tests, cycles): a pilot's, which sets a factor of tests (:func:`band_factor`,
+    :func:`~tribokin.maps.series_expected.series_factor`)."""
+    distances = np.abs(cloud - cloud.mean(axis=1, keepdims=True))
+    rp_l = distances.mean(axis=1) + 3 * distances.std(axis=1, ddof=1)
+    return (mean_error(rp_l), *(percentile_error(rp_l, p) for p in BAND_PERCENTILES))
+
+
+def pilot_factor(worst: float, most: int) -> int:
+    """How many times its tests bring a pilot's largest relative error ``worst`` within ``MC_ERROR_AIM``
+    (⌈(worst / aim)²⌉), from 1 to ``most``."""
+    return int(np.clip(math.ceil((worst / MC_ERROR_AIM) ** 2), 1, most))
 
 
 def tests_for(cycles_in_all: int, cycles: int, fewest: int = MIN_TESTS) -> int:

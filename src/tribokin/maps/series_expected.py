@@ -48,13 +48,14 @@ from tribokin.iso9283.gaussian_tests import BAND_PERCENTILES, expected_norm, exp
 from tribokin.iso9283.metrics import orientation_repeatability, position_repeatability, position_spread
 from tribokin.maps.expected_figures import (
     BLOCK_CYCLES,
-    MC_ERROR_AIM,
     NEGLIGIBLE_TRUNCATION_SIGMAS,
     SAMPLED_CYCLES,
     SPLIT_FIGURES,
     JointMoments,
     linear_model,
+    pilot_factor,
     relative,
+    rp_l_errors,
     serves,
     tests_for,
 )
@@ -128,12 +129,9 @@ def series_factor(runner: PoseRunner) -> int:
         if model.friction.std() == 0 and series.run_in is None:
             continue  # a constant, at most offset per test: no spread within a test
         cloud = draw_series(model.friction, series, tests, cycles, rng).values
-        distances = np.abs(cloud - cloud.mean(axis=1, keepdims=True))
-        rp_l = distances.mean(axis=1) + 3 * distances.std(axis=1, ddof=1)
-        errors = (mean_error(rp_l), mean_error(cloud.std(axis=1, ddof=1)),
-                  *(percentile_error(rp_l, p) for p in BAND_PERCENTILES))
+        errors = (*rp_l_errors(cloud), mean_error(cloud.std(axis=1, ddof=1)))
         worst = max(worst, *(float(error) for error in errors))
-    return int(np.clip(math.ceil((worst / MC_ERROR_AIM) ** 2), 1, MAX_SERIES_FACTOR))
+    return pilot_factor(worst, MAX_SERIES_FACTOR)
 
 
 def blocks_of_tests(tests: int, cycles: int) -> list[int]:
