@@ -267,11 +267,12 @@ def rp_l_norm(workspace_map: MapResult) -> Normalize:
 
 
 #: Heat maps of an expected map's own figures: (file, figure, colour bar label, title).
-EXPECTED_HEAT_MAPS = tuple(zip(EXPECTED_MAP_FILES["directional"], ("RP_l_hi_um", "vAP_p_um", "RP_l_multi_um"), (
-    "97.5 % of one test's RP_l [µm]", "expected vAP_p [µm]", "expected RP_l_multi [µm]"), (
-    "RP_l of one test: 1 test in 40 exceeds this",
-    "multi-directional position accuracy variation vAP_p, approached along +x, +y, +z",
-    "RP_l of cycles each approached from a random joint-space direction"), strict=True))
+EXPECTED_HEAT_MAPS = tuple((file, *drawn) for file, drawn in zip(EXPECTED_MAP_FILES["directional"], (
+    ("RP_l_hi_um", "97.5 % of one test's RP_l [µm]", "RP_l of one test: 1 test in 40 exceeds this"),
+    ("vAP_p_um", "expected vAP_p [µm]",
+     "multi-directional position accuracy variation vAP_p, approached along +x, +y, +z"),
+    ("RP_l_multi_um", "expected RP_l_multi [µm]",
+     "RP_l of cycles each approached from a random joint-space direction")), strict=True))
 
 
 #: Heat maps of a map comparing two states of its friction series: (file, change, the figure that changes).
