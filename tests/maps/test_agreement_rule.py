@@ -44,7 +44,6 @@ errors (the rule allows 8).
 """
 
 import dataclasses
-import functools
 
 import numpy as np
 import pinocchio as pin
@@ -108,17 +107,11 @@ def random_targets(runner: PoseRunner, rng: np.random.Generator) -> np.ndarray:
     return np.array(found)
 
 
-@functools.cache
-def table_of(seed: int):
-    """Seed ``seed``'s shape table, simulated once for every case (about 1 s each)."""
-    return shape_table(CYCLES, seed)
-
-
 def expected_at(runner: PoseRunner, q: np.ndarray, seed: int) -> dict:
     """The expected figures of one target at configuration ``q`` from study seed ``seed``'s common random numbers:
     :func:`expected_targets`' outputs of its one row."""
     runner.settings = dataclasses.replace(runner.settings, seed=seed)
-    setup = ExpectedSetup.build(runner, table_of(seed), "directional")
+    setup = ExpectedSetup.build(runner, shape_table(CYCLES, seed), "directional")  # kept per process
     at = q[None]
     out = expected_targets(runner, setup, at, runner.normal_forces_at(at), *tool_frames(runner.robot, at))
     return {name: value[0] for name, value in out.items()}
