@@ -5,17 +5,17 @@ file the script wrote)."""
 from __future__ import annotations
 
 import io
-import os
 import re
 import runpy
 from contextlib import redirect_stdout
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import pytest
 
 import tribokin
 from conftest import ROOT
+from tribokin.tribology import laws
 
 EXAMPLES = ROOT / "examples"
 URDF = str(ROOT / "urdf" / "cartesian_xyz.urdf")
@@ -25,14 +25,13 @@ GANTRY = {"robot": {"urdf": URDF, "tool_frame": "tool", "payload_kg": 5.0},
 
 def run_example(name: str, folder) -> str:
     """The printed output of ``examples/<name>``, run as ``__main__`` with ``folder`` as its current folder (in this
-    process: a new interpreter's imports would cost more than most examples)."""
-    printed, previous = io.StringIO(), Path.cwd()
-    os.chdir(folder)
-    try:
-        with redirect_stdout(printed):
-            runpy.run_path(str(EXAMPLES / name), run_name="__main__")
-    finally:
-        os.chdir(previous)
+    process: a new interpreter's imports would cost more than most examples). The registry of friction laws is the
+    example's own copy: a law it defines (custom_friction_law.py's) is gone after it, as after a process of its own."""
+    printed = io.StringIO()
+    with pytest.MonkeyPatch.context() as patch, redirect_stdout(printed):
+        patch.chdir(folder)
+        patch.setattr(laws, "LAWS", dict(laws.LAWS))
+        runpy.run_path(str(EXAMPLES / name), run_name="__main__")
     return printed.getvalue()
 
 
