@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from conftest import GANTRY_MAP_TOML, GANTRY_SAMPLED_MAP_TOML
+from helpers.dask_cluster import local_cluster
 from tribokin import InputError, run_study
 from tribokin.cli import main
 from tribokin.compiled import kernels_used
@@ -155,11 +156,8 @@ def test_workers_are_spawned_when_another_thread_runs(variant, reference, tmp_pa
 
 
 def test_dask_cluster_changes_nothing(variant, reference, tmp_path):
-    from dask.distributed import LocalCluster
-
-    with LocalCluster(n_workers=2, threads_per_worker=2, processes=True, dashboard_address=None) as cluster:
-        with executor_for(scheduler=cluster.scheduler_address) as executor:
-            result = run_study(variant, executor=executor)
+    with local_cluster(2) as scheduler, executor_for(scheduler=scheduler) as executor:
+        result = run_study(variant, executor=executor)
     assert written(result, tmp_path / "out") == reference
 
 
@@ -185,11 +183,8 @@ def test_a_map_with_time_keys_gives_the_same_bytes_chunked_on_two_workers(time_k
 
 
 def test_a_map_with_time_keys_gives_the_same_bytes_on_dask(time_keys_reference, tmp_path):
-    from dask.distributed import LocalCluster
-
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
-        with executor_for(scheduler=cluster.scheduler_address) as executor:
-            result = run_study(TIME_KEYS_MAP, executor=executor)
+    with local_cluster(1) as scheduler, executor_for(scheduler=scheduler) as executor:
+        result = run_study(TIME_KEYS_MAP, executor=executor)
     assert written(result, tmp_path / "out") == time_keys_reference
 
 

@@ -8,6 +8,7 @@ import pytest
 import tomllib
 
 from conftest import ROOT, killed_after
+from helpers.dask_cluster import local_cluster
 from tribokin import InputError, run_study
 from tribokin.cli import main
 from tribokin.compiled import kernels_used
@@ -189,11 +190,8 @@ def test_one_or_two_workers_and_a_resume_write_the_same_bytes(study_file, tmp_pa
 
 
 def test_a_dask_cluster_writes_the_same_bytes(result, study_file, tmp_path):
-    from dask.distributed import LocalCluster
-
-    with LocalCluster(n_workers=2, threads_per_worker=2, processes=True, dashboard_address=None) as cluster:
-        with executor_for(scheduler=cluster.scheduler_address) as executor:
-            clustered = run_study(study_file, executor=executor, meshes=False)
+    with local_cluster(2) as scheduler, executor_for(scheduler=scheduler) as executor:
+        clustered = run_study(study_file, executor=executor, meshes=False)
     for name, run in (("here", result), ("dask", clustered)):
         write_results(run, tmp_path / name, report="none")
     for name in PLACEMENT_FILES + ("summary.json",):
