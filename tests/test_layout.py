@@ -17,11 +17,13 @@ PACKAGE = ROOT / "src" / "tribokin"
 #: named by the first part of its modules' names below ``tribokin`` (or by a dotted module name, which places that
 #: module apart from the rest of its package); ``tribokin`` itself (the package's ``__init__``) is the top. Ground
 #: floor: errors, value checks, units, files confined before they are read, random streams, the compiled kernels'
-#: path, and two modules of ``output`` every stage may use: its folders (temporary siblings renamed in; the map's
-#: store makes its own) and the provenance a result records. Figures (``viz``) sit below ``output``, which draws them
-#: into the folder.
+#: path, and four modules of ``output`` every stage may use: its folders (temporary siblings renamed in; the map's
+#: store makes its own), the provenance a result records, the folder's lock and the dispatch through which a result
+#: writes its folder and shows its figures and scene (``write``, ``figures``, ``_repr_html_``: the writers and views
+#: above register themselves there). Figures (``viz``) sit below ``output``, which draws them into the folder.
 STAGES = (
-    ("errors", "checks", "units", "confinement", "streams", "compiled", "output.folder", "output.provenance"),
+    ("errors", "checks", "units", "confinement", "streams", "compiled", "output.folder", "output.provenance",
+     "output.lock", "output.dispatch"),
     ("tribology",),
     ("kinematics",),
     ("propagation",),
@@ -40,20 +42,6 @@ STAGES = (
     ("cli", "__main__", ""),
 )
 LEVEL = {part: level for level, parts in enumerate(STAGES) for part in parts}
-#: The imports that point up, each inside the named methods only
-#: (:func:`test_the_upward_import_is_inside_the_write_method_only`): a result writes itself (``StudyResult.write``,
-#: ``MeasurementResult.write``...) through its writer, which takes the result's class, and the lock the commands hold;
-#: a result shows itself in a notebook (``_repr_html_``: the report's 3-D scene) and gives its figures (``figures``)
-#: through the views, which take the result's class. The stages and the cycles are checked without them.
-WRITE_METHODS = {**{(result, writer): ("write",) for result, writers in (
-    ("tribokin.run", ("tribokin.output.writers", "tribokin.output.lock")),
-    ("tribokin.tribology.friction_fit", ("tribokin.output.tribology", "tribokin.output.lock")),
-    ("tribokin.tribology.surface_result", ("tribokin.output.tribology", "tribokin.output.lock")),
-    ("tribokin.measured.written", ("tribokin.output.measured", "tribokin.output.lock"))) for writer in writers},
-                 ("tribokin.run", "tribokin.viz.contents"): ("figures",),
-                 ("tribokin.run", "tribokin.viz.notebook"): ("_repr_html_",),
-                 ("tribokin.maps.result", "tribokin.viz.notebook"): ("figures", "_repr_html_"),
-                 ("tribokin.simulation.pose_result", "tribokin.viz.notebook"): ("figures", "_repr_html_")}
 
 
 def module_name(path: Path) -> str:
@@ -78,8 +66,7 @@ def imported_modules(name: str) -> set[str]:
     return {module for module in found if module in MODULES and module != name}
 
 
-IMPORTS = {name: imported_modules(name) - {other for (module, other) in WRITE_METHODS if module == name}
-           for name in MODULES}
+IMPORTS = {name: imported_modules(name) for name in MODULES}
 
 
 def stage(name: str) -> int:
@@ -128,14 +115,3 @@ def test_no_import_cycle():
 
 def test_the_walk_sees_imports_inside_functions():
     assert "tribokin.kinematics.robot" in IMPORTS["tribokin.cli.robots"]  # imported in a function only
-
-
-def test_the_upward_import_is_inside_the_write_method_only():
-    for (name, other), methods in WRITE_METHODS.items():
-        tree = ast.parse(MODULES[name].read_text(), str(MODULES[name]))
-        inside = {id(node) for function in ast.walk(tree) if isinstance(function, ast.FunctionDef)
-                  and function.name in methods for node in ast.walk(function)}
-        imports = [node for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) and node.module == other]
-        assert imports and all(id(node) in inside for node in imports)
-        assert other not in {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import)
-                             for alias in node.names}

@@ -31,6 +31,7 @@ from tribokin.errors import (
     SettingsError,
     TribokinError,
 )
+from tribokin.output.dispatch import registered_by as _registered_by
 from tribokin.output.provenance import __version__
 
 if TYPE_CHECKING:
@@ -84,6 +85,34 @@ __all__ = ["run_study", "load_study", "Study", "RobotSpec", "JointSpec", "PoseSp
            "JointModelError", "GridError", "measure", "MeasurementResult", "Segmenting", "Transform",
            "RegistrationWarning", "calibrate",
            "CalibrationResult", "fit_friction", "FrictionFitResult", "analyse_surface", "SurfaceResult", "__version__"]
+
+
+# The modules that register the results' folder writers, figures and scenes (each result's ``write``, ``figures``,
+# ``_repr_html_``) in :mod:`tribokin.output.dispatch`, imported when first used, in turn (the writers first, each
+# lighter than the next) until the result's type is registered.
+@_registered_by
+def _tribology_writers() -> None:
+    import tribokin.output.tribology  # noqa: F401 - FrictionFitResult, SurfaceResult
+
+
+@_registered_by
+def _study_writer() -> None:
+    import tribokin.output.writers  # noqa: F401 - StudyResult
+
+
+@_registered_by
+def _measured_writers() -> None:
+    import tribokin.output.measured  # noqa: F401 - MeasurementResult, CalibrationResult
+
+
+@_registered_by
+def _study_figures() -> None:
+    import tribokin.viz.contents  # noqa: F401 - StudyResult.figures
+
+
+@_registered_by
+def _notebook_views() -> None:
+    import tribokin.viz.notebook  # noqa: F401 - PoseResult, MapResult, StudyResult._repr_html_
 
 
 def __getattr__(name: str):

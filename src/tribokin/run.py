@@ -20,6 +20,7 @@ from tribokin.maps.mapping import prepare_map, run_map
 from tribokin.maps.pose_expected import with_expected_figures
 from tribokin.maps.result import MapResult
 from tribokin.maps.schema import MapLayout, study_approaches
+from tribokin.output.dispatch import result_figures, result_scene, write_folder
 from tribokin.output.provenance import software_versions
 from tribokin.placement.result import PlacementResult
 from tribokin.placement.search import run_placement
@@ -94,25 +95,18 @@ class StudyResult:
         Returns:
             the folder written.
         """
-        from tribokin.output.lock import write_claimed
-        from tribokin.output.writers import write_results  # the writer takes this class: a method's import (layout)
-
-        return write_claimed(write_results, self, folder, force, report=report, table_format=table_format,
-                             executor=executor)
+        return write_folder(self, folder, force, report=report, table_format=table_format,
+                            executor=executor)  # output.writers.write_results
 
     def figures(self) -> dict:
         """The figures ``tribokin run`` writes as PNGs (placement, each pose's field, the map's heat maps) as
         matplotlib ``Figure`` objects, by file name in the report's order; each saved at 110 dpi is the file."""
-        from tribokin.viz.contents import study_figures  # figures sit above results: a method's import (layout)
-
-        return study_figures(self)
+        return result_figures(self)  # viz.contents.study_figures
 
     def _repr_html_(self) -> str | None:
         """A notebook's view: ``report.html``'s 3-D scene (robot, poses' clouds, map layers, ISO cube) inline (no
         server, offline); ``None`` (text) when the robot is not known."""
-        from tribokin.viz.notebook import study_scene  # figures sit above results: a method's import (layout)
-
-        return study_scene(self)
+        return result_scene(self)  # viz.notebook.study_scene
 
     def summary(self) -> dict:
         """The content of ``summary.json``."""

@@ -23,6 +23,7 @@ from tribokin.maps.schema import (
 )
 from tribokin.maps.store import ChunkStore
 from tribokin.maps.streaming import blocks, spread
+from tribokin.output.dispatch import result_figures, result_scene
 
 #: What a map approached from both directions says of its unsuffixed figures (``summary.json``).
 DIRECTIONS_NOTE = ("RP_l, its band, AP_p and RP_a/b/c: the larger of the + and - approach directions' (ISO's "
@@ -378,16 +379,12 @@ class MapResult:
     def figures(self, title: str = "map") -> dict:
         """The heat maps ``tribokin run`` writes of the map (reference, scenarios, ratios, differences, winner) as
         matplotlib ``Figure`` objects, by file name in that order, titled ``title: ...``."""
-        from tribokin.viz.notebook import map_figures  # figures sit above results: a method's import (layout)
-
-        return map_figures(self, title)
+        return result_figures(self, title=title)  # viz.notebook.map_figures
 
     def _repr_html_(self) -> str | None:
         """A notebook's view: the report's 3-D scene of the map (each scenario's RP_l a layer) inline (no server,
         offline); ``None`` (text) when the robot is not known."""
-        from tribokin.viz.notebook import map_scene  # figures sit above results: a method's import (layout)
-
-        return map_scene(self)
+        return result_scene(self)  # viz.notebook.map_scene
 
     def first_reachable_q(self) -> np.ndarray | None:
         """The configuration of the first reachable target [m or rad], ``None`` if none is."""

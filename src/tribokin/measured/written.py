@@ -1,9 +1,12 @@
 """What the results of measured data share: a table (``rows()``: ``poses.csv``, ``comparison.csv``) as a pandas
-DataFrame, and the command's folder written by :func:`tribokin.output.measured.write_result`."""
+DataFrame, and the command's folder written by :func:`tribokin.output.dispatch.write_folder` (through the writer
+:mod:`tribokin.output.measured` registers for the result's type)."""
 
 from __future__ import annotations
 
 from pathlib import Path
+
+from tribokin.output.dispatch import write_folder
 
 
 class Written:
@@ -24,7 +27,4 @@ class Written:
         Returns:
             the folder written.
         """
-        from tribokin.output.lock import write_claimed
-        from tribokin.output.measured import write_result  # the writer takes the results: a method's import (layout)
-
-        return write_claimed(write_result, self, folder, force, report=report)
+        return write_folder(self, folder, force, report=report)  # output.measured: write_measurement, write_calibration

@@ -112,6 +112,6 @@ def claimed_folder(out, force: bool = False):
 def write_claimed(write, result, out, force: bool = False, **options) -> Path:
     """``write(result, out, force, **options)`` (a writer of the whole folder, all at once) as the commands write:
     ``out``'s lock held (:func:`claimed_folder`), the temporary folders a killed run left beside it deleted first
-    (a result's ``write`` method)."""
+    (a result's ``write`` method, through :func:`tribokin.output.dispatch.write_folder`)."""
     with claimed_folder(out, force):
         return write(result, out, force, **options)

@@ -10,6 +10,7 @@ from tribokin.calibration.cross_validation import predicted_clouds
 from tribokin.measured.calibrated import PARITY_FIGURE, CalibrationResult
 from tribokin.measured.iso_figures import MeasurementResult
 from tribokin.measurement.figures import pose_clouds
+from tribokin.output.dispatch import folder_writer
 from tribokin.output.folder import atomic_folder
 from tribokin.output.json_files import write_json
 from tribokin.output.writers import write_rows
@@ -18,6 +19,7 @@ from tribokin.study.names import cloud_figure_file, pose_figure_file
 DRIFT_FIGURE = "drift.png"
 
 
+@folder_writer.register(MeasurementResult)
 def write_measurement(result: MeasurementResult, out, force: bool = False, report: str = "full") -> Path:
     """``summary.json``, ``poses.csv``, ``field_<pose>.png``, ``drift.png`` (rows with times) and, unless ``report``
     is ``"none"``, ``report.html``, written to ``out`` all at once."""
@@ -39,6 +41,7 @@ def write_measurement(result: MeasurementResult, out, force: bool = False, repor
     return Path(out)
 
 
+@folder_writer.register(CalibrationResult)
 def write_calibration(result: CalibrationResult, out, force: bool = False, report: str = "full") -> Path:
     """``calibration.json``, ``comparison.csv``, ``calibrated.toml``, ``clouds_<pose>.png``, ``parity.png``, the
     calibrated map's figures and, unless ``report`` is ``"none"``, ``report.html``, written to ``out`` all at once."""
@@ -65,9 +68,3 @@ def write_calibration(result: CalibrationResult, out, force: bool = False, repor
         if report != "none":
             write_calibration_report(summary, rows, folder, figures)
     return Path(out)
-
-
-def write_result(result: MeasurementResult | CalibrationResult, out, force: bool = False, report: str = "full") -> Path:
-    """The folder of ``result``'s command: :func:`write_measurement` or :func:`write_calibration`."""
-    write = write_calibration if isinstance(result, CalibrationResult) else write_measurement
-    return write(result, out, force, report)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from tribokin.output.dispatch import folder_writer
 from tribokin.output.folder import atomic_folder
 from tribokin.output.json_files import write_json
 from tribokin.tribology.friction_fit import FrictionFitResult
@@ -12,6 +13,7 @@ from tribokin.tribology.surface_result import SurfaceResult
 from tribokin.tribology.surfaces import find_peaks
 
 
+@folder_writer.register(FrictionFitResult)
 def write_friction_fit(result: FrictionFitResult, out, force: bool = False) -> Path:
     """``law.toml``, ``fit.json`` and the figures of the log's mu per cycle and of its steady state's histogram with
     the fitted laws, written to ``out`` all at once."""
@@ -26,6 +28,7 @@ def write_friction_fit(result: FrictionFitResult, out, force: bool = False) -> P
     return Path(out)
 
 
+@folder_writer.register(SurfaceResult)
 def write_surface(result: SurfaceResult, out, force: bool = False) -> Path:
     """``surface.json`` and the figures of the levelled profile with its peaks and of p(z, R), written to ``out``
     all at once."""

@@ -20,6 +20,7 @@ from tribokin.execution import local_pool, run_chunks
 from tribokin.maps.result import MapResult, ScenarioMap
 from tribokin.maps.streaming import blocks
 from tribokin.maps.table import map_table_columns, map_table_name
+from tribokin.output.dispatch import folder_writer
 from tribokin.output.folder import atomic_folder
 from tribokin.output.json_files import write_json
 from tribokin.output.placed_study import BEST_STUDY, best_study_text
@@ -237,6 +238,7 @@ def import_views() -> None:
     import tribokin.viz.contents  # noqa: F401
 
 
+@folder_writer.register(StudyResult)
 def write_results(result: StudyResult, out, force: bool = False, report: str = "full", map_layers=None,
                   cube=None, executor: Executor | None = None, views: ViewsProcess | None = None,
                   table_format: str = "csv") -> Path:

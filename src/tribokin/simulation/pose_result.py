@@ -9,6 +9,7 @@ import numpy as np
 from tribokin.errors import import_extra
 from tribokin.iso9283.metrics import DirectionalMetrics
 from tribokin.kinematics.robot import Robot
+from tribokin.output.dispatch import result_figures, result_scene
 from tribokin.units import MDEG_PER_RAD, UM_PER_M
 
 
@@ -110,16 +111,12 @@ class PoseResult:
     def figures(self) -> dict:
         """The pose's repeatability field (the PNG ``tribokin run`` writes of it, titled with its name) as a
         matplotlib ``Figure``, by its file name in an output folder (``pose_<name>.png``)."""
-        from tribokin.viz.notebook import pose_figures  # figures sit above results: a method's import (layout)
-
-        return pose_figures(self)
+        return result_figures(self)  # viz.notebook.pose_figures
 
     def _repr_html_(self) -> str | None:
         """A notebook's view: the robot at the pose with its cycle cloud, the report's 3-D scene inline (no server,
         offline); ``None`` (text) when the robot is not known."""
-        from tribokin.viz.notebook import pose_scene  # figures sit above results: a method's import (layout)
-
-        return pose_scene(self)
+        return result_scene(self)  # viz.notebook.pose_scene
 
 
 #: poses.csv columns of the vector figures that are not per joint or per world axis: key -> element names.

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from tribokin.errors import InputError, LawError
+from tribokin.output.dispatch import write_folder
 from tribokin.tribology.columns import quiet_numerics
 from tribokin.tribology.fitting import Fit, fit_laws
 from tribokin.tribology.laws import LAWS, MU_MIN
@@ -160,10 +161,7 @@ class FrictionFitResult:
         Returns:
             the folder written.
         """
-        from tribokin.output.lock import write_claimed
-        from tribokin.output.tribology import write_friction_fit  # a method's import (layout)
-
-        return write_claimed(write_friction_fit, self, folder, force)
+        return write_folder(self, folder, force)  # output.tribology.write_friction_fit
 
 
 def fit_friction(log, running_in: int | None = None) -> FrictionFitResult:

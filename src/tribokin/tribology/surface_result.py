@@ -11,6 +11,7 @@ import numpy as np
 
 from tribokin.checks import argument, positive, within
 from tribokin.errors import SettingsError
+from tribokin.output.dispatch import write_folder
 from tribokin.tribology.surfaces import SurfaceStatistics, analyse_profile, level, read_profile
 
 area = within(positive, 1e-12, 1.0, "m²", "eq. (6) counts summits on a square micrometre (a summit or two) up to a "
@@ -66,10 +67,7 @@ class SurfaceResult:
         Returns:
             the folder written.
         """
-        from tribokin.output.lock import write_claimed
-        from tribokin.output.tribology import write_surface  # a method's import (layout)
-
-        return write_claimed(write_surface, self, folder, force)
+        return write_folder(self, folder, force)  # output.tribology.write_surface
 
 
 def check_options(area_m2, z_range_m, radius_range_m) -> tuple[float, tuple[float, float], tuple[float, float]]:

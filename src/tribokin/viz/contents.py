@@ -8,6 +8,7 @@ from pathlib import Path
 from matplotlib.figure import Figure
 
 from tribokin.maps.result import MapResult
+from tribokin.output.dispatch import result_figures
 from tribokin.run import StudyResult
 from tribokin.study.names import drift_figure_file, pose_figure_file
 from tribokin.viz.figures import drift_figure, repeatability_field, save_drift_figure, save_repeatability_field
@@ -66,6 +67,7 @@ def drift_title(result: StudyResult, drift) -> str:
     return f"{result.name} — {drift.pose}: ISO 9283 drift test, simulated"
 
 
+@result_figures.register(StudyResult)
 def study_figures(result: StudyResult) -> dict[str, Figure]:
     """The figures :func:`write_views` writes, by file name in :func:`figure_names`' order (each pose's drift
     figure after the poses' fields), as matplotlib Figures (each saved as a PNG, the folder's bytes:
