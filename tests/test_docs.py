@@ -3,6 +3,7 @@ every docstring the API page shows readable; a broken anchor fails the build."""
 
 from __future__ import annotations
 
+import hashlib
 import os
 import re
 import shutil
@@ -31,6 +32,26 @@ def test_the_site_builds_in_strict_mode_with_the_api_and_the_formulas(tmp_path):
     assert r"RP_l = \bar l + 3 S_l" in concepts and 'class="arithmatex"' in concepts
     reference = (site / "reference" / "study-file" / "index.html").read_text(encoding="utf-8")
     assert "study.cycles" in reference and "ISO 9283 needs at least 2" in reference
+    # offline: every script from the site itself, MathJax's vendored bundle among them
+    sources = {page: re.findall(r'<script[^>]*\ssrc="([^"]*)"', page.read_text(encoding="utf-8"))
+               for page in site.rglob("*.html")}
+    assert not [(page, src) for page, found in sources.items() for src in found if re.match(r"(https?:)?//", src)]
+    assert any(src.endswith("javascripts/mathjax/tex-svg.js") for src in sources[site / "concepts" / "index.html"])
+    assert (site / "javascripts" / "mathjax" / "tex-svg.js").is_file()
+    assert (site / "javascripts" / "mathjax" / "LICENSE").is_file()
+    assert not (site / "javascripts" / "mathjax" / "PROVENANCE.md").exists()
+
+
+def test_the_vendored_mathjax_is_the_upstream_file_its_note_names():
+    """docs/javascripts/mathjax/tex-svg.js is byte for byte the upstream file: its git blob hash is the one its
+    PROVENANCE.md gives (that of es5/tex-svg.js at mathjax/MathJax's tag 3.2.2), as is its LICENSE's."""
+    folder = ROOT / "docs" / "javascripts" / "mathjax"
+    note = (folder / "PROVENANCE.md").read_text(encoding="utf-8")
+    for name in ("tex-svg.js", "LICENSE"):
+        data = (folder / name).read_bytes()
+        blob = hashlib.sha1(b"blob %d\0" % len(data) + data).hexdigest()
+        assert f"| `{name}` | {len(data)} | `{blob}` |" in note
+    assert sorted(path.name for path in folder.iterdir()) == ["LICENSE", "PROVENANCE.md", "tex-svg.js"]
 
 
 def test_a_broken_anchor_fails_the_build(tmp_path):

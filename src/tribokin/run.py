@@ -39,7 +39,7 @@ from tribokin.study.assembly import (
     study_runner,
 )
 from tribokin.study.reading import load_study
-from tribokin.study.spec import ScenarioSpec, check_drift
+from tribokin.study.spec import ScenarioSpec, Study, check_drift
 
 
 @dataclass
@@ -47,7 +47,8 @@ class StudyResult:
     """Results of a whole study: ``poses`` in file order, the workspace ``map`` or, with ``[placement]``, the
     ``placement`` search over its task region (if any), and what produced them (``robot``, for views; ``reproduce``:
     seed, study file hash, versions, command line); with ``[drift]``, each pose's drift test along its span
-    (``drifts``, in pose order: their figures, ``drift_<pose>.png``)."""
+    (``drifts``, in pose order: their figures, ``drift_<pose>.png``); the ``study`` run, as read (its keys typed:
+    ``settings`` records them in ``summary.json``)."""
 
     name: str
     poses: list[PoseResult]
@@ -57,6 +58,7 @@ class StudyResult:
     reproduce: dict = field(default_factory=dict)
     placement: PlacementResult | None = None
     drifts: tuple[PoseDrift, ...] = ()
+    study: Study | None = field(default=None, repr=False)
 
     def display_configuration(self) -> np.ndarray:
         """Where to draw the robot [m or rad]: the first pose, else the first reachable map target,
@@ -233,4 +235,4 @@ def run_study(study, cycles: int | None = None, seed: int | None = None, *, exec
     }
     reproduce = {"seed": study.seed, "study_sha256": study.sha256, "versions": software_versions(),
                  "kernels": kernels, "command": None}
-    return StudyResult(study.name, poses, settings, robot, workspace_map, reproduce, placement, drifts)
+    return StudyResult(study.name, poses, settings, robot, workspace_map, reproduce, placement, drifts, study)

@@ -99,19 +99,21 @@ def test_one_cycle_series_is_reported_too_short_not_refused(measured):
 
 
 def test_times_give_drift_and_its_plot(measured):
-    out, _ = measured
+    out, stdout = measured
     drift = json.loads((out / "summary.json").read_text())["poses"][0]["drift"]
     # P1 "+" in sets of 2: RP_l of cycles 1, 2 is 3 µm, of cycles 3, 4 is 4 µm
     assert [d["direction"] for d in drift] == ["+"] and drift[0]["dRP_l_um"] == pytest.approx(1.0, rel=1e-6)
     assert {p.name for p in out.iterdir()} == {"summary.json", "poses.csv", "field_P1.png", "field_P2.png",
                                               "drift.png", "report.html"}
     assert "field_P1.png" in (out / "report.html").read_text()
+    assert f"results in {out}/ (summary.json, poses.csv, field_*.png, drift.png, report.html)\n" in stdout
 
 
 def test_units_in_column_names_are_honoured(measured, tmp_path):
     out_m, _ = measured
-    assert tribokin("measure", measurement_file(tmp_path, "mm"), "--out", tmp_path / "mm",
-                    "--report", "none").returncode == 0
+    done = tribokin("measure", measurement_file(tmp_path, "mm"), "--out", tmp_path / "mm", "--report", "none")
+    assert done.returncode == 0 and done.stdout.endswith(f"results in {tmp_path / 'mm'}/ (summary.json, poses.csv, "
+                                                         "field_*.png)\n")  # no times: no drift figure
     in_mm = read_rows(tmp_path / "mm" / "poses.csv")
     in_m = read_rows(out_m / "poses.csv")
     for a, b in zip(in_mm, in_m, strict=True):

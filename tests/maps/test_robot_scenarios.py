@@ -110,6 +110,12 @@ def test_targets_reached_by_one_robot_only_are_won_by_it_and_marked_in_its_table
     winners = result.map.winners()
     assert np.all(winners[only] == 1)  # won by the only robot that reaches them
     assert np.all(winners[~np.array(reference) & ~only] == -1)  # reached by neither
+    statistics, summary = result.map.statistics(), result.map.summary()  # typed, and summary.json's made of them
+    assert [(s.name, s.reachable, s.wins) for s in statistics.scenarios] == [
+        ("reference", sum(reference), np.sum(winners == 0)), ("ur10", sum(row["reachable"] == "true" for row in rows),
+                                                             np.sum(winners == 1))]
+    assert [s.RP_l_um.as_dict() for s in statistics.scenarios] == [s["RP_l_um"] for s in summary["scenarios"]]
+    assert statistics.reached_by_any == summary["reached_by_any"] == np.sum(np.array(reference) | only)
 
 
 def two_link(**xacro_args) -> dict:

@@ -5,7 +5,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from tribokin.maps.streaming import blocks, order_statistic, spread
+from tribokin.maps.streaming import Spread, blocks, order_statistic, spread
 
 
 def reader(values):
@@ -36,7 +36,7 @@ def test_spread_equals_numpy_on_the_finite_values(monkeypatch, count, narrowed):
     values[::7] = np.nan
     values[1::11] = np.inf
     finite = values[np.isfinite(values)]
-    assert spread(reader(values), count) == {"min": finite.min(), "median": np.median(finite), "max": finite.max()}
+    assert spread(reader(values), count) == Spread(finite.min(), np.median(finite), finite.max())
 
 
 def test_every_rank_is_found_with_ties_and_near_equal_values(small_blocks):
@@ -54,11 +54,12 @@ def test_the_widest_columns_are_narrowed_down_without_overflow(small_blocks):
     ordered = np.sort(values)
     for rank in range(len(values)):
         assert order_statistic(reader(values), len(values), rank) == ordered[rank]
-    assert spread(reader(values), len(values))["median"] == np.median(values)
+    assert spread(reader(values), len(values)).median == np.median(values)
 
 
 def test_no_finite_values_give_none():
-    assert spread(reader(np.full(5, np.nan)), 5) == {"min": None, "median": None, "max": None}
+    assert spread(reader(np.full(5, np.nan)), 5) == Spread(None, None, None)
+    assert Spread(None, None, None).as_dict() == {"min": None, "median": None, "max": None}
 
 
 @given(st.lists(st.floats(allow_nan=True, allow_infinity=True, width=64), min_size=1, max_size=200))
@@ -70,7 +71,7 @@ def test_median_is_numpys_for_any_column(values):
     saved = streaming.BLOCK_TARGETS, streaming.BINS, streaming.GATHER_VALUES
     streaming.BLOCK_TARGETS, streaming.BINS, streaming.GATHER_VALUES = 8, 4, 8  # (hypothesis runs it many times)
     try:
-        median = spread(reader(values), len(values))["median"]
+        median = spread(reader(values), len(values)).median
     finally:
         streaming.BLOCK_TARGETS, streaming.BINS, streaming.GATHER_VALUES = saved
     with np.errstate(over="ignore"):  # the mean of two huge middle values may overflow, in numpy too

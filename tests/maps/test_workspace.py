@@ -35,17 +35,23 @@ def test_gantry_with_fixed_loads_gives_a_flat_map_and_flags_unreachable_targets(
     summary = result.summary()["map"]
     assert (summary["count"], summary["reachable"], summary["unreachable"], summary["cycles"]) == (32, 28, 4, 10)
     assert summary["AP_p_um"]["min"] == pytest.approx(summary["AP_p_um"]["max"], rel=1e-6)
+    statistics = result.map.statistics()  # the typed figures the summary is made of
+    assert (statistics.count, statistics.reachable, statistics.RP_l_um.as_dict()) == (32, 28, summary["RP_l_um"])
+    assert [(s.name, s.RP_l_um, s.wins, s.reachable) for s in statistics.scenarios] == [
+        (result.map.reference.name, statistics.RP_l_um, None, None)]
+    assert statistics.reached_by_any is statistics.RP_l_change_um is statistics.AP_p_change_um is None
 
 
 def test_a_maps_summary_computed_on_a_worker_is_the_one_computed_here():
-    """summarise_on: a worker of a local pool computes the summary (its copy of the map carries no summary, nor this
-    process's computation under way), summary() waits for it; the same as computed here."""
+    """summarise_on: a worker of a local pool computes the statistics (its copy of the map carries none, nor this
+    process's computation under way), statistics() waits for them; the same as computed here."""
     here = run_study(gantry_map_study(normal_force_N=500.0)).map
     there = run_study(gantry_map_study(normal_force_N=500.0)).map
     with executor_for(2) as pool:
         there.summarise_on(pool)
-        assert pickle.loads(pickle.dumps(there))._summary is None
-        assert there.summary() == here.summary() and there._summary is there.summary()
+        assert pickle.loads(pickle.dumps(there))._statistics is None
+        assert there.statistics() == here.statistics() and there._statistics is there.statistics()
+        assert there.summary() is there.statistics().summary
 
 
 

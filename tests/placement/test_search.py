@@ -211,7 +211,8 @@ def test_the_run_writes_the_table_the_summary_and_the_best_study(result, study_f
     assert lines[1].startswith(f"{NEAR[0]},1.0,0.2,0.0,180.0,1.0,9,") and lines[1].endswith(",true,1")
     assert len(lines) == 11 and lines[-1].endswith(",,,,false,10")  # nothing reached: last, no figures
     summary = json.loads((out / "summary.json").read_text())["placement"]
-    assert summary["best"]["base_rpy_deg"] == [0.0, 0.0, 180.0] and summary["meeting_min_reachable"] == 4
+    assert summary["best"]["base_rpy_deg"] == [0.0, 0.0, 180.0]
+    assert summary["meeting_min_reachable"] == result.placement.meeting_min_reachable == 4
     best = (out / "best.toml").read_text()
     assert "# the gantry placed to serve a small plane" in best and "# where to put it" not in best
     placed = load_study(read_study_file(out / "best.toml"))

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from tribokin.cli.options import (
     add_registration_options,
     claimed,
@@ -100,5 +98,5 @@ def _print(result, args) -> None:
     flags += [f"{pose.pose} {name}" for pose in result.figures for name in result.flag_names(pose.pose, None)]
     if result.floor is not None:
         print(f"within 2x the noise floor ({um(result.floor.RP_l_m):.3f} µm): {', '.join(flags) if flags else 'none'}")
-    files = "summary.json, poses.csv, field_*.png" + (", drift.png" if (Path(args.out) / "drift.png").exists() else "")
+    files = "summary.json, poses.csv, field_*.png" + (", drift.png" if result.timed else "")
     print(f"results in {args.out}/ ({files}{', report.html' if args.report != 'none' else ''})")

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from tribokin.cli.options import claimed, option_named
 from tribokin.cli.progress import kernels_to_compile, map_progress
 from tribokin.errors import InputError
 from tribokin.kinematics.urdf_meshes import WITHOUT_MESHES
+from tribokin.units import um
 
 
 def add_parser(commands) -> None:
@@ -57,17 +59,16 @@ def run(args) -> None:
             views.close()
     files = []
     if result.poses:
-        _print_poses(result)
+        _print_poses(result.poses)
         files += ["poses.csv", "samples.npz", "field_*.png"] + (["drift_*.png"] if result.drifts else [])
     if result.map is not None:
-        _print_map(result.map.summary())
+        _print_map(result.map)
         files += [f"map*.{args.table_format}", "map_*.png"]
     if result.placement is not None:
-        _print_placement(result.placement.summary(), out)
+        _print_placement(result.placement, out)
         files += ["placement.csv", "placement.png", "best.toml"]
-    settings = result.settings
-    how = "robot.tool_frame" if settings["robot_spec"]["tool_frame"] else "the default: the end of the longest chain"
-    print(f"tool frame: {settings['tool_frame']} ({how}), moved by {', '.join(settings['joints'])}")
+    how = "robot.tool_frame" if result.study.robot.tool_frame else "the default: the end of the longest chain"
+    print(f"tool frame: {result.robot.tool_frame} ({how}), moved by {', '.join(result.robot.joint_names)}")
     print(f"results in {out}/ (summary.json, {', '.join(files)})")
     if args.report != "none":
         import numpy as np
@@ -114,53 +115,61 @@ def _compute_and_write(args, executor, views=None):
     return result, out
 
 
-def _print_poses(result) -> None:
-    width = max(10, *(len(pose.name) for pose in result.poses))
+def _print_poses(poses) -> None:
+    """Each pose's RP_l, AP_p and vAP_p [µm], a row per approach direction."""
+    width = max(10, *(len(pose.name) for pose in poses))
     print(f"{'pose':<{width}} {'direction':<9} {'RP_l [µm]':>10} {'AP_p [µm]':>10} {'vAP_p [µm]':>11}")
-    for row in (row for pose in result.poses for row in pose.direction_rows()):
-        vap = "-" if row["vAP_p_um"] is None else f"{row['vAP_p_um']:.3f}"
-        print(f"{row['name']:<{width}} {row['direction']:<9} {row['RP_l_um']:>10.3f} {row['AP_p_um']:>10.3f} "
-              f"{vap:>11}")
+    for pose in poses:
+        vap = "-" if pose.metrics.vAP_p_m is None else f"{um(pose.metrics.vAP_p_m):.3f}"
+        for label, figures in pose.metrics.directions.items():
+            print(f"{pose.name:<{width}} {label:<9} {um(figures.RP_l_m):>10.3f} {um(figures.AP_p_m):>10.3f} "
+                  f"{vap:>11}")
 
 
-def _spread_um(spread: dict) -> str:
-    if spread["min"] is None:
+def _spread_um(spread) -> str:
+    """A :class:`~tribokin.maps.streaming.Spread` [µm]: min / median / max, ``-`` without values."""
+    if spread.min is None:
         return "-"
-    return f"{spread['min']:.3f} / {spread['median']:.3f} / {spread['max']:.3f}"
+    return f"{spread.min:.3f} / {spread.median:.3f} / {spread.max:.3f}"
 
 
-def _print_map(summary: dict) -> None:
-    shape = " x ".join(str(n) for n in summary["shape"][::-1] if n > 1) or "1"
-    print(f"map ({summary['kind']}, {shape}): {summary['reachable']} of {summary['count']} targets reachable, "
-          f"{summary['cycles']} cycles each")
-    scenarios = summary.get("scenarios") or [{"name": "", "RP_l_um": summary["RP_l_um"]}]
-    width = max(len(s["name"]) for s in scenarios)
-    reach = "reached_by_any" in summary  # the scenarios' robots differ: each reaches its own targets
-    print(f"{'':<{width}} {'RP_l min / median / max [µm]':>30}" + (f" {'wins':>7}" if "wins" in summary else "")
+def _print_map(workspace_map) -> None:
+    """The map's targets reached, each scenario's RP_l (its wins and its robot's reach where they differ), and the
+    change between two states."""
+    from tribokin.maps.result import DIRECTIONS_NOTE
+
+    statistics, grid, reference = workspace_map.statistics(), workspace_map.grid, workspace_map.reference
+    shape = " x ".join(str(n) for n in grid.shape[::-1] if n > 1) or "1"
+    print(f"map ({grid.kind}, {shape}): {statistics.reachable} of {statistics.count} targets reachable, "
+          f"{reference.cycles} cycles each")
+    several, reach = len(statistics.scenarios) > 1, statistics.reached_by_any is not None  # reach: robots differ
+    names = [scenario.name if several else "" for scenario in statistics.scenarios]  # one: its row unnamed
+    width = max(len(name) for name in names)
+    print(f"{'':<{width}} {'RP_l min / median / max [µm]':>30}" + (f" {'wins':>7}" if several else "")
           + (f" {'reachable':>9}" if reach else ""))
-    for scenario in scenarios:
-        wins = f" {summary['wins'][scenario['name']]:>7}" if "wins" in summary else ""
-        reachable = f" {scenario['reachable']:>9}" if reach else ""
-        print(f"{scenario['name']:<{width}} {_spread_um(scenario['RP_l_um']):>30}{wins}{reachable}")
-    if "unsuffixed_figures" in summary:
-        print(f"approached from both directions: {summary['unsuffixed_figures']}")
-    if "RP_l_change_um" in summary:  # [map] compare: from the map's state to the second one
+    for name, scenario in zip(names, statistics.scenarios, strict=True):
+        wins = f" {scenario.wins:>7}" if several else ""
+        reachable = f" {scenario.reachable:>9}" if reach else ""
+        print(f"{name:<{width}} {_spread_um(scenario.RP_l_um):>30}{wins}{reachable}")
+    if reference.both_directions:
+        print(f"approached from both directions: {DIRECTIONS_NOTE}")
+    if statistics.RP_l_change_um is not None:  # [map] compare: from the map's state to the second one
         print(f"change from map.state to map.compare, min / median / max [µm]: RP_l "
-              f"{_spread_um(summary['RP_l_change_um'])}, AP_p {_spread_um(summary['AP_p_change_um'])}")
+              f"{_spread_um(statistics.RP_l_change_um)}, AP_p {_spread_um(statistics.AP_p_change_um)}")
 
 
-def _print_placement(summary: dict, out: Path) -> None:
-    best, targets = summary["best"], summary["targets"]
-    print(f"placement: {summary['candidates']} candidates, {summary['meeting_min_reachable']} reach at least "
-          f"{100 * summary['min_reachable']:g} % of the task's {targets} targets; ranked by expected RP_l "
-          f"{summary['objective']}")
-    figures = " / ".join("-" if best["RP_l_um"][name] is None else f"{best['RP_l_um'][name]:.3f}"
-                         for name in ("mean", "p95", "max"))
-    print(f"best: candidate {best['candidate']}, base at ({', '.join(f'{v:g}' for v in best['base_xyz_m'])}) m, "
-          f"yaw +{best['yaw_deg']:g}° (base roll, pitch, yaw {', '.join(f'{v:g}' for v in best['base_rpy_deg'])}°): "
-          f"reaches {best['reachable_targets']} of {targets}, RP_l mean / p95 / max {figures} µm")
-    if not best["meets_min_reachable"]:
-        print(f"warning: no candidate reaches {100 * summary['min_reachable']:g} % of the targets; the best reaches "
-              f"{best['reachable_targets']} of them")
+def _print_placement(placement, out: Path) -> None:
+    """The candidates meeting min_reachable, the best one's base, reach and RP_l, and the study placed there."""
+    spec, best, targets = placement.spec, placement.best, placement.target_count
+    print(f"placement: {len(placement.candidates)} candidates, {placement.meeting_min_reachable} reach at least "
+          f"{100 * spec.min_reachable:g} % of the task's {targets} targets; ranked by expected RP_l {spec.objective}")
+    figures = " / ".join("-" if math.isnan(value) else f"{value:.3f}" for value in placement.RP_l_um[best.index])
+    reachable = placement.reachable[best.index]
+    print(f"best: candidate {best.index}, base at ({', '.join(f'{v:g}' for v in best.base_xyz_m)}) m, "
+          f"yaw +{best.yaw_deg:g}° (base roll, pitch, yaw {', '.join(f'{v:g}' for v in placement.rpy_deg(best))}°): "
+          f"reaches {reachable} of {targets}, RP_l mean / p95 / max {figures} µm")
+    if not placement.meets_min_reachable[best.index]:
+        print(f"warning: no candidate reaches {100 * spec.min_reachable:g} % of the targets; the best reaches "
+              f"{reachable} of them")
     print(f"the study placed there: {out / 'best.toml'} (tribokin run {out / 'best.toml'} --out DIR maps the task "
           "region from it)")

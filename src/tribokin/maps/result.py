@@ -22,7 +22,7 @@ from tribokin.maps.schema import (
     scenario_column,
 )
 from tribokin.maps.store import ChunkStore
-from tribokin.maps.streaming import blocks, spread
+from tribokin.maps.streaming import Spread, blocks, spread
 from tribokin.output.dispatch import result_figures, result_scene
 
 #: What a map approached from both directions says of its unsuffixed figures (``summary.json``).
@@ -136,6 +136,50 @@ class ScenarioMap:
         return np.array([*self.joint_names, ""], dtype=object)[self.read("dominant_joint", targets)]
 
 
+@dataclass(frozen=True)
+class ScenarioStatistics:
+    """One scenario's statistics over a map's targets (:class:`MapStatistics`).
+
+    Attributes:
+        name: the scenario's name.
+        RP_l_um: min, median and max of its RP_l over the targets its robot reaches [µm].
+        wins: the targets where its RP_l is the smallest among the scenarios whose robots reach them (``None``: the
+            map's only scenario).
+        reachable: the targets its robot reaches (``None``: every scenario is measured with the study's robot).
+    """
+
+    name: str
+    RP_l_um: Spread
+    wins: int | None = None
+    reachable: int | None = None
+
+
+@dataclass(frozen=True)
+class MapStatistics:
+    """A map's statistics over its targets, computed once (:meth:`MapResult.statistics`): the figures the command
+    prints, and the ``map`` block of ``summary.json`` made of them.
+
+    Attributes:
+        count: the targets, reachable or not.
+        reachable: the targets the study's robot reaches.
+        RP_l_um: min, median and max of the reference's RP_l over them [µm].
+        scenarios: each scenario's, in the study's order (the reference first; one: the map's only scenario).
+        summary: the ``map`` block of ``summary.json``.
+        reached_by_any: the targets any scenario's robot reaches (``None``: one robot measures every scenario).
+        RP_l_change_um, AP_p_change_um: a map comparing two states (``compare``): min, median and max of each target's
+            change from the first state to the second [µm] (``None``: none compared).
+    """
+
+    count: int
+    reachable: int
+    RP_l_um: Spread
+    scenarios: tuple[ScenarioStatistics, ...]
+    summary: dict = field(repr=False)
+    reached_by_any: int | None = None
+    RP_l_change_um: Spread | None = None
+    AP_p_change_um: Spread | None = None
+
+
 @dataclass
 class MapResult:
     """A workspace map: the targets, their configurations, and each scenario's figures there, kept on
@@ -163,11 +207,11 @@ class MapResult:
     scenarios: dict[str, ScenarioMap]
     robot: Robot | None = field(default=None, repr=False)
     states: dict = field(default_factory=dict)
-    _summary: dict | Future | None = field(default=None, init=False, repr=False)
+    _statistics: MapStatistics | Future | None = field(default=None, init=False, repr=False)
 
     def __getstate__(self) -> dict:
-        """What a worker gets: the map without this process's summary, or its computation under way."""
-        return {**self.__dict__, "_summary": None}
+        """What a worker gets: the map without this process's statistics, or their computation under way."""
+        return {**self.__dict__, "_statistics": None}
 
     @property
     def grid(self) -> TargetGrid:
@@ -273,28 +317,42 @@ class MapResult:
                 "reached_only_by_reference": int(counts[2]),
                 **({"ik": self.ik_routes(scenario.robot)} if self.grid.kind != "joint" else {})}
 
-    def summary(self) -> dict:
-        """The ``map`` block of ``summary.json``, computed once: here, or on a worker (:meth:`summarise_on`), whose
-        result it then waits for."""
-        if isinstance(self._summary, Future):
-            self._summary = self._summary.result()
-        if self._summary is None:
-            self._summary = self._summarise()
-        return self._summary
+    def statistics(self) -> MapStatistics:
+        """The map's statistics, computed once: here, or on a worker (:meth:`summarise_on`), whose result it then
+        waits for."""
+        if isinstance(self._statistics, Future):
+            self._statistics = self._statistics.result()
+        if self._statistics is None:
+            self._statistics = self._summarise()
+        return self._statistics
 
-    def use_summary(self, summary: dict | Future) -> None:
-        """Take ``summary``, this map's computed elsewhere (or its future), as :meth:`summary`."""
-        self._summary = summary
+    def summary(self) -> dict:
+        """The ``map`` block of ``summary.json`` (:meth:`statistics`)."""
+        return self.statistics().summary
+
+    def use_summary(self, statistics: MapStatistics | Future) -> None:
+        """Take ``statistics``, this map's computed elsewhere (or its future), as :meth:`statistics`."""
+        self._statistics = statistics
 
     def summarise_on(self, pool: Executor) -> None:
-        """Start computing :meth:`summary` on a worker of ``pool`` (this machine's processes: they read the store),
-        unless it is known or under way, while this process does other work."""
-        if self._summary is None:
-            self._summary = pool.submit(map_summary, self)
+        """Start computing :meth:`statistics` on a worker of ``pool`` (this machine's processes: they read the store),
+        unless they are known or under way, while this process does other work."""
+        if self._statistics is None:
+            self._statistics = pool.submit(map_statistics, self)
 
-    def _summarise(self) -> dict:
+    def _summarise(self) -> MapStatistics:
         reference, size = self.reference, self.grid.size
         reachable, dominant, wins, reached = self._counts()
+        figures = {f.name: spread(lambda part, f=f: reference.figure(f.name, part), size)
+                   for f in reference.figure_list if f.summarised}
+        changes = {name: spread(lambda part, name=name: reference.change_figure(name, part), size)
+                   for name in (CHANGE_FIGURES if reference.change else ())}
+        several = len(self.scenarios) > 1
+        reach = {s.name: self._reach_counts(s) for s in self.scenarios.values()} if self.robot_count > 1 else {}
+        scenarios = tuple(ScenarioStatistics(
+            s.name, figures["RP_l_um"] if s is reference else spread(lambda part, s=s: s.figure("RP_l_um", part), size),
+            int(wins[place + 1]) if several else None, reach[s.name]["reachable"] if reach else None)
+            for place, s in enumerate(self.scenarios.values()))
         block = {
             **self.grid.describe(),
             "count": size,
@@ -304,32 +362,31 @@ class MapResult:
             "statistic": "one-test" if reference.figure_set == "one-test" else "expected",
             "directional": reference.figure_set == "directional",
             **({"unsuffixed_figures": DIRECTIONS_NOTE} if reference.both_directions else {}),
-            **{f.name: spread(lambda part, f=f: reference.figure(f.name, part), size)
-               for f in reference.figure_list if f.summarised},
+            **{name: figure.as_dict() for name, figure in figures.items()},
             **self.states,
-            **{name: spread(lambda part, name=name: reference.change_figure(name, part), size)
-               for name in (CHANGE_FIGURES if reference.change else ())},
+            **{name: change.as_dict() for name, change in changes.items()},
             "dominant_joint_counts": {name: int(count) for name, count in zip(self.joint_names, dominant, strict=True)},
         }
         if self.grid.kind != "joint":
             block["ik"] = self.ik_routes()
-        if len(self.scenarios) > 1:
+        if several:
             block["scenarios"] = [{
                 "name": s.name,
                 "cycles": s.cycles,
-                **(self._reach_counts(s) if self.robot_count > 1 else {}),
+                **reach.get(s.name, {}),
                 **({"unsuffixed_figures": DIRECTIONS_NOTE} if s.both_directions else {}),
-                "RP_l_um": spread(lambda part, s=s: s.figure("RP_l_um", part), size),
-                "RP_l_ratio": spread(lambda part, s=s: self.ratio_RP_l(s, part), size),
-                "RP_l_diff_um": spread(lambda part, s=s: self.diff_RP_l_um(s, part), size),
-            } for s in self.scenarios.values()]
-            if self.robot_count > 1:
+                "RP_l_um": own.RP_l_um.as_dict(),
+                "RP_l_ratio": spread(lambda part, s=s: self.ratio_RP_l(s, part), size).as_dict(),
+                "RP_l_diff_um": spread(lambda part, s=s: self.diff_RP_l_um(s, part), size).as_dict(),
+            } for s, own in zip(self.scenarios.values(), scenarios, strict=True)]
+            if reach:
                 block["reached_by_any"] = reached
-            block["wins"] = {name: int(count) for name, count in zip(self.scenarios, wins[1:], strict=True)}
+            block["wins"] = {s.name: s.wins for s in scenarios}
             block["ties"] = int(wins[0])
         if reference.figure_set != "one-test":
             block["computed"] = {s.name: self._computed(s) for s in self.scenarios.values()}
-        return block
+        return MapStatistics(size, reachable, figures["RP_l_um"], scenarios, block, reached if reach else None,
+                             changes.get("RP_l_change_um"), changes.get("AP_p_change_um"))
 
     def _computed(self, scenario: ScenarioMap) -> dict:
         """How an expected map's figures were computed: its ``study.engine`` (``engine``), targets per method and per
@@ -354,7 +411,7 @@ class MapResult:
         change = {}
         if scenario.change:  # each change's largest Monte Carlo standard error [µm]
             change = {f"{figure_stem(name)}_max_mc_error_um": spread(
-                lambda part, name=name: scenario.change_error(name, part), self.grid.size)["max"]
+                lambda part, name=name: scenario.change_error(name, part), self.grid.size).max
                 for name in CHANGE_FIGURES}
         return {"engine": scenario.engine, "analytic_targets": analytic, "sampled_targets": sampled,
                 "fallback_targets": fallback,
@@ -395,6 +452,6 @@ class MapResult:
         return None
 
 
-def map_summary(workspace_map: MapResult) -> dict:
-    """``workspace_map.summary()`` (run where an executor runs it: :meth:`MapResult.summarise_on`)."""
-    return workspace_map.summary()
+def map_statistics(workspace_map: MapResult) -> MapStatistics:
+    """``workspace_map.statistics()`` (run where an executor runs it: :meth:`MapResult.summarise_on`)."""
+    return workspace_map.statistics()

@@ -5,6 +5,7 @@ bounded memory: minimum, exact median and maximum of a column that is never held
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
@@ -15,6 +16,19 @@ BINS = 4096
 #: Most values gathered at once to take order statistics from (8 MiB, and as much again to partition them): a column
 #: with more finite values is narrowed down by counting passes first.
 GATHER_VALUES = 1 << 20
+
+
+@dataclass(frozen=True)
+class Spread:
+    """Minimum, median and maximum of a column's finite values (``None`` each when it has none), in its unit."""
+
+    min: float | None
+    median: float | None
+    max: float | None
+
+    def as_dict(self) -> dict:
+        """``{min, median, max}``, as ``summary.json`` gives it."""
+        return asdict(self)
 
 
 def blocks(size: int, block: int | None = None) -> Iterator[slice]:
@@ -69,8 +83,8 @@ def order_statistic(read: Callable[[slice], np.ndarray], size: int, rank: int) -
     return float(np.partition(np.concatenate(list(candidates())), rank - below)[rank - below])
 
 
-def spread(read: Callable[[slice], np.ndarray], size: int) -> dict:
-    """``{min, median, max}`` of the finite values of a column read block by block (``None`` each when
+def spread(read: Callable[[slice], np.ndarray], size: int) -> Spread:
+    """The :class:`Spread` of the finite values of a column read block by block (``None`` each when
     there are none); the median as :func:`numpy.median` gives it (the mean of the middle two of an even count).
     Up to ``GATHER_VALUES`` finite values, in one pass; more, through :func:`order_statistic`."""
     count, low, high, kept = 0, np.inf, -np.inf, []
@@ -82,10 +96,10 @@ def spread(read: Callable[[slice], np.ndarray], size: int) -> dict:
             else:
                 kept.clear()  # too many: narrowed down by order_statistic
     if not count:
-        return {"min": None, "median": None, "max": None}
+        return Spread(None, None, None)
     ranks = sorted({(count - 1) // 2, count // 2})
     if count <= GATHER_VALUES:
         middle = np.partition(np.concatenate(kept), ranks)[ranks]
     else:
         middle = [order_statistic(read, size, rank) for rank in ranks]
-    return {"min": float(low), "median": float(np.mean(middle)), "max": float(high)}
+    return Spread(float(low), float(np.mean(middle)), float(high))

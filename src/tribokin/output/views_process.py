@@ -24,8 +24,12 @@ import traceback
 from concurrent.futures import Future
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from tribokin.execution import end_with_parent
+
+if TYPE_CHECKING:
+    from tribokin.maps.result import MapStatistics
 
 #: The largest poses' samples [bytes] sent to the views' process: sending more would take that much memory twice again
 #: (the pickled copy, the process's copy), beyond what the run's memory check counts (a map's results are on disk).
@@ -73,15 +77,15 @@ class ViewsProcess:
             return False
         return True
 
-    def send_summary(self, summary: dict) -> None:
-        """Send the map's summary (computed meanwhile on a worker) for the report, which waits for it."""
+    def send_summary(self, statistics: MapStatistics) -> None:
+        """Send the map's statistics (computed meanwhile on a worker) for the report, which waits for them."""
         try:
-            self._connection.send(summary)
+            self._connection.send(statistics)
         except OSError:  # it ended: :meth:`wait` says so
             pass
 
-    def wait(self) -> tuple[bool, dict | None]:
-        """Whether the views were drawn, and the map's summary (``None`` without a map, or when it was sent), once
+    def wait(self) -> tuple[bool, MapStatistics | None]:
+        """Whether the views were drawn, and the map's statistics (``None`` without a map, or when sent), once
         they are; ``(False, None)`` if the process ended first, or declined (its study or robot did not load, or the
         study file changed since it read it). Raises the error that drawing raised."""
         try:
@@ -121,7 +125,7 @@ def _serve(connection, parent: int, study, cycles, seed, report: str) -> None:
         if result.map is not None and summary_follows:
             result.map.use_summary(_received(connection))
         write_views(result, folder, report, map_layers, cube)
-        reply = ("done", None if result.map is None or summary_follows else result.map.summary(), None)
+        reply = ("done", None if result.map is None or summary_follows else result.map.statistics(), None)
     except BaseException as error:  # noqa: BLE001 - every error goes back to the command, which raises it
         reply = ("error", error, None if isinstance(error, TribokinError) else traceback.format_exc())
     try:

@@ -272,7 +272,7 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
                 if not drawing:
                     _write_views(result, folder, report, map_layers, cube)
                 elif pool is not None:
-                    views.send_summary(result.map.summary())
+                    views.send_summary(result.map.statistics())
 
             if result.map is None:
                 the_rest()
@@ -281,11 +281,11 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
                                               for scenario in result.map.scenarios.values()], executor, the_rest,
                                  table_format)
             if drawing:
-                drawn, summary = views.wait()
+                drawn, statistics = views.wait()
                 if not drawn:  # the views' process was lost, or declined: drawn here instead
                     _write_views(result, folder, report, map_layers, cube)
-                elif summary is not None:
-                    result.map.use_summary(summary)
+                elif statistics is not None:
+                    result.map.use_summary(statistics)
             write_summary(result, folder)
         finally:
             if views is not None:

@@ -57,6 +57,11 @@ class PlacementResult:
         return self.fraction >= self.spec.min_reachable
 
     @property
+    def meeting_min_reachable(self) -> int:
+        """How many candidates reach at least ``min_reachable`` of the targets."""
+        return int(self.meets_min_reachable.sum())
+
+    @property
     def objective_um(self) -> np.ndarray:
         """(n,) the ranking statistic of each candidate's RP_l [µm] (NaN: no target reached)."""
         return self.RP_l_um[:, STATISTICS.index(self.spec.objective)]
@@ -95,7 +100,7 @@ class PlacementResult:
         """The ``placement`` block of ``summary.json``."""
         return {"objective": self.spec.objective, "min_reachable": self.spec.min_reachable,
                 "candidates": len(self.candidates), "targets": self.target_count,
-                "meeting_min_reachable": int(self.meets_min_reachable.sum()),
+                "meeting_min_reachable": self.meeting_min_reachable,
                 "yaw_deg": list(self.spec.yaw_deg), "best": self.describe(self.best)}
 
     def columns(self) -> dict[str, np.ndarray]:
