@@ -101,7 +101,7 @@ class StudyResult:
                             executor=executor)  # output.writers.write_results
 
     def figures(self) -> dict:
-        """The figures ``tribokin run`` writes as PNGs (placement, each pose's field, the map's heat maps) as
+        """The figures ``tribokin run`` writes as PNGs (placement, each pose's field and drift test, the map's) as
         matplotlib ``Figure`` objects, by file name in the report's order; each saved at 110 dpi is the file."""
         return result_figures(self)  # viz.contents.study_figures
 

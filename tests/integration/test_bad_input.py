@@ -420,13 +420,6 @@ CALIBRATE_OUTPUT_CASES = [
                 expected=("direction", "line 3 holds '+\\x00'", "not printable"), id="measure-direction-nul"),
     calibrate(None, poses=("P1", "P\x1b2", "P3"), expected=("pose", "line 10 holds 'P\\x1b2'", "not printable"),
               id="calibrate-pose-escape"),
-    # issue 38: calibrate --fit-ar1 writes ar1, which a [map] does not simulate yet (run would refuse the study)
-    pytest.param({"study.toml": GANTRY_CALIBRATE + "\n[map]" + GANTRY_MAP.split("[map]")[1],
-                  "data.csv": gantry_measurements(("P1", "P2", "P3"))},
-                 ["calibrate", "{tmp}/study.toml", "--measurements", "{tmp}/data.csv", "--out", "{tmp}/out",
-                  "--report", "none", "--fit-ar1"],
-                 ("{tmp}/study.toml: map:", "--fit-ar1 writes ar1 into calibrated.toml's friction", "remove the [map]"),
-                 id="calibrate-fit-ar1-with-a-map"),
     study("chunk_rows = 1", "chunk_rows = 1\n\n[placement]\ncandidates = [[0.0, 0.0, 0.0]]\nyaw_deg = [0, 360, -360]",
           base=GANTRY_MAP, expected=("placement.yaw_deg[1]", "360 is the same yaw as placement.yaw_deg[0] (modulo "
                                      "360°)"), id="placement-yaws-equal-modulo-360"),

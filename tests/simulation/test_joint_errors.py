@@ -25,7 +25,7 @@ from tribokin.tribology.laws import Scaled
 def test_each_joint_draws_from_its_own_law():
     models = [JointErrorModel(Uniform(0.1, 0.2), 1e5), JointErrorModel(Uniform(0.5, 0.6), 1e5),
               JointErrorModel(Constant(0.3), 1e5)]
-    mu = draw_friction(models, 2000, np.random.default_rng(1))
+    mu = draw_friction(models, 2000, np.random.default_rng(1)).values
     assert mu.shape == (2000, 3)
     assert 0.1 <= mu[:, 0].min() and mu[:, 0].max() <= 0.2
     assert 0.5 <= mu[:, 1].min() and mu[:, 1].max() <= 0.6
@@ -34,7 +34,7 @@ def test_each_joint_draws_from_its_own_law():
 
 def test_joints_sharing_a_law_draw_joint_by_joint_from_one_stream():
     models = [JointErrorModel(Uniform(0.1, 0.2), 1e5) for _ in range(4)]  # equal laws, distinct objects
-    mu = draw_friction(models, 100, np.random.default_rng(2))
+    mu = draw_friction(models, 100, np.random.default_rng(2)).values
     expected = np.random.default_rng(2).uniform(0.1, 0.2, (4, 100)).T
     np.testing.assert_array_equal(mu, expected)
 
@@ -47,10 +47,10 @@ def test_lost_motion_is_the_closed_form(mode):
     prismatic, forces = np.array([False, True]), np.array([300.0, 40.0])
     directions = np.array([[1.0, 1.0], [-1.0, -1.0]])
     signs, group = approach_signs(mode, 6, directions, np.random.default_rng(0))
-    dq, mu = sample_joint_deviations(models, prismatic, forces, signs, np.random.default_rng(0))
+    dq, drawn = sample_joint_deviations(models, prismatic, forces, signs, np.random.default_rng(0))
     lost = np.array([0.12 * 300 * 0.03 / 2e4 + 1e-5, 0.12 * 40 / 2e6])
     np.testing.assert_allclose(dq, np.array([1e-4, -1e-5]) + directions[group] * lost, rtol=1e-14, atol=0)
-    assert np.all(mu == 0.12)
+    assert np.all(drawn.values == 0.12) and drawn.temperature_C is None
 
 
 def test_largest_mu_is_the_upper_bound_else_six_standard_deviations_above_the_mean():
@@ -121,7 +121,7 @@ def test_a_constant_friction_torque_loses_torque_over_stiffness_on_a_revolute_jo
     dq, drawn = sample_joint_deviations(models, np.array([False, False]), np.array([300.0, 300.0]),
                                         np.ones((4, 2)), np.random.default_rng(0))
     np.testing.assert_allclose(dq, [[0.4 / 50.0, 0.1 * 300 * 0.03 / 50.0]] * 4, rtol=1e-14, atol=0)
-    assert np.all(drawn[:, 0] == 0.4)
+    assert np.all(drawn.values[:, 0] == 0.4)
 
 
 def test_torque_laws_of_the_same_numbers_but_different_kinds_are_drawn_each_from_its_own():
@@ -129,7 +129,7 @@ def test_torque_laws_of_the_same_numbers_but_different_kinds_are_drawn_each_from
                            for law in (Gaussian, Lognormal))
     assert gaussian.params == lognormal.params and gaussian != lognormal
     mu = draw_friction([JointErrorModel(gaussian, 1.0), JointErrorModel(lognormal, 1.0)], 10_000,
-                       np.random.default_rng(0))
+                       np.random.default_rng(0)).values
     assert mu[:, 1].min() > 0 and mu[:, 0].min() < mu[:, 1].min()  # the lognormal's tail is thinner near 0
 
 

@@ -32,8 +32,8 @@ def _models(mu, stiffnesses, offsets_, backlash=0.0):
 def test_no_friction_no_backlash_no_noise_gives_zero_dispersion(ks, offsets_, forces_N, mode, cycles, seed, engine):
     rng = np.random.default_rng(seed)
     signs, _ = approach_signs(mode, cycles, np.vstack([np.ones(3), -np.ones(3)]), rng)
-    dq, mu = sample_joint_deviations(_models(0.0, ks, offsets_), GANTRY.joint_is_prismatic, forces_N, signs, rng)
-    assert np.all(mu == 0.0) and np.all(dq == np.array(offsets_))
+    dq, drawn = sample_joint_deviations(_models(0.0, ks, offsets_), GANTRY.joint_is_prismatic, forces_N, signs, rng)
+    assert np.all(drawn.values == 0.0) and np.all(dq == np.array(offsets_))
     q = (GANTRY.lower_limits + GANTRY.upper_limits) / 2
     positions, _ = tool_deviations(GANTRY, q, dq, engine)
     assert position_repeatability(positions)[0] == 0.0

@@ -15,7 +15,7 @@ from conftest import AXIS_URDF, axis_study
 from tribokin import run_study
 from tribokin.kinematics.robot import load_urdf
 from tribokin.simulation.drift import DriftTest, drift_tests
-from tribokin.simulation.joint_errors import JointErrorModel
+from tribokin.simulation.joint_errors import JointErrorModel, thermal_drive, torque_per_value
 from tribokin.simulation.pose_test import PoseRunner, TestSettings, pose_task
 from tribokin.tribology.friction_series import FrictionSeries, draw_series
 from tribokin.tribology.laws import Gaussian
@@ -158,7 +158,8 @@ def test_the_temperature_curve_is_the_closed_form_and_a_warm_start_stays_settled
 def test_each_tests_end_sets_are_its_drift_figures_inputs():
     """Random friction (AR(1) 0.9, warming): in each simulated test, dRP_l and dAP_p are the changes of its end sets'
     RP_l and AP_p (along one axis, AP_p is the barycentre's offset), and the temperatures' mean over the tests is
-    that of the draws' own warm-up (draw_series from the same stream)."""
+    that of the draws' own warm-up (draw_series from the same stream), to the bit: the temperatures the draws were
+    taken at, not recomputed."""
     axis = load_urdf(AXIS_URDF, "tool")
     thermal = Thermal(600.0, 2.0, mu_per_K=-0.005)
     model = JointErrorModel(Gaussian(mean=MEAN, std=STD), STIFFNESS, normal_force_N=LOAD_N, travel_per_cycle=0.5,
@@ -172,8 +173,9 @@ def test_each_tests_end_sets_are_its_drift_figures_inputs():
                                                       rel=1e-12)
     assert block.figures["dAP_p_um"] == pytest.approx(np.abs(block.AP_p_m[:, -1] - block.AP_p_m[:, 0]) * 1e6,
                                                       rel=1e-9)
-    drawn = draw_series(model.friction, model.series, 200, SPAN, np.random.default_rng(5),
-                        power_per_value(0.5, 10.0, LOAD_N), 10.0)
-    assert block.temperature_C[:, 0] == pytest.approx(drawn.temperature_C.mean(axis=0), abs=1e-12)
+    power = thermal_drive(model, torque_per_value([model], axis.joint_is_prismatic, [LOAD_N])[0], 10.0)[0]
+    assert power == pytest.approx(power_per_value(0.5, 10.0, LOAD_N), rel=1e-15)  # N at a prismatic joint
+    drawn = draw_series(model.friction, model.series, 200, SPAN, np.random.default_rng(5), power, 10.0)
+    assert np.array_equal(block.temperature_C[:, 0], drawn.temperature_C.mean(axis=0))
     assert block.temperature_squares[:, 0] == pytest.approx(drawn.temperature_C.var(axis=0) * 200, rel=1e-6,
                                                             abs=1e-18)

@@ -9,7 +9,7 @@ import pytest
 
 from tribokin.errors import LawError
 from tribokin.tribology.friction_series import FrictionSeries, draw_series
-from tribokin.tribology.laws import Constant, Gaussian, Scaled, Uniform
+from tribokin.tribology.laws import Constant, Scaled, Uniform
 from tribokin.tribology.thermal import Thermal, power_per_value
 
 #: A UR5-sized elbow (estimated): 150 N at r = 0.02 m (3 N·m per unit of mu), 1.5 rad per 4 s cycle.
@@ -46,23 +46,6 @@ def test_temperature_coupled_to_friction_is_its_recurrence():
     assert drawn.temperature_C[0] - 20.0 == pytest.approx(d * (1 - c ** k) / (1 - c), abs=1e-9)
     assert drawn.values[0] == pytest.approx(0.2 * (1 + a * (drawn.temperature_C[0] - 20.0)), abs=1e-15)
     assert drawn.temperature_C[0, -1] - 20.0 == pytest.approx(rise / (1 - a * rise), rel=1e-6)
-
-
-def test_a_path_of_powers_is_the_closed_form_and_the_draws_own_warm_up():
-    """Thermal.path (one linear filter along the cycles): under a constant power, T∞ + (T₀ − T∞)·exp(−t/τ) at each
-    cycle's start from any T₀; under a warming series' own draws (their factor at temperature included), the
-    temperatures draw_series reached cycle by cycle."""
-    thermal = Thermal(600.0, 2.5, 22.0, mu_per_K=-0.01)
-    time_s = CYCLE_S * np.arange(500)
-    settled = 22.0 + 2.5 * 1.3
-    closed = settled + (30.0 - settled) * np.exp(-time_s / 600.0)
-    assert thermal.path(np.full((2, 500), 1.3), CYCLE_S, 30.0) == pytest.approx(np.broadcast_to(closed, (2, 500)),
-                                                                                abs=1e-9)
-    per_value = power_per_value(TRAVEL, CYCLE_S, LEVER)
-    drawn = draw_series(Gaussian(mean=0.12, std=0.006), FrictionSeries(ar1=0.9, thermal=thermal), 3, 500,
-                        np.random.default_rng(4), per_value, CYCLE_S, start_C=25.0)
-    assert thermal.path(drawn.values * per_value, CYCLE_S, 25.0) == pytest.approx(drawn.temperature_C, abs=1e-9)
-    assert thermal.path(drawn.values[0] * per_value, CYCLE_S)[0] == 22.0  # ambient, one test's cycles
 
 
 def test_table_of_factors_and_a_torque_law():

@@ -8,12 +8,14 @@ from __future__ import annotations
 import json
 import re
 
+import numpy as np
 import pytest
 
 from conftest import axis_study
 from tribokin.output.writers import write_results
 from tribokin.run import run_study
-from tribokin.viz.contents import study_figures
+from tribokin.viz.canvas import save_png
+from tribokin.viz.contents import drift_title, study_figures
 from tribokin.viz.figures import drift_figure
 
 #: The axis warming by its own friction (AR(1) 0.9), one cycle every 10 s for 20 minutes, sets of 10 cycles.
@@ -73,6 +75,31 @@ def test_every_axis_is_labelled_with_its_unit(written):
     assert heat.get_xlabel().endswith("[min]") and heat.get_xlim() == (0.0, 20.0)
     assert [line.get_label() for line in heat.get_lines()] == ["x"]
     assert list(study_figures(result)) == ["field_P1.png", "drift_P1.png"]
+
+
+def axes_data(figure) -> list:
+    """What each of ``figure``'s axes draws: its lines' points and its bands' outlines."""
+    return [([line.get_xydata() for line in axes.get_lines()],
+             [path.vertices for band in axes.collections for path in band.get_paths()]) for axes in figure.axes]
+
+
+def test_a_study_s_notebook_figures_hold_each_pose_s_drift_figure_as_the_command_draws_it(written, tmp_path):
+    """StudyResult.figures() (the result that holds the drifts; a PoseResult holds none, its figures() its field)
+    gives drift_P1.png: the command's drawing (the same axes data as drift_figure's under the folder's title), saved
+    the folder's bytes."""
+    out, result = written
+    figures = result.figures()
+    assert list(figures) == ["field_P1.png", "drift_P1.png"]
+    assert list(result.poses[0].figures()) == ["field_P1.png"]
+    drawn = drift_figure(result.drifts[0], drift_title(result, result.drifts[0]))
+    assert figures["drift_P1.png"]._suptitle.get_text() == drawn._suptitle.get_text() == "axis — P1: ISO 9283 " \
+        "drift test, simulated"
+    for (lines, bands), (drawn_lines, drawn_bands) in zip(axes_data(figures["drift_P1.png"]), axes_data(drawn),
+                                                          strict=True):
+        assert len(lines) == len(drawn_lines) > 0 and len(bands) == len(drawn_bands) > 0
+        assert all(np.array_equal(a, b) for a, b in zip(lines + bands, drawn_lines + drawn_bands, strict=True))
+    save_png(figures["drift_P1.png"], tmp_path / "drift_P1.png")
+    assert (tmp_path / "drift_P1.png").read_bytes() == (out / "drift_P1.png").read_bytes()
 
 
 def test_a_short_test_without_warming_joints_is_drawn_in_seconds_and_says_so():

@@ -34,8 +34,7 @@ def add_parser(commands) -> None:
     parser.add_argument("--fit-ar1", action="store_true",
                         help="also fit each joint friction group's lag-one autocorrelation (ar1) from the series' "
                              "time order (t_s, else cycle order; series of 10 or more cycles), into calibration.json "
-                             "and calibrated.toml's friction, or say why the measurements allow none (a study with a "
-                             "[map] is refused: maps do not simulate ar1 yet)")
+                             "and calibrated.toml's friction, or say why the measurements allow none")
     add_registration_options(parser)
     parser.set_defaults(handler=calibrate)
 

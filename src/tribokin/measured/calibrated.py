@@ -440,8 +440,7 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
             space, ``value·exp(±1.96·se)`` with se the standard error of log value from the observed information:
             no re-fit, symmetric in log space, less exact where the likelihood is not Gaussian in log space).
         fit_ar1: also fit each joint friction group's ``ar1`` from the series' time order (module docstring), or
-            say why the measurements allow none; a study with a ``[map]`` is refused (a map does not simulate
-            friction time keys yet, so ``tribokin run`` would refuse the calibrated study).
+            say why the measurements allow none (a ``[map]`` of the calibrated study draws each fitted ``ar1``).
 
     Returns:
         the fit, its intervals and predictions, and the calibrated study (and its map). A bad ``seed``,
@@ -461,10 +460,6 @@ def calibrate(study, measurements, seed: int = SEED, *, out=None, executor=None,
         raise InputError("no [calibration] section: add one naming what to fit (fit = [\"stiffness\", ...])",
                          study.source, "calibration")
     refuse_series(study, "a calibration", "remove the key to calibrate the joints' independent-cycle model")
-    if fit_ar1 and study.map is not None:
-        raise InputError("--fit-ar1 writes ar1 into calibrated.toml's friction, which a [map] does not simulate yet "
-                         "(tribokin run would refuse it): remove the [map], or calibrate without --fit-ar1",
-                         study.source, "map")
     robot = load_robot(study, meshes=False)  # no robot drawn
     models = joint_models(study, robot)
     only_map = replace(study, poses=(), iso_cube=None, calibration=None)

@@ -10,8 +10,8 @@ E|RP₁ − RP₂| of two independent sets, what two ISO tests of the same robot
 
 Along the span, for its figure (:class:`PoseDrift`): the AP_p and RP_l of sets of the same size at several times
 between the start and end sets (:meth:`DriftTest.set_starts`; the start and end sets the figures' own), means over the
-same tests with their standard errors and bands, and each warming joint's temperature at every cycle
-(:func:`~tribokin.simulation.joint_errors.joint_temperatures`), its mean over the tests.
+same tests with their standard errors and bands, and each warming joint's temperature at every cycle's start, the one
+its friction was drawn at (:class:`~tribokin.simulation.joint_errors.FrictionDraws`), its mean over the tests.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ import numpy as np
 from tribokin.iso9283.gaussian_tests import BAND_PERCENTILES, mean_error
 from tribokin.iso9283.metrics import orientation_repeatability, position_spread
 from tribokin.propagation.exact import tool_deviations
-from tribokin.simulation.joint_errors import joint_temperatures, warming_joints
+from tribokin.simulation.joint_errors import warming_joints
 from tribokin.simulation.pose_result import PoseResult
 from tribokin.simulation.pose_test import PoseRunner, PoseTask
 from tribokin.streams import drift_stream
@@ -166,7 +166,8 @@ def drift_tests(runner: PoseRunner, task: PoseTask, forces_N: np.ndarray, direct
     (the figures), then the sets between them (the figure's; apart, so the figures' engine sees their cycles alone)."""
     span, size, nv = drift.span_cycles, drift.set_cycles, len(direction)
     state = WARM if drift.warm else COLD
-    dq, drawn = runner.deviations(task, forces_N, np.broadcast_to(direction, (tests * span, nv)), rng, tests, state)
+    dq, drawn = runner.deviations(task, forces_N, np.broadcast_to(direction, (tests * span, nv)), rng, tests, state,
+                                  temperatures=True)
     dq = dq.reshape(tests, span, nv)
     sets = np.concatenate([dq[:, :size], dq[:, span - size:]], axis=1).reshape(-1, nv)
     positions, angles = tool_deviations(runner.robot, task.q, sets, runner.settings.engine)
@@ -185,8 +186,7 @@ def drift_tests(runner: PoseRunner, task: PoseTask, forces_N: np.ndarray, direct
         barycentres = np.concatenate([barycentres[:, :1], inner.barycenter_m, barycentres[:, 1:]], axis=1)
         rp_l = np.concatenate([rp_l[:, :1], inner.RP_l_m, rp_l[:, 1:]], axis=1)
     ap_p = np.linalg.norm(barycentres - runner.robot.tool_placement(task.q).translation, axis=-1)
-    temperature = joint_temperatures(runner.models_at(task), runner.robot.joint_is_prismatic, forces_N, drawn, tests,
-                                     runner.settings.cycle_time_s, state)
+    temperature = drawn.temperature_C
     mean = temperature.mean(axis=0)
     squares = np.array([((temperature[..., k] - mean[:, k]) ** 2).sum(axis=0) for k in range(mean.shape[1])])
     return DriftBlock(figures, ap_p, rp_l, mean, squares.T.reshape(mean.shape))

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
+from typing import NamedTuple
 
 import numpy as np
 
@@ -276,11 +277,25 @@ def warming_joints(models: list[JointErrorModel]) -> list[int]:
     return [i for i, m in enumerate(models) if m.series is not None and m.series.thermal is not None]
 
 
+class FrictionDraws(NamedTuple):
+    """The joints' friction draws of n cycles, ``tests`` tests one after another (:func:`draw_friction`).
+
+    Attributes:
+        values: (n, nv) each law's value: mu [-], or a torque [N·m] (force [N]) for a joint whose law gives it; a
+            view of (nv, n) memory, so each joint's cycles are contiguous.
+        temperature_C: (tests, n / ``tests``, j) each warming joint's (:func:`warming_joints`, in order) temperature
+            at every cycle's start [°C], the one its draw was taken at; ``None`` unless asked for.
+    """
+
+    values: np.ndarray
+    temperature_C: np.ndarray | None = None
+
+
 def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Generator, tests: int = 1,
                   torque_per_unit: np.ndarray | None = None, cycle_time_s: float | None = None,
-                  state: FrictionState = COLD) -> np.ndarray:
-    """Friction coefficients mu (cycles, nv) [-], drawn joint by joint (all cycles of the first joint,
-    then of the second...): in one call when all joints share one law, the usual case.
+                  state: FrictionState = COLD, temperatures: bool = False) -> FrictionDraws:
+    """The joints' friction draws (:class:`FrictionDraws`): coefficients mu (cycles, nv) [-], drawn joint by joint
+    (all cycles of the first joint, then of the second...): in one call when all joints share one law, the usual case.
 
     A joint whose friction is a time series (:attr:`JointErrorModel.correlated`) draws its cycles as ``tests``
     consecutive tests of ``cycles / tests`` cycles each, every one from the series' start: ``state``'s
@@ -289,13 +304,14 @@ def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Gen
     draws so, the independent ones ``law.rvs((tests, cycles / tests))``. Its ``thermal`` heats it by the friction
     power :func:`~tribokin.tribology.thermal.power_per_value` gives from ``torque_per_unit`` (nv,) [N·m or N per
     unit of the law's value: :func:`sample_joint_deviations`'), its ``travel_per_cycle`` and ``cycle_time_s`` [s].
-
-    Returns a view of (nv, cycles) memory, so each joint's cycles are contiguous."""
-    laws = [m.friction for m in models]
+    With ``temperatures``, the warming joints' temperatures the draws were taken at, kept (:class:`FrictionDraws`).
+    """
+    laws, warming = [m.friction for m in models], warming_joints(models)
+    temperature = np.empty((tests, cycles // tests, len(warming))) if temperatures else None
     if not any(m.correlated for m in models):
         if all(law is laws[0] or law == laws[0] for law in laws):
-            return laws[0].rvs(size=(len(laws), cycles), random_state=rng).T
-        return np.array([law.rvs(size=cycles, random_state=rng) for law in laws]).T
+            return FrictionDraws(laws[0].rvs(size=(len(laws), cycles), random_state=rng).T, temperature)
+        return FrictionDraws(np.array([law.rvs(size=cycles, random_state=rng) for law in laws]).T, temperature)
     if cycles % tests:
         raise ValueError(f"{cycles} cycles do not split into {tests} tests")
     require_cycle_time(models, cycle_time_s)
@@ -305,15 +321,18 @@ def draw_friction(models: list[JointErrorModel], cycles: int, rng: np.random.Gen
         if series.thermal is not None:
             power = thermal_drive(model, torque_per_unit[i], cycle_time_s)[0]
         series, start = state.start(model.friction, series, power, cycle_time_s)
-        drawn.append(draw_series(model.friction, series, tests, cycles // tests, rng, power, cycle_time_s,
-                                 start).values)
-    return np.array(drawn).reshape(len(models), cycles).T
+        joint = draw_series(model.friction, series, tests, cycles // tests, rng, power, cycle_time_s, start)
+        drawn.append(joint.values)
+        if temperature is not None and i in warming:  # joint by joint into one array: no stacked copy
+            temperature[:, :, warming.index(i)] = joint.temperature_C
+    return FrictionDraws(np.array(drawn).reshape(len(models), cycles).T, temperature)
 
 
 def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray, normal_forces_N: np.ndarray,
                             signs: np.ndarray, rng: np.random.Generator, tests: int = 1,
                             cycle_time_s: float | None = None, state: FrictionState = COLD,
-                            warm_up_loads_N: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                            warm_up_loads_N: np.ndarray | None = None, temperatures: bool = False
+                            ) -> tuple[np.ndarray, FrictionDraws]:
     """Draw the joint deviations dq of every cycle.
 
     A joint's friction time series (:attr:`JointErrorModel.series`) runs through each of ``tests`` consecutive
@@ -335,16 +354,18 @@ def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray
         state: where each test's series start (:class:`~tribokin.tribology.friction_series.FrictionState`: cold
             at each joint's own age, warm, after a time warming up, at another age).
         warm_up_loads_N: (nv,) the bearing loads [N] the warm-up's power rests on (``None``: ``normal_forces_N``).
+        temperatures: keep each warming joint's temperature at every cycle's start (:class:`FrictionDraws`).
 
     Returns:
-        dq (n, nv) [m or rad] and the draws of the friction laws (n, nv): coefficients mu [-], or torques [N·m]
-        (forces [N]) for a joint whose law gives them.
+        dq (n, nv) [m or rad] and the draws of the friction laws (:class:`FrictionDraws`: their values (n, nv),
+        coefficients mu [-], or torques [N·m] (forces [N]) for a joint whose law gives them).
     """
     torque = None
     if any(m.correlated for m in models):  # the friction torque (force) per unit of the law's value, for thermal
         torque = torque_per_value(models, prismatic, normal_forces_N if warm_up_loads_N is None else warm_up_loads_N)
-    mu = draw_friction(models, signs.shape[0], rng, tests, torque, cycle_time_s, state)
-    dq = mu * (friction_loads(models, np.asarray(normal_forces_N, dtype=float)) * friction_lever(models, prismatic))
+    drawn = draw_friction(models, signs.shape[0], rng, tests, torque, cycle_time_s, state, temperatures)
+    dq = drawn.values * (friction_loads(models, np.asarray(normal_forces_N, dtype=float))
+                         * friction_lever(models, prismatic))
     if any(m.backlash for m in models):
         dq += np.array([m.backlash / 2 for m in models])
     dq *= signs
@@ -352,20 +373,4 @@ def sample_joint_deviations(models: list[JointErrorModel], prismatic: np.ndarray
         dq += np.array([m.offset for m in models])
     if any(m.noise_std > 0 for m in models):
         dq += rng.standard_normal(dq.shape) * np.array([m.noise_std for m in models])
-    return dq, mu
-
-
-def joint_temperatures(models: list[JointErrorModel], prismatic: np.ndarray, normal_forces_N: np.ndarray,
-                       drawn: np.ndarray, tests: int, cycle_time_s: float, state: FrictionState = COLD) -> np.ndarray:
-    """(tests, n / ``tests``, j) each warming joint's (:func:`warming_joints`, in order) temperature [°C] at the
-    start of every cycle of ``tests`` tests one after another, from the law's draws ``drawn`` (n, nv) that
-    :func:`sample_joint_deviations` returned under the same ``normal_forces_N`` (nv,) [N], ``cycle_time_s`` [s] and
-    ``state``: each cycle's draw (its factor at its temperature included) dissipates its power over the cycle
-    (:meth:`~tribokin.tribology.thermal.Thermal.path`), as it heated the next cycle there."""
-    values = np.asarray(drawn).reshape(tests, -1, len(models))
-    torque, warming = torque_per_value(models, prismatic, normal_forces_N), warming_joints(models)
-    out = np.empty(values.shape[:2] + (len(warming),))
-    for k, i in enumerate(warming):  # joint by joint into one array: no stacked copy
-        power, start = thermal_drive(models[i], torque[i], cycle_time_s, state)
-        out[:, :, k] = models[i].series.thermal.path(values[:, :, i] * power, cycle_time_s, start)
-    return out
+    return dq, drawn

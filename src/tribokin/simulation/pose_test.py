@@ -239,18 +239,19 @@ class PoseRunner:
     def draw(self, task: PoseTask, forces_N, cycles: int, mode: str, rng):
         """Joint deviations of the cycles at one pose: (dq (n, nv) [m or rad], mu (n, nv), approach index (n,))."""
         signs, group = approach_signs(mode, cycles, task.directions, rng)
-        dq, mu = self.deviations(task, forces_N, signs, rng)
-        return dq, mu, group
+        dq, drawn = self.deviations(task, forces_N, signs, rng)
+        return dq, drawn.values, group
 
     def deviations(self, task: PoseTask, forces_N, signs: np.ndarray, rng, tests: int = 1,
-                   state: FrictionState | None = None):
+                   state: FrictionState | None = None, temperatures: bool = False):
         """Joint deviations dq (n, nv) [m or rad] and the friction laws' draws (n, nv) of n cycles at a pose under
         bearing loads ``forces_N`` (nv,) [N], joint signs ``signs`` (n, nv): ``tests`` tests one after another, a
-        joint's friction series running through each from its start, ``state`` (``None``: the runner's)
+        joint's friction series running through each from its start, ``state`` (``None``: the runner's), with
+        ``temperatures`` the warming joints' temperatures they were drawn at
         (:func:`~tribokin.simulation.joint_errors.sample_joint_deviations`)."""
         return sample_joint_deviations(self.models_at(task), self.robot.joint_is_prismatic, forces_N, signs, rng,
                                        tests, self.settings.cycle_time_s, self.state if state is None else state,
-                                       self.warm_up_loads_N)
+                                       self.warm_up_loads_N, temperatures)
 
     def at(self, state: FrictionState) -> PoseRunner:
         """This runner with its joints' friction series starting from ``state``."""
@@ -269,7 +270,8 @@ class PoseRunner:
         torque = None
         if self.warm_up_loads_N is not None:
             torque = torque_per_value(self.models, self.robot.joint_is_prismatic, self.warm_up_loads_N)
-        mu = draw_friction(self.models, tests * cycles, rng, tests, torque, self.settings.cycle_time_s, self.state)
+        mu = draw_friction(self.models, tests * cycles, rng, tests, torque, self.settings.cycle_time_s,
+                           self.state).values
         return mu.reshape(tests, cycles, len(self.models))
 
     def approach_sequence(self, task: PoseTask, rng) -> tuple[np.ndarray, np.ndarray]:
@@ -290,14 +292,14 @@ class PoseRunner:
         forces = self.normal_forces(task)
         signs, group = self.approach_sequence(task, rng)
         tests = len(task.directions) if self.settings.approach == "unidirectional" else 1
-        dq, mu = self.deviations(task, forces, signs, rng, tests)
+        dq, drawn = self.deviations(task, forces, signs, rng, tests)
         positions, angles = tool_deviations(self.robot, task.q, dq, self.settings.engine)
         commanded = self.robot.tool_placement(task.q)
         metrics = directional_metrics(positions, angles, commanded.translation, group, task.labels)
         reference = self.robot.tool_placement(task.q + self.offsets)
         return PoseResult(task.name, task.q, commanded.translation.copy(), commanded.rotation.copy(),
-                          reference.translation.copy(), positions, angles, task.labels, group, mu, dq, forces,
-                          metrics, joint_names=tuple(self.robot.joint_names), robot=self.robot)
+                          reference.translation.copy(), positions, angles, task.labels, group, drawn.values, dq,
+                          forces, metrics, joint_names=tuple(self.robot.joint_names), robot=self.robot)
 
     def run(self, task: PoseTask, index: int) -> PoseResult:
         """Measure pose ``index`` (ISO 9283 per approach direction and across them, and beyond)."""

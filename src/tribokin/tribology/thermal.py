@@ -89,19 +89,6 @@ class Thermal:
         settled = self.ambient_C + self.resistance_K_per_W * np.asarray(power_W, dtype=float)
         return settled + (temperature_C - settled) * math.exp(-duration_s / self.time_constant_s)
 
-    def path(self, power_W: np.ndarray, cycle_time_s: float, start_C: float | None = None) -> np.ndarray:
-        """(..., cycles) the temperature [°C] at the start of each cycle from ``start_C`` (``None``: ambient), each
-        cycle's ``power_W`` (..., cycles) [W] held over its ``cycle_time_s`` [s]: :meth:`step` cycle after cycle,
-        T_{k+1} = d·T_k + (1 − d)·(ambient + R·P_k), d = exp(−Δt/τ), as one linear filter along the cycles."""
-        from scipy.signal import lfilter
-
-        power_W = np.asarray(power_W, dtype=float)
-        start = self.ambient_C if start_C is None else float(start_C)
-        decay = math.exp(-cycle_time_s / self.time_constant_s)
-        settled = self.ambient_C + self.resistance_K_per_W * power_W[..., :-1]
-        rise = lfilter([1.0 - decay], [1.0, -decay], settled - start, axis=-1)  # T_k − T₀ for k >= 1
-        return start + np.concatenate([np.zeros(power_W.shape[:-1] + (1,)), rise], axis=-1)
-
     def settled_C(self, power_per_value_W: float, value: float) -> float:
         """The temperature [°C] a joint settles at whose friction of ``value`` at ambient (times its factor at that
         temperature) dissipates ``power_per_value_W`` [W] per unit of it: T = ambient + R·P·value·factor(T), by

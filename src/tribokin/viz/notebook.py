@@ -56,7 +56,8 @@ def study_scene(result: StudyResult) -> str | None:
 
 @result_figures.register(PoseResult)
 def pose_figures(pose: PoseResult) -> dict[str, Figure]:
-    """The pose's repeatability field by its file name in an output folder, titled with the pose's name."""
+    """The pose's repeatability field by its file name in an output folder, titled with the pose's name (its drift
+    test's figure, with ``[drift]``, is its study's: :func:`~tribokin.viz.contents.study_figures`)."""
     return {pose_figure_file(pose.name): repeatability_field(pose, pose.name)}
 
 
