@@ -358,4 +358,4 @@ def test_every_scenario_of_a_map_comparing_two_states_has_its_change_maps_on_one
     shown = [name for name in maps.map_figure_names(workspace_map) if f"<h3>{name}</h3>" in page]
     assert shown == maps.map_figure_names(workspace_map) and (out / "map_AP_p_change_stiff.png").stat().st_size > 5000
     header = (out / "map_stiff.csv").read_text().splitlines()[0].split(",")
-    assert {"RP_l_change_um", "RP_l_change_mc_error_um"} <= set(header)
+    assert {"RP_l_change_um", "RP_l_change_mc_error_um", "RP_l_change_engine_bound_um"} <= set(header)
