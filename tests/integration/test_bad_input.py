@@ -547,6 +547,10 @@ CASES = [
     study("[map]", '[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "change"\n\n[map]\ncompare = "cold"',
           base=SERIES_MAP, expected=("scenarios[1].name", "writes map_RP_l_change.png, as map.compare does"),
           id="scenario-named-like-a-change-map"),
+    study("[map]", '[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "b"\n\n[[scenarios]]\nname = "change_b"\n\n'
+          '[map]\ncompare = "cold"', base=SERIES_MAP,
+          expected=("scenarios[2].name", "writes map_RP_l_change_b.png, as scenarios[1].name does"),
+          id="scenario-named-like-another-scenarios-change-map"),
     study(None, base=GANTRY_MAP + '\n[[scenarios]]\nname = "raw"\n\n[[scenarios]]\nname = "hi"\n',
           expected=("scenarios[1].name", "writes map_RP_l_hi.png, as map.statistic does"),
           id="scenario-named-like-the-band-map"),

@@ -173,7 +173,12 @@ def test_a_map_with_time_keys_has_its_changes_and_their_errors(time_keys_referen
     assert summary["state"] == {"age_cycles": 0, "after_s": 600} and summary["compare"]["after_s"] == "warm"
     assert summary["RP_l_change_um"]["max"] < 0 and summary["AP_p_change_um"]["max"] < 0  # run in and warm: less
     header = time_keys_reference["map.csv"].split(b"\n", 1)[0].decode().split(",")
-    assert {"RP_l_change_um", "AP_p_change_um", "RP_l_change_mc_error_um", "AP_p_change_mc_error_um"} <= set(header)
+    changes = ["RP_l_change_mc_error_um", "AP_p_change_mc_error_um", "RP_l_change_engine_bound_um",
+               "AP_p_change_engine_bound_um"]  # after the relative Monte Carlo errors, in this order
+    assert header[header.index("RP_l_change_mc_error_um"):][:4] == changes and "RP_l_change_um" in header
+    computed = next(iter(summary["computed"].values()))
+    for name in ("RP_l_change", "AP_p_change"):  # the first-order model's bounds: small, not 0
+        assert 0 < computed[f"{name}_max_engine_bound_um"] < computed[f"{name}_max_mc_error_um"]
 
 
 def test_a_map_with_time_keys_gives_the_same_bytes_chunked_on_two_workers(time_keys_reference, tmp_path):

@@ -308,3 +308,54 @@ def test_the_report_says_which_robot_each_scenario_used_and_what_each_reaches(tw
     for scenario in summary["map"]["scenarios"]:
         assert f"<td>{scenario['name']}</td><td>{scenario['reachable']} / {summary['map']['count']}</td>" in report
     assert summary["map"]["scenarios"][1]["reachable"] > summary["map"]["scenarios"][0]["reachable"]
+
+
+def compared_scenarios_map():
+    """The axis's joint map (3 targets, 10 cycles) whose friction runs in and is correlated, new against 5 000 cycles
+    of age, for a reference and a stiffer scenario (``map.compare``)."""
+    from conftest import axis_study
+
+    study = axis_study(friction={"preset": "42CD4-raw", "ar1": 0.5, "run_in": {"start": 0.3, "tau_cycles": 20}},
+                       stiffness=2.0e6)
+    study["study"]["cycles"] = 10
+    study["map"] = {"kind": "joint", "joints": ["x"], "ranges": [[0.1, 0.3]], "counts": [3], "directional": False,
+                    "state": {"age_cycles": 0}, "compare": {"age_cycles": 5000}}
+    study["scenarios"] = [{"name": "raw"}, {"name": "stiff", "joints": {"stiffness": 4.0e6}}]
+    return run_study(study)
+
+
+def test_every_scenario_of_a_map_comparing_two_states_has_its_change_maps_on_one_scale(monkeypatch, tmp_path):
+    """``map.compare`` with scenarios: the reference's change maps and each other scenario's
+    (``map_<change>_<scenario>.png``, after the ratios and differences), each change's maps on one colour scale
+    centred on 0 over every scenario's values, drawing each scenario's own changes; the report shows them in that
+    order."""
+    from tribokin.viz import maps
+
+    result = compared_scenarios_map()
+    workspace_map = result.map
+    assert maps.map_figure_names(workspace_map) == [
+        "map_RP_l.png", "map_dominant_joint.png", "map_RP_l_hi.png", "map_RP_l_change.png", "map_AP_p_change.png",
+        "map_RP_l_stiff.png", "map_RP_l_ratio_stiff.png", "map_RP_l_diff_stiff.png", "map_RP_l_change_stiff.png",
+        "map_AP_p_change_stiff.png", "map_winner.png"]
+    drawn = {}
+    monkeypatch.setattr(maps, "save_grid_image", lambda grid, values, path, label, title, **options:
+                        drawn.update({path.name: (values(np.arange(3)), title, options)}))
+    maps.save_map_figures(workspace_map, tmp_path, "study")
+    reference, stiff = workspace_map.scenarios.values()
+    for name, file in (("RP_l_change_um", "RP_l_change"), ("AP_p_change_um", "AP_p_change")):
+        values = np.concatenate([reference.change_figure(name), stiff.change_figure(name)])
+        assert np.all(values < 0) and not np.array_equal(*np.split(values, 2))  # run in: less, by the stiffness
+        np.testing.assert_array_equal(drawn[f"map_{file}.png"][0], reference.change_figure(name))
+        np.testing.assert_array_equal(drawn[f"map_{file}_stiff.png"][0], stiff.change_figure(name))
+        norms = [drawn[f][2]["norm"] for f in (f"map_{file}.png", f"map_{file}_stiff.png")]
+        assert all((n.vmin, n.vmax) == (values.min(), -values.min()) for n in norms)  # all below 0: centred on it
+        assert all("(colour scale shared by all scenarios)" in drawn[f][1]
+                   for f in (f"map_{file}.png", f"map_{file}_stiff.png"))
+        assert ", stiff " in drawn[f"map_{file}_stiff.png"][1]
+    monkeypatch.undo()
+    out = write_results(result, tmp_path / "out", report="light")
+    page = (out / "report.html").read_text(encoding="utf-8")
+    shown = [name for name in maps.map_figure_names(workspace_map) if f"<h3>{name}</h3>" in page]
+    assert shown == maps.map_figure_names(workspace_map) and (out / "map_AP_p_change_stiff.png").stat().st_size > 5000
+    header = (out / "map_stiff.csv").read_text().splitlines()[0].split(",")
+    assert {"RP_l_change_um", "RP_l_change_mc_error_um", "RP_l_change_engine_bound_um"} <= set(header)

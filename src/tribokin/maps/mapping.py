@@ -194,10 +194,16 @@ def _measure_block(arrays: dict, slots: np.ndarray, robot: Robot, scenarios: lis
 
 def change_figures(start: dict, end: dict, approach: str, setup: ExpectedSetup | None) -> dict[str, np.ndarray]:
     """The change (:data:`~tribokin.maps.schema.CHANGE_FIGURES`) from figures ``start`` to ``end`` (a block's
-    :func:`measure_into` values in the two states), end minus start [µm] (k, 2)."""
+    :func:`measure_into` values in the two states), end minus start [µm] (k, 2); an expected map's (a ``setup``) also
+    under ``change_engine_bounds`` (k, 2) [µm] how far each change may lie from the same change through exact FK: the
+    two figures' errors from their engines' bounds summed (``figure_errors``; each state's tests through its own model
+    or engine, whose errors need not cancel)."""
     figure_set = "one-test" if setup is None else setup.figure_set
     columns = [figure_index(name, figure_set, per_direction(approach)) for name in CHANGED_FIGURES]
-    return {"change": end["figures"][:, columns] - start["figures"][:, columns]}
+    change = {"change": end["figures"][:, columns] - start["figures"][:, columns]}
+    if setup is not None:
+        change["change_engine_bounds"] = end["figure_errors"][:, columns] + start["figure_errors"][:, columns]
+    return change
 
 
 #: The first tries of the holes from their neighbours go to an executor's workers in parts of about this many.

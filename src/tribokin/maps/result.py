@@ -106,6 +106,12 @@ class ScenarioMap:
         (:func:`~tribokin.maps.expected_figures.change_errors`)."""
         return self.read("change_mc_errors", targets, CHANGE_FIGURES.index(name))
 
+    def change_bound(self, name: str, targets=slice(None)) -> np.ndarray:
+        """Change ``name``'s bound [µm] at ``targets`` (an expected map's) on how far it may lie from the same change
+        through exact FK: its two figures' :meth:`figure_error` in the two states, summed
+        (:func:`~tribokin.maps.mapping.change_figures`)."""
+        return self.read("change_engine_bounds", targets, CHANGE_FIGURES.index(name))
+
     def has(self, name: str) -> bool:
         """Whether the map has figure ``name``."""
         return name in [figure.name for figure in self.figure_list]
@@ -409,10 +415,12 @@ class MapResult:
             mc_errors = np.fmax(mc_errors, np.nanmax(scenario.read("mc_errors", part)[flags][:, columns], axis=0,
                                                      initial=0.0))
         change = {}
-        if scenario.change:  # each change's largest Monte Carlo standard error [µm]
-            change = {f"{figure_stem(name)}_max_mc_error_um": spread(
-                lambda part, name=name: scenario.change_error(name, part), self.grid.size).max
-                for name in CHANGE_FIGURES}
+        for name in CHANGE_FIGURES if scenario.change else ():  # each change's largest Monte Carlo standard error
+            stem = figure_stem(name)  # and largest bound from the engines' bounds [µm]
+            change[f"{stem}_max_mc_error_um"] = spread(lambda part, name=name: scenario.change_error(name, part),
+                                                       self.grid.size).max
+            change[f"{stem}_max_engine_bound_um"] = spread(lambda part, name=name: scenario.change_bound(name, part),
+                                                           self.grid.size).max
         return {"engine": scenario.engine, "analytic_targets": analytic, "sampled_targets": sampled,
                 "fallback_targets": fallback,
                 "engine_targets": {name: int(count) for name, count in zip(TARGET_ENGINES, engines, strict=True)},

@@ -117,6 +117,13 @@ def change_error_name(name: str) -> str:
     return f"{figure_stem(name)}_mc_error_um"
 
 
+def change_bound_name(name: str) -> str:
+    """The ``map.csv`` column of change ``name``'s bound from the engines' bounds [µm] (``RP_l_change_um``:
+    ``RP_l_change_engine_bound_um``): the two states' figure-level errors summed (:func:`~tribokin.maps.mapping.
+    change_figures`)."""
+    return f"{figure_stem(name)}_engine_bound_um"
+
+
 def table_figures(figure_set: str, both_directions: bool = False) -> list[str]:
     """The figures' columns of ``map.csv`` in order, ``dominant_joint`` (the joint's name) among them."""
     figures = map_figures(figure_set, both_directions)
@@ -164,7 +171,8 @@ SCENARIO_COLUMNS = (MapColumn("figures", "figures", "f8"), MapColumn("normal_for
                     MapColumn("figure_errors", "figures", "f8", _EXPECTED),
                     MapColumn("mc_errors", "figures", "f8", _EXPECTED),
                     MapColumn("change", len(CHANGE_FIGURES), "f8", change=True),
-                    MapColumn("change_mc_errors", len(CHANGE_FIGURES), "f8", _EXPECTED, change=True))
+                    MapColumn("change_mc_errors", len(CHANGE_FIGURES), "f8", _EXPECTED, change=True),
+                    MapColumn("change_engine_bounds", len(CHANGE_FIGURES), "f8", _EXPECTED, change=True))
 
 
 def scenario_column(scenario: int, name: str) -> str:

@@ -11,7 +11,14 @@ from __future__ import annotations
 import numpy as np
 
 from tribokin.maps.expected_figures import TARGET_ENGINES, stated_figures
-from tribokin.maps.schema import CHANGE_FIGURES, change_error_name, figure_index, mc_error_name, table_figures
+from tribokin.maps.schema import (
+    CHANGE_FIGURES,
+    change_bound_name,
+    change_error_name,
+    figure_index,
+    mc_error_name,
+    table_figures,
+)
 from tribokin.study.names import map_table_file
 
 
@@ -26,7 +33,8 @@ def map_table_columns(workspace_map, scenario, targets: slice) -> dict[str, np.n
     """``scenario``'s table at ``targets``, by header: position [m], reachable (by its robot), the figures (µm, mdeg),
     the change from the map's state to its ``compare`` state (:data:`~tribokin.maps.schema.CHANGE_FIGURES`), an
     expected map's engine, its bound [nm, nrad] and each sampled figure's relative Monte Carlo standard error
-    (:func:`~tribokin.maps.schema.mc_error_name`; a change's in µm, :func:`~tribokin.maps.schema.change_error_name`),
+    (:func:`~tribokin.maps.schema.mc_error_name`; a change's in µm, :func:`~tribokin.maps.schema.change_error_name`,
+    and its bound from the engines' bounds [µm], :func:`~tribokin.maps.schema.change_bound_name`),
     ratio and difference of RP_l to the reference scenario (other
     scenarios), who reaches the target (a scenario measured with another robot than the reference's), grid
     coordinates, q_<joint> [m or rad],
@@ -54,6 +62,7 @@ def map_table_columns(workspace_map, scenario, targets: slice) -> dict[str, np.n
             for name in stated_figures(scenario.figure_set, scenario.both_directions)})
         if scenario.change:
             columns.update({change_error_name(name): scenario.change_error(name, targets) for name in CHANGE_FIGURES})
+            columns.update({change_bound_name(name): scenario.change_bound(name, targets) for name in CHANGE_FIGURES})
     if scenario is not workspace_map.reference:
         columns["RP_l_ratio"] = workspace_map.ratio_RP_l(scenario, targets)
         columns["RP_l_diff_um"] = workspace_map.diff_RP_l_um(scenario, targets)

@@ -219,9 +219,11 @@ def check_names(study: Study, tasks: list[PoseTask]) -> None:
         check_file_name_part(name, study.source, key)
     cube = [("iso_cube", task.name) for task in tasks[len(study.poses):]]
     files = [(key, pose_figure_file(name)) for key, name in cube + poses]
+    change = study.map is not None and study.map.compare is not None  # every scenario's change maps too
     if study.map is not None:  # the reference's own heat maps, which a scenario named "hi" or "multi" would write
         files = [("map.statistic", file) for file in EXPECTED_MAP_FILES.get(study.map.figure_set, ())] + files
-        if study.map.compare is not None:  # and its change maps: a scenario renames
+        if change:  # and its change maps: a scenario renames
             files = [("map.compare", file) for file in CHANGE_MAP_FILES] + files
-    files += [(key, file) for key, name in scenarios[1:] for file in scenario_files(name)]  # [0]: the reference
+    # [0]: the reference; a scenario "change_b" writes map_RP_l_change_b.png, as scenario "b"'s change map
+    files += [(key, file) for key, name in scenarios[1:] for file in scenario_files(name, change)]
     check_files_apart(files, study.source)

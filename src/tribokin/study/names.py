@@ -20,8 +20,11 @@ MAX_NAME_CHARACTERS = 100
 MAX_FILE_NAME_BYTES = 255
 #: Figures of each scenario other than the reference: ``map_<kind>_<scenario>.png``.
 SCENARIO_FIGURES = ("RP_l", "RP_l_ratio", "RP_l_diff")
-#: The heat maps of a map comparing two states (``map.compare``): its RP_l's and AP_p's change.
-CHANGE_MAP_FILES = ("map_RP_l_change.png", "map_AP_p_change.png")
+#: The figures of every scenario of a map comparing two states (``map.compare``): its RP_l's and AP_p's change,
+#: ``map_<kind>.png`` for the reference, ``map_<kind>_<scenario>.png`` for the others (as :data:`SCENARIO_FIGURES`).
+CHANGE_MAP_KINDS = ("RP_l_change", "AP_p_change")
+#: The reference's change heat maps.
+CHANGE_MAP_FILES = tuple(f"map_{kind}.png" for kind in CHANGE_MAP_KINDS)
 #: The heat maps of an expected map's own figures, by the figure set that draws them (``MapSpec.figure_set``): its
 #: RP_l band's high end; with the directional figures, vAP_p and RP_l_multi too.
 EXPECTED_MAP_FILES = {"expected": ("map_RP_l_hi.png",),
@@ -55,13 +58,16 @@ def map_table_file(scenario: str | None, extension: str = "csv") -> str:
 
 
 def map_figure_file(kind: str, scenario: str) -> str:
-    """``map_<kind>_<scenario>.png``: a figure of a scenario other than the reference (``SCENARIO_FIGURES``)."""
+    """``map_<kind>_<scenario>.png``: a figure of a scenario other than the reference (``SCENARIO_FIGURES``,
+    ``CHANGE_MAP_KINDS``)."""
     return f"map_{kind}_{scenario}.png"
 
 
-def scenario_files(scenario: str) -> list[str]:
-    """The files a scenario other than the reference writes (the reference's names hold no scenario name)."""
-    return [map_table_file(scenario)] + [map_figure_file(kind, scenario) for kind in SCENARIO_FIGURES]
+def scenario_files(scenario: str, change: bool = False) -> list[str]:
+    """The files a scenario other than the reference writes (the reference's names hold no scenario name); ``change``:
+    in a map comparing two states, its change heat maps too (``CHANGE_MAP_KINDS``)."""
+    kinds = SCENARIO_FIGURES + (CHANGE_MAP_KINDS if change else ())
+    return [map_table_file(scenario)] + [map_figure_file(kind, scenario) for kind in kinds]
 
 
 def _shown(name: str) -> str:

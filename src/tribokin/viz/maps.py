@@ -16,7 +16,7 @@ from matplotlib.patches import Patch
 
 from tribokin.maps.grid import GridAxis, TargetGrid
 from tribokin.maps.result import REACHED_BY, MapResult, ScenarioMap
-from tribokin.study.names import CHANGE_MAP_FILES, EXPECTED_MAP_FILES, map_figure_file
+from tribokin.study.names import CHANGE_MAP_FILES, CHANGE_MAP_KINDS, EXPECTED_MAP_FILES, map_figure_file
 from tribokin.viz.canvas import NO_MATH, agg_figure, save_png
 
 UNREACHABLE_GREY = "#c8c8c8"
@@ -275,8 +275,22 @@ EXPECTED_HEAT_MAPS = tuple((file, *drawn) for file, drawn in zip(EXPECTED_MAP_FI
      "RP_l of cycles each approached from a random joint-space direction")), strict=True))
 
 
-#: Heat maps of a map comparing two states of its friction series: (file, change, the figure that changes).
-CHANGE_HEAT_MAPS = tuple(zip(CHANGE_MAP_FILES, ("RP_l_change_um", "AP_p_change_um"), ("RP_l", "AP_p"), strict=True))
+#: Heat maps of a map comparing two states of its friction series: (the reference's file, the kind in another
+#: scenario's file ``map_<kind>_<scenario>.png``, change, the figure that changes).
+CHANGE_HEAT_MAPS = tuple(zip(CHANGE_MAP_FILES, CHANGE_MAP_KINDS, ("RP_l_change_um", "AP_p_change_um"), ("RP_l", "AP_p"),
+                             strict=True))
+
+
+def change_norms(workspace_map: MapResult) -> dict[str, Normalize]:
+    """A map comparing two states: per change (``RP_l_change_um``, ``AP_p_change_um``), one colour scale centred on 0
+    for every scenario's map of it, over all their values at the targets the heat maps show (:func:`rp_l_norm`'s
+    reason); none for other maps."""
+    if not workspace_map.reference.change:
+        return {}
+    shown = shown_targets(workspace_map.grid)[0].ravel()
+    return {name: value_norm(np.concatenate([s.change_figure(name, shown) for s in workspace_map.scenarios.values()]),
+                             centre=0.0)
+            for _, _, name, _ in CHANGE_HEAT_MAPS}
 
 
 def state_label(state: dict) -> str:
@@ -290,10 +304,12 @@ def state_label(state: dict) -> str:
 LARGER_DIRECTION = " (the larger of the + and − approach directions')"
 
 
-def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | None) -> dict[str, tuple]:
+def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | None,
+                 changes: dict[str, Normalize] | None = None) -> dict[str, tuple]:
     """File name -> arguments of :func:`grid_image` (values, label, title, options) of each map figure,
     in the order a reader follows: the reference, each other scenario, their ratios and differences to
-    the reference, the winner."""
+    the reference, each one's changes (a map comparing two states), the winner; ``norm``: RP_l's colour scale,
+    ``changes``: each change's (:func:`change_norms`; ``None``: each map its own)."""
     reference = workspace_map.reference
     others = list(workspace_map.scenarios.values())[1:]
     shared = " (colour scale shared by all scenarios)" if others else ""
@@ -316,10 +332,11 @@ def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | No
                     for file, name, label, title in EXPECTED_HEAT_MAPS if reference.has(name)})
     if reference.change:
         start, end = (state_label(workspace_map.states[key]) for key in ("state", "compare"))
+        changes = changes or {}
         figures.update({file: (lambda shown, name=name: reference.change_figure(name, shown), f"{figure} change [µm]",
-                               f"{figure} from {start} to {end}, end − start{compared} (near 0: drifts least)",
-                               {"cmap": "RdBu_r", "centre": 0.0})
-                        for file, name, figure in CHANGE_HEAT_MAPS})
+                               f"{figure} from {start} to {end}, end − start{compared} (near 0: drifts least){shared}",
+                               {"cmap": "RdBu_r", "centre": 0.0, "norm": changes.get(name)})
+                        for file, _, name, figure in CHANGE_HEAT_MAPS})
     for s in others:
         figures[map_figure_file("RP_l", s.name)] = (lambda shown, s=s: s.figure("RP_l_um", shown), "RP_l [µm]",
                                              f"RP_l{LARGER_DIRECTION if s.both_directions else ''}, {s.name}{shared}",
@@ -336,6 +353,12 @@ def _map_figures(workspace_map: MapResult, study_name: str, norm: Normalize | No
             f"RP_l difference {s.name} − {reference.name}",
             {"cmap": "RdBu_r", "centre": 0.0, "bases": _bases(workspace_map, reference, s),
              **_reach_marks(workspace_map, s)})
+    for _, kind, name, figure in CHANGE_HEAT_MAPS if reference.change else ():
+        for s in others:
+            figures[map_figure_file(kind, s.name)] = (
+                lambda shown, s=s, name=name: s.change_figure(name, shown), f"{figure} change [µm]",
+                f"{figure} from {start} to {end}, end − start, {s.name} (near 0: drifts least){shared}",
+                {"cmap": "RdBu_r", "centre": 0.0, "norm": changes.get(name), "bases": _bases(workspace_map, s)})
     if others:
         names = list(workspace_map.scenarios)
         several = workspace_map.robot_count > 1
@@ -380,9 +403,9 @@ def map_figure_names(workspace_map: MapResult) -> list[str]:
 def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) -> list[Path]:
     """``map_RP_l.png`` and ``map_dominant_joint.png`` (reference scenario); with scenarios, each other
     scenario's RP_l (all RP_l maps on one colour scale, :func:`rp_l_norm`), its ratio and difference to
-    the reference, and ``map_winner.png`` (which scenario has the smallest RP_l); returns their paths in
-    that order."""
-    figures = _map_figures(workspace_map, study_name, rp_l_norm(workspace_map))
+    the reference, comparing two states each one's changes (each change's maps on one scale, :func:`change_norms`),
+    and ``map_winner.png`` (which scenario has the smallest RP_l); returns their paths in that order."""
+    figures = _map_figures(workspace_map, study_name, rp_l_norm(workspace_map), change_norms(workspace_map))
     for name, (values, label, title, options) in figures.items():
         save_grid_image(workspace_map.grid, values, folder / name, label, f"{study_name}: {title}", **options)
     return [folder / name for name in figures]
@@ -390,6 +413,6 @@ def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) ->
 
 def map_figures_drawn(workspace_map: MapResult, study_name: str) -> dict[str, Figure]:
     """The figures :func:`save_map_figures` writes, by file name in the same order, as matplotlib Figures."""
-    figures = _map_figures(workspace_map, study_name, rp_l_norm(workspace_map))
+    figures = _map_figures(workspace_map, study_name, rp_l_norm(workspace_map), change_norms(workspace_map))
     return {name: grid_image(workspace_map.grid, values, label, f"{study_name}: {title}", **options)
             for name, (values, label, title, options) in figures.items()}
