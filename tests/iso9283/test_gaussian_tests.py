@@ -112,33 +112,41 @@ def test_the_shape_table_alone_imports_scipy_interpolate():
     subprocess.run([sys.executable, "-c", code], check=True, env=os.environ | {"PYTHONPATH": os.pathsep.join(sys.path)})
 
 
-def mixture_draws(columns: np.ndarray, covariance: np.ndarray, count: int, rng) -> np.ndarray:
-    """``count`` norms |Σ s_i b_i + w| of one target's mixture, drawn (signs ±1 with equal odds, w ~ N(0, S))."""
+def mixture_points(columns: np.ndarray, covariance: np.ndarray, count: int, rng) -> np.ndarray:
+    """``count`` points Σ s_i b_i + w of one target's mixture, drawn (signs ±1 with equal odds, w ~ N(0, S))."""
     signs = rng.choice([-1.0, 1.0], size=(count, len(columns)))
-    return np.linalg.norm(signs @ columns + rng.multivariate_normal(np.zeros(3), covariance, size=count), axis=1)
+    return signs @ columns + rng.multivariate_normal(np.zeros(3), covariance, size=count)
 
 
-def test_a_sign_mixtures_moments_agree_with_a_monte_carlo_of_the_mixture(kernel_path):
-    """E|x|^k, k = 1..4, of x = Σ s_i b_i + w over the 2^(m - 1) sign patterns against 400 000 draws of the mixture,
-    each within 4.5 of its standard errors: four columns with noise small, and large, against them."""
-    from tribokin.iso9283.gaussian_tests import sign_mixture_moments
+def test_a_sign_mixtures_moments_and_directions_agree_with_a_monte_carlo_of_the_mixture(kernel_path):
+    """E|x|^k, k = 1..4, and each entry of U = E[x xᵀ / |x|²] of x = Σ s_i b_i + w over the 2^(m - 1) sign patterns
+    against 400 000 draws of the mixture, each within 4.5 of its standard errors: four columns with noise small, and
+    large, against them; U's trace 1 to 1e-6."""
+    from tribokin.iso9283.gaussian_tests import sign_mixture
 
     rng = np.random.default_rng(5)
     columns = rng.standard_normal((2, 4, 3)) * 1e-5
     roots = rng.standard_normal((2, 3, 3)) * np.array([2e-7, 1e-5])[:, None, None]
     covariance = roots @ np.swapaxes(roots, 1, 2)
-    moments = sign_mixture_moments(columns, covariance)
+    moments, directions = sign_mixture(columns, covariance)
+    np.testing.assert_allclose(np.trace(directions, axis1=1, axis2=2), 1.0, atol=1e-6)
     for k in range(2):
-        norms = mixture_draws(columns[k], covariance[k], 400_000, rng)
+        points = mixture_points(columns[k], covariance[k], 400_000, rng)
+        norms = np.linalg.norm(points, axis=1)
         for power, moment in enumerate(moments, start=1):
             values = norms ** power
             assert abs(moment[k] - values.mean()) <= 4.5 * values.std() / math.sqrt(len(values)), (k, power)
+        units = points / norms[:, None]
+        products = units[:, :, None] * units[:, None, :]
+        tolerance = 4.5 * products.std(axis=0) / math.sqrt(len(points))
+        assert np.all(np.abs(directions[k] - products.mean(axis=0)) <= tolerance), k
 
 
 def test_a_sign_mixture_without_columns_has_a_gaussians_moments_and_compiled_agrees_with_numpy(monkeypatch):
     """No columns (or columns of zeros): the moments of w alone (:func:`norm_moments`, Carlson's integrals) to 1e-10;
-    the two kernel paths agree to 1e-12 on a 6-column mixture (32 patterns, the compiled path's Gray-code order)."""
-    from tribokin.iso9283.gaussian_tests import norm_moments, sign_mixture_moments
+    the two kernel paths agree to 1e-12 on a 6-column mixture (32 patterns, the compiled path's Gray-code order), its
+    directions U to 1e-12 of their largest entry."""
+    from tribokin.iso9283.gaussian_tests import norm_moments, sign_mixture
 
     covariance = np.array([[[2.0, 0.3, 0.1], [0.3, 1.0, -0.2], [0.1, -0.2, 0.5]]]) * 1e-12
     rng = np.random.default_rng(6)
@@ -148,12 +156,13 @@ def test_a_sign_mixture_without_columns_has_a_gaussians_moments_and_compiled_agr
     results = {}
     for path in ("numpy", "compiled"):
         monkeypatch.setenv("TRIBOKIN_KERNELS", path)
-        alone = sign_mixture_moments(np.zeros((1, 2, 3)), covariance)
+        alone = sign_mixture(np.zeros((1, 2, 3)), covariance)[0]
         for moment, expected in zip(alone, norm_moments(np.linalg.eigvalsh(covariance)), strict=True):
             assert moment == pytest.approx(expected, rel=1e-10)
-        results[path] = sign_mixture_moments(columns, spread)
-    for numpy_moment, compiled_moment in zip(results["numpy"], results["compiled"], strict=True):
+        results[path] = sign_mixture(columns, spread)
+    for numpy_moment, compiled_moment in zip(results["numpy"][0], results["compiled"][0], strict=True):
         np.testing.assert_allclose(compiled_moment, numpy_moment, rtol=1e-12)
+    np.testing.assert_allclose(results["compiled"][1], results["numpy"][1], rtol=0, atol=1e-12)
 
 
 def test_the_expected_maximum_of_three_normals_agrees_with_a_monte_carlo_and_ignores_their_order():
@@ -195,3 +204,18 @@ def test_the_largest_eigenvalue_in_closed_form_is_lapacks():
             matrices = np.concatenate([covariances * np.outer(scale, scale), np.array(special)])
             lapack = np.linalg.eigvalsh(matrices)[:, -1]
             np.testing.assert_allclose(largest_eigenvalue(matrices), lapack, rtol=2e-14, atol=0.0)
+
+
+def test_the_expected_root_on_both_grids_keeps_its_closed_forms_and_a_direct_integral():
+    """E√(a + Σ λ_i z_i²): √a where every λ is 0 (the coarse grid with its tails, to 1e-9) and √(2λ/π) where a is
+    (the fine grid without its tail beyond t = e^36: to 5e-8), and E√(a + λ z²) against scipy's quad over z on the
+    coarse grid (a ample) to 1e-9."""
+    from scipy.integrate import quad
+
+    from tribokin.iso9283.gaussian_tests import expected_root
+
+    roots = expected_root(np.array([2.0, 0.0, 3e-12]), np.array([[0.0, 0.0, 0.0], [0.7, 0.0, 0.0], [1e-12, 0.0, 0.0]]))
+    direct = quad(lambda z: math.sqrt(3e-12 + 1e-12 * z * z) * math.exp(-z * z / 2), -40, 40, epsabs=0,
+                  epsrel=1e-13)[0] / math.sqrt(2 * math.pi)
+    np.testing.assert_allclose(roots[[0, 2]], [math.sqrt(2.0), direct], rtol=1e-9)
+    assert roots[1] == pytest.approx(math.sqrt(1.4 / math.pi), rel=5e-8)

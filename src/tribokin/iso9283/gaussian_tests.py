@@ -207,12 +207,43 @@ def _root_by_quadrature(constant: np.ndarray, lam: np.ndarray, beta2: np.ndarray
 def expected_root(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
     """E√(a + εᵀ U ε) (k,) for ε ~ N(0, S): ``constant`` a (k,) >= 0, ``lam`` (k, 3) the eigenvalues of U S (their
     unit u: the result's √u); any number m of them, (k, m): E√(Σ λ_i z_i²) of a Gaussian quadratic form (a correlated
-    series' sample standard deviation, :mod:`tribokin.maps.series_expected`; not all λ 0)."""
-    return _root_by_quadrature(np.asarray(constant, dtype=float), np.maximum(np.asarray(lam, dtype=float), 0.0),
-                               np.zeros(np.shape(lam)))
+    series' sample standard deviation, :mod:`tribokin.maps.series_expected`; not all λ 0). Where a is at least
+    ``ROOT_CONSTANT_SHARE`` of a + Σ λ (a test's shared barycentre, :func:`rp_l_from_moments`): on the coarser grid
+    of :func:`sign_mixture` with its tails in closed form (:func:`_root_with_tails`); elsewhere
+    :func:`_root_by_quadrature`."""
+    constant, lam = np.asarray(constant, dtype=float), np.maximum(np.asarray(lam, dtype=float), 0.0)
+    result = np.empty(constant.shape)
+    ample = constant >= ROOT_CONSTANT_SHARE * (constant + lam.sum(axis=-1))
+    result[ample] = _root_with_tails(constant[ample], lam[ample])
+    result[~ample] = _root_by_quadrature(constant[~ample], lam[~ample], np.zeros(lam[~ample].shape))
+    return result
 
 
-#: The quadrature of :func:`sign_mixture_moments`: the trapezoid rule on u = ln t (t in units of the mixture's E|x|²)
+#: Where a is at least this share of a + Σ λ, E√(a + Σ λ_i z_i²) is taken on the mixture's grid
+#: (:func:`_root_with_tails`): e^{-t a} then vanishes at the grid's last node (below e^-150), so its tail is t^{-1/2}'s
+#: alone.
+ROOT_CONSTANT_SHARE = 1e-5
+
+
+def _root_with_tails(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
+    """E√(a + Σ_i λ_i z_i²) (k,) as :func:`_root_by_quadrature` (no β), on the grid of :func:`sign_mixture` (step
+    ``MIXTURE_LOG_STEP``, t in units of a + Σ λ) and its tails beyond in closed form, where a is at least
+    ``ROOT_CONSTANT_SHARE`` of a + Σ λ: above the grid the integrand is t^{-1/2}, below it
+    t^{1/2} - t^{3/2} E(a + q)² / 2 (q = Σ λ_i z_i², E(a + q)² = 1 + 2 Σ λ_i² in these units). Within 1.5e-10 of √a
+    (λ = 0) and of a finer grid's (step 0.125 to |u| = 40, tails added); :func:`_root_by_quadrature`, whose grid
+    leaves out its tail beyond t = e^36, lies about 2e-8 below both."""
+    scale2 = np.maximum(constant + lam.sum(axis=-1), np.finfo(float).tiny)
+    unit = lam / scale2[:, None]
+    times = np.exp(_MIXTURE_LOGS)
+    log_transform = -0.5 * np.log1p(2 * times[None, :, None] * unit[:, None, :]).sum(axis=-1) - np.outer(
+        constant / scale2, times)
+    total = (-np.expm1(log_transform) * times ** -0.5).sum(axis=-1)
+    half, three_halves = _mixture_tails()
+    total = MIXTURE_LOG_STEP * (total + 2 * half - (1 + 2 * (unit ** 2).sum(axis=-1)) / 2 * three_halves)
+    return total * np.sqrt(scale2) / (2 * math.sqrt(math.pi))
+
+
+#: The quadrature of :func:`sign_mixture`: the trapezoid rule on u = ln t (t in units of the mixture's E|x|²)
 #: of this step, its nodes computed for |u| <= ``MIXTURE_LOG_RANGE`` and the grid's tails beyond summed in closed form
 #: from the integrands' asymptotes (the rule's error about exp(-π² / step) ≈ 3e-9, the tails' below 1e-7, relative).
 MIXTURE_LOG_STEP, MIXTURE_LOG_RANGE = 0.5, 16.0
@@ -234,16 +265,18 @@ def sign_patterns(count: int) -> np.ndarray:
     return np.column_stack([np.ones(len(rows)), 1.0 - 2.0 * rows]) if count else np.ones((1, 0))
 
 
-def sign_mixture_moments(columns: np.ndarray, covariance: np.ndarray) -> tuple[np.ndarray, ...]:
-    """E|x|^k, k = 1..4, (k,) each [m^k] of x = Σ_i s_i b_i + w: independent signs s_i = ±1 with equal odds, the
-    (k, m, 3) ``columns`` b_i [m], w ~ N(0, S) of (k, 3, 3) ``covariance`` S [m²]. Compiled where
-    :func:`~tribokin.compiled.use_compiled`.
+def sign_mixture(columns: np.ndarray, covariance: np.ndarray) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
+    """E|x|^k, k = 1..4, (k,) each [m^k], and U = E[x xᵀ / |x|²] (k, 3, 3) of x = Σ_i s_i b_i + w: independent signs
+    s_i = ±1 with equal odds, the (k, m, 3) ``columns`` b_i [m], w ~ N(0, S) of (k, 3, 3) ``covariance`` S [m²].
+    Compiled where :func:`~tribokin.compiled.use_compiled`.
 
     A mean over the 2^(m - 1) sign patterns p (:func:`sign_patterns`) of Gaussian norm moments about c_p = Σ s_i b_i:
     E|x|² = |c|² + tr S, E|x|⁴ = (|c|² + tr S)² + 2 tr S² + 4 cᵀ S c; E|x| = (2√π)⁻¹ ∫ (1 - L(t)) t^{-3/2} dt and
     E|x|³ = 3 (4√π)⁻¹ ∫ (L(t) - 1 + t E|x|²) t^{-5/2} dt, with the Laplace transform L(t) = E e^{-t|x|²} =
     Π_i (1 + 2 t λ_i)^{-1/2} exp(-t β_i² / (1 + 2 t λ_i)) (λ, β: S's eigenvalues and c in its eigenvectors), on one
     grid of ``MIXTURE_LOG_STEP`` for every pattern of a target; on b and S scaled by a power of two to order one.
+    U from the same nodes: ∫₀^∞ E[x xᵀ e^{-t|x|²}] dt, whose integrand is L(t) (S_t + m_t m_tᵀ), S_t = S (I + 2 t S)⁻¹,
+    m_t = (I + 2 t S)⁻¹ c_p (the Gaussian tilted by e^{-t|x|²}); its trace is 1 to the rule's error (1e-7).
     """
     columns, covariance = np.asarray(columns, dtype=float), np.asarray(covariance, dtype=float)
     magnitude = np.maximum(np.abs(columns).max(axis=(1, 2), initial=0.0),
@@ -254,19 +287,21 @@ def sign_mixture_moments(columns: np.ndarray, covariance: np.ndarray) -> tuple[n
     if use_compiled():
         from tribokin.iso9283 import gaussian_tests_kernels
 
-        moments = gaussian_tests_kernels.sign_mixture_moments(np.ascontiguousarray(columns),
-                                                              np.ascontiguousarray(covariance), times,
-                                                              MIXTURE_LOG_STEP, *tails)
+        *moments, directions = gaussian_tests_kernels.sign_mixture(np.ascontiguousarray(columns),
+                                                                   np.ascontiguousarray(covariance), times,
+                                                                   MIXTURE_LOG_STEP, *tails)
     else:
         blocks = [_mixture_block(columns[start:start + MIXTURE_BLOCK], covariance[start:start + MIXTURE_BLOCK],
                                  times, tails) for start in range(0, len(columns), MIXTURE_BLOCK)]
-        moments = [np.concatenate([block[i] for block in blocks]) if blocks else np.empty(0) for i in range(4)]
-    return tuple(moment * scale ** k for k, moment in enumerate(moments, start=1))
+        empty = (np.empty(0),) * 4 + (np.empty((0, 3, 3)),)
+        *moments, directions = [np.concatenate([block[i] for block in blocks]) if blocks else empty[i]
+                                for i in range(5)]
+    return tuple(moment * scale ** k for k, moment in enumerate(moments, start=1)), directions
 
 
 def _mixture_block(columns: np.ndarray, covariance: np.ndarray, times: np.ndarray, tails: tuple[float, float]
                    ) -> tuple[np.ndarray, ...]:
-    """:func:`sign_mixture_moments` of a block of targets on the NumPy path: (targets, patterns, nodes) at once."""
+    """:func:`sign_mixture` of a block of targets on the NumPy path: (targets, patterns, nodes) at once."""
     lam, vectors = np.linalg.eigh(covariance)
     lam = np.maximum(lam, 0.0)
     scale2 = np.einsum("kmi,kmi->k", columns, columns) + lam.sum(axis=-1)
@@ -288,37 +323,15 @@ def _mixture_block(columns: np.ndarray, covariance: np.ndarray, times: np.ndarra
     first = MIXTURE_LOG_STEP * (first + 2 * half - mean_fourth / 2 * three_halves)  # E|x|² = 1 in these units
     third = MIXTURE_LOG_STEP * (third + (mean_fourth / 2 + 1) * half - three_halves)
     scale = np.sqrt(np.where(scale2 > 0, scale2, 0.0))
+    weight = less_one + 1  # L(t), (k, patterns, nodes)
+    tilt = 1 / (1 + grown)  # (k, nodes, 3)
+    pairs = np.swapaxes(weight, 1, 2) @ (beta[..., :, None] * beta[..., None, :]).reshape(*beta.shape[:2], 9)
+    inner = (tilt[..., :, None] * tilt[..., None, :] * pairs.reshape(*pairs.shape[:2], 3, 3)
+             + (weight.sum(axis=1)[..., None] * lam[:, None] * tilt)[..., None] * np.eye(3))  # (k, nodes, 3, 3)
+    inner = np.einsum("t,ktij->kij", times, inner) * MIXTURE_LOG_STEP / beta.shape[1]
+    directions = np.where((scale2 > 0)[:, None, None], vectors @ inner @ np.swapaxes(vectors, 1, 2), 0.0)
     return (first / (2 * math.sqrt(math.pi)) * scale, scale2, 3 * third / (4 * math.sqrt(math.pi)) * scale ** 3,
-            mean_fourth * scale2 ** 2)
-
-
-def sign_mixture_directions(columns: np.ndarray, covariance: np.ndarray) -> np.ndarray:
-    """U = E[x xᵀ / |x|²] (k, 3, 3) of the sign mixture x of :func:`sign_mixture_moments` (its ``columns`` (k, m, 3),
-    ``covariance`` (k, 3, 3)): a mean over the sign patterns p of ∫₀^∞ E[x xᵀ e^{-t|x|²}] dt, x ~ N(c_p, S), whose
-    integrand is L(t) (S_t + m_t m_tᵀ), S_t = S (I + 2 t S)⁻¹, m_t = (I + 2 t S)⁻¹ c_p (the Gaussian tilted by
-    e^{-t|x|²}); on the grid of :func:`sign_mixture_moments` (t in units of E|x|², eigenvalues of S raised to
-    ``EIGENVALUE_FLOOR`` of it), ``MIXTURE_BLOCK`` patterns × targets at once. Its trace is 1 to the rule's error."""
-    columns, covariance = np.asarray(columns, dtype=float), np.asarray(covariance, dtype=float)
-    lam, vectors = np.linalg.eigh(covariance)
-    scale2 = np.einsum("kmi,kmi->k", columns, columns) + np.maximum(lam, 0.0).sum(axis=-1)
-    unit2 = np.where(scale2 > 0, scale2, 1.0)
-    lam = np.maximum(lam / unit2[:, None], EIGENVALUE_FLOOR)
-    patterns = sign_patterns(columns.shape[1])
-    times = np.exp(_MIXTURE_LOGS)
-    grown = 1 + 2 * times[None, :, None] * lam[:, None, :]  # (k, nodes, 3)
-    out = np.empty((len(columns), 3, 3))
-    step = max(1, MIXTURE_BLOCK // len(patterns))
-    for start in range(0, len(columns), step):
-        part = slice(start, start + step)
-        beta = np.einsum("pm,kmi,kij->kpj", patterns, columns[part], vectors[part]) / np.sqrt(unit2[part])[:, None,
-                                                                                                          None]
-        tilted = beta[:, :, None, :] / grown[part, None]  # (k, patterns, nodes, 3): m_t
-        weight = times * np.exp(-0.5 * np.log(grown[part]).sum(axis=-1)[:, None, :]
-                                - times * np.einsum("kpj,kptj->kpt", beta, tilted))  # t L(t): dt = t du
-        inner = (np.einsum("kpt,kptj,kpti->kij", weight, tilted, tilted)
-                 + np.einsum("kpt,ktj->kj", weight, lam[part, None] / grown[part])[..., None] * np.eye(3))
-        out[part] = vectors[part] @ (MIXTURE_LOG_STEP * inner / len(patterns)) @ np.swapaxes(vectors[part], 1, 2)
-    return out
+            mean_fourth * scale2 ** 2, directions)
 
 
 def barycentre_shares(directions: np.ndarray, pooled: np.ndarray, cycles: int) -> np.ndarray:

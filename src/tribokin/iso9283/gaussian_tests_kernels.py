@@ -257,13 +257,14 @@ def expected_norm(centre, covariance, ratio, times, weights, step):
 
 
 @kernel
-def sign_mixture_moments(columns, covariance, times, step, half, three_halves):
-    """E|x|^k, k = 1..4, (k,) each [m^k] of x = Σ_i s_i b_i + w over independent signs s_i = ±1, w ~ N(0, S), of
-    (k, m, 3) ``columns`` and (k, 3, 3) ``covariance``, as ``iso9283.gaussian_tests.sign_mixture_moments``: the
-    patterns in Gray-code order (one column's sign flipped from one to the next; columns of zeros left out), the
-    quadrature's ``times`` e^u of ``step`` and the sums ``half``, ``three_halves`` of its grid's tails."""
+def sign_mixture(columns, covariance, times, step, half, three_halves):
+    """E|x|^k, k = 1..4, (k,) each [m^k] and E[x xᵀ / |x|²] (k, 3, 3) of x = Σ_i s_i b_i + w over independent signs
+    s_i = ±1, w ~ N(0, S), of (k, m, 3) ``columns`` and (k, 3, 3) ``covariance``, as ``iso9283.gaussian_tests.
+    sign_mixture``: the patterns in Gray-code order (one column's sign flipped from one to the next; columns of zeros
+    left out), the quadrature's ``times`` e^u of ``step`` and the sums ``half``, ``three_halves`` of its grid's tails;
+    the directions from the same nodes' L(t) of each pattern."""
     count, width = columns.shape[0], columns.shape[1]
-    out = (np.empty(count), np.empty(count), np.empty(count), np.empty(count))
+    out = (np.empty(count), np.empty(count), np.empty(count), np.empty(count), np.zeros((count, 3, 3)))
     lam = np.empty(3)
     vectors = np.empty((3, 3))
     s = np.empty((3, 3))
@@ -271,8 +272,12 @@ def sign_mixture_moments(columns, covariance, times, step, half, three_halves):
     beta = np.empty(3)
     patterns = 2 ** max(width - 1, 0)
     beta2 = np.empty((patterns, 3))
+    signed = np.empty((patterns, 3))
     second = np.empty(patterns)
     slope = np.empty(3)
+    tilt = np.empty(3)
+    inner = np.empty((3, 3))
+    pairs = np.empty((3, 3))
     for k in range(count):
         for i in range(3):
             for j in range(3):
@@ -319,6 +324,7 @@ def sign_mixture_moments(columns, covariance, times, step, half, three_halves):
                     beta[j] += sign * rotated[bit + 1, j]
             total, along = 0.0, 0.0
             for j in range(3):
+                signed[p, j] = beta[j]
                 beta2[p, j] = beta[j] * beta[j]
                 total += beta2[p, j]
                 along += beta2[p, j] * lam[j]
@@ -326,6 +332,9 @@ def sign_mixture_moments(columns, covariance, times, step, half, three_halves):
             mean_fourth += second[p] ** 2 + 2 * squares + 4 * along
         mean_fourth /= count_p
         first, third = 0.0, 0.0
+        for i in range(3):
+            for j in range(3):
+                inner[i, j] = 0.0
         for m in range(times.shape[0]):
             t = times[m]
             log_det = 0.0
@@ -333,14 +342,35 @@ def sign_mixture_moments(columns, covariance, times, step, half, three_halves):
                 grown = 2 * t * lam[j]
                 log_det -= 0.5 * math.log1p(grown)
                 slope[j] = t / (1 + grown)
-            less, more = 0.0, 0.0
+                tilt[j] = 1 / (1 + grown)
+            less, more, weights = 0.0, 0.0, 0.0
+            for i in range(3):
+                for j in range(i + 1):
+                    pairs[i, j] = 0.0
             for p in range(count_p):
                 exponent = log_det - beta2[p, 0] * slope[0] - beta2[p, 1] * slope[1] - beta2[p, 2] * slope[2]
                 less_one = math.expm1(exponent) if exponent > _NEGLIGIBLE_EXPONENT else -1.0
                 less -= less_one
                 more += less_one + t * second[p]
+                weight = less_one + 1.0  # L(t) of the pattern
+                weights += weight
+                for i in range(3):
+                    for j in range(i + 1):
+                        pairs[i, j] += weight * signed[p, i] * signed[p, j]
             first += less / math.sqrt(t)
             third += more / (t * math.sqrt(t))
+            for i in range(3):  # t L(t) (S_t + m_t m_tᵀ) summed over patterns (dt = t du), in S's eigenvectors
+                inner[i, i] += t * (weights * lam[i] * tilt[i] + pairs[i, i] * tilt[i] * tilt[i])
+                for j in range(i):
+                    inner[i, j] += t * pairs[i, j] * tilt[i] * tilt[j]
+        for i in range(3):
+            for j in range(3):
+                total = 0.0
+                for a in range(3):
+                    for b in range(3):
+                        entry = inner[a, b] if b <= a else inner[b, a]
+                        total += vectors[i, a] * entry * vectors[j, b]
+                out[4][k, i, j] = step * total / count_p
         first = step * (first / count_p + 2 * half - mean_fourth / 2 * three_halves)
         third = step * (third / count_p + (mean_fourth / 2 + 1) * half - three_halves)
         out[0][k] = first / (2 * math.sqrt(math.pi)) * scale
