@@ -586,25 +586,25 @@ GANTRY_SERIES_MAP = ('\n[map]\nkind = "plane"\norigin_m = [0.2, 0.0, 0.4]\naxis_
 
 
 def test_fit_ar1_with_a_map_writes_a_calibrated_study_whose_map_draws_it_and_run_runs_it(tmp_path):
-    """A study with a [map] calibrated with --fit-ar1 (refused before maps drew friction time keys): calibrated.toml
-    carries the fitted ar1 and the map; `tribokin run` of it runs, its joints' series and its map's tests drawn with
-    that ar1 (summary.json's map.state: a map whose friction is correlated), and the calibration's map is that map
-    (the same summary, to the last bit)."""
-    from tribokin import calibrate
+    """A study with a [map] calibrated with fit_ar1 (refused before maps drew friction time keys): calibrated.toml
+    carries the fitted ar1 and the map; run_study of it runs, its joints' series and its map's tests drawn with that
+    ar1 (the summary's map.state: a map whose friction is correlated), and the calibration's map is that map (the
+    same summary, to the last bit). The library throughout: the command's folder is test_calibrate_writes_its_folder's
+    and test_a_second_run_the_library_s_writes_the_command_s_bytes'."""
+    from tribokin import calibrate, run_study
 
     study = gantry_study(tmp_path, "joint-tables-out-of-order")
     study.write_text(study.read_text(encoding="utf-8") + GANTRY_SERIES_MAP, encoding="utf-8")
     gantry_measurements(tmp_path / "data.csv", rho=0.7, cycles=40)
-    result = calibrate(study, tmp_path / "data.csv", out=tmp_path / "fit", intervals="wald", fit_ar1=True)
-    result.write(tmp_path / "fit", report="none")  # the command's folder (test_a_second_run_the_library_s_writes...)
-    (group,) = json.loads((tmp_path / "fit" / "calibration.json").read_text(encoding="utf-8"))["ar1"]["groups"]
+    fit = tmp_path / "fit"
+    result = calibrate(study, tmp_path / "data.csv", out=fit, intervals="wald", fit_ar1=True)
+    (group,) = json.loads(json.dumps(result.summary()))["ar1"]["groups"]
     assert group["value"] is not None and group["series"] == 6, group
-    text = (tmp_path / "fit" / "calibrated.toml").read_text(encoding="utf-8")
+    text = result.calibrated_text(fit)
     assert f"ar1 = {group['value']!r}" in text and GANTRY_SERIES_MAP in text
-    assert (tmp_path / "fit" / "map_RP_l.png").is_file()
-    done = in_process("run", tmp_path / "fit" / "calibrated.toml", "--out", tmp_path / "predicted", "--report", "none")
-    assert done.returncode == 0, done.stderr
-    summary = json.loads((tmp_path / "predicted" / "summary.json").read_text(encoding="utf-8"))
+    fit.mkdir()
+    (fit / "calibrated.toml").write_text(text, encoding="utf-8")
+    summary = json.loads(json.dumps(run_study(fit / "calibrated.toml", meshes=False).summary()))
     assert {joint: model["series"]["ar1"] for joint, model in summary["study"]["joint_models"].items()} == \
         dict.fromkeys("xyz", group["value"])
     assert summary["map"]["state"] == {"after_s": 0.0} and summary["map"]["reachable"] == 9
