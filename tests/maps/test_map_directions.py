@@ -182,6 +182,6 @@ def test_a_pose_s_expected_figures_are_a_map_target_s_at_its_configuration(frict
 def test_the_console_says_which_figure_it_shows(gaussian_x, capsys):
     from tribokin.cli.run import _print_map
 
-    _print_map(gaussian_x.summary())
+    _print_map(gaussian_x)
     assert "approached from both directions: RP_l, its band, AP_p and RP_a/b/c: the larger of the + and - approach " \
            "directions'" in capsys.readouterr().out
