@@ -96,3 +96,4 @@ def test_fit_friction_writes_time_keys_only_where_the_log_supports_them():
     assert fitted.run_in_fit.tau_cycles.covers(TAU) and fitted.run_in_fit.start.covers(START)
     assert ", ar1 = 0.7" in fitted.inline or ", ar1 = 0.8" in fitted.inline
     assert "run_in = { start = " in fitted.inline and "#   run_in = {" in fitted.law_toml()
+    assert 'friction = { file = "law.toml", ar1 = ... }' in fitted.law_toml()  # where a study gives them

@@ -115,13 +115,15 @@ class FrictionFitResult:
         return "\n".join(lines) + "\n"
 
     def _time_key_comments(self) -> list[str]:
-        """``law.toml``'s lines on the time keys the log supports (none when none applies): `tribokin run` does not
-        draw friction as a time series yet, so they stay comments and the file a law."""
+        """``law.toml``'s lines on the time keys the log supports (none when none applies), as comments: a law file
+        holds the law alone, and a study gives the time keys beside it (``friction = { file = "law.toml", ar1 = ...
+        }``)."""
         keys = self.time_keys
         if not keys:
             return []
         box, ar1, run_in = self.ljung_box, self.ar1, self.run_in_fit
-        lines = ["# Time keys the log supports (`tribokin run` does not simulate them yet):"]
+        lines = ["# Time keys the log supports; a study gives them beside this file, e.g.",
+                 '# friction = { file = "law.toml", ar1 = ... } (a law file holds the law alone):']
         if "ar1" in keys:
             lines.append(f"#   ar1 = {_toml_number(ar1.value)}   95 % {ar1.low:.3g} to {ar1.high:.3g}; Ljung-Box Q = "
                          f"{box.q:.4g} over {box.lags} lags, p = {box.pvalue:.3g}: not independent")
