@@ -32,8 +32,9 @@ def test_the_site_builds_in_strict_mode_with_the_api_and_the_formulas(tmp_path):
     assert r"RP_l = \bar l + 3 S_l" in concepts and 'class="arithmatex"' in concepts
     reference = (site / "reference" / "study-file" / "index.html").read_text(encoding="utf-8")
     assert "study.cycles" in reference and "ISO 9283 needs at least 2" in reference
-    # offline: every script from the site itself, MathJax's vendored bundle among them
-    sources = {page: re.findall(r'<script[^>]*\ssrc="([^"]*)"', page.read_text(encoding="utf-8"))
+    # offline: every script and linked file (stylesheets, fonts) from the site itself, MathJax's vendored bundle
+    # among them
+    sources = {page: re.findall(r'<(?:script|link)[^>]*\s(?:src|href)="([^"]*)"', page.read_text(encoding="utf-8"))
                for page in site.rglob("*.html")}
     assert not [(page, src) for page, found in sources.items() for src in found if re.match(r"(https?:)?//", src)]
     assert any(src.endswith("javascripts/mathjax/tex-svg.js") for src in sources[site / "concepts" / "index.html"])
