@@ -60,11 +60,11 @@ def test_existing_output_is_kept_without_force(study_file, tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     (out / "mine.txt").write_text("precious")
-    done = tribokin("run", study_file, "--out", out)
+    done = in_process("run", study_file, "--out", out)
     assert done.returncode == 2
     assert "--force" in done.stderr
     assert (out / "mine.txt").read_text() == "precious"
-    assert tribokin("run", study_file, "--out", out, "--force").returncode == 0
+    assert in_process("run", study_file, "--out", out, "--force").returncode == 0
     assert (out / "summary.json").exists() and not (out / "mine.txt").exists()
 
 
@@ -91,16 +91,16 @@ def test_bare_command_prints_usage_and_the_commands():
 
 
 def test_robots_lists_a_robots_candidate_tool_frames_default_first():
-    kinova = tribokin("robots", "--frames", "kinova")
+    kinova = in_process("robots", "--frames", "kinova")
     assert kinova.returncode == 0, kinova.stderr
     lines = kinova.stdout.splitlines()
     assert lines[0].startswith("tool frames of kinova, with the joints that move each (* the default")
     assert lines[1].split() == ["*", "j2s6s200_end_effector", "6", "joints"]
     assert all(line.startswith("  ") for line in lines[2:]) and len(lines) > 3
-    anymal = tribokin("robots", "--frames", "anymal")
+    anymal = in_process("robots", "--frames", "anymal")
     assert anymal.returncode == 0 and anymal.stdout.startswith("no default tool frame: anymal has a floating base")
     assert "\n  LF_FOOT     3 joints\n" in anymal.stdout and "*" not in anymal.stdout
-    unknown = tribokin("robots", "--frames", "ur55")
+    unknown = in_process("robots", "--frames", "ur55")
     assert unknown.returncode == 2 and unknown.stdout == ""
     assert unknown.stderr.startswith("tribokin: error: command line: --frames: unknown robot 'ur55' (did you mean "
                                      "'ur5'?)") and unknown.stderr.count("\n") == 1
@@ -114,7 +114,7 @@ def test_run_of_a_map_comparing_two_states_prints_and_draws_the_changes(tmp_path
     study.write_text(AXIS_STUDY_TOML.replace('{ preset = "42CD4-raw" }', friction) + '\n[map]\nkind = "joint"\n'
                      'joints = ["x"]\nranges = [[0.1, 0.3]]\ncounts = [3]\ndirectional = false\n'
                      'state = { age_cycles = 0 }\ncompare = { age_cycles = 5000 }\n')
-    done = tribokin("run", study, "--out", tmp_path / "out", "--report", "none")
+    done = in_process("run", study, "--out", tmp_path / "out", "--report", "none")
     assert done.returncode == 0, done.stderr
     line = next(line for line in done.stdout.splitlines() if line.startswith("change from map.state"))
     parts = line.split("RP_l ")[1].split("AP_p ")

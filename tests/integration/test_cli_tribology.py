@@ -5,7 +5,7 @@ import json
 import pytest
 
 from conftest import ROOT
-from helpers.command import tribokin
+from helpers.command import in_process, tribokin
 
 LOG = ROOT / "studies/data/tribometer-42CD4-treated-150N.csv"
 PROFILE = ROOT / "src/tribokin/data/profiles/intermediate.csv"
@@ -29,7 +29,7 @@ def test_fit_friction_writes_law_usable_by_a_study(tmp_path):
     text = (ROOT / "studies/tribology-log.toml").read_text()
     study.write_text(text.replace('{ log = "data/tribometer-42CD4-treated-150N.csv" }', '{ file = "fit/law.toml" }')
                      .replace("../urdf", str(ROOT / "urdf")))
-    done = tribokin("run", study, "--out", tmp_path / "run")
+    done = in_process("run", study, "--out", tmp_path / "run")
     assert done.returncode == 0, done.stderr
     summary = json.loads((tmp_path / "run" / "summary.json").read_text())
     assert summary["study"]["friction"]["x"]["law"] == "gaussian"
@@ -37,15 +37,15 @@ def test_fit_friction_writes_law_usable_by_a_study(tmp_path):
 
 def test_running_in_override_and_force(tmp_path):
     out = tmp_path / "fit"
-    assert tribokin("fit-friction", LOG, "--out", out, "--running-in", 300).returncode == 0
+    assert in_process("fit-friction", LOG, "--out", out, "--running-in", 300).returncode == 0
     assert json.loads((out / "fit.json").read_text())["running_in_cycles"] == 300
-    assert tribokin("fit-friction", LOG, "--out", out).returncode == 2
-    assert tribokin("fit-friction", LOG, "--out", out, "--force").returncode == 0
+    assert in_process("fit-friction", LOG, "--out", out).returncode == 2
+    assert in_process("fit-friction", LOG, "--out", out, "--force").returncode == 0
 
 
 def test_surface_writes_summary_and_figures(tmp_path):
     out = tmp_path / "s"
-    done = tribokin("surface", PROFILE, "--out", out, "--z-range-m", 0, 1e-5)
+    done = in_process("surface", PROFILE, "--out", out, "--z-range-m", 0, 1e-5)
     assert done.returncode == 0, done.stderr
     report = json.loads((out / "surface.json").read_text())
     assert report["summit_density_m2"] == pytest.approx(1.2 / report["AR_m"] ** 2)

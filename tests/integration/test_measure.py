@@ -9,7 +9,7 @@ import tracemalloc
 import numpy as np
 import pytest
 
-from helpers.command import tribokin
+from helpers.command import in_process, tribokin
 from tribokin.cli import main
 from tribokin.maps import budget
 from tribokin.measured import iso_figures
@@ -111,7 +111,7 @@ def test_times_give_drift_and_its_plot(measured):
 
 def test_units_in_column_names_are_honoured(measured, tmp_path):
     out_m, _ = measured
-    done = tribokin("measure", measurement_file(tmp_path, "mm"), "--out", tmp_path / "mm", "--report", "none")
+    done = in_process("measure", measurement_file(tmp_path, "mm"), "--out", tmp_path / "mm", "--report", "none")
     assert done.returncode == 0 and done.stdout.endswith(f"results in {tmp_path / 'mm'}/ (summary.json, poses.csv, "
                                                          "field_*.png)\n")  # no times: no drift figure
     in_mm = read_rows(tmp_path / "mm" / "poses.csv")
@@ -214,7 +214,7 @@ def test_contract_errors_are_one_line_exit_2_nothing_written(tmp_path, capsys, e
 def test_an_existing_output_folder_is_kept_without_force(measured):
     out, _ = measured
     before = (out / "summary.json").read_bytes()
-    done = tribokin("measure", out.parent / "tracker.csv", "--out", out)
+    done = in_process("measure", out.parent / "tracker.csv", "--out", out)
     assert done.returncode == 2 and "--out: output folder exists" in done.stderr
     assert (out / "summary.json").read_bytes() == before
 
