@@ -6,16 +6,15 @@
   moments leave at zero start at their nominal values, the others within ×/÷ 1000 of them (a joint that hardly
   moves the tool point would otherwise start anywhere). When the optimiser does not converge from
   there, it starts again from the nominal model and the better optimum is kept.
-- **Optimum.** ``scipy.optimize.minimize`` with SLSQP and the analytic gradient in θ = log space,
-  bounded to ``LOG_SPAN`` (natural log) around the moment start, then polished by Newton steps
-  (each halved until it lowers the objective; their matrix from one central difference of the gradient). The objective carries a weak prior: a Gaussian in θ
-  about the moment start with standard deviation ``PRIOR_LOG_STD`` (a factor 1000). It moves a
-  parameter the data determine with standard error se (in log) by about (se/``PRIOR_LOG_STD``)²·|θ̂ -
-  start|: at most 0.15 % of its value for se = 0.1 within the box; along directions the data leave flat
-  it makes the optimum unique, so the fit converges there too (without it the optimiser stops anywhere
-  along them, and the determined parameters move with it, by up to 1e-5 relative under a rotation of
-  the data). Standard errors and log L are the data's alone. (L-BFGS-B reaches the same optima, more slowly:
-  docs/benchmarks.md.)
+- **Optimum.** ``scipy.optimize.minimize`` with SLSQP and the analytic gradient in θ = log space, bounded to
+  ``LOG_SPAN`` (natural log) around the moment start, then polished by Newton steps (each halved until it lowers the
+  objective; their matrix from one central difference of the gradient). The objective carries a weak prior: a Gaussian
+  in θ about the moment start with standard deviation ``PRIOR_LOG_STD`` (a factor 1000). It moves a parameter the data
+  determine with standard error se (in log) by about (se/``PRIOR_LOG_STD``)²·|θ̂ - start|: at most 0.15 % of its value
+  for se = 0.1 within the box; along directions the data leave flat it makes the optimum unique, so the fit converges
+  there too (without it the optimiser stops anywhere along them, and the determined parameters move with it, by up to
+  1e-5 relative under a rotation of the data). Standard errors and log L are the data's alone. (L-BFGS-B reaches the
+  same optima, more slowly: docs/benchmarks.md.)
 - **Uncertainty.** Observed Fisher information = Hessian of the negative log-likelihood at the
   optimum: the Jacobian of its analytic gradient by ``scipy.differentiate.jacobian`` (adaptive
   central differences with Richardson extrapolation), symmetrised. Standard errors, null space and
