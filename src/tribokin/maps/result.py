@@ -336,7 +336,7 @@ class MapResult:
         """The ``map`` block of ``summary.json`` (:meth:`statistics`)."""
         return self.statistics().summary
 
-    def use_summary(self, statistics: MapStatistics | Future) -> None:
+    def use_statistics(self, statistics: MapStatistics | Future) -> None:
         """Take ``statistics``, this map's computed elsewhere (or its future), as :meth:`statistics`."""
         self._statistics = statistics
 

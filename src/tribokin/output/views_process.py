@@ -3,9 +3,10 @@
 While the command's serial start (its imports, the study, the robot, a map's row heads) keeps one core busy, this
 process imports what draws (matplotlib, meshcat: benchmarks/startup.py measures them) on the core that would otherwise
 compete with the map's workers for it, loads the study's robot and reads the meshes its report draws. It then draws the
-results it is sent into the output folder (:func:`~tribokin.viz.contents.write_views`). The map's summary, which the
-report shows, is sent after them when a local worker computes it (:meth:`ViewsProcess.send_summary`); else this process
-computes it and sends it back. The same files as drawn by the writing process: the same code, the same inputs.
+results it is sent into the output folder (:func:`~tribokin.viz.contents.write_views`). The map's statistics, which
+the report shows, are sent after them when a local worker computes them (:meth:`ViewsProcess.send_statistics`); else
+this process computes them and sends them back. The same files as drawn by the writing process: the same code, the
+same inputs.
 
 Forked only on Linux-like systems (``fork``), with two cores or more for this process, and while the command runs no
 other thread; else (and through the Python API) the views are drawn by the writing process
@@ -67,7 +68,7 @@ class ViewsProcess:
     def draw(self, result, folder: Path, report: str, map_layers, cube, summary_follows: bool = False) -> bool:
         """Send ``result`` (a :class:`~tribokin.run.StudyResult`; its robot is the process's own) to be drawn into
         ``folder`` as :func:`~tribokin.viz.contents.write_views` draws it; ``False`` if the process is gone.
-        ``summary_follows``: the map's summary will be sent (:meth:`send_summary`), not computed there. ``False``
+        ``summary_follows``: the map's statistics will be sent (:meth:`send_statistics`), not computed there. ``False``
         too for results whose poses' samples take more than ``SENT_POSE_BYTES``: drawn by the writing process."""
         if sum(values.nbytes for pose in result.poses for values in pose.samples().values()) > SENT_POSE_BYTES:
             return False
@@ -77,7 +78,7 @@ class ViewsProcess:
             return False
         return True
 
-    def send_summary(self, statistics: MapStatistics) -> None:
+    def send_statistics(self, statistics: MapStatistics) -> None:
         """Send the map's statistics (computed meanwhile on a worker) for the report, which waits for them."""
         try:
             self._connection.send(statistics)
@@ -123,7 +124,7 @@ def _serve(connection, parent: int, study, cycles, seed, report: str) -> None:
 
         result = replace(result, robot=robot)
         if result.map is not None and summary_follows:
-            result.map.use_summary(_received(connection))
+            result.map.use_statistics(_received(connection))
         write_views(result, folder, report, map_layers, cube)
         reply = ("done", None if result.map is None or summary_follows else result.map.statistics(), None)
     except BaseException as error:  # noqa: BLE001 - every error goes back to the command, which raises it

@@ -272,7 +272,7 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
                 if not drawing:
                     _write_views(result, folder, report, map_layers, cube)
                 elif pool is not None:
-                    views.send_summary(result.map.statistics())
+                    views.send_statistics(result.map.statistics())
 
             if result.map is None:
                 the_rest()
@@ -285,7 +285,7 @@ def write_results(result: StudyResult, out, force: bool = False, report: str = "
                 if not drawn:  # the views' process was lost, or declined: drawn here instead
                     _write_views(result, folder, report, map_layers, cube)
                 elif statistics is not None:
-                    result.map.use_summary(statistics)
+                    result.map.use_statistics(statistics)
             write_summary(result, folder)
         finally:
             if views is not None:
