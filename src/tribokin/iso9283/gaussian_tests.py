@@ -238,8 +238,7 @@ def _root_with_tails(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
     log_transform = -0.5 * np.log1p(2 * times[None, :, None] * unit[:, None, :]).sum(axis=-1) - np.outer(
         constant / scale2, times)
     total = (-np.expm1(log_transform) * times ** -0.5).sum(axis=-1)
-    half, three_halves = _mixture_tails()
-    total = MIXTURE_LOG_STEP * (total + 2 * half - (1 + 2 * (unit ** 2).sum(axis=-1)) / 2 * three_halves)
+    total = _root_rule(total, 1 + 2 * (unit ** 2).sum(axis=-1), _mixture_tails())
     return total * np.sqrt(scale2) / (2 * math.sqrt(math.pi))
 
 
@@ -250,6 +249,14 @@ MIXTURE_LOG_STEP, MIXTURE_LOG_RANGE = 0.5, 16.0
 #: Targets whose patterns and nodes the NumPy path holds at once.
 MIXTURE_BLOCK = 512
 _MIXTURE_LOGS = np.arange(-MIXTURE_LOG_RANGE, MIXTURE_LOG_RANGE + 1e-9, MIXTURE_LOG_STEP)
+
+
+def _root_rule(inner: np.ndarray, mean_square2: np.ndarray, tails: tuple[float, float]) -> np.ndarray:
+    """(2√π)·E√Y on the mixture's grid (u = ln t) with its tails in closed form, Y in units of its mean (E Y = 1):
+    ``inner`` the grid's Σ (1 - L(t)) t^{-1/2}, ``mean_square2`` E Y² (the tail below the grid,
+    t^{1/2} - t^{3/2} E Y² / 2), ``tails`` :func:`_mixture_tails` (above the grid, t^{-1/2})."""
+    half, three_halves = tails
+    return MIXTURE_LOG_STEP * (inner + 2 * half - mean_square2 / 2 * three_halves)
 
 
 def _mixture_tails() -> tuple[float, float]:
@@ -320,7 +327,7 @@ def _mixture_block(columns: np.ndarray, covariance: np.ndarray, times: np.ndarra
     third = ((less_one + times * second[..., None]) * times ** -1.5).sum(axis=-1).mean(axis=-1)
     half, three_halves = tails
     mean_fourth = fourth.mean(axis=-1)
-    first = MIXTURE_LOG_STEP * (first + 2 * half - mean_fourth / 2 * three_halves)  # E|x|² = 1 in these units
+    first = _root_rule(first, mean_fourth, tails)  # E|x|² = 1 in these units
     third = MIXTURE_LOG_STEP * (third + (mean_fourth / 2 + 1) * half - three_halves)
     scale = np.sqrt(np.where(scale2 > 0, scale2, 0.0))
     weight = less_one + 1  # L(t), (k, patterns, nodes)
