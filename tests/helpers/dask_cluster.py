@@ -9,8 +9,8 @@ from contextlib import contextmanager
 
 
 @contextmanager
-def local_cluster(threads_per_worker: int = 2) -> Iterator[str]:
-    """The scheduler address of a ``LocalCluster`` of two worker processes, closed after the block.
+def local_cluster() -> Iterator[str]:
+    """The scheduler address of a ``LocalCluster`` of two worker processes of two threads, closed after the block.
 
     distributed keeps one thread of its own for good once a client has run (``distributed.utils._offload_executor``,
     "Dask-Offload"). A process with a second thread spawns its local workers rather than forking them
@@ -22,7 +22,7 @@ def local_cluster(threads_per_worker: int = 2) -> Iterator[str]:
     from dask.distributed import LocalCluster
     from distributed import utils
 
-    with LocalCluster(n_workers=2, threads_per_worker=threads_per_worker, processes=True,
+    with LocalCluster(n_workers=2, threads_per_worker=2, processes=True,
                       dashboard_address=None) as cluster:
         yield cluster.scheduler_address
     used, utils._offload_executor = utils._offload_executor, ThreadPoolExecutor(1, thread_name_prefix="Dask-Offload")

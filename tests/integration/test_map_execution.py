@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from conftest import GANTRY_MAP_TOML, GANTRY_SAMPLED_MAP_TOML
+from helpers.command import in_process
 from helpers.dask_cluster import local_cluster
 from tribokin import InputError, run_study
 from tribokin.cli import main
@@ -76,15 +77,33 @@ def variant_study(name: str) -> dict:
             "map": {**UR5_MAP["map"], **keys}, "scenarios": UR5_MAP["scenarios"] + scenarios}
 
 
+@pytest.fixture(scope="module")
+def references(tmp_path_factory):
+    """The tables and summary of each of the :data:`VARIANTS` run in this process, each computed at its first use."""
+    cache = {}
+
+    def reference(name: str) -> dict[str, bytes]:
+        if name not in cache:
+            cache[name] = written(run_study(variant_study(name)), tmp_path_factory.mktemp("reference") / "out")
+        return cache[name]
+
+    return reference
+
+
 @pytest.fixture(scope="module", params=list(VARIANTS))
-def variant(request):
-    """UR5_MAP with one of the figure sets (:data:`VARIANTS`)."""
-    return variant_study(request.param)
+def variant_name(request):
+    return request.param
 
 
 @pytest.fixture(scope="module")
-def reference(variant, tmp_path_factory):
-    return written(run_study(variant), tmp_path_factory.mktemp("reference") / "out")
+def variant(variant_name):
+    """UR5_MAP with one of the figure sets (:data:`VARIANTS`)."""
+    return variant_study(variant_name)
+
+
+@pytest.fixture(scope="module")
+def reference(variant_name, references):
+    return references(variant_name)
 
 
 def with_chunk_rows(study, rows):
@@ -134,8 +153,11 @@ def test_two_local_workers_change_nothing(variant, reference, tmp_path, monkeypa
     assert started == ["fork" if alone else "spawn"]  # forked when this process runs no other thread
 
 
-def test_workers_are_spawned_when_another_thread_runs(variant, reference, tmp_path, monkeypatch):
-    """Forking a process that runs threads can deadlock: the workers start clean instead."""
+def test_workers_are_spawned_when_another_thread_runs(references, tmp_path, monkeypatch):
+    """Forking a process that runs threads can deadlock: the workers start clean instead. The figure set of scenarios
+    with robots of their own (each spawned worker loads them, and the sampled figures' laws, from nothing); every
+    figure set runs in forked workers in test_two_local_workers_change_nothing, and on spawned dask workers in
+    test_a_dask_cluster_changes_nothing."""
     import multiprocessing
     import threading
 
@@ -148,17 +170,12 @@ def test_workers_are_spawned_when_another_thread_runs(variant, reference, tmp_pa
     other.start()
     try:
         with executor_for(workers=2) as executor:
-            assert written(run_study(with_chunk_rows(variant, 2), executor=executor), tmp_path / "out") == reference
+            result = run_study(with_chunk_rows(variant_study("other-robots"), 2), executor=executor)
     finally:
         stop.set()
         other.join()
     assert started == ["spawn"]
-
-
-def test_dask_cluster_changes_nothing(variant, reference, tmp_path):
-    with local_cluster(2) as scheduler, executor_for(scheduler=scheduler) as executor:
-        result = run_study(variant, executor=executor)
-    assert written(result, tmp_path / "out") == reference
+    assert written(result, tmp_path / "out") == references("other-robots")
 
 
 @pytest.fixture(scope="module")
@@ -187,10 +204,15 @@ def test_a_map_with_time_keys_gives_the_same_bytes_chunked_on_two_workers(time_k
     assert written(result, tmp_path / "out") == time_keys_reference
 
 
-def test_a_map_with_time_keys_gives_the_same_bytes_on_dask(time_keys_reference, tmp_path):
-    with local_cluster(1) as scheduler, executor_for(scheduler=scheduler) as executor:
-        result = run_study(TIME_KEYS_MAP, executor=executor)
-    assert written(result, tmp_path / "out") == time_keys_reference
+def test_a_dask_cluster_changes_nothing(references, time_keys_reference, tmp_path):
+    """Every figure set, and the map with time keys, on one cluster (starting its spawned workers costs as much as
+    a map)."""
+    with local_cluster() as scheduler, executor_for(scheduler=scheduler) as executor:
+        results = {name: run_study(variant_study(name), executor=executor) for name in VARIANTS}
+        time_keys = run_study(TIME_KEYS_MAP, executor=executor)
+    for name, result in results.items():
+        assert written(result, tmp_path / name) == references(name), name
+    assert written(time_keys, tmp_path / "time-keys") == time_keys_reference
 
 
 def test_a_map_with_time_keys_interrupted_resumes_to_the_same_bytes(time_keys_reference, tmp_path, monkeypatch):
@@ -236,12 +258,6 @@ def test_finished_chunks_are_reused_on_resume_others_recomputed_and_settings_che
         run_study(study, checkpoint=folder)
 
 
-@pytest.fixture(scope="module")
-def other_robots_reference(tmp_path_factory):
-    """The tables and summary of the "other-robots" variant, run without interruption."""
-    return written(run_study(variant_study("other-robots")), tmp_path_factory.mktemp("robots") / "out")
-
-
 def interrupted_at(monkeypatch, method: str, call: int):
     """Make ``ChunkStore.<method>`` raise KeyboardInterrupt at its ``call``-th call (as a Ctrl-C would)."""
     real, calls = getattr(ChunkStore, method), iter(range(1, 10 ** 6))
@@ -255,7 +271,7 @@ def interrupted_at(monkeypatch, method: str, call: int):
 
 
 def test_a_map_of_several_robots_interrupted_in_its_chunks_and_in_its_holes_resumes_to_the_same_bytes(
-        other_robots_reference, tmp_path, monkeypatch):
+        references, tmp_path, monkeypatch):
     study, folder = variant_study("other-robots"), tmp_path / "chunks"
     with monkeypatch.context() as patch:
         interrupted_at(patch, "save", 3)
@@ -267,7 +283,7 @@ def test_a_map_of_several_robots_interrupted_in_its_chunks_and_in_its_holes_resu
         with pytest.raises(KeyboardInterrupt):
             run_study(study, checkpoint=folder, resume=True)
     assert finished(folder) == 5 and (folder / "filled.npz").is_file() and not (folder / "robot1_filled.npz").exists()
-    assert written(run_study(study, checkpoint=folder, resume=True), tmp_path / "out") == other_robots_reference
+    assert written(run_study(study, checkpoint=folder, resume=True), tmp_path / "out") == references("other-robots")
 
 
 def finished(chunks) -> int:
@@ -324,7 +340,7 @@ def test_workers_end_with_a_killed_run_and_leave_its_lock_free(tmp_path):
     while any(alive(worker) for worker in workers) and time.monotonic() < deadline:
         time.sleep(0.01)
     assert not any(alive(worker) for worker in workers)
-    resumed = subprocess.run(command + ["--resume"], capture_output=True, text=True)
+    resumed = in_process(*command[3:], "--resume")  # its workers forked from this process
     assert resumed.returncode == 0, resumed.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "study.toml"]
 
@@ -351,10 +367,10 @@ def test_run_killed_at_random_points_resumes_to_the_same_bytes(tmp_path, statist
         saved = killed_after(command + (["--resume"] if kill else []), chunks, saved + steps)
         assert before + steps <= saved < 40 and not out.exists()
         if not kill:
-            refused = subprocess.run(command, capture_output=True, text=True)
+            refused = in_process(*command[3:])
             assert refused.returncode == 2 and "--resume" in refused.stderr
     assert (tmp_path / "out.lock").exists()  # left by the killed run; it locks nothing
-    resumed = subprocess.run(command + ["--resume"], capture_output=True, text=True)
+    resumed = in_process(*command[3:], "--resume")
     assert resumed.returncode == 0, resumed.stderr
     assert "200 of 200 targets reachable" in resumed.stdout
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "study.toml"]  # no chunks, lock or partial folder

@@ -190,7 +190,7 @@ def test_one_or_two_workers_and_a_resume_write_the_same_bytes(study_file, tmp_pa
 
 
 def test_a_dask_cluster_writes_the_same_bytes(result, study_file, tmp_path):
-    with local_cluster(2) as scheduler, executor_for(scheduler=scheduler) as executor:
+    with local_cluster() as scheduler, executor_for(scheduler=scheduler) as executor:
         clustered = run_study(study_file, executor=executor, meshes=False)
     for name, run in (("here", result), ("dask", clustered)):
         write_results(run, tmp_path / name, report="none")
