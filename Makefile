@@ -49,8 +49,10 @@ demo: $(VENV)/.base
 		if [ -f $(DEMO_OUT)/$$study/report.html ]; then echo "report: $(DEMO_OUT)/$$study/report.html"; fi; done
 	@echo "tribokin is in $(VENV), not on your PATH: run $(VENV)/bin/tribokin, or first source $(VENV)/bin/activate"
 
+# Python's bytecode caches are written even where PYTHONDONTWRITEBYTECODE is set: every command and worker process the
+# suite starts would otherwise compile tribokin's modules again, and every pytest worker rewrite each test module.
 test: $(VENV)/.test
-	$(PY) -m pytest -q -n auto --dist loadgroup
+	PYTHONDONTWRITEBYTECODE= $(PY) -m pytest -q -n auto --dist loadgroup
 
 # The docs site (mkdocs.yml): the study-file reference regenerated first, then built in strict mode (a broken
 # link, a docstring mkdocstrings cannot read or a page missing from the nav fails the build).
