@@ -193,9 +193,10 @@ def header(truth: Truth, seed: int, rows: list[Row]) -> list[str]:
     ]
 
 
-def render(truth: Truth, seed: int = SEED) -> str:
-    """The whole measurement file of ``truth`` and ``seed``."""
-    rows = simulate(truth, seed)
+def render(truth: Truth, seed: int = SEED, poses: list[CubePose] | None = None) -> str:
+    """The whole measurement file of ``truth`` and ``seed``; ``poses``: :func:`cube_poses` of :func:`ur5` if given
+    (a caller writing many files solves them once)."""
+    rows = simulate(truth, seed, poses=poses)
     body = [",".join(["pose", "cycle", "direction", "x_m", "y_m", "z_m", "cx_m", "cy_m", "cz_m",
                       *(f"q_{joint}" for joint in JOINTS)])]
     body += [",".join([row.pose, str(row.cycle), row.direction,

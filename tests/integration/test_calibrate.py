@@ -65,9 +65,12 @@ def study_with_small_map(folder) -> Path:
 
 @pytest.fixture(scope="module")
 def calibrated(tmp_path_factory):
+    """The command run on the study with its small map, in this process (no new interpreter's imports: 2-3 s of
+    CPU; a fresh interpreter's run is compared with this process's by
+    test_the_fit_writes_the_same_bytes_on_one_blas_thread_or_two): its folder, what it printed and the study."""
     folder = tmp_path_factory.mktemp("calibrate")
     study = study_with_small_map(folder)
-    done = tribokin("calibrate", study, "--measurements", DATA, "--out", folder / "fit")
+    done = in_process("calibrate", study, "--measurements", DATA, "--out", folder / "fit")
     assert done.returncode == 0, done.stderr
     return folder / "fit", done.stdout, study
 
