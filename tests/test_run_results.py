@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
+from helpers.map_studies import gantry_map_study
 from tribokin import InputError, run_study
 from tribokin.cli import main
 from tribokin.output.writers import write_pose_table
@@ -124,7 +125,12 @@ def test_write_gives_the_commands_files_but_the_command_line_summary_json_record
     assert not (tmp_path / "library.lock").exists()
 
 
-def test_write_refuses_an_existing_folder_unless_forced(result, tmp_path):
+def test_write_refuses_an_existing_folder_unless_forced(tmp_path):
+    """On a map of four targets: what write() refuses and replaces does not depend on what the results hold (the
+    module's study would draw its six poses' and two scenarios' figures for nothing)."""
+    study = gantry_map_study()
+    study["map"]["resolution"] = [2, 2]
+    result = run_study(study)
     (tmp_path / "mine").mkdir()
     (tmp_path / "mine" / "notes.txt").write_text("a user's")
     with pytest.raises(InputError, match="output folder exists; choose another --out or pass --force"):

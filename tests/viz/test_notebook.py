@@ -29,6 +29,12 @@ def written(tmp_path_factory):
     return result, result.write(tmp_path_factory.mktemp("notebook") / "out")
 
 
+@pytest.fixture(scope="module")
+def figures(written):
+    """``figures()`` of the study's result (drawn once for the tests that look at them)."""
+    return written[0].figures()
+
+
 def frame_page(frame: str) -> str:
     """The page an ``<iframe srcdoc>`` holds."""
     return html.unescape(re.fullmatch(r'<iframe title="3-D scene" [^>]*srcdoc="([^"]*)"></iframe>', frame)[1])
@@ -55,9 +61,8 @@ def test_a_pose_and_a_map_show_their_own_scenes_and_none_without_a_robot(written
         pose.robot = None
 
 
-def test_the_figures_are_the_folder_s_pngs(written, tmp_path):
+def test_the_figures_are_the_folder_s_pngs(written, figures, tmp_path):
     result, folder = written
-    figures = result.figures()
     # the report's order: poses (P, then the cube's P1-P5), the map's (its directional figures included)
     assert list(figures) == figure_names(result)
     assert set(figures) == {p.name for p in folder.glob("*.png")} and len(figures) == 6 + 9
@@ -66,11 +71,11 @@ def test_the_figures_are_the_folder_s_pngs(written, tmp_path):
         assert (tmp_path / name).read_bytes() == (folder / name).read_bytes(), name
 
 
-def test_a_pose_s_and_a_map_s_own_figures_are_titled_by_them(written):
+def test_a_pose_s_and_a_map_s_own_figures_are_titled_by_them(written, figures):
     result, _ = written
     (name, field), = result.poses[0].figures().items()
     assert name == "field_P.png" and field._suptitle.get_text() == "P"
     maps = result.map.figures("plane")
-    assert list(maps) == [name for name in result.figures() if name.startswith("map_")]
+    assert list(maps) == [name for name in figures if name.startswith("map_")]
     assert all(figure._suptitle.get_text().startswith("plane: ") for figure in maps.values())
     assert np.all([len(figure.axes) >= 2 for figure in maps.values()])  # panels and colour bar

@@ -19,6 +19,7 @@ from pathlib import Path
 import pytest
 
 from conftest import AXIS_STUDY_TOML, AXIS_URDF, GANTRY_MAP_TOML
+from helpers.command import in_process
 from helpers.viz_layers import CUBE, UNIFORM_AXIS, grid_layers
 from tribokin.cli import main
 from tribokin.errors import InputError
@@ -35,12 +36,19 @@ STUDY_TEXTS = {"pose": AXIS_STUDY_TOML, "map": SMALL_MAP_TOML,
 
 @pytest.fixture(scope="module")
 def folders(tmp_path_factory) -> dict[str, Path]:
-    """Output folders written by `tribokin run --report light`: a pose study, a map study, and both."""
+    """Output folders written by `tribokin run --report light`: a pose study, a map study, and both; without their
+    PNG figures, which the viewer never reads (it serves scene.npz, summary.json says what the folder holds)."""
+    import tribokin.viz.contents as contents
+
     assert "resolution = [3, 3]" in SMALL_MAP_TOML
     root = tmp_path_factory.mktemp("view")
-    for kind, text in STUDY_TEXTS.items():
-        (root / f"{kind}.toml").write_text(text)
-        assert main(["run", root / f"{kind}.toml", "--out", root / kind, "--report", "light"]) == 0
+    with pytest.MonkeyPatch.context() as patch:  # in the views' process too: it is forked with the patch
+        patch.setattr(contents, "save_repeatability_field", lambda pose, path, title="": None)
+        patch.setattr(contents, "save_map_figures", lambda workspace_map, folder, study_name: [])
+        for kind, text in STUDY_TEXTS.items():
+            (root / f"{kind}.toml").write_text(text)
+            assert main(["run", root / f"{kind}.toml", "--out", root / kind, "--report", "light"]) == 0
+    assert not list(root.glob("*/*.png")) and all((root / kind / "scene.npz").is_file() for kind in STUDY_TEXTS)
     return {kind: root / kind for kind in STUDY_TEXTS}
 
 
@@ -202,7 +210,7 @@ def test_view_server_dies_with_a_killed_viewer(folders):
 
 
 def test_view_of_a_folder_without_scene_is_one_line_exit_2(tmp_path):
-    done = subprocess.run([sys.executable, "-m", "tribokin", "view", str(tmp_path)], capture_output=True, text=True)
+    done = in_process("view", tmp_path)  # refused before any server starts: no process of its own to watch
     assert done.returncode == 2 and len(done.stderr.strip().splitlines()) == 1
     assert "summary.json" in done.stderr and "tribokin run" in done.stderr
 
