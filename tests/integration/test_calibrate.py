@@ -64,15 +64,29 @@ def study_with_small_map(folder) -> Path:
 
 
 @pytest.fixture(scope="module")
-def calibrated(tmp_path_factory):
+def command_run(tmp_path_factory):
     """The command run on the study with its small map, in this process (no new interpreter's imports: 2-3 s of
     CPU; a fresh interpreter's run is compared with this process's by
-    test_the_fit_writes_the_same_bytes_on_one_blas_thread_or_two): its folder, what it printed and the study."""
+    test_the_fit_writes_the_same_bytes_on_one_blas_thread_or_two): its folder, what it printed, the study, and the
+    CalibrationResult it wrote (recorded from tribokin.measured.calibrated.calibrate, which the command calls)."""
+    from tribokin.measured import calibrated as library
+
     folder = tmp_path_factory.mktemp("calibrate")
     study = study_with_small_map(folder)
-    done = in_process("calibrate", study, "--measurements", DATA, "--out", folder / "fit")
+    results, real = [], library.calibrate
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(library, "calibrate", lambda *args, **options: results.append(real(*args, **options)) or
+                      results[-1])
+        done = in_process("calibrate", study, "--measurements", DATA, "--out", folder / "fit")
     assert done.returncode == 0, done.stderr
-    return folder / "fit", done.stdout, study
+    assert len(results) == 1
+    return folder / "fit", done.stdout, study, results[0]
+
+
+@pytest.fixture(scope="module")
+def calibrated(command_run):
+    """The command's folder, what it printed, and the study (:func:`command_run`)."""
+    return command_run[:3]
 
 
 @pytest.fixture(scope="module")
@@ -88,14 +102,11 @@ def registered(tmp_path_factory) -> tuple[Path, Path, str]:
 
 
 @pytest.fixture(scope="module")
-def library(calibrated):
-    """calibrate() of the command's study and file (one call for every library check), and the folder it wrote,
-    beside the command's (``calibrated.toml`` names the study's files relative to its folder)."""
-    from tribokin import calibrate
-
-    _, _, study = calibrated
+def library(command_run):
+    """The command's CalibrationResult (one for every library check) and the folder its write() wrote beside the
+    command's (``calibrated.toml`` names the study's files relative to its folder)."""
+    *_, study, result = command_run
     out = study.parent / "library"
-    result = calibrate(study, DATA, out=out)
     assert result.write(out) == out
     return result, out
 
@@ -135,8 +146,10 @@ def test_comparison_holds_measured_and_predicted_figures_of_every_pose(calibrate
         assert low <= float(row["held_out_predicted_um"]) <= high
 
 
-def test_a_second_run_the_library_s_writes_the_command_s_bytes_and_its_result_is_frozen(calibrated, library):
-    """Two runs write the same bytes: the command's folder, and calibrate()'s result written by its write()."""
+def test_the_command_s_result_written_again_gives_its_bytes_and_is_frozen(calibrated, library):
+    """The CalibrationResult the command computed, written by its write() to another folder, gives the command's
+    files byte for byte (a second, fresh interpreter's fit writes the same bytes as this process's:
+    test_the_fit_writes_the_same_bytes_on_one_blas_thread_or_two)."""
     from tribokin import CalibrationResult
 
     result, out = library
@@ -593,7 +606,7 @@ def test_fit_ar1_with_a_map_writes_a_calibrated_study_whose_map_draws_it_and_run
     carries the fitted ar1 and the map; run_study of it runs, its joints' series and its map's tests drawn with that
     ar1 (the summary's map.state: a map whose friction is correlated), and the calibration's map is that map (the
     same summary, to the last bit). The library throughout: the command's folder is test_calibrate_writes_its_folder's
-    and test_a_second_run_the_library_s_writes_the_command_s_bytes'."""
+    and test_the_command_s_result_written_again_gives_its_bytes_and_is_frozen'."""
     from tribokin import calibrate, run_study
 
     study = gantry_study(tmp_path, "joint-tables-out-of-order")
