@@ -120,6 +120,12 @@ def test_run_of_a_map_comparing_two_states_prints_and_draws_the_changes(tmp_path
     parts = line.split("RP_l ")[1].split("AP_p ")
     rp_l, ap_p = (np.array(part.split(",")[0].split(" / "), dtype=float) for part in parts)
     assert np.all(rp_l < 0) and np.all(ap_p < 0)
+    rests_on = done.stdout.splitlines()[done.stdout.splitlines().index(line) + 1]  # what the changes rest on
+    (computed,) = json.loads((tmp_path / "out" / "summary.json").read_text())["map"]["computed"].values()
+    assert rests_on == ("  largest Monte Carlo standard error / engine bound [µm]: " + ", ".join(
+        f"{stem} {computed[f'{stem}_change_max_mc_error_um']:.3g} / "
+        f"{computed[f'{stem}_change_max_engine_bound_um']:.3g}" for stem in ("RP_l", "AP_p")))
+    assert computed["RP_l_change_max_mc_error_um"] > 0
     header = (tmp_path / "out" / "map.csv").read_text().splitlines()[0].split(",")
     assert {"RP_l_change_um", "AP_p_change_um", "RP_l_change_mc_error_um", "AP_p_change_mc_error_um"} <= set(header)
     assert (tmp_path / "out" / "map_RP_l_change.png").stat().st_size > 10_000

@@ -367,3 +367,12 @@ def test_every_scenario_of_a_map_comparing_two_states_has_its_change_maps_on_one
     assert shown == maps.map_figure_names(workspace_map) and (out / "map_AP_p_change_stiff.png").stat().st_size > 5000
     header = (out / "map_stiff.csv").read_text().splitlines()[0].split(",")
     assert {"RP_l_change_um", "RP_l_change_mc_error_um", "RP_l_change_engine_bound_um"} <= set(header)
+    summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))["map"]
+    spreads = [" / ".join(f"{summary[name][key]:.3f}" for key in ("min", "median", "max"))
+               for name in ("RP_l_change_um", "AP_p_change_um")]
+    computed = summary["computed"]["raw"]  # what the reference's changes rest on, as the command prints it
+    rests_on = ", ".join(f"{stem} {computed[f'{stem}_change_max_mc_error_um']:.3g} / "
+                         f"{computed[f'{stem}_change_max_engine_bound_um']:.3g}" for stem in ("RP_l", "AP_p"))
+    assert (f"<p>Change from map.state to map.compare (the first scenario), min / median / max [µm]: RP_l "
+            f"{spreads[0]}, AP_p {spreads[1]}; largest Monte Carlo standard error / engine bound [µm]: {rests_on}.</p>"
+            ) in page

@@ -126,17 +126,10 @@ def _print_poses(poses) -> None:
                   f"{vap:>11}")
 
 
-def _spread_um(spread) -> str:
-    """A :class:`~tribokin.maps.streaming.Spread` [µm]: min / median / max, ``-`` without values."""
-    if spread.min is None:
-        return "-"
-    return f"{spread.min:.3f} / {spread.median:.3f} / {spread.max:.3f}"
-
-
 def _print_map(workspace_map) -> None:
     """The map's targets reached, each scenario's RP_l (its wins and its robot's reach where they differ), and the
     change between two states."""
-    from tribokin.maps.result import DIRECTIONS_NOTE
+    from tribokin.maps.result import DIRECTIONS_NOTE, change_rests_on
 
     statistics, grid, reference = workspace_map.statistics(), workspace_map.grid, workspace_map.reference
     shape = " x ".join(str(n) for n in grid.shape[::-1] if n > 1) or "1"
@@ -150,12 +143,16 @@ def _print_map(workspace_map) -> None:
     for name, scenario in zip(names, statistics.scenarios, strict=True):
         wins = f" {scenario.wins:>7}" if several else ""
         reachable = f" {scenario.reachable:>9}" if reach else ""
-        print(f"{name:<{width}} {_spread_um(scenario.RP_l_um):>30}{wins}{reachable}")
+        print(f"{name:<{width}} {scenario.RP_l_um.as_text():>30}{wins}{reachable}")
     if reference.both_directions:
         print(f"approached from both directions: {DIRECTIONS_NOTE}")
     if statistics.RP_l_change_um is not None:  # [map] compare: from the map's state to the second one
         print(f"change from map.state to map.compare, min / median / max [µm]: RP_l "
-              f"{_spread_um(statistics.RP_l_change_um)}, AP_p {_spread_um(statistics.AP_p_change_um)}")
+              f"{statistics.RP_l_change_um.as_text()}, AP_p {statistics.AP_p_change_um.as_text()}")
+        computed = statistics.summary.get("computed")
+        if computed is not None:  # expected figures: what the changes rest on
+            print(f"  largest Monte Carlo standard error / engine bound [µm]: "
+                  f"{change_rests_on(computed[reference.name])}")
 
 
 def _print_placement(placement, out: Path) -> None:

@@ -30,6 +30,12 @@ class Spread:
         """``{min, median, max}``, as ``summary.json`` gives it."""
         return asdict(self)
 
+    def as_text(self) -> str:
+        """``min / median / max`` to three decimals, as the command prints it; ``-`` without values."""
+        if self.min is None:
+            return "-"
+        return f"{self.min:.3f} / {self.median:.3f} / {self.max:.3f}"
+
 
 def blocks(size: int, block: int | None = None) -> Iterator[slice]:
     """Consecutive slices covering ``range(size)``, ``block`` (default ``BLOCK_TARGETS``) targets each (the last

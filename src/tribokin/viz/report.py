@@ -18,7 +18,7 @@ import numpy as np
 
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.grid import TargetGrid
-from tribokin.maps.result import MapResult
+from tribokin.maps.result import MapResult, change_rests_on
 from tribokin.run import StudyResult
 from tribokin.study.map_spec import BoxMap, MapSpec
 from tribokin.study.names import drift_figure_file
@@ -138,7 +138,23 @@ def map_statistics(workspace_map: MapResult) -> str:
         headers, rows = headers[:-1], [row[:-1] for row in rows]
     note = (f"<p>Approached from both directions: {html.escape(summary['unsuffixed_figures'])}.</p>"
             if "unsuffixed_figures" in summary else "")
-    return html_table(headers, rows, text_columns=(5,) if computed is not None else ()) + note
+    return html_table(headers, rows, text_columns=(5,) if computed is not None else ()) + note + change_note(
+        workspace_map)
+
+
+def change_note(workspace_map: MapResult) -> str:
+    """A map comparing two states (``map.compare``): the change of the first scenario's RP_l and AP_p [µm] (min,
+    median and max over the targets) and, for expected figures, their largest Monte Carlo standard error and engine
+    bound, as the command prints them; empty otherwise."""
+    statistics = workspace_map.statistics()
+    if statistics.RP_l_change_um is None:
+        return ""
+    computed = statistics.summary.get("computed")
+    rests_on = ("" if computed is None else "; largest Monte Carlo standard error / engine bound [µm]: "
+                f"{change_rests_on(computed[workspace_map.reference.name])}")
+    return (f"<p>Change from map.state to map.compare{' (the first scenario)' * (len(statistics.scenarios) > 1)}, "
+            f"min / median / max [µm]: RP_l {statistics.RP_l_change_um.as_text()}, AP_p "
+            f"{statistics.AP_p_change_um.as_text()}{html.escape(rests_on)}.</p>")
 
 
 def engine_counts(computed: dict) -> str:
