@@ -52,8 +52,13 @@ def test_asperity_count_equation_6_against_closed_form():
                 * (stats.norm.cdf(2) - stats.norm.cdf(0))
                 * (stats.norm.cdf((math.log(60) - surface.radius_b) / surface.radius_a)
                    - stats.norm.cdf((math.log(20) - surface.radius_b) / surface.radius_a)))
-    assert surface.asperity_count(1e-6, (z1, z2), (r1, r2)) == pytest.approx(expected, rel=1e-6)
-    assert surface.asperity_count(1e-6) == pytest.approx(surface.summit_density_m2 * 1e-6, rel=1e-6)
+    assert surface.asperity_count(1e-6, (z1, z2), (r1, r2)) == pytest.approx(expected, rel=1e-12)
+    assert surface.asperity_count(1e-6) == pytest.approx(surface.summit_density_m2 * 1e-6, rel=1e-12)
+    far = surface.asperity_count(1e-6, (surface.Alt_m + 9 * surface.SAlt_m, np.inf))  # 1 - cdf would give 0 here
+    assert far == pytest.approx(1.2 * 1e-6 / surface.AR_m ** 2 * stats.norm.sf(9), rel=1e-9)
+    low = surface.asperity_count(1e-6, radius_range_m=(0.0, 1e-9))  # radii below 1 nm: the lognormal's lower tail
+    assert low == pytest.approx(1.2 * 1e-6 / surface.AR_m ** 2
+                                * stats.norm.cdf((math.log(1e-3) - surface.radius_b) / surface.radius_a), rel=1e-9)
 
 
 def test_too_few_peaks_is_an_input_error():

@@ -24,7 +24,7 @@ import math
 from dataclasses import asdict, dataclass
 
 import numpy as np
-from scipy import integrate, stats
+from scipy import stats
 
 from tribokin.errors import InputError
 from tribokin.tribology.columns import quiet_numerics, read_columns
@@ -68,20 +68,24 @@ class SurfaceStatistics:
     def asperity_count(self, area_m2, z_range_m=(-np.inf, np.inf), radius_range_m=(0.0, np.inf)) -> float:
         """Eq. (6): asperities of the apparent area A_a [m^2] with z in z_range [m], R in radius_range [m].
 
-        (1.2 A_a / AR^2) * double integral of p(z, R), by ``scipy.integrate.dblquad``
-        over the altitude and the dimensionless radius R*.
+        (1.2 A_a / AR^2) times the double integral of p(z, R) = p1(z) p2(R) over the ranges, which the independence
+        of altitude and radius makes the product of each law's probability of its range (each from the tail that
+        keeps its digits).
         """
-        law_z, law_r = self.altitude_law(), stats.lognorm(self.radius_a, 0, math.exp(self.radius_b))
-        (z1, z2), (r1, r2) = z_range_m, radius_range_m
-        scale = self.SAlt_m  # integrate over u = (z - Alt) / SAlt so quad sees numbers of order 1
-        u1, u2 = (z1 - self.Alt_m) / scale, (z2 - self.Alt_m) / scale
-        integral, _ = integrate.dblquad(lambda r, u: law_z.pdf(self.Alt_m + scale * u) * scale * law_r.pdf(r),
-                                        u1, u2, r1 / RADIUS_UNIT_M, r2 / RADIUS_UNIT_M)
-        return self.summit_density_m2 * area_m2 * integral
+        return (self.summit_density_m2 * area_m2 * _probability_between(self.altitude_law(), *z_range_m)
+                * _probability_between(self.radius_law(), *radius_range_m))
 
     def summary(self) -> dict:
         """The statistics as a JSON-ready mapping."""
         return asdict(self)
+
+
+def _probability_between(law, low: float, high: float) -> float:
+    """P(low < X < high) of a frozen scipy law, from its upper tail above the median (where 1 - cdf would lose the
+    digits) and its lower tail below."""
+    if low >= law.median():
+        return float(law.sf(low) - law.sf(high))
+    return float(law.cdf(high) - law.cdf(low))
 
 
 def read_profile(path) -> tuple[np.ndarray, np.ndarray]:
