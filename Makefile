@@ -12,6 +12,8 @@ $(VENV)/.base: pyproject.toml
 	$(PYTHON) -c 'import sys; sys.exit("tribokin needs Python >= 3.10, found " + sys.version.split()[0]) if sys.version_info < (3, 10) else None'
 	$(PYTHON) -m venv $(VENV)
 	$(PIP) install -e .
+	@echo "compiling tribokin's numba kernels into their cache (once, about a minute: tools/compile_kernels.py)"
+	$(PY) tools/compile_kernels.py
 	touch $@
 
 $(VENV)/.test: $(VENV)/.base
