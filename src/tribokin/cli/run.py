@@ -129,7 +129,7 @@ def _print_poses(poses) -> None:
 def _print_map(workspace_map) -> None:
     """The map's targets reached, each scenario's RP_l (its wins and its robot's reach where they differ), and the
     change between two states."""
-    from tribokin.maps.result import DIRECTIONS_NOTE, change_rests_on
+    from tribokin.maps.result import DIRECTIONS_NOTE
 
     statistics, grid, reference = workspace_map.statistics(), workspace_map.grid, workspace_map.reference
     shape = " x ".join(str(n) for n in grid.shape[::-1] if n > 1) or "1"
@@ -149,10 +149,9 @@ def _print_map(workspace_map) -> None:
     if statistics.RP_l_change_um is not None:  # [map] compare: from the map's state to the second one
         print(f"change from map.state to map.compare, min / median / max [µm]: RP_l "
               f"{statistics.RP_l_change_um.as_text()}, AP_p {statistics.AP_p_change_um.as_text()}")
-        computed = statistics.summary.get("computed")
-        if computed is not None:  # expected figures: what the changes rest on
-            print(f"  largest Monte Carlo standard error / engine bound [µm]: "
-                  f"{change_rests_on(computed[reference.name])}")
+        rests_on = workspace_map.change_rests_on()
+        if rests_on is not None:  # expected figures: what the changes rest on
+            print(f"  largest Monte Carlo standard error / engine bound [µm]: {rests_on}")
 
 
 def _print_placement(placement, out: Path) -> None:

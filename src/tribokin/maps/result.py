@@ -28,18 +28,6 @@ from tribokin.output.dispatch import result_figures, result_scene
 #: What a map approached from both directions says of its unsuffixed figures (``summary.json``).
 DIRECTIONS_NOTE = ("RP_l, its band, AP_p and RP_a/b/c: the larger of the + and - approach directions' (ISO's "
                    "figure per direction; each direction's in <figure>_plus_<unit>, <figure>_minus_<unit>)")
-#: The changes between a map's two states (``map.compare``), by their figure stems.
-CHANGE_STEMS = ("RP_l_change", "AP_p_change")
-
-
-def change_rests_on(computed: dict) -> str:
-    """``RP_l 0.012 / 3.4e-06, AP_p ...``: each change's largest Monte Carlo standard error and largest bound from
-    the engines' bounds over the targets [µm], from a scenario's ``computed`` block of ``summary.json``
-    (:meth:`MapResult.statistics`)."""
-    return ", ".join(f"{stem.split('_change')[0]} {computed[f'{stem}_max_mc_error_um']:.3g} / "
-                     f"{computed[f'{stem}_max_engine_bound_um']:.3g}" for stem in CHANGE_STEMS)
-
-
 #: Who reaches a target, as :meth:`MapResult.reached_by` gives it: a scenario's robot and the reference's, the
 #: scenario's only, the reference's only, neither.
 REACHED_BY = ("both", "this only", "reference only", "neither")
@@ -347,6 +335,19 @@ class MapResult:
     def summary(self) -> dict:
         """The ``map`` block of ``summary.json`` (:meth:`statistics`)."""
         return self.statistics().summary
+
+    def change_rests_on(self) -> str | None:
+        """``RP_l 0.012 / 3.4e-06, AP_p ...``: each change of the reference (:data:`CHANGE_FIGURES`) with its largest
+        Monte Carlo standard error and largest bound from the engines' bounds over the targets [µm], from its
+        ``computed`` block of :meth:`summary`, as the command prints them and the report shows them; ``None`` for a
+        map without changes or without expected figures."""
+        computed = self.summary().get("computed")
+        if computed is None or not self.reference.change:
+            return None
+        own = computed[self.reference.name]
+        return ", ".join(f"{figure_stem(name).removesuffix('_change')} "
+                         f"{own[f'{figure_stem(name)}_max_mc_error_um']:.3g} / "
+                         f"{own[f'{figure_stem(name)}_max_engine_bound_um']:.3g}" for name in CHANGE_FIGURES)
 
     def use_statistics(self, statistics: MapStatistics | Future) -> None:
         """Take ``statistics``, this map's computed elsewhere (or its future), as :meth:`statistics`."""

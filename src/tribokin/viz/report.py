@@ -18,7 +18,7 @@ import numpy as np
 
 from tribokin.kinematics.robot import Robot
 from tribokin.maps.grid import TargetGrid
-from tribokin.maps.result import MapResult, change_rests_on
+from tribokin.maps.result import MapResult
 from tribokin.run import StudyResult
 from tribokin.study.map_spec import BoxMap, MapSpec
 from tribokin.study.names import drift_figure_file
@@ -149,9 +149,8 @@ def change_note(workspace_map: MapResult) -> str:
     statistics = workspace_map.statistics()
     if statistics.RP_l_change_um is None:
         return ""
-    computed = statistics.summary.get("computed")
-    rests_on = ("" if computed is None else "; largest Monte Carlo standard error / engine bound [µm]: "
-                f"{change_rests_on(computed[workspace_map.reference.name])}")
+    stated = workspace_map.change_rests_on()
+    rests_on = "" if stated is None else f"; largest Monte Carlo standard error / engine bound [µm]: {stated}"
     return (f"<p>Change from map.state to map.compare{' (the first scenario)' * (len(statistics.scenarios) > 1)}, "
             f"min / median / max [µm]: RP_l {statistics.RP_l_change_um.as_text()}, AP_p "
             f"{statistics.AP_p_change_um.as_text()}{html.escape(rests_on)}.</p>")
