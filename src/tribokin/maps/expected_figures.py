@@ -34,7 +34,8 @@ fallback: orders 2-3, else exact FK), whose own bound then takes b's place. Per 
 - **Monte Carlo errors**: every figure of the test states its relative standard error (``mc_errors``): a mean over
   sampled tests its standard error, a band's end the percentile's (:func:`~tribokin.iso9283.gaussian_tests.
   percentile_error`), what comes from the shape table the table's, from ``ASYMPTOTIC_CYCLES`` cycles on RP_l and
-  its band by the delta method over the cycles' moments, a closed form 0.
+  its band by the delta method over the cycles' moments (:func:`moments_errors`, :func:`cycles_band`) and the
+  semi-axis from its fourth moments' halves (:func:`cycles_semi_axis`), a closed form 0.
 - ``vAP_p_um``: the largest distance between the barycentres reached along +x, +y, +z of the world frame (joint
   signs as the measured cube's, :func:`~tribokin.iso9283.cube.held_approach_signs`); each barycentre through
   RP_l_multi's first-order model (about q + offset: its bound covers every direction's deviations), or where that
@@ -68,17 +69,21 @@ from tribokin.iso9283.gaussian_tests import (
     ASYMPTOTIC_CYCLES,
     BAND_PERCENTILES,
     ShapeTable,
+    band_quantiles,
     barycentre_shares,
     c4,
     eigenvalues,
     expected_maximum,
     expected_norm,
     expected_rp_l,
+    expected_semi_axis,
+    gaussian_products,
     mean_error,
     normal_band,
     percentile_error,
     rp_l_from_moments,
     sign_mixture,
+    skewed_band,
     standardised_shape,
 )
 from tribokin.iso9283.metrics import orientation_repeatability, position_repeatability, position_spread
@@ -312,7 +317,7 @@ def band_factor(runner: PoseRunner, cycles: int) -> int:
             points = np.zeros((1, shape[1], 3))
             points[0, :, 0] = cloud[0]
             moments, distances = cycle_moments(points, cycles, barycentre_normals(shape[1]))
-            errors = moments_errors(distances, moments, cycles)
+            errors = moments_errors(distances, moments, cycles, band=cycles_band(points, cycles))
         else:
             errors = rp_l_errors(cloud)
         worst = max(worst, *(float(np.max(error)) for error in errors))
@@ -795,16 +800,19 @@ def _summarise_cycles(values: dict, errors: dict, slots: list[int], positions: n
                       commanded: np.ndarray, cycles: int, control: tuple) -> None:
     """As :func:`_summarise_tests`, for tests of ``cycles`` >= ``ASYMPTOTIC_CYCLES`` cycles from (k, 1, M, 3) single
     cycles: RP_l from their distances' moments (:func:`~tribokin.iso9283.gaussian_tests.rp_l_from_moments`), its band
-    normal, their Monte Carlo errors by the delta method over the cycles' moments (:func:`moments_errors`); AP_p,
-    RP_a/b/c and the semi-axis as in the closed form from the cycles' mean and covariance, which are the first-order
+    from their spread and skewness (:func:`cycles_band`), their Monte Carlo errors by the delta method over the
+    cycles' moments (:func:`moments_errors`); the semi-axis E√λ̂₁ from the covariance and the cycles' fourth moments
+    (:func:`cycles_semi_axis`); AP_p and RP_a/b/c as in the closed form from the cycles' mean and covariance, which
+    are the first-order
     model's (``control``: the model, the targets, and after a fallback the model's samples of the same numbers, a
     control variate: the engine's sample moments less the model's plus the model's exact ones; their errors then
     bounded by the model's bound b, β over √M)."""
     positions, angles = positions[:, 0], angles[:, 0]
     n, count = cycles, positions.shape[1]
     moments, distances = cycle_moments(positions, n, barycentre_normals(positions.shape[1]))
-    mean, spread = rp_l_from_moments(moments, n)
-    low, high = normal_band(mean, spread)
+    mean = rp_l_from_moments(moments, n)[0]
+    band = cycles_band(positions, n)
+    low, high = skewed_band(mean, band.spread, band.skewness)
     model, targets, linear = control
     centre, covariance = model.position_m[targets], model.position_covariance[targets]
     angle_variance = np.diagonal(model.angle_covariance[targets], axis1=1, axis2=2)
@@ -816,14 +824,16 @@ def _summarise_cycles(values: dict, errors: dict, slots: list[int], positions: n
         angle_variance = angle_variance + angles.var(axis=1, ddof=1) - own_angles.var(axis=1, ddof=1)
         bound = model.bound[targets] / math.sqrt(count)
     ap_p = expected_norm(centre - commanded, covariance / n)
-    semi_axis = np.sqrt(np.maximum(np.linalg.eigvalsh(covariance)[:, -1], 0.0))
+    semi_axis, semi_axis_error = cycles_semi_axis(positions, covariance, n)
     angle_std = np.sqrt(np.maximum(angle_variance, 0.0))
     lengths = {"RP_l_um": mean, "RP_l_lo_um": low, "RP_l_hi_um": high, "AP_p_um": ap_p,
                "largest_semi_axis_um": semi_axis}
     for name, length in lengths.items():
         values[name][slots] = length * UM_PER_M
-    stated = dict(zip(("RP_l_um", "RP_l_lo_um", "RP_l_hi_um"), moments_errors(distances, moments, n), strict=True))
-    stated.update({"AP_p_um": relative(bound[:, 0], ap_p), "largest_semi_axis_um": relative(bound[:, 0], semi_axis)})
+    stated = dict(zip(("RP_l_um", "RP_l_lo_um", "RP_l_hi_um"), moments_errors(distances, moments, n, band=band),
+                      strict=True))
+    stated.update({"AP_p_um": relative(bound[:, 0], ap_p),
+                   "largest_semi_axis_um": relative(np.hypot(bound[:, 0], semi_axis_error), semi_axis)})
     for i, axis in enumerate("abc"):
         values[f"RP_{axis}_mdeg"][slots] = 3 * c4(n) * angle_std[:, i] * MDEG_PER_RAD
         stated[f"RP_{axis}_mdeg"] = relative(bound[:, 1], angle_std[:, i])
@@ -832,7 +842,7 @@ def _summarise_cycles(values: dict, errors: dict, slots: list[int], positions: n
 
 
 def sample_covariance(points: np.ndarray) -> np.ndarray:
-    """(k, 3, 3) covariance (n - 1) of (k, M, 3) ``points``."""
+    """(k, d, d) covariance (n - 1) of (k, M, d) ``points``."""
     offsets = points - points.mean(axis=1, keepdims=True)
     return np.einsum("kmi,kmj->kij", offsets, offsets) / (points.shape[1] - 1)
 
@@ -843,28 +853,99 @@ def relative(error: np.ndarray, value: np.ndarray) -> np.ndarray:
 
 
 def moments_errors(distances: np.ndarray, moments: tuple[np.ndarray, ...], cycles: int,
-                   shared: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
-    """Relative standard errors of E[RP_l] and its normal band's two ends (:func:`~tribokin.iso9283.gaussian_tests.
-    rp_l_from_moments`, with the barycentre's ``shared`` form if given; :func:`~tribokin.iso9283.gaussian_tests.
-    normal_band`) taken from ``moments`` of (k, M) single cycles' ``distances``: the delta method, each one's
-    gradient in the four moments by central differences times the covariance of (l, l², l³, l⁴) over M (the shared
-    form held: its own error, of a term 0.1-0.5 % of RP_l estimated to about 1/√M, is some 1e-5)."""
+                   shared: np.ndarray | None = None, band: CyclesBand | None = None) -> tuple[np.ndarray, ...]:
+    """Relative standard errors of E[RP_l] (:func:`~tribokin.iso9283.gaussian_tests.rp_l_from_moments`, with the
+    barycentre's ``shared`` form if given) taken from ``moments`` of (k, M) single cycles' ``distances``, and with
+    ``band`` (:func:`cycles_band`, of the same cycles) of its band's two ends: the delta method, E[RP_l]'s gradient
+    in the four moments by central differences times each cycle's (l, l², l³, l⁴) less their means, an end's that plus
+    its quantile factor times the cycle's influence on the band's spread, their mean squares over M (the shared form
+    held: its own error, of a term 0.1-0.5 % of RP_l estimated to about 1/√M, is some 1e-5; the skewness's, which
+    moves an end by about 0.5 % of an error of it times the spread, too)."""
     powers = distances[..., None] ** np.arange(1, 5)  # (k, M, 4)
     centred = powers - powers.mean(axis=1, keepdims=True)
-    covariance = np.einsum("kmi,kmj->kij", centred, centred) / (distances.shape[1] - 1) / distances.shape[1]
+    count = distances.shape[1]
+    covariance = np.einsum("kmi,kmj->kij", centred, centred) / (count - 1) / count
 
-    def ends(point):
-        mean, spread = rp_l_from_moments(tuple(point), cycles, shared)
-        return np.stack([mean, *normal_band(mean, spread)], axis=-1)  # (k, 3)
+    def mean_of(point):
+        return rp_l_from_moments(tuple(point), cycles, shared)[0]
 
     point = np.stack(moments)  # (4, k)
-    gradient = np.empty((point.shape[1], 4, 3))
+    gradient = np.empty((point.shape[1], 4))
     for i in range(4):
         step = np.zeros_like(point)
         step[i] = 1e-4 * np.abs(point[i]) + np.finfo(float).tiny
-        gradient[:, i] = (ends(point + step) - ends(point - step)) / (2 * step[i][:, None])
-    variance = np.einsum("kia,kij,kja->ka", gradient, covariance, gradient)
-    return tuple(relative(np.sqrt(np.maximum(variance[:, a], 0.0)), ends(point)[:, a]) for a in range(3))
+        gradient[:, i] = (mean_of(point + step) - mean_of(point - step)) / (2 * step[i])
+    mean = mean_of(point)
+    errors = [relative(np.sqrt(np.maximum(np.einsum("ki,kij,kj->k", gradient, covariance, gradient), 0.0)), mean)]
+    if band is not None:
+        influence = np.einsum("kmi,ki->km", centred, gradient)
+        for factor, end in zip(band.factors, skewed_band(mean, band.spread, band.skewness), strict=True):
+            variance = np.square(influence + factor[:, None] * band.influence).sum(axis=1) / (count - 1) / count
+            errors.append(relative(np.sqrt(variance), end))
+    return tuple(errors)
+
+
+class CyclesBand(NamedTuple):
+    """One test's RP_l spread over tests of n cycles from (k, M) single cycles (:func:`cycles_band`): its standard
+    deviation ``spread`` [m] and ``skewness`` (k,), each cycle's ``influence`` (k, M) on the spread [m] (its error's
+    share), and each band end's ``factors`` (2 of (k,)) on the spread (:func:`~tribokin.iso9283.gaussian_tests.
+    skewed_band`)."""
+
+    spread: np.ndarray
+    skewness: np.ndarray
+    influence: np.ndarray
+    factors: tuple[np.ndarray, np.ndarray]
+
+
+def cycles_band(positions: np.ndarray, cycles: int) -> CyclesBand:
+    """The spread and skewness of one test's RP_l = l̄ + 3 S_l over tests of ``cycles`` cycles, from (k, M, 3) single
+    cycles [m]: the delta method over one cycle's (l, l²) about the cycles' mean (the l_j measured from a test's own
+    barycentre ȳ: l̄ moves by -ēᵀ(ȳ - μ) to first order, ē = E[(y - μ) / |y - μ|], which a skewed cloud makes
+    non-zero, and mean l² by |ȳ - μ|² only; the normal band leaving this out was 2-7 % too wide on lognormal
+    friction), the influence h = g_l (l - ēᵀ(y - μ) - E l) + g_l² (l² - E l²) of each cycle, Var(RP_l) = E[h²] / n and
+    the third cumulant (E[h³] + 3 hᵀ H h) / n² (H the Hessian of l̄ + 3 S_l in the two means; its skewness, about 0.2
+    at 500 cycles on lognormal friction, moves the band's ends by about 0.5 % of RP_l; left out: the barycentre's
+    second-order share, which the lognormal clouds put at about 0.05 of the skewness)."""
+    n = cycles
+    offsets = positions - positions.mean(axis=1, keepdims=True)
+    distances = np.linalg.norm(offsets, axis=-1)
+    units = np.divide(offsets, distances[..., None], out=np.zeros_like(offsets), where=distances[..., None] > 0)
+    mean_unit = units.mean(axis=1)
+    along = distances - np.einsum("kmi,ki->km", offsets, mean_unit)
+    squares = np.square(distances)
+    first, second = distances.mean(axis=1), squares.mean(axis=1)
+    factor = math.sqrt(n / (n - 1))
+    sigma = np.sqrt(np.maximum(second - first ** 2, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inverse = np.where(sigma > 0, 1 / sigma, 0.0)
+    slope_first, slope_second = 1 - 3 * factor * first * inverse, 1.5 * factor * inverse
+    deviations = (along - first[:, None], squares - second[:, None])
+    h = slope_first[:, None] * deviations[0] + slope_second[:, None] * deviations[1]
+    variance = np.square(h).mean(axis=1)
+    spread = np.sqrt(variance / n)
+    shares = [(h * d).mean(axis=1) for d in deviations]
+    curvature = 3 * factor * inverse ** 3 * (-second * shares[0] ** 2 + first * shares[0] * shares[1]
+                                             - shares[1] ** 2 / 4)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        skewness = np.where(variance > 0, (np.power(h, 3).mean(axis=1) + 3 * curvature) / np.sqrt(n) / variance ** 1.5,
+                            0.0)
+        influence = np.where(spread[:, None] > 0, (np.square(h) - variance[:, None]) / (2 * n * spread[:, None]), 0.0)
+    factors = tuple(np.full(len(spread), z) + (z * z - 1) * skewness / 6 for z in band_quantiles())
+    return CyclesBand(spread, skewness, influence, factors)
+
+
+def cycles_semi_axis(positions: np.ndarray, covariance: np.ndarray, cycles: int) -> tuple[np.ndarray, np.ndarray]:
+    """E√λ̂₁ [m] (k,) over tests of ``cycles`` cycles (:func:`~tribokin.iso9283.gaussian_tests.expected_semi_axis`) of
+    cycles of ``covariance`` (k, 3, 3) [m²], the fourth moments in its eigenvectors' axes from the (k, M, 3) single
+    cycles ``positions`` [m], and its standard error [m] from those moments: half the difference of the figure from
+    the even and from the odd cycles (one draw of it, right in mean square; some 1e-6 of the figure)."""
+    lam, vectors = np.linalg.eigh(covariance)
+    lam, vectors = lam[:, ::-1], vectors[:, :, ::-1]
+    axes = np.einsum("kmi,kij->kmj", positions - positions.mean(axis=1, keepdims=True), vectors)
+    terms = np.stack([axes[..., 0] ** 2, axes[..., 1] ** 2, axes[..., 0] * axes[..., 1], axes[..., 0] * axes[..., 2]],
+                     axis=-1)
+    even, odd = (expected_semi_axis(lam, sample_covariance(half), cycles) for half in (terms[:, ::2], terms[:, 1::2]))
+    return expected_semi_axis(lam, sample_covariance(terms), cycles), np.abs(even - odd) / 2
 
 
 def _summarise_tests(values: dict, errors: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
@@ -902,7 +983,9 @@ def _analytic(model: LinearModel, chosen: np.ndarray, setup: ExpectedSetup, comm
     rp_l, spread = expected_rp_l(lam, n)
     errors = {name: np.zeros(len(scale)) for name in SAMPLED_FIGURES}
     if setup.table is None:  # from ASYMPTOTIC_CYCLES on
-        band, semi_axis = normal_band(rp_l, spread), scale
+        largest_first = lam[:, ::-1]
+        band, semi_axis = normal_band(rp_l, spread), expected_semi_axis(largest_first, gaussian_products(largest_first),
+                                                                         n)
     else:
         mean, low, high, semi_axis = setup.table.at(shape)
         table_errors = dict(zip(("RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "largest_semi_axis_um"),
