@@ -42,7 +42,7 @@ def tool_deviations_exact(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[
     q, dq = np.asarray(q, dtype=float), np.asarray(dq, dtype=float)
     chain = serial_chain(robot)
     if chain is None:
-        return _deviations_by_pinocchio(robot, q, dq)
+        return tool_deviations_pinocchio(robot, q, dq)
     commanded_rotation = chain.tool_in_world(q)[0, :3, :3]
     positions, angles = np.empty((len(dq), 3)), np.empty((len(dq), 3))
     for start in range(0, len(dq), BLOCK):
@@ -53,8 +53,9 @@ def tool_deviations_exact(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[
     return positions, angles
 
 
-def _deviations_by_pinocchio(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`tool_deviations_exact` by one Pinocchio forward-kinematics call per sample (no serial chain)."""
+def tool_deviations_pinocchio(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`tool_deviations_exact` by one Pinocchio forward-kinematics call per sample: for a robot with no serial
+    chain (and the reference loop ``benchmarks/propagation.py`` times the batched passes against)."""
     model, data, frame = robot.model, robot.data, robot.tool_frame_id
     commanded_rotation = robot.tool_placement(q).rotation
     positions = np.empty((len(dq), 3))
