@@ -1,6 +1,8 @@
 """Exact engine (batched FK) against Pinocchio per sample; fast engine against the exact one, finite differences and
 its own bounds."""
 
+import os
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -53,12 +55,13 @@ def test_batched_exact_fk_matches_pinocchio_per_sample(robots, gantry_urdf, name
             np.testing.assert_allclose(angles, expected_angles, rtol=0, atol=1e-12)
             if size == 1e-6:
                 assert np.abs(angles - expected_angles).max() <= 1e-9 * np.abs(expected_angles).max()
-            monkeypatch.setattr(exact, "BLOCK", 7)
-            in_passes_of_7 = tool_deviations_exact(robot, q, dq)
-            monkeypatch.undo()
+            with monkeypatch.context() as patch:
+                patch.setattr(exact, "BLOCK", 7)
+                in_passes_of_7 = tool_deviations_exact(robot, q, dq)
             assert in_passes_of_7[0].tobytes() == positions.tobytes()
             assert in_passes_of_7[1].tobytes() == angles.tobytes()
     assert tool_deviations_exact(robot, q, dq[:0])[0].shape == (0, 3)
+    assert os.environ["TRIBOKIN_KERNELS"] == kernel_path  # the path under test throughout
 
 
 def test_a_robot_with_no_serial_chain_keeps_pinocchio_per_sample(monkeypatch):
