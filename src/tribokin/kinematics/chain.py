@@ -83,7 +83,7 @@ class SerialChain:
     def tool_in_world(self, q) -> np.ndarray:
         """(k, 4, 4) the tool frame's placement (homogeneous, [m]) in the world at configurations ``q`` (k, nv)
         [m or rad]: :meth:`tool_in_joint`'s index 0 to rounding, the product of the links from the base to the tool
-        only (for many configurations and nothing else: about a third of :meth:`tool_in_joint`'s time)."""
+        only (measured on the UR5 and Panda: 0.5-0.6 of :meth:`tool_in_joint`'s time in NumPy, 0.4 compiled)."""
         q = np.asarray(q, dtype=float).reshape(-1, len(self.turn_axes))
         if kernels := _kernels():
             return kernels.tool_in_world(np.ascontiguousarray(q), self.kernel_terms)
