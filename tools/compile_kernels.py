@@ -1,8 +1,9 @@
 """Compile tribokin's numba kernels into numba's cache, as installing a package compiles its bytecode: ``make`` runs
 this after installing tribokin, so that the first study run afterwards (and each worker of ``make test``) loads
 them instead of compiling them, about 25 CPU seconds each. It runs small studies that call every kernel with the
-argument types runs use (one approach and both, sampled and closed-form figures, a plane map's IK, a pose); a
-kernel called later with other types compiles then, as it would without this. Nothing is written but the cache;
+argument types runs use (one approach and both, sampled and closed-form figures, a plane map's IK, a pose, and the
+exact engine's batched forward kinematics); a kernel called later with other types compiles then, as it would
+without this. Nothing is written but the cache;
 on the NumPy path (``TRIBOKIN_KERNELS=numpy``, or numba not installed) it does nothing."""
 
 from __future__ import annotations
@@ -26,8 +27,8 @@ UR5 = {"study": {"name": "compile-kernels", "cycles": 10, "seed": 1},
 def main() -> int:
     if not use_compiled():
         return 0
-    for approach in ("unidirectional", "bidirectional"):
-        run_study({**UR5, "study": {**UR5["study"], "approach": approach}}, meshes=False)
+    for approach, engine in (("unidirectional", "fast"), ("bidirectional", "fast"), ("unidirectional", "exact")):
+        run_study({**UR5, "study": {**UR5["study"], "approach": approach, "engine": engine}}, meshes=False)
     return 0
 
 

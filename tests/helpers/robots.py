@@ -1,10 +1,12 @@
-"""Robots several test files use: a gantry with a spindle, random configurations, Gen3 with wide revolute joints."""
+"""Robots several test files use: a gantry with a spindle, a screw (no serial chain), random configurations, Gen3
+with wide revolute joints."""
 
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
 import numpy as np
+import pinocchio as pin
 
 from conftest import GEN3_URDF
 from tribokin.kinematics.robot import Robot
@@ -32,6 +34,16 @@ GANTRY_URDF = """<?xml version="1.0"?>
   <link name="tool"/>
 </robot>
 """
+
+
+def screw_robot() -> Robot:
+    """A helical joint (10 mm a turn, about z) carrying a tool 0.1 m off its axis: no axis joint, so no
+    :func:`~tribokin.kinematics.chain.serial_chain`."""
+    model = pin.Model()
+    screw = model.addJoint(0, pin.JointModelHelicalUnaligned(np.array([0.0, 0.0, 1.0]), 0.01), pin.SE3.Identity(),
+                           "screw")
+    model.addFrame(pin.Frame("tool", screw, 0, pin.SE3(np.eye(3), np.array([0.1, 0.0, 0.0])), pin.FrameType.OP_FRAME))
+    return Robot(model, "tool", "screw", np.zeros(1))
 
 
 def random_q(robot: Robot, count: int, seed: int = 4) -> np.ndarray:

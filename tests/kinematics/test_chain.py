@@ -6,7 +6,7 @@ import pinocchio as pin
 import pytest
 
 from conftest import AXIS_URDF, ROOT
-from helpers.robots import GANTRY_URDF, random_q
+from helpers.robots import GANTRY_URDF, random_q, screw_robot
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import TESTED_ROBOTS, Robot, load_example_robot, load_urdf, rigid_placement
 
@@ -53,7 +53,9 @@ def test_placements_and_jacobians_match_pinocchio(name, tmp_path):
         np.testing.assert_allclose(jacobian, np.reshape(local, (6, -1)), rtol=0, atol=1e-12)
         for joint, in_joint in zip(range(1, robot.model.njoints), placement[1:], strict=True):
             np.testing.assert_allclose(in_joint, (robot.data.oMi[joint].inverse() * tool).homogeneous, atol=1e-12)
+    np.testing.assert_allclose(chain.tool_in_world(q), placements[:, 0], rtol=0, atol=1e-14)  # the links' product
     assert chain.tool_in_joint(q[:0]).shape == (0, robot.model.nv + 1, 4, 4)
+    assert chain.tool_in_world(q[:0]).shape == (0, 4, 4)
     world = chain.world_jacobians(placements)
     joints = chain.joints_in_world(placements)
     for qi, jacobian, frames in zip(q, world, joints, strict=True):
@@ -75,9 +77,4 @@ def test_each_configuration_is_computed_alone():
 
 
 def test_a_joint_that_is_not_an_axis_joint_has_no_chain():
-    model = pin.Model()
-    screw = model.addJoint(0, pin.JointModelHelicalUnaligned(np.array([0.0, 0.0, 1.0]), 0.01), pin.SE3.Identity(),
-                           "screw")
-    model.addFrame(pin.Frame("tool", screw, 0, pin.SE3(np.eye(3), np.array([0.1, 0.0, 0.0])), pin.FrameType.OP_FRAME))
-    robot = Robot(model, "tool", "screw", np.zeros(1))
-    assert serial_chain(robot) is None
+    assert serial_chain(screw_robot()) is None

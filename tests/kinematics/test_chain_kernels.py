@@ -25,8 +25,9 @@ ROBOTS = {
 
 def chain_outputs(chain, q) -> dict[str, np.ndarray]:
     placements = chain.tool_in_joint(q)
-    return {"tool_in_joint": placements, "tool_jacobians": chain.tool_jacobians(placements),
-            "world_jacobians": chain.world_jacobians(placements), "joints_in_world": chain.joints_in_world(placements)}
+    return {"tool_in_joint": placements, "tool_in_world": chain.tool_in_world(q),
+            "tool_jacobians": chain.tool_jacobians(placements), "world_jacobians": chain.world_jacobians(placements),
+            "joints_in_world": chain.joints_in_world(placements)}
 
 
 @pytest.mark.parametrize("name", ROBOTS)
@@ -51,6 +52,7 @@ def test_the_compiled_chain_agrees_with_numpy_and_pinocchio(name, monkeypatch):
         pin.computeJointJacobians(robot.model, robot.data, configuration)
         tool = pin.updateFramePlacement(robot.model, robot.data, robot.tool_frame_id)
         np.testing.assert_allclose(compiled["tool_in_joint"][k, 0], tool.homogeneous, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(compiled["tool_in_world"][k], tool.homogeneous, rtol=0, atol=1e-12)
         local = pin.getFrameJacobian(robot.model, robot.data, robot.tool_frame_id, pin.LOCAL)
         np.testing.assert_allclose(compiled["tool_jacobians"][k], local, rtol=0, atol=1e-12)
         aligned = pin.getFrameJacobian(robot.model, robot.data, robot.tool_frame_id, pin.LOCAL_WORLD_ALIGNED)

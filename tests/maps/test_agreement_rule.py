@@ -11,7 +11,7 @@ Carlo's own (a mean's: the tests' standard deviation over √``TESTS``; a band's
 The Monte Carlo simulates ``TESTS`` ISO tests of ``CYCLES`` cycles per target and figure with the study's own error
 model (:func:`~tribokin.simulation.joint_errors.sample_joint_deviations`, the loads at the target) on a fresh stream,
 each cycle's tool pose through Pinocchio's forward kinematics (:func:`reached_positions`, and
-:func:`~tribokin.propagation.exact.tool_deviations_exact` for the angles), the figures by
+:func:`~tribokin.propagation.exact.tool_deviations_pinocchio` for the angles), the figures by
 :mod:`tribokin.iso9283.metrics`: unidirectional tests (every joint +) for RP_l, its band, AP_p, the largest semi-axis
 and RP_a/b/c, each from its own series; the three approaches along +x, +y, +z of vAP_p (each its own series of
 ``CYCLES`` cycles); tests of ``CYCLES`` cycles each approached from a random joint-space direction (every joint's sign
@@ -68,7 +68,7 @@ from tribokin.maps.expected_figures import (
     shape_table,
 )
 from tribokin.maps.schema import map_figures
-from tribokin.propagation.exact import tool_deviations_exact, tool_frames
+from tribokin.propagation.exact import tool_deviations_pinocchio, tool_frames
 from tribokin.simulation.joint_errors import sample_joint_deviations
 from tribokin.simulation.pose_test import PoseRunner
 from tribokin.study.assembly import joint_models, load_robot
@@ -129,7 +129,7 @@ def expected_at(runner: PoseRunner, q: np.ndarray, seed: int) -> dict:
 
 def reached_positions(robot, q: np.ndarray, dq: np.ndarray) -> np.ndarray:
     """(n, 3) tool positions [m] at configurations ``q`` + ``dq`` (n, nv), one Pinocchio forward-kinematics call each
-    (:func:`~tribokin.propagation.exact.tool_deviations_exact` without the angles, which cost as much again)."""
+    (:func:`~tribokin.propagation.exact.tool_deviations_pinocchio` without the angles, which cost as much again)."""
     positions = np.empty((len(dq), 3))
     for j, reached in enumerate(robot.configuration(q + dq)):
         pin.forwardKinematics(robot.model, robot.data, reached)
@@ -157,7 +157,7 @@ def monte_carlo(runner: PoseRunner, q: np.ndarray, rng: np.random.Generator, tes
     commanded = robot.tool_placement(q).translation
     directions = held_approach_signs(robot, q, np.array([APPROACH_DIRECTIONS[d] for d in VAP_DIRECTIONS]))
     barycentres = [positions(np.broadcast_to(signs, plus.shape)).mean(axis=1) for signs in directions]
-    angles = tool_deviations_exact(robot, q, deviations(plus))[1].reshape(tests, cycles, 3)
+    angles = tool_deviations_pinocchio(robot, q, deviations(plus))[1].reshape(tests, cycles, 3)
     random_directions = rng.integers(0, 2, plus.shape) * 2.0 - 1.0  # every joint's sign drawn per cycle
     per_test = {"RP_l_um": position_spread(positions(plus)).RP_l_m * UM_PER_M,
                 "AP_p_um": np.linalg.norm(positions(plus).mean(axis=1) - commanded, axis=-1) * UM_PER_M,

@@ -1,12 +1,16 @@
-"""Fast engine against exact per-sample Pinocchio FK, finite differences and its own bounds."""
+"""Exact engine (batched FK) against Pinocchio per sample; fast engine against the exact one, finite differences and
+its own bounds."""
+
+import os
 
 import numpy as np
 import pinocchio as pin
 import pytest
 
 from conftest import AXIS_URDF
-from helpers.robots import GANTRY_URDF
+from helpers.robots import GANTRY_URDF, screw_robot
 from tribokin.kinematics.robot import load_example_robot, load_urdf
+from tribokin.propagation import exact
 from tribokin.propagation.exact import engine_bound, tool_deviations, tool_deviations_exact
 from tribokin.propagation.poe import _exp_tail, _log_tail, tool_deviations_fast, tool_twists
 
@@ -25,6 +29,51 @@ def gantry_urdf(tmp_path):
     path = tmp_path / "gantry.urdf"
     path.write_text(GANTRY_URDF)
     return path
+
+
+def pinocchio_deviations(robot, q, dq):
+    """Tool positions [m] and rotation vectors log3(R_j R_c^T) [rad] by one Pinocchio FK call per sample."""
+    commanded = robot.tool_placement(q).rotation
+    placements = [robot.tool_placement(q + step) for step in dq]
+    return (np.array([p.translation for p in placements]).reshape(-1, 3),
+            np.array([pin.log3(p.rotation @ commanded.T) for p in placements]).reshape(-1, 3))
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda", "gantry with a spindle"])
+def test_batched_exact_fk_matches_pinocchio_per_sample(robots, gantry_urdf, name, kernel_path, monkeypatch):
+    """The batched exact engine at 5 random configurations, deviations from friction's size (1e-6) to 0.5 rad or m,
+    against one Pinocchio call per sample: to 1e-12 m and rad; the small angles to 1e-9 of their size (both roundings
+    of R_j R_c^T, about 1e-16 each, over an angle of 1e-6 rad); and the same bits whatever the size of the passes."""
+    robot = load_urdf(gantry_urdf, tool_frame="tool") if name.startswith("gantry") else robots[name]
+    rng = np.random.default_rng(14)
+    for q in random_configurations(robot, 5, rng):
+        for size in (1e-6, 1e-3, 0.5):
+            dq = rng.uniform(-size, size, (40, robot.model.nv))
+            positions, angles = tool_deviations_exact(robot, q, dq)
+            expected_positions, expected_angles = pinocchio_deviations(robot, q, dq)
+            np.testing.assert_allclose(positions, expected_positions, rtol=0, atol=1e-12)
+            np.testing.assert_allclose(angles, expected_angles, rtol=0, atol=1e-12)
+            if size == 1e-6:
+                assert np.abs(angles - expected_angles).max() <= 1e-9 * np.abs(expected_angles).max()
+            with monkeypatch.context() as patch:
+                patch.setattr(exact, "BLOCK", 7)
+                in_passes_of_7 = tool_deviations_exact(robot, q, dq)
+            assert in_passes_of_7[0].tobytes() == positions.tobytes()
+            assert in_passes_of_7[1].tobytes() == angles.tobytes()
+    assert tool_deviations_exact(robot, q, dq[:0])[0].shape == (0, 3)
+    assert os.environ["TRIBOKIN_KERNELS"] == kernel_path  # the path under test throughout
+
+
+def test_a_robot_with_no_serial_chain_keeps_pinocchio_per_sample(monkeypatch):
+    """A screw (a helical joint: no serial chain) through Pinocchio sample by sample: its bits, and the batched pass
+    never called."""
+    robot = screw_robot()
+    monkeypatch.setattr(exact, "log3", None)  # the batched pass would call it
+    dq = np.random.default_rng(15).uniform(-0.3, 0.3, (20, 1))
+    positions, angles = tool_deviations_exact(robot, np.array([0.4]), dq)
+    expected_positions, expected_angles = pinocchio_deviations(robot, np.array([0.4]), dq)
+    assert positions.tobytes() == expected_positions.tobytes() and angles.tobytes() == expected_angles.tobytes()
+    assert np.abs(angles[:, 2]).max() > 0.1  # it turns: the rotation vectors are compared
 
 
 def random_configurations(robot, count, rng):

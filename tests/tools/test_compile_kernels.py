@@ -15,7 +15,8 @@ def test_its_studies_are_valid_and_it_runs_each_on_the_compiled_path_only(monkey
     assert tool.main() == 0 and ran == []
     monkeypatch.setenv(VARIABLE, "compiled")
     assert tool.main() == 0
-    assert [study["study"]["approach"] for study, _ in ran] == ["unidirectional", "bidirectional"]
+    assert [(study["study"]["approach"], study["study"]["engine"]) for study, _ in ran] == [
+        ("unidirectional", "fast"), ("bidirectional", "fast"), ("unidirectional", "exact")]
     for study, options in ran:
         loaded = load_study(study)
         assert loaded.map is not None and loaded.map.directional and len(loaded.poses) == 1

@@ -73,20 +73,38 @@ class SerialChain:
         q = np.asarray(q, dtype=float).reshape(-1, len(self.turn_axes))
         if kernels := _kernels():
             return kernels.tool_in_joint(np.ascontiguousarray(q), self.kernel_terms)
-        angles = np.zeros((len(q), len(self.base)))
-        angles[:, :-1] = q
-        base, terms = self._link_terms
-        links = np.empty((len(q), *base.shape))
-        links[:] = base
-        for factor, term in terms:  # base + cos(q)·turn_cos + sin(q)·turn_sin + q·slide, in rows of 16
-            links += (np.cos(angles) if factor == "cos" else np.sin(angles) if factor == "sin" else angles)[..., None] \
-                * term
-        links = links.reshape(len(q), len(self.base), 4, 4)
+        links = self._links(q)
         step = 1
         while step < len(self.base):  # links[:, i] becomes the product of links i to i + 2 step - 1 (or the last)
             links[:, :-step] = links[:, :-step] @ links[:, step:]
             step *= 2
         return links
+
+    def tool_in_world(self, q) -> np.ndarray:
+        """(k, 4, 4) the tool frame's placement (homogeneous, [m]) in the world at configurations ``q`` (k, nv)
+        [m or rad]: :meth:`tool_in_joint`'s index 0 to rounding, the product of the links from the base to the tool
+        only (measured on the UR5 and Panda: 0.5-0.6 of :meth:`tool_in_joint`'s time in NumPy, 0.4 compiled)."""
+        q = np.asarray(q, dtype=float).reshape(-1, len(self.turn_axes))
+        if kernels := _kernels():
+            return kernels.tool_in_world(np.ascontiguousarray(q), self.kernel_terms)
+        links = self._links(q)
+        placements = links[:, 0]
+        for link in range(1, len(self.base)):
+            placements = placements @ links[:, link]
+        return placements
+
+    def _links(self, q: np.ndarray) -> np.ndarray:
+        """(k, n + 1, 4, 4) the links at configurations ``q`` (k, nv) [m or rad]: ``base + cos(q)·turn_cos +
+        sin(q)·turn_sin + q·slide``, the tool's at ``q = 0``."""
+        angles = np.zeros((len(q), len(self.base)))
+        angles[:, :-1] = q
+        base, terms = self._link_terms
+        links = np.empty((len(q), *base.shape))
+        links[:] = base
+        for factor, term in terms:  # in rows of 16
+            links += (np.cos(angles) if factor == "cos" else np.sin(angles) if factor == "sin" else angles)[..., None] \
+                * term
+        return links.reshape(len(q), len(self.base), 4, 4)
 
     @cached_property
     def kernel_terms(self) -> tuple[np.ndarray, ...]:

@@ -1,8 +1,9 @@
 """Compiled (numba) kernels of :class:`~tribokin.kinematics.chain.SerialChain`: the tool frame's placements in the
-world and in each joint's frame, and its Jacobians, configuration by configuration in loops over 4 × 4 and 3 × 3
-matrices (no temporary array per configuration). They agree with the chain's NumPy path to rounding (seen: 1e-15
-at most on the UR5, Panda, gantry and Gen3): the links' products are taken from the tool towards the base one at a
-time, where NumPy doubles its steps.
+world and in each joint's frame (or in the world only), and its Jacobians, configuration by configuration in loops
+over 4 × 4 and 3 × 3 matrices (no temporary array per configuration). They agree with the chain's NumPy path to
+rounding (seen: 1e-15 at most on the UR5, Panda, gantry and Gen3): the links' products are taken from the tool
+towards the base one at a time, where NumPy doubles its steps (``tool_in_world``: from the base towards the tool,
+as NumPy's).
 
 ``joints_in_world`` takes placements only; the others also the chain's ``terms``
 (:attr:`~tribokin.kinematics.chain.SerialChain.kernel_terms`): ``base``, ``turn_cos``, ``turn_sin``, ``slide``
@@ -23,20 +24,26 @@ from tribokin.compiled import kernel
 
 
 @kernel
+def link_at(terms, link, angle, out):
+    """Link ``link`` of the chain at ``angle`` [m or rad] into ``out`` (4, 4): ``base + cos(q)·turn_cos +
+    sin(q)·turn_sin + q·slide``, homogeneous [m]."""
+    base, turn_cos, turn_sin, slide = terms[0], terms[1], terms[2], terms[3]
+    cos, sin = math.cos(angle), math.sin(angle)
+    for row in range(3):
+        for column in range(4):
+            out[row, column] = (base[link, row, column] + cos * turn_cos[link, row, column]
+                                + sin * turn_sin[link, row, column] + angle * slide[link, row, column])
+    for column in range(4):  # (0, 0, 0, 1): no term moves it
+        out[3, column] = base[link, 3, column]
+
+
+@kernel
 def placements_at(q, terms, out):
     """The tool frame's placements at one configuration ``q`` (n,) [m or rad] into ``out`` (n + 1, 4, 4): in the
     world (index 0) and in each joint's frame after its motion (index ``i + 1``), homogeneous [m]."""
-    base, turn_cos, turn_sin, slide = terms[0], terms[1], terms[2], terms[3]
     joints = q.shape[0]
-    for link in range(joints + 1):  # base + cos(q)·turn_cos + sin(q)·turn_sin + q·slide; the tool's at q = 0
-        angle = q[link] if link < joints else 0.0
-        cos, sin = math.cos(angle), math.sin(angle)
-        for row in range(3):
-            for column in range(4):
-                out[link, row, column] = (base[link, row, column] + cos * turn_cos[link, row, column]
-                                          + sin * turn_sin[link, row, column] + angle * slide[link, row, column])
-        for column in range(4):  # (0, 0, 0, 1): no term moves it
-            out[link, 3, column] = base[link, 3, column]
+    for link in range(joints + 1):  # the tool's at q = 0
+        link_at(terms, link, q[link] if link < joints else 0.0, out[link])
     for link in range(joints - 1, -1, -1):  # each link times the product of those after it, row by row in place
         for row in range(3):
             a0, a1, a2, a3 = out[link, row, 0], out[link, row, 1], out[link, row, 2], out[link, row, 3]
@@ -70,6 +77,26 @@ def tool_in_joint(q, terms):
     out = np.empty((q.shape[0], q.shape[1] + 1, 4, 4))
     for k in range(q.shape[0]):
         placements_at(q[k], terms, out[k])
+    return out
+
+
+@kernel
+def tool_in_world(q, terms):
+    """(k, 4, 4) the tool frame's placement in the world (homogeneous [m]) at each configuration of ``q`` (k, n)
+    [m or rad]: the product of the links from the base to the tool, taken in that order, and no other product."""
+    joints = q.shape[1]
+    out = np.empty((q.shape[0], 4, 4))
+    link = np.empty((4, 4))
+    for k in range(q.shape[0]):
+        placement = out[k]
+        link_at(terms, 0, q[k, 0], placement)
+        for index in range(1, joints + 1):  # times each next link, row by row in place; the tool's at q = 0
+            link_at(terms, index, q[k, index] if index < joints else 0.0, link)
+            for row in range(3):
+                a0, a1, a2, a3 = placement[row, 0], placement[row, 1], placement[row, 2], placement[row, 3]
+                for column in range(4):
+                    placement[row, column] = a0 * link[0, column] + a1 * link[1, column] + a2 * link[2, column]
+                placement[row, 3] += a3
     return out
 
 

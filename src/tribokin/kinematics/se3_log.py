@@ -1,4 +1,4 @@
-"""The logarithm of rigid motions and its Jacobian for many motions at once, in NumPy: Pinocchio's ``log3``,
+"""The logarithm of rotations and rigid motions and its Jacobian for many at once, in NumPy: Pinocchio's ``log3``,
 ``log6`` and ``Jlog6`` (as in Pinocchio 4, branch for branch, series expansions included), so that a batch agrees
 with them to rounding. (Pinocchio's ``log3`` first makes the rotation orthonormal again, a change of the order of
 1e-16 for the rotations given here, which are; here a trace that rounding took past 3 counts as 3.)
@@ -57,6 +57,12 @@ def _log3(rotations: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np
         vectors[k] = pin.log3(rotations[k])
         angles[k] = np.linalg.norm(vectors[k])
     return vectors, angles, trace, squared
+
+
+def log3(rotations: np.ndarray) -> np.ndarray:
+    """Rotation vectors (k, 3) [rad] of ``rotations`` (k, 3, 3): ``pin.log3`` of each, to rounding (near no turn, to
+    about 1e-15 of the angle)."""
+    return _log3(rotations)[0]
 
 
 def log6(rotations: np.ndarray, translations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -9,6 +9,7 @@ import pinocchio as pin
 
 from tribokin.kinematics.chain import serial_chain
 from tribokin.kinematics.robot import Robot
+from tribokin.kinematics.se3_log import log3
 from tribokin.propagation.poe import (
     DEFAULT_TOLERANCE,
     TruncationBound,
@@ -17,9 +18,15 @@ from tribokin.propagation.poe import (
     truncation_bound,
 )
 
+#: Samples per batched pass of exact FK (:func:`tool_deviations_exact`): its temporaries stay within a few MB
+#: (the links, ``BLOCK`` × (nv + 1) × 16 floats: 1.8 MB for six joints) however many samples there are.
+BLOCK = 2048
+
 
 def tool_deviations_exact(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Tool poses by exact forward kinematics, one Pinocchio call per sample (the reference engine).
+    """Tool poses by exact forward kinematics (the reference engine): for a serial chain
+    (:func:`~tribokin.kinematics.chain.serial_chain`) in batched passes of ``BLOCK`` samples, Pinocchio's to rounding
+    (about 1e-15 m and rad); for any other robot one Pinocchio call per sample.
 
     Args:
         robot: the robot; its active joints are all 1-DoF, so q + dq is the configuration reached (for a continuous
@@ -32,17 +39,33 @@ def tool_deviations_exact(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[
         deviations (n, 3) [rad]: the rotation vector ``log3(R_j R_c^T)`` from the
         commanded orientation R_c (at ``q``) to the reached one, in world axes.
     """
+    q, dq = np.asarray(q, dtype=float), np.asarray(dq, dtype=float)
+    chain = serial_chain(robot)
+    if chain is None:
+        return tool_deviations_pinocchio(robot, q, dq)
+    commanded_rotation = chain.tool_in_world(q)[0, :3, :3]
+    positions, angles = np.empty((len(dq), 3)), np.empty((len(dq), 3))
+    for start in range(0, len(dq), BLOCK):
+        placements = chain.tool_in_world(q + dq[start:start + BLOCK])
+        positions[start:start + BLOCK] = placements[:, :3, 3]
+        rotations = placements[:, :3, :3].reshape(-1, 3) @ commanded_rotation.T  # the rows of each R_j R_c^T
+        angles[start:start + BLOCK] = log3(rotations.reshape(-1, 3, 3))
+    return positions, angles
+
+
+def tool_deviations_pinocchio(robot: Robot, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`tool_deviations_exact` by one Pinocchio forward-kinematics call per sample: for a robot with no serial
+    chain (and the reference loop ``benchmarks/propagation.py`` times the batched passes against)."""
     model, data, frame = robot.model, robot.data, robot.tool_frame_id
     commanded_rotation = robot.tool_placement(q).rotation
     positions = np.empty((len(dq), 3))
     angles = np.empty((len(dq), 3))
-    for j, q_reached in enumerate(robot.configuration(np.asarray(q, dtype=float) + dq)):
+    for j, q_reached in enumerate(robot.configuration(q + dq)):
         pin.forwardKinematics(model, data, q_reached)
         placement = pin.updateFramePlacement(model, data, frame)
         positions[j] = placement.translation
         angles[j] = pin.log3(placement.rotation @ commanded_rotation.T)
     return positions, angles
-
 
 
 def tool_deviations(robot: Robot, q: np.ndarray, dq: np.ndarray, engine: str = "fast"):
@@ -51,7 +74,7 @@ def tool_deviations(robot: Robot, q: np.ndarray, dq: np.ndarray, engine: str = "
     ``engine = "fast"``: the truncated product of exponentials
     (:mod:`tribokin.propagation.poe`), unless its truncation bound exceeds
     ``DEFAULT_TOLERANCE`` (deviations far beyond friction's), then the exact engine.
-    ``engine = "exact"``: one Pinocchio forward-kinematics call per cycle.
+    ``engine = "exact"``: exact forward kinematics for every cycle (:func:`tool_deviations_exact`).
     """
     q = np.asarray(q, dtype=float)
     twists, translations = tool_frames(robot, q[None])
@@ -128,7 +151,7 @@ class EngineBound(NamedTuple):
     """The error bound of the engine :func:`tool_deviations` used for a batch of samples at one pose.
 
     Attributes:
-        engine: ``"fast"`` (the truncated product of exponentials) or ``"exact"`` (Pinocchio FK per sample).
+        engine: ``"fast"`` (the truncated product of exponentials) or ``"exact"`` (exact FK for every sample).
         order: the fast engine's truncation order (0 for exact FK).
         position_m, angle_rad: its bound on |engine - exact| over every sample [m, rad] (0 for exact FK: rounding
             only, about 1e-15 m).

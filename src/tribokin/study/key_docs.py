@@ -25,8 +25,8 @@ KEY_DOCS = {
     "study.engine": "`fast`: vectorised truncated product of exponentials, exact FK wherever its error bound "
                     "exceeds 0.1 nm ([engines](../concepts.md#forward-kinematics-and-the-engines)); an expected "
                     "map's figures from the first-order model where its bound serves them, else that engine; "
-                    "`exact`: one Pinocchio forward-kinematics call per cycle, and every expected figure (a map's, a "
-                    "pose's) sampled through exact FK, Gaussian laws too: slow "
+                    "`exact`: exact forward kinematics for every cycle (Pinocchio's, batched for a serial chain), and "
+                    "every expected figure (a map's, a pose's) sampled through exact FK, Gaussian laws too: slow "
                     "([maps](../maps.md#per-target-expected-figures))",
     "study.data_dirs": "folders, relative to the study file, from which the files its friction laws name (`file`, "
                        "`log`, `surface`) may also be read (else only the study file's folder), symlinks followed; "
