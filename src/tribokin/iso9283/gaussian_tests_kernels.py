@@ -335,8 +335,16 @@ def sign_mixture(columns, covariance, times, step, half, three_halves):
         for i in range(3):
             for j in range(3):
                 inner[i, j] = 0.0
+        dead = False  # every pattern's L(t) below e^-44 at a node: at every later one too (the exponent falls with t)
         for m in range(times.shape[0]):
             t = times[m]
+            if dead:  # L(t) = 0 to rounding: what the loop below adds, without its exponentials (the same bits)
+                more = 0.0
+                for p in range(count_p):
+                    more += -1.0 + t * second[p]
+                first += count_p / math.sqrt(t)
+                third += more / (t * math.sqrt(t))
+                continue
             log_det = 0.0
             for j in range(3):
                 grown = 2 * t * lam[j]
@@ -347,9 +355,12 @@ def sign_mixture(columns, covariance, times, step, half, three_halves):
             for i in range(3):
                 for j in range(i + 1):
                     pairs[i, j] = 0.0
+            dead = True
             for p in range(count_p):
                 exponent = log_det - beta2[p, 0] * slope[0] - beta2[p, 1] * slope[1] - beta2[p, 2] * slope[2]
-                less_one = math.expm1(exponent) if exponent > _NEGLIGIBLE_EXPONENT else -1.0
+                alive = exponent > _NEGLIGIBLE_EXPONENT
+                dead = dead and not alive
+                less_one = math.expm1(exponent) if alive else -1.0
                 less -= less_one
                 more += less_one + t * second[p]
                 weight = less_one + 1.0  # L(t) of the pattern
