@@ -1,6 +1,7 @@
 """Compiled (numba) kernels of :mod:`tribokin.iso9283.gaussian_tests`, target by target: E[RP_l] and its spread
-(Carlson's R_F and R_D by duplication, the delta method), E|c + w| (expansion or quadrature), and the eigenvalues of
-symmetric 3 × 3 matrices by cyclic Jacobi rotations. They agree with the NumPy path (SciPy's Carlson integrals, LAPACK's
+(Carlson's R_F and R_D by duplication, the delta method), E|c + w| (expansion or quadrature), the eigenvalues of
+symmetric 3 × 3 matrices by cyclic Jacobi rotations, a sign mixture's moments, a test's barycentre shares and
+E√(a + εᵀ U ε) on the mixture's grid. They agree with the NumPy path (SciPy's Carlson integrals, LAPACK's
 eigenvalues) to rounding, about 1e-14 relative.
 
 Imported only on the compiled path (:func:`tribokin.compiled.use_compiled`). The NumPy module's constants are passed
@@ -388,4 +389,68 @@ def sign_mixture(columns, covariance, times, step, half, three_halves):
         out[1][k] = scale2
         out[2][k] = 3 * third / (4 * math.sqrt(math.pi)) * scale2 * scale
         out[3][k] = mean_fourth * scale2 * scale2
+    return out
+
+
+@kernel
+def root_with_tails(constant, lam, times, step, half, three_halves):
+    """E√(a + Σ_i λ_i z_i²) (k,) of constants a (k,) >= 0 and λ (k, m) >= 0, as ``iso9283.gaussian_tests.
+    _root_with_tails``: the trapezoid rule of step ``step`` at the mixture grid's ``times`` e^u (t in units of
+    a + Σ λ), its tails' sums ``half``, ``three_halves`` beyond the grid in closed form."""
+    count, width = lam.shape
+    out = np.empty(count)
+    for k in range(count):
+        total = 0.0
+        for i in range(width):
+            total += lam[k, i]
+        scale2 = max(constant[k] + total, _TINY)
+        ratio = constant[k] / scale2
+        squares = 0.0
+        for i in range(width):
+            squares += (lam[k, i] / scale2) ** 2
+        inner = 0.0
+        for m in range(times.shape[0]):
+            t = times[m]
+            exponent = -ratio * t
+            for i in range(width):
+                exponent -= 0.5 * math.log1p(2 * t * (lam[k, i] / scale2))
+            inner -= math.expm1(exponent) / math.sqrt(t)
+        rule = step * (inner + 2 * half - (1 + 2 * squares) / 2 * three_halves)
+        out[k] = rule * math.sqrt(scale2) / (2 * math.sqrt(math.pi))
+    return out
+
+
+@kernel
+def barycentre_shares(directions, pooled, cycles):
+    """(k, 3) ascending eigenvalues of R U R / n, R the symmetric root of ``pooled`` Σ̄ (k, 3, 3), U ``directions``
+    (k, 3, 3), n ``cycles``, as ``iso9283.gaussian_tests.barycentre_shares`` (:func:`_jacobi` for LAPACK)."""
+    out = np.empty((pooled.shape[0], 3))
+    lam = np.empty(3)
+    vectors = np.empty((3, 3))
+    root = np.empty((3, 3))
+    half = np.empty((3, 3))
+    product = np.empty((3, 3))
+    for k in range(pooled.shape[0]):
+        _jacobi(pooled[k], lam, vectors)
+        for i in range(3):
+            for j in range(3):
+                total = 0.0
+                for m in range(3):
+                    total += vectors[i, m] * math.sqrt(max(lam[m], 0.0)) * vectors[j, m]
+                root[i, j] = total
+        for i in range(3):
+            for j in range(3):
+                total = 0.0
+                for m in range(3):
+                    total += root[i, m] * directions[k, m, j]
+                half[i, j] = total
+        for i in range(3):
+            for j in range(3):
+                total = 0.0
+                for m in range(3):
+                    total += half[i, m] * root[m, j]
+                product[i, j] = total
+        _jacobi(product, out[k], vectors)
+        for i in range(3):
+            out[k, i] /= cycles
     return out
