@@ -1,8 +1,9 @@
 """Compile tribokin's numba kernels into numba's cache, as installing a package compiles its bytecode: ``make`` runs
 this after installing tribokin, so that the first study run afterwards (and each worker of ``make test``) loads
 them instead of compiling them, about 25 CPU seconds each. It runs small studies that call every kernel with the
-argument types runs use (one approach and both, sampled and closed-form figures, a plane map's IK, a pose); a
-kernel called later with other types compiles then, as it would without this. Nothing is written but the cache;
+argument types runs use (one approach and both, sampled and closed-form figures, a plane map's IK, a pose, and from
+``ASYMPTOTIC_CYCLES`` cycles on RP_l_multi's sign mixture and a test's barycentre shares); a kernel called later
+with other types compiles then, as it would without this. Nothing is written but the cache;
 on the NumPy path (``TRIBOKIN_KERNELS=numpy``, or numba not installed) it does nothing."""
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ import sys
 
 from tribokin import run_study
 from tribokin.compiled import use_compiled
+from tribokin.iso9283.gaussian_tests import ASYMPTOTIC_CYCLES
 
 #: A UR5 with the raw steel (sampled expected figures) and a scenario with the treated steel (closed form), a
 #: 3 x 3 plane map with the directional figures, and one pose.
@@ -26,8 +28,8 @@ UR5 = {"study": {"name": "compile-kernels", "cycles": 10, "seed": 1},
 def main() -> int:
     if not use_compiled():
         return 0
-    for approach in ("unidirectional", "bidirectional"):
-        run_study({**UR5, "study": {**UR5["study"], "approach": approach}}, meshes=False)
+    for approach, cycles in (("unidirectional", 10), ("bidirectional", 10), ("unidirectional", ASYMPTOTIC_CYCLES)):
+        run_study({**UR5, "study": {**UR5["study"], "approach": approach, "cycles": cycles}}, meshes=False)
     return 0
 
 
