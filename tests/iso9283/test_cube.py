@@ -5,8 +5,14 @@ import pinocchio as pin
 import pytest
 
 from conftest import ROOT
-from tribokin.iso9283.cube import (APPROACH_DIRECTIONS, RANK_TOLERANCE, UnreachableCube, joint_approach_signs,
-                                   place_cube, surely_full_rank)
+from tribokin.iso9283.cube import (
+    APPROACH_DIRECTIONS,
+    RANK_TOLERANCE,
+    UnreachableCube,
+    joint_approach_signs,
+    place_cube,
+    surely_full_rank,
+)
 from tribokin.iso9283.metrics import cube_test_positions
 from tribokin.kinematics.ik import solve_ik
 from tribokin.kinematics.robot import load_example_robot, load_urdf
