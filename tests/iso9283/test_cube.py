@@ -5,7 +5,14 @@ import pinocchio as pin
 import pytest
 
 from conftest import ROOT
-from tribokin.iso9283.cube import APPROACH_DIRECTIONS, UnreachableCube, joint_approach_signs, place_cube
+from tribokin.iso9283.cube import (
+    APPROACH_DIRECTIONS,
+    RANK_TOLERANCE,
+    UnreachableCube,
+    joint_approach_signs,
+    place_cube,
+    surely_full_rank,
+)
 from tribokin.iso9283.metrics import cube_test_positions
 from tribokin.kinematics.ik import solve_ik
 from tribokin.kinematics.robot import load_example_robot, load_urdf
@@ -97,3 +104,20 @@ def test_a_joint_that_does_not_move_on_an_approach_has_sign_zero():
     moved = after.translation - before.translation
     assert moved[2] > 0 and np.hypot(*moved[:2]) < 1e-6 * moved[2]
     assert np.allclose(after.rotation, before.rotation, atol=1e-12)
+
+
+@pytest.mark.parametrize("nv", [6, 7])
+def test_full_rank_is_sure_only_where_the_svd_finds_it(nv):
+    """The determinant's bound claims full rank only where the SVD's smallest singular value exceeds the tolerance
+    (every claim checked, near-singular Jacobians included: σ_6 from 1e-9 to 1e-3) and claims it for well-conditioned
+    ones, so the SVD is left to the few near a singularity."""
+    rng = np.random.default_rng(37)
+    u, _, vt = np.linalg.svd(rng.normal(size=(4000, 6, nv)))
+    values = np.sort(rng.uniform(0.05, 2.0, size=(4000, 6)), axis=1)[:, ::-1]
+    values[:, -1] = np.where(np.arange(4000) < 3000, 10.0 ** rng.uniform(-9, -3, 4000), values[:, -1])
+    jacobians = u @ (values[..., None] * vt[:, :6])
+    smallest = np.linalg.svd(jacobians, compute_uv=False)[:, -1]
+    sure = surely_full_rank(jacobians)
+    assert not np.any(sure & (smallest <= RANK_TOLERANCE))
+    assert sure[3000:].all()  # σ_6 >= 0.05: sure
+    assert sure[:3000].any() and not sure[:3000].all()

@@ -211,7 +211,7 @@ def test_the_largest_eigenvalue_in_closed_form_is_lapacks():
             np.testing.assert_allclose(largest_eigenvalue(matrices), lapack, rtol=2e-14, atol=0.0)
 
 
-def test_the_expected_root_on_both_grids_keeps_its_closed_forms_and_a_direct_integral():
+def test_the_expected_root_on_both_grids_keeps_its_closed_forms_and_a_direct_integral(kernel_path):
     """E√(a + Σ λ_i z_i²): √a where every λ is 0 (the coarse grid with its tails, to 1e-9) and √(2λ/π) where a is
     (the fine grid without its tail beyond t = e^36: to 5e-8), and E√(a + λ z²) against scipy's quad over z on the
     coarse grid (a ample) to 1e-9."""
@@ -248,3 +248,25 @@ def test_a_band_without_skewness_is_the_normal_band_and_skewness_moves_both_ends
     z = 1.959963984540054
     np.testing.assert_allclose(low, mean + spread * (-z + (z * z - 1) * 0.2 / 6), rtol=1e-14)
     np.testing.assert_allclose(high, mean + spread * (z + (z * z - 1) * 0.2 / 6), rtol=1e-14)
+
+
+def test_the_compiled_barycentre_shares_and_expected_root_agree_with_numpy(monkeypatch):
+    """The shares U Σ̄ / n (Jacobi against LAPACK: to 1e-13 of the largest, U of rank 3 to 1, Σ̄ of rank 3 to 0) and
+    E√(a + εᵀ U ε) on the coarse grid (a ample; λ from 0 to a's size, a from 1e-300 to 1e300 m²) compiled against
+    NumPy: to 1e-14."""
+    from tribokin.iso9283.gaussian_tests import barycentre_shares, expected_root
+
+    rng = np.random.default_rng(37)
+    pooled = covariances(rng, 400) * 1e-12
+    units = rng.normal(size=(400, 3, 3)) * (np.arange(3) < rng.integers(1, 4, (400, 1)))[:, None, :]
+    directions = units @ np.swapaxes(units, 1, 2)
+    directions /= np.trace(directions, axis1=1, axis2=2)[:, None, None]
+    got, expected = (with_path(monkeypatch, path, barycentre_shares, directions, pooled, 1000)
+                     for path in ("compiled", "numpy"))
+    assert np.all(np.abs(got - expected) <= 1e-13 * np.abs(expected).max(axis=1, keepdims=True))
+    for size in (1e-300, 1e-12, 1.0, 1e300):
+        constant = rng.uniform(0.5, 2.0, 400) * size
+        lam = np.sort(rng.uniform(0, 1, (400, 3)) * 10.0 ** rng.uniform(-8, 0, (400, 3)), axis=1) * size
+        lam[:20] = 0.0
+        got, expected = (with_path(monkeypatch, path, expected_root, constant, lam) for path in ("compiled", "numpy"))
+        np.testing.assert_allclose(got, expected, rtol=1e-14, atol=0)

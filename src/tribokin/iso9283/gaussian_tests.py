@@ -310,7 +310,14 @@ def _root_with_tails(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
     ``ROOT_CONSTANT_SHARE`` of a + Σ λ: above the grid the integrand is t^{-1/2}, below it
     t^{1/2} - t^{3/2} E(a + q)² / 2 (q = Σ λ_i z_i², E(a + q)² = 1 + 2 Σ λ_i² in these units). Within 1.5e-10 of √a
     (λ = 0) and of a finer grid's (step 0.125 to |u| = 40, tails added); :func:`_root_by_quadrature`, whose grid
-    leaves out its tail beyond t = e^36, lies about 2e-8 below both."""
+    leaves out its tail beyond t = e^36, lies about 2e-8 below both. Compiled where :func:`~tribokin.compiled.
+    use_compiled` (the same to rounding)."""
+    if use_compiled():
+        from tribokin.iso9283 import gaussian_tests_kernels
+
+        return gaussian_tests_kernels.root_with_tails(np.ascontiguousarray(constant, dtype=float),
+                                                      np.ascontiguousarray(lam, dtype=float),
+                                                      np.exp(_MIXTURE_LOGS), MIXTURE_LOG_STEP, *_mixture_tails())
     scale2 = np.maximum(constant + lam.sum(axis=-1), np.finfo(float).tiny)
     unit = lam / scale2[:, None]
     times = np.exp(_MIXTURE_LOGS)
@@ -427,7 +434,13 @@ def barycentre_shares(directions: np.ndarray, pooled: np.ndarray, cycles: int) -
     S_l² = mean_j l_j² - l̄², l_j = |d_j - ε| (d_j a cycle's offset from the cycles' mean, ε = mean_j d_j): mean_j l_j²
     = mean_j |d_j|² - |ε|² exactly, and l_j = |d_j| - û_jᵀ ε + O(ε² / |d_j|), so S_l² ≈ Var_j |d_j| + εᵀ Cov_j(û) ε
     less terms in the spread of |d_j| (which vanish where it is small beside Σ̄, the only case the term counts:
-    then Cov_j(û) → U = E[û ûᵀ], ū being of order ε / |d|)."""
+    then Cov_j(û) → U = E[û ûᵀ], ū being of order ε / |d|). Compiled where :func:`~tribokin.compiled.use_compiled`
+    (Jacobi's eigenvalues for LAPACK's: the same to rounding of the largest)."""
+    if use_compiled():
+        from tribokin.iso9283 import gaussian_tests_kernels
+
+        return gaussian_tests_kernels.barycentre_shares(np.ascontiguousarray(directions, dtype=float),
+                                                        np.ascontiguousarray(pooled, dtype=float), float(cycles))
     lam, vectors = np.linalg.eigh(pooled)
     root = vectors * np.sqrt(np.maximum(lam, 0.0))[:, None, :] @ np.swapaxes(vectors, 1, 2)
     return np.linalg.eigvalsh(root @ directions @ root) / cycles

@@ -1,6 +1,7 @@
 """Compiled (numba) kernels of :mod:`tribokin.iso9283.gaussian_tests`, target by target: E[RP_l] and its spread
-(Carlson's R_F and R_D by duplication, the delta method), E|c + w| (expansion or quadrature), and the eigenvalues of
-symmetric 3 × 3 matrices by cyclic Jacobi rotations. They agree with the NumPy path (SciPy's Carlson integrals, LAPACK's
+(Carlson's R_F and R_D by duplication, the delta method), E|c + w| (expansion or quadrature), the eigenvalues of
+symmetric 3 × 3 matrices by cyclic Jacobi rotations, a sign mixture's moments, a test's barycentre shares and
+E√(a + εᵀ U ε) on the mixture's grid. They agree with the NumPy path (SciPy's Carlson integrals, LAPACK's
 eigenvalues) to rounding, about 1e-14 relative.
 
 Imported only on the compiled path (:func:`tribokin.compiled.use_compiled`). The NumPy module's constants are passed
@@ -335,8 +336,16 @@ def sign_mixture(columns, covariance, times, step, half, three_halves):
         for i in range(3):
             for j in range(3):
                 inner[i, j] = 0.0
+        dead = False  # every pattern's L(t) below e^-44 at a node: at every later one too (the exponent falls with t)
         for m in range(times.shape[0]):
             t = times[m]
+            if dead:  # L(t) = 0 to rounding: what the loop below adds, without its exponentials (the same bits)
+                more = 0.0
+                for p in range(count_p):
+                    more += -1.0 + t * second[p]
+                first += count_p / math.sqrt(t)
+                third += more / (t * math.sqrt(t))
+                continue
             log_det = 0.0
             for j in range(3):
                 grown = 2 * t * lam[j]
@@ -347,9 +356,12 @@ def sign_mixture(columns, covariance, times, step, half, three_halves):
             for i in range(3):
                 for j in range(i + 1):
                     pairs[i, j] = 0.0
+            dead = True
             for p in range(count_p):
                 exponent = log_det - beta2[p, 0] * slope[0] - beta2[p, 1] * slope[1] - beta2[p, 2] * slope[2]
-                less_one = math.expm1(exponent) if exponent > _NEGLIGIBLE_EXPONENT else -1.0
+                alive = exponent > _NEGLIGIBLE_EXPONENT
+                dead = dead and not alive
+                less_one = math.expm1(exponent) if alive else -1.0
                 less -= less_one
                 more += less_one + t * second[p]
                 weight = less_one + 1.0  # L(t) of the pattern
@@ -377,4 +389,68 @@ def sign_mixture(columns, covariance, times, step, half, three_halves):
         out[1][k] = scale2
         out[2][k] = 3 * third / (4 * math.sqrt(math.pi)) * scale2 * scale
         out[3][k] = mean_fourth * scale2 * scale2
+    return out
+
+
+@kernel
+def root_with_tails(constant, lam, times, step, half, three_halves):
+    """E√(a + Σ_i λ_i z_i²) (k,) of constants a (k,) >= 0 and λ (k, m) >= 0, as ``iso9283.gaussian_tests.
+    _root_with_tails``: the trapezoid rule of step ``step`` at the mixture grid's ``times`` e^u (t in units of
+    a + Σ λ), its tails' sums ``half``, ``three_halves`` beyond the grid in closed form."""
+    count, width = lam.shape
+    out = np.empty(count)
+    for k in range(count):
+        total = 0.0
+        for i in range(width):
+            total += lam[k, i]
+        scale2 = max(constant[k] + total, _TINY)
+        ratio = constant[k] / scale2
+        squares = 0.0
+        for i in range(width):
+            squares += (lam[k, i] / scale2) ** 2
+        inner = 0.0
+        for m in range(times.shape[0]):
+            t = times[m]
+            exponent = -ratio * t
+            for i in range(width):
+                exponent -= 0.5 * math.log1p(2 * t * (lam[k, i] / scale2))
+            inner -= math.expm1(exponent) / math.sqrt(t)
+        rule = step * (inner + 2 * half - (1 + 2 * squares) / 2 * three_halves)
+        out[k] = rule * math.sqrt(scale2) / (2 * math.sqrt(math.pi))
+    return out
+
+
+@kernel
+def barycentre_shares(directions, pooled, cycles):
+    """(k, 3) ascending eigenvalues of R U R / n, R the symmetric root of ``pooled`` Σ̄ (k, 3, 3), U ``directions``
+    (k, 3, 3), n ``cycles``, as ``iso9283.gaussian_tests.barycentre_shares`` (:func:`_jacobi` for LAPACK)."""
+    out = np.empty((pooled.shape[0], 3))
+    lam = np.empty(3)
+    vectors = np.empty((3, 3))
+    root = np.empty((3, 3))
+    half = np.empty((3, 3))
+    product = np.empty((3, 3))
+    for k in range(pooled.shape[0]):
+        _jacobi(pooled[k], lam, vectors)
+        for i in range(3):
+            for j in range(3):
+                total = 0.0
+                for m in range(3):
+                    total += vectors[i, m] * math.sqrt(max(lam[m], 0.0)) * vectors[j, m]
+                root[i, j] = total
+        for i in range(3):
+            for j in range(3):
+                total = 0.0
+                for m in range(3):
+                    total += root[i, m] * directions[k, m, j]
+                half[i, j] = total
+        for i in range(3):
+            for j in range(3):
+                total = 0.0
+                for m in range(3):
+                    total += half[i, m] * root[m, j]
+                product[i, j] = total
+        _jacobi(product, out[k], vectors)
+        for i in range(3):
+            out[k, i] /= cycles
     return out

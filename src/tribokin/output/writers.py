@@ -68,9 +68,10 @@ def write_samples(result: StudyResult, folder: Path) -> None:
 
 def float_lines(values: np.ndarray) -> list[bytes]:
     """Each row of an (n, k) float array as CSV cells (UTF-8) joined by commas, every float as ``repr`` writes it, NaN
-    empty: orjson's shortest round-trip digits, or ``repr`` for the rows holding a value whose styles differ (±inf,
-    and 1e-9 <= |value| < 1e-4, which orjson writes ``1e-9``, ``0.00001``). A row of NaN only is commas, and only
-    rows with some NaN are searched for orjson's ``null``."""
+    empty: orjson's shortest round-trip digits, or ``repr`` for the cells whose styles differ (±inf, and
+    1e-9 <= |value| < 1e-4, which orjson writes ``1e-9``, ``0.00001``; only those cells: a map's column of small
+    relative errors would otherwise send whole rows through ``repr``). A row of NaN only is commas, and only rows
+    with some NaN are searched for orjson's ``null``."""
     values = np.ascontiguousarray(values, dtype=np.float64)
     lines = orjson.dumps(values, option=orjson.OPT_SERIALIZE_NUMPY)[2:-2].split(b"],[")
     missing = np.isnan(values)
@@ -80,9 +81,14 @@ def float_lines(values: np.ndarray) -> list[bytes]:
     for i in np.flatnonzero(missing.any(axis=1) & ~empty).tolist():
         lines[i] = lines[i].replace(b"null", b"")
     magnitude = np.abs(values)
-    differ = (np.isinf(values) | ((magnitude >= 1e-9) & (magnitude < 1e-4))).any(axis=1)
-    for i, row in zip(np.flatnonzero(differ).tolist(), values[differ].tolist(), strict=True):
-        lines[i] = ",".join("" if np.isnan(value) else repr(value) for value in row).encode()
+    rows, columns = np.nonzero(np.isinf(values) | ((magnitude >= 1e-9) & (magnitude < 1e-4)))
+    cells = {}  # the rows holding such cells, split into their cells
+    for i, j, value in zip(rows.tolist(), columns.tolist(), values[rows, columns].tolist(), strict=True):
+        if i not in cells:
+            cells[i] = lines[i].split(b",")
+        cells[i][j] = repr(value).encode()
+    for i, row in cells.items():
+        lines[i] = b",".join(row)
     return lines[:len(values)]  # no rows: "[]" splits into one empty line
 
 
