@@ -77,9 +77,10 @@ from tribokin.iso9283.gaussian_tests import (
     expected_norm,
     expected_rp_l,
     expected_semi_axis,
+    gaussian_band_skewness,
     gaussian_products,
+    influence_skewness,
     mean_error,
-    normal_band,
     percentile_error,
     rp_l_from_moments,
     sign_mixture,
@@ -923,12 +924,9 @@ def cycles_band(positions: np.ndarray, cycles: int) -> CyclesBand:
     h = slope_first[:, None] * deviations[0] + slope_second[:, None] * deviations[1]
     variance = np.square(h).mean(axis=1)
     spread = np.sqrt(variance / n)
-    shares = [(h * d).mean(axis=1) for d in deviations]
-    curvature = 3 * factor * inverse ** 3 * (-second * shares[0] ** 2 + first * shares[0] * shares[1]
-                                             - shares[1] ** 2 / 4)
+    shares = tuple((h * d).mean(axis=1) for d in deviations)
+    skewness = influence_skewness(np.power(h, 3).mean(axis=1), variance, shares, (first, second), n)
     with np.errstate(divide="ignore", invalid="ignore"):
-        skewness = np.where(variance > 0, (np.power(h, 3).mean(axis=1) + 3 * curvature) / np.sqrt(n) / variance ** 1.5,
-                            0.0)
         influence = np.where(spread[:, None] > 0, (np.square(h) - variance[:, None]) / (2 * n * spread[:, None]), 0.0)
     factors = tuple(np.full(len(spread), z) + (z * z - 1) * skewness / 6 for z in band_quantiles())
     return CyclesBand(spread, skewness, influence, factors)
@@ -984,8 +982,8 @@ def _analytic(model: LinearModel, chosen: np.ndarray, setup: ExpectedSetup, comm
     errors = {name: np.zeros(len(scale)) for name in SAMPLED_FIGURES}
     if setup.table is None:  # from ASYMPTOTIC_CYCLES on
         largest_first = lam[:, ::-1]
-        band, semi_axis = normal_band(rp_l, spread), expected_semi_axis(largest_first, gaussian_products(largest_first),
-                                                                         n)
+        band = skewed_band(rp_l, spread, gaussian_band_skewness(lam, n))
+        semi_axis = expected_semi_axis(largest_first, gaussian_products(largest_first), n)
     else:
         mean, low, high, semi_axis = setup.table.at(shape)
         table_errors = dict(zip(("RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "largest_semi_axis_um"),
