@@ -88,8 +88,8 @@ def covariances(rng, count):
 
 def test_the_compiled_closed_forms_agree_with_numpy(monkeypatch):
     """Eigenvalues (Jacobi against LAPACK, to 1e-14 of the largest), E[RP_l] and its spread from the eigenvalues
-    (rank 3 to 0, n = 10 to 1000) and E|c + w| (its expansion and its quadrature, at sizes from 1e-300 to 1e300 m)
-    compiled against NumPy: to 1e-12."""
+    (rank 3 to 0, n = 10 to 1000), the band's skewness (n = 500 and 1000) and E|c + w| (its expansion and its
+    quadrature, at sizes from 1e-300 to 1e300 m) compiled against NumPy: to 1e-12."""
     rng = np.random.default_rng(21)
     matrices = covariances(rng, 400)
     lapack, jacobi = (with_path(monkeypatch, path, eigenvalues, matrices) for path in ("numpy", "compiled"))
@@ -98,6 +98,10 @@ def test_the_compiled_closed_forms_agree_with_numpy(monkeypatch):
         for got, expected in zip(*(with_path(monkeypatch, path, expected_rp_l, lapack * 1e-12, cycles)
                                    for path in ("compiled", "numpy")), strict=True):
             np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0)
+    for cycles in (500, 1000):
+        got, expected = (with_path(monkeypatch, path, gaussian_band_skewness, lapack * 1e-12, cycles)
+                         for path in ("compiled", "numpy"))
+        np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0)
     centres = rng.normal(size=(400, 3)) * np.exp(rng.uniform(-8, 3, (400, 1)))  # about and beyond the expansion
     for size in (1e-300, 1e-150, 1e-6, 1.0, 1e150, 1e300):
         spread = matrices * size * size if 1e-150 <= size <= 1e150 else np.zeros_like(matrices)

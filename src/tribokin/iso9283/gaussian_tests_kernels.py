@@ -77,10 +77,10 @@ def _carlson(u, rd):
 
 
 @kernel
-def _unit_moments(u, mean_norm):
+def _unit_moments(u, mean_norm, slopes):
     """E|w|^k, k = 1..4, of w ~ N(0, diag(u)) for positive ``u`` (3,), as ``iso9283.gaussian_tests._unit_moments``:
     R_G from R_F and the R_D whose last argument is the middle one (no cancellation), ∂R_G/∂u_i = R_F/4 - u_i
-    R_D_i/12."""
+    R_D_i/12 (into ``slopes`` (3,))."""
     rd = np.empty(3)  # R_D with u_i last
     rf = _carlson(u, rd)
     middle = 0
@@ -92,10 +92,11 @@ def _unit_moments(u, mean_norm):
     rg = (z * rf - (x - z) * (y - z) * rd[middle] / 3 + math.sqrt(x * y / z)) / 2
     m1 = mean_norm * rg
     m2 = u[0] + u[1] + u[2]
-    slopes = 0.0
+    weighted = 0.0
     for i in range(3):
-        slopes += u[i] ** 2 * (rf / 4 - u[i] * rd[i] / 12)
-    m3 = m2 * m1 + 2 * mean_norm * slopes
+        slopes[i] = rf / 4 - u[i] * rd[i] / 12
+        weighted += u[i] ** 2 * slopes[i]
+    m3 = m2 * m1 + 2 * mean_norm * weighted
     m4 = m2 ** 2 + 2 * (u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
     return m1, m2, m3, m4
 
@@ -124,19 +125,62 @@ def expected_rp_l(lam, cycles, floor, mean_norm):
     ``iso9283.gaussian_tests.expected_rp_l``; ``mean_norm``: E|z| of a standard normal 3-vector."""
     n = cycles
     mean, spread = np.empty(lam.shape[0]), np.empty(lam.shape[0])
-    unit = np.empty(3)
+    unit, slopes = np.empty(3), np.empty(3)
     for k in range(lam.shape[0]):
-        a, b, c = np.maximum(lam[k, 0], 0.0), np.maximum(lam[k, 1], 0.0), np.maximum(lam[k, 2], 0.0)
-        largest = np.maximum(np.maximum(a, b), c)
-        divisor = largest if largest > 0 else 1.0
-        unit[0] = (n - 1) / n * np.maximum(a / divisor, floor)
-        unit[1] = (n - 1) / n * np.maximum(b / divisor, floor)
-        unit[2] = (n - 1) / n * np.maximum(c / divisor, floor)
-        m1, m2, m3, m4 = _unit_moments(unit, mean_norm)
+        largest = _unit_eigenvalues(lam[k], floor, (n - 1) / n, unit)
+        m1, m2, m3, m4 = _unit_moments(unit, mean_norm, slopes)
         mean[k], spread[k] = _rp_l_from_moments(m1, m2, m3, m4, n)
         mean[k] *= math.sqrt(largest)
         spread[k] *= math.sqrt(largest)
     return mean, spread
+
+
+@kernel
+def _unit_eigenvalues(lam, floor, factor, unit):
+    """The largest of the eigenvalues ``lam`` (3,) [m²] (negative ones taken as 0), and into ``unit`` (3,) each over
+    it, raised to ``floor``, times ``factor``."""
+    a, b, c = np.maximum(lam[0], 0.0), np.maximum(lam[1], 0.0), np.maximum(lam[2], 0.0)
+    largest = np.maximum(np.maximum(a, b), c)
+    divisor = largest if largest > 0 else 1.0
+    unit[0] = factor * np.maximum(a / divisor, floor)
+    unit[1] = factor * np.maximum(b / divisor, floor)
+    unit[2] = factor * np.maximum(c / divisor, floor)
+    return largest
+
+
+@kernel
+def band_skewness(lam, cycles, floor, mean_norm):
+    """The skewness (k,) of one test's RP_l over tests of ``cycles`` Gaussian cycles of covariance eigenvalues ``lam``
+    (k, 3) [m²], as ``iso9283.gaussian_tests.gaussian_band_skewness`` (and its ``influence_skewness``)."""
+    n = cycles
+    skewness = np.zeros(lam.shape[0])
+    unit, slopes = np.empty(3), np.empty(3)
+    factor = math.sqrt(n / (n - 1))
+    for k in range(lam.shape[0]):
+        _unit_eigenvalues(lam[k], floor, 1.0, unit)
+        m1, m2, m3, m4 = _unit_moments(unit, mean_norm, slopes)
+        m5, squares, cubes = m2 * m3, 0.0, 0.0
+        for i in range(3):
+            m5 += 3 * unit[i] * (unit[i] * m1 + 2 * mean_norm * unit[i] ** 2 * slopes[i])
+            squares += unit[i] ** 2
+            cubes += unit[i] ** 3
+        m6 = m2 ** 3 + 6 * m2 * squares + 8 * cubes
+        sigma2 = m2 - m1 ** 2
+        if not sigma2 > 0:
+            continue
+        sigma = math.sqrt(sigma2)
+        slope, slope2 = 1 - 3 * factor * m1 / sigma, 1.5 * factor / sigma
+        covariance, variance_l2 = m3 - m1 * m2, m4 - m2 ** 2
+        third = (slope ** 3 * (m3 - 3 * m1 * m2 + 2 * m1 ** 3)
+                 + 3 * slope ** 2 * slope2 * (m4 - m2 ** 2 - 2 * m1 * m3 + 2 * m1 ** 2 * m2)
+                 + 3 * slope * slope2 ** 2 * (m5 - 2 * m2 * m3 - m1 * m4 + 2 * m1 * m2 ** 2)
+                 + slope2 ** 3 * (m6 - 3 * m2 * m4 + 2 * m2 ** 3))
+        variance = slope ** 2 * sigma2 + 2 * slope * slope2 * covariance + slope2 ** 2 * variance_l2
+        share, share2 = slope * sigma2 + slope2 * covariance, slope * covariance + slope2 * variance_l2
+        curvature = 3 * factor / (sigma2 * sigma) * (-m2 * share ** 2 + m1 * share * share2 - share2 ** 2 / 4)
+        if variance > 0:
+            skewness[k] = (third + 3 * curvature) / math.sqrt(n) / variance ** 1.5
+    return skewness
 
 
 @kernel
