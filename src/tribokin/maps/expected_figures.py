@@ -909,11 +909,11 @@ def cycles_band(positions: np.ndarray, cycles: int) -> CyclesBand:
     second-order share, which the lognormal clouds put at about 0.05 of the skewness)."""
     n = cycles
     offsets = positions - positions.mean(axis=1, keepdims=True)
-    distances = np.linalg.norm(offsets, axis=-1)
-    units = np.divide(offsets, distances[..., None], out=np.zeros_like(offsets), where=distances[..., None] > 0)
-    mean_unit = units.mean(axis=1)
-    along = distances - np.einsum("kmi,ki->km", offsets, mean_unit)
-    squares = np.square(distances)
+    squares = np.einsum("kmi,kmi->km", offsets, offsets)
+    distances = np.sqrt(squares)
+    inverse_distances = np.divide(1.0, distances, out=np.zeros_like(distances), where=distances > 0)
+    mean_unit = (inverse_distances[:, None, :] @ offsets)[:, 0] / offsets.shape[1]
+    along = distances - (offsets @ mean_unit[:, :, None])[..., 0]
     first, second = distances.mean(axis=1), squares.mean(axis=1)
     factor = math.sqrt(n / (n - 1))
     sigma = np.sqrt(np.maximum(second - first ** 2, 0.0))
@@ -922,12 +922,13 @@ def cycles_band(positions: np.ndarray, cycles: int) -> CyclesBand:
     slope_first, slope_second = 1 - 3 * factor * first * inverse, 1.5 * factor * inverse
     deviations = (along - first[:, None], squares - second[:, None])
     h = slope_first[:, None] * deviations[0] + slope_second[:, None] * deviations[1]
-    variance = np.square(h).mean(axis=1)
+    h2 = h * h
+    variance = h2.mean(axis=1)
     spread = np.sqrt(variance / n)
     shares = tuple((h * d).mean(axis=1) for d in deviations)
-    skewness = influence_skewness(np.power(h, 3).mean(axis=1), variance, shares, (first, second), n)
+    skewness = influence_skewness((h2 * h).mean(axis=1), variance, shares, (first, second), n)
     with np.errstate(divide="ignore", invalid="ignore"):
-        influence = np.where(spread[:, None] > 0, (np.square(h) - variance[:, None]) / (2 * n * spread[:, None]), 0.0)
+        influence = np.where(spread[:, None] > 0, (h2 - variance[:, None]) / (2 * n * spread[:, None]), 0.0)
     factors = tuple(np.full(len(spread), z) + (z * z - 1) * skewness / 6 for z in band_quantiles())
     return CyclesBand(spread, skewness, influence, factors)
 
@@ -939,11 +940,18 @@ def cycles_semi_axis(positions: np.ndarray, covariance: np.ndarray, cycles: int)
     the even and from the odd cycles (one draw of it, right in mean square; some 1e-6 of the figure)."""
     lam, vectors = np.linalg.eigh(covariance)
     lam, vectors = lam[:, ::-1], vectors[:, :, ::-1]
-    axes = np.einsum("kmi,kij->kmj", positions - positions.mean(axis=1, keepdims=True), vectors)
+    axes = (positions - positions.mean(axis=1, keepdims=True)) @ vectors
     terms = np.stack([axes[..., 0] ** 2, axes[..., 1] ** 2, axes[..., 0] * axes[..., 1], axes[..., 0] * axes[..., 2]],
                      axis=-1)
-    even, odd = (expected_semi_axis(lam, sample_covariance(half), cycles) for half in (terms[:, ::2], terms[:, 1::2]))
-    return expected_semi_axis(lam, sample_covariance(terms), cycles), np.abs(even - odd) / 2
+    halves = [(half.sum(axis=1), np.swapaxes(half, 1, 2) @ half, half.shape[1]) for half in (terms[:, ::2],
+                                                                                          terms[:, 1::2])]
+    whole = (halves[0][0] + halves[1][0], halves[0][1] + halves[1][1], terms.shape[1])
+
+    def products(sums, squares, count):  # the (k, 4, 4) covariance (count - 1) of the terms from their sums
+        return (squares - sums[:, :, None] * sums[:, None, :] / count) / (count - 1)
+
+    even, odd = (expected_semi_axis(lam, products(*half), cycles) for half in halves)
+    return expected_semi_axis(lam, products(*whole), cycles), np.abs(even - odd) / 2
 
 
 def _summarise_tests(values: dict, errors: dict, slots: list[int], positions: np.ndarray, angles: np.ndarray,
