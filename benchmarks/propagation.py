@@ -77,7 +77,10 @@ def benchmark_robot(name: str, rng: np.random.Generator) -> dict:
         tool_deviations_exact(robot, q, dq[:10])  # the compiled kernel loaded (or compiled) first
         rows[f"exact batched ({path})"] = {"order": None, "samples": EXACT_SAMPLES, "samples_per_s": EXACT_SAMPLES
                                            / best_seconds(lambda: tool_deviations_exact(robot, q, dq[:EXACT_SAMPLES]))}
-    os.environ.pop(VARIABLE) if chosen is None else os.environ.update({VARIABLE: chosen})
+    if chosen is None:
+        del os.environ[VARIABLE]
+    else:
+        os.environ[VARIABLE] = chosen
     auto_order = tool_deviations_fast(robot, q, dq).bound.order
     for order in range(1, MAX_ORDER + 1):
         rate = FAST_SAMPLES / best_seconds(lambda order=order: tool_deviations_fast(robot, q, dq, order=order))

@@ -187,14 +187,15 @@ def gaussian_band_skewness(lam: np.ndarray, cycles: int) -> np.ndarray:
 
 
 def skewed_band(mean: np.ndarray, spread: np.ndarray, skewness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The ``BAND_PERCENTILES`` of one test's RP_l of ``mean``, standard deviation ``spread`` and ``skewness`` (γ, of
-    order 1/√n) by the Cornish-Fisher expansion to first order in γ: mean + spread (z + (z² - 1) γ / 6)."""
-    return tuple(mean + spread * (z + (z * z - 1) * skewness / 6) for z in band_quantiles())
+    """The ``BAND_PERCENTILES`` of one test's RP_l of ``mean``, standard deviation ``spread`` and ``skewness``
+    (:func:`band_factors`)."""
+    return tuple(mean + spread * factor for factor in band_factors(skewness))
 
 
-def band_quantiles() -> tuple[float, float]:
-    """The standard normal's quantiles at ``BAND_PERCENTILES``."""
-    return tuple(NormalDist().inv_cdf(p / 100) for p in BAND_PERCENTILES)
+def band_factors(skewness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each end of the band (``BAND_PERCENTILES``) of a law of skewness γ (of order 1/√n), in standard deviations from
+    its mean, by the Cornish-Fisher expansion to first order in γ: z + (z² - 1) γ / 6, z the normal's quantile."""
+    return tuple(z + (z * z - 1) * skewness / 6 for z in (NormalDist().inv_cdf(p / 100) for p in BAND_PERCENTILES))
 
 
 def gaussian_products(lam: np.ndarray) -> np.ndarray:

@@ -69,7 +69,7 @@ from tribokin.iso9283.gaussian_tests import (
     ASYMPTOTIC_CYCLES,
     BAND_PERCENTILES,
     ShapeTable,
-    band_quantiles,
+    band_factors,
     barycentre_shares,
     c4,
     eigenvalues,
@@ -880,7 +880,7 @@ def moments_errors(distances: np.ndarray, moments: tuple[np.ndarray, ...], cycle
     errors = [relative(np.sqrt(np.maximum(np.einsum("ki,kij,kj->k", gradient, covariance, gradient), 0.0)), mean)]
     if band is not None:
         influence = np.einsum("kmi,ki->km", centred, gradient)
-        for factor, end in zip(band.factors, skewed_band(mean, band.spread, band.skewness), strict=True):
+        for factor, end in zip(band_factors(band.skewness), skewed_band(mean, band.spread, band.skewness), strict=True):
             variance = np.square(influence + factor[:, None] * band.influence).sum(axis=1) / (count - 1) / count
             errors.append(relative(np.sqrt(variance), end))
     return tuple(errors)
@@ -888,14 +888,12 @@ def moments_errors(distances: np.ndarray, moments: tuple[np.ndarray, ...], cycle
 
 class CyclesBand(NamedTuple):
     """One test's RP_l spread over tests of n cycles from (k, M) single cycles (:func:`cycles_band`): its standard
-    deviation ``spread`` [m] and ``skewness`` (k,), each cycle's ``influence`` (k, M) on the spread [m] (its error's
-    share), and each band end's ``factors`` (2 of (k,)) on the spread (:func:`~tribokin.iso9283.gaussian_tests.
-    skewed_band`)."""
+    deviation ``spread`` [m] and ``skewness`` (k,), and each cycle's ``influence`` (k, M) on the spread [m] (its
+    error's share)."""
 
     spread: np.ndarray
     skewness: np.ndarray
     influence: np.ndarray
-    factors: tuple[np.ndarray, np.ndarray]
 
 
 def cycles_band(positions: np.ndarray, cycles: int) -> CyclesBand:
@@ -929,8 +927,7 @@ def cycles_band(positions: np.ndarray, cycles: int) -> CyclesBand:
     skewness = influence_skewness((h2 * h).mean(axis=1), variance, shares, (first, second), n)
     with np.errstate(divide="ignore", invalid="ignore"):
         influence = np.where(spread[:, None] > 0, (h2 - variance[:, None]) / (2 * n * spread[:, None]), 0.0)
-    factors = tuple(np.full(len(spread), z) + (z * z - 1) * skewness / 6 for z in band_quantiles())
-    return CyclesBand(spread, skewness, influence, factors)
+    return CyclesBand(spread, skewness, influence)
 
 
 def cycles_semi_axis(positions: np.ndarray, covariance: np.ndarray, cycles: int) -> tuple[np.ndarray, np.ndarray]:
