@@ -384,6 +384,29 @@ MIXTURE_BLOCK = 512
 _MIXTURE_LOGS = np.arange(-MIXTURE_LOG_RANGE, MIXTURE_LOG_RANGE + 1e-9, MIXTURE_LOG_STEP)
 
 
+#: Where :func:`sign_mixture`'s grid starts (u = ln t): below it each integrand is its series in t (the patterns'
+#: E|x|^2k to k = 5; the first term left out, t^4 E|x|^10 / 5! at most 2e-15 beside the leading one there, far less
+#: summed), over the nodes below summed in closed form (:func:`_sign_lower_tails`).
+SIGN_LOG_START = -8.0
+_SIGN_LOGS = _MIXTURE_LOGS[_MIXTURE_LOGS >= SIGN_LOG_START - 1e-9]
+
+
+def _sign_lower_tails(start: float = SIGN_LOG_START) -> np.ndarray:
+    """Σ_{j >= 1} t_j^a over the nodes t_j = e^(``start`` - j h) below :func:`sign_mixture`'s grid (h the step), for
+    a = 1/2, 3/2, 5/2, 7/2, 1, 2."""
+    return np.array([math.exp(a * start) / math.expm1(a * MIXTURE_LOG_STEP) for a in (0.5, 1.5, 2.5, 3.5, 1.0, 2.0)])
+
+
+def _quadratic_form_moments(lam: np.ndarray, beta2: np.ndarray) -> tuple[np.ndarray, ...]:
+    """E Q^k, k = 1..5, of Q = Σ_j λ_j (z_j + β_j / √λ_j)² (z standard normal): ``lam`` (k, 3) broadcast against
+    ``beta2`` (k, patterns, 3) β², from the cumulants κ_r = 2^(r-1) (r-1)! Σ_j λ_j^(r-1) (λ_j + r β_j²)."""
+    lam = lam[:, None, :]
+    k1, k2, k3, k4, k5 = (2 ** (r - 1) * math.factorial(r - 1) * (lam ** (r - 1) * (lam + r * beta2)).sum(axis=-1)
+                          for r in range(1, 6))
+    return (k1, k2 + k1 ** 2, k3 + 3 * k2 * k1 + k1 ** 3, k4 + 4 * k3 * k1 + 3 * k2 ** 2 + 6 * k2 * k1 ** 2 + k1 ** 4,
+            k5 + 5 * k4 * k1 + 10 * k3 * k2 + 10 * k3 * k1 ** 2 + 15 * k2 ** 2 * k1 + 10 * k2 * k1 ** 3 + k1 ** 5)
+
+
 def _root_rule(inner: np.ndarray, mean_square2: np.ndarray, tails: tuple[float, float]) -> np.ndarray:
     """(2√π)·E√Y on the mixture's grid (u = ln t) with its tails in closed form, Y in units of its mean (E Y = 1):
     ``inner`` the grid's Σ (1 - L(t)) t^{-1/2}, ``mean_square2`` E Y² (the tail below the grid,
@@ -414,33 +437,35 @@ def sign_mixture(columns: np.ndarray, covariance: np.ndarray) -> tuple[tuple[np.
     E|x|² = |c|² + tr S, E|x|⁴ = (|c|² + tr S)² + 2 tr S² + 4 cᵀ S c; E|x| = (2√π)⁻¹ ∫ (1 - L(t)) t^{-3/2} dt and
     E|x|³ = 3 (4√π)⁻¹ ∫ (L(t) - 1 + t E|x|²) t^{-5/2} dt, with the Laplace transform L(t) = E e^{-t|x|²} =
     Π_i (1 + 2 t λ_i)^{-1/2} exp(-t β_i² / (1 + 2 t λ_i)) (λ, β: S's eigenvalues and c in its eigenvectors), on one
-    grid of ``MIXTURE_LOG_STEP`` for every pattern of a target; on b and S scaled by a power of two to order one.
-    U from the same nodes: ∫₀^∞ E[x xᵀ e^{-t|x|²}] dt, whose integrand is L(t) (S_t + m_t m_tᵀ), S_t = S (I + 2 t S)⁻¹,
-    m_t = (I + 2 t S)⁻¹ c_p (the Gaussian tilted by e^{-t|x|²}); its trace is 1 to the rule's error (1e-7).
+    grid of ``MIXTURE_LOG_STEP`` from ``SIGN_LOG_START`` for every pattern of a target, below it each integrand's
+    series in t from the patterns' E|x|^2k (:func:`_quadratic_form_moments`); on b and S scaled by a power of two to
+    order one. U from the same nodes: ∫₀^∞ E[x xᵀ e^{-t|x|²}] dt, whose integrand is L(t) (S_t + m_t m_tᵀ),
+    S_t = S (I + 2 t S)⁻¹, m_t = (I + 2 t S)⁻¹ c_p (the Gaussian tilted by e^{-t|x|²}), below the grid to first order
+    in t; its trace is 1 to about 1e-8.
     """
     columns, covariance = np.asarray(columns, dtype=float), np.asarray(covariance, dtype=float)
     magnitude = np.maximum(np.abs(columns).max(axis=(1, 2), initial=0.0),
                            np.sqrt(np.abs(np.diagonal(covariance, axis1=1, axis2=2)).max(axis=1, initial=0.0)))
     scale = np.exp2(np.round(np.log2(np.where(magnitude > 0, magnitude, 1.0))))  # to order one, exactly
     columns, covariance = columns / scale[:, None, None], covariance / scale[:, None, None] / scale[:, None, None]
-    times, tails = np.exp(_MIXTURE_LOGS), _mixture_tails()
+    times, tails, lower = np.exp(_SIGN_LOGS), _mixture_tails(), _sign_lower_tails()
     if use_compiled():
         from tribokin.iso9283 import gaussian_tests_kernels
 
         *moments, directions = gaussian_tests_kernels.sign_mixture(np.ascontiguousarray(columns),
                                                                    np.ascontiguousarray(covariance), times,
-                                                                   MIXTURE_LOG_STEP, *tails)
+                                                                   MIXTURE_LOG_STEP, *tails, lower)
     else:
         blocks = [_mixture_block(columns[start:start + MIXTURE_BLOCK], covariance[start:start + MIXTURE_BLOCK],
-                                 times, tails) for start in range(0, len(columns), MIXTURE_BLOCK)]
+                                 times, tails, lower) for start in range(0, len(columns), MIXTURE_BLOCK)]
         empty = (np.empty(0),) * 4 + (np.empty((0, 3, 3)),)
         *moments, directions = [np.concatenate([block[i] for block in blocks]) if blocks else empty[i]
                                 for i in range(5)]
     return tuple(moment * scale ** k for k, moment in enumerate(moments, start=1)), directions
 
 
-def _mixture_block(columns: np.ndarray, covariance: np.ndarray, times: np.ndarray, tails: tuple[float, float]
-                   ) -> tuple[np.ndarray, ...]:
+def _mixture_block(columns: np.ndarray, covariance: np.ndarray, times: np.ndarray, tails: tuple[float, float],
+                   lower: np.ndarray) -> tuple[np.ndarray, ...]:
     """:func:`sign_mixture` of a block of targets on the NumPy path: (targets, patterns, nodes) at once."""
     lam, vectors = np.linalg.eigh(covariance)
     lam = np.maximum(lam, 0.0)
@@ -450,8 +475,7 @@ def _mixture_block(columns: np.ndarray, covariance: np.ndarray, times: np.ndarra
     beta = np.einsum("pm,kmi,kij->kpj", sign_patterns(columns.shape[1]), columns, vectors) / np.sqrt(unit2)[:, None,
                                                                                                             None]
     beta2 = beta ** 2
-    second = beta2.sum(axis=-1) + lam.sum(axis=-1)[:, None]  # (k, patterns): each pattern's E|x|², in units of scale2
-    fourth = second ** 2 + 2 * (lam ** 2).sum(axis=-1)[:, None] + 4 * np.einsum("kpj,kj->kp", beta2, lam)
+    second, fourth, sixth, eighth, tenth = _quadratic_form_moments(lam, beta2)  # (k, patterns): E|x|^2k, scale2 units
     grown = 2 * times[None, :, None] * lam[:, None, :]  # (k, nodes, 3)
     log_transform = (-0.5 * np.log1p(grown).sum(axis=-1)[:, None, :]
                      - times * np.einsum("kpj,ktj->kpt", beta2, 1 / (1 + grown)))  # (k, patterns, nodes)
@@ -459,16 +483,23 @@ def _mixture_block(columns: np.ndarray, covariance: np.ndarray, times: np.ndarra
     first = (-less_one * times ** -0.5).sum(axis=-1).mean(axis=-1)
     third = ((less_one + times * second[..., None]) * times ** -1.5).sum(axis=-1).mean(axis=-1)
     half, three_halves = tails
-    mean_fourth = fourth.mean(axis=-1)
-    first = _root_rule(first, mean_fourth, tails)  # E|x|² = 1 in these units
-    third = MIXTURE_LOG_STEP * (third + (mean_fourth / 2 + 1) * half - three_halves)
+    mean_fourth, mean_sixth, mean_eighth, mean_tenth = (m.mean(axis=-1) for m in (fourth, sixth, eighth, tenth))
+    first = MIXTURE_LOG_STEP * (first + half + lower[0] - mean_fourth / 2 * lower[1] + mean_sixth / 6 * lower[2]
+                                - mean_eighth / 24 * lower[3])  # E|x|² = 1 in these units
+    third = MIXTURE_LOG_STEP * (third + half - three_halves + mean_fourth / 2 * lower[0] - mean_sixth / 6 * lower[1]
+                                + mean_eighth / 24 * lower[2] - mean_tenth / 120 * lower[3])
     scale = np.sqrt(np.where(scale2 > 0, scale2, 0.0))
     weight = less_one + 1  # L(t), (k, patterns, nodes)
     tilt = 1 / (1 + grown)  # (k, nodes, 3)
-    pairs = np.swapaxes(weight, 1, 2) @ (beta[..., :, None] * beta[..., None, :]).reshape(*beta.shape[:2], 9)
+    products = beta[..., :, None] * beta[..., None, :]  # (k, patterns, 3, 3)
+    pairs = np.swapaxes(weight, 1, 2) @ products.reshape(*beta.shape[:2], 9)
     inner = (tilt[..., :, None] * tilt[..., None, :] * pairs.reshape(*pairs.shape[:2], 3, 3)
              + (weight.sum(axis=1)[..., None] * lam[:, None] * tilt)[..., None] * np.eye(3))  # (k, nodes, 3, 3)
-    inner = np.einsum("t,ktij->kij", times, inner) * MIXTURE_LOG_STEP / beta.shape[1]
+    spread, summed = lam[:, :, None] * np.eye(3), products.sum(axis=1)
+    below = (lower[4] * (beta.shape[1] * spread + summed)  # t L(t) (S_t + m_t m_tᵀ) to first order in t, below
+             - lower[5] * (second.sum(axis=1)[:, None, None] * spread + np.einsum("kp,kpij->kij", second, products)
+                           + 2 * beta.shape[1] * spread ** 2 + 2 * (lam[:, :, None] + lam[:, None, :]) * summed))
+    inner = (np.einsum("t,ktij->kij", times, inner) + below) * MIXTURE_LOG_STEP / beta.shape[1]
     directions = np.where((scale2 > 0)[:, None, None], vectors @ inner @ np.swapaxes(vectors, 1, 2), 0.0)
     return (first / (2 * math.sqrt(math.pi)) * scale, scale2, 3 * third / (4 * math.sqrt(math.pi)) * scale ** 3,
             mean_fourth * scale2 ** 2, directions)

@@ -302,12 +302,14 @@ def expected_norm(centre, covariance, ratio, times, weights, step):
 
 
 @kernel
-def sign_mixture(columns, covariance, times, step, half, three_halves):
+def sign_mixture(columns, covariance, times, step, half, three_halves, lower):
     """E|x|^k, k = 1..4, (k,) each [m^k] and E[x xᵀ / |x|²] (k, 3, 3) of x = Σ_i s_i b_i + w over independent signs
     s_i = ±1, w ~ N(0, S), of (k, m, 3) ``columns`` and (k, 3, 3) ``covariance``, as ``iso9283.gaussian_tests.
     sign_mixture``: the patterns in Gray-code order (one column's sign flipped from one to the next; columns of zeros
     left out), the quadrature's ``times`` e^u of ``step`` and the sums ``half``, ``three_halves`` of its grid's tails;
-    the directions from the same nodes' L(t) of each pattern."""
+    the directions from the same nodes' L(t) of each pattern. Each node's exponents over the patterns first, then
+    their sums, with the patterns' products β_i β_j and their sums over patterns kept by pattern (the sums over
+    patterns of L(t) - 1 and of (L(t) - 1) β_i β_j, those of L(t) added back from the products' own)."""
     count, width = columns.shape[0], columns.shape[1]
     out = (np.empty(count), np.empty(count), np.empty(count), np.empty(count), np.zeros((count, 3, 3)))
     lam = np.empty(3)
@@ -316,13 +318,16 @@ def sign_mixture(columns, covariance, times, step, half, three_halves):
     rotated = np.empty((width, 3))
     beta = np.empty(3)
     patterns = 2 ** max(width - 1, 0)
-    beta2 = np.empty((patterns, 3))
-    signed = np.empty((patterns, 3))
-    second = np.empty(patterns)
+    beta2 = np.empty((3, patterns))
+    products = np.empty((6, patterns))
+    exponents = np.empty(patterns)
+    less_one = np.empty(patterns)
+    base = np.empty(6)
+    weighted = np.empty(6)
+    pairs = np.empty(6)
     slope = np.empty(3)
     tilt = np.empty(3)
     inner = np.empty((3, 3))
-    pairs = np.empty((3, 3))
     for k in range(count):
         for i in range(3):
             for j in range(3):
@@ -356,8 +361,10 @@ def sign_mixture(columns, covariance, times, step, half, three_halves):
             for c in range(used):
                 beta[j] += rotated[c, j]
         count_p = 2 ** max(used - 1, 0)
-        trace, squares = lam[0] + lam[1] + lam[2], lam[0] ** 2 + lam[1] ** 2 + lam[2] ** 2
-        mean_fourth = 0.0
+        mean_fourth, mean_sixth, mean_eighth, mean_tenth, second_sum = 0.0, 0.0, 0.0, 0.0, 0.0
+        for m in range(6):
+            base[m] = 0.0
+            weighted[m] = 0.0
         for p in range(count_p):
             if p > 0:  # Gray code: flip the column of p's lowest set bit (the first column keeps its +1)
                 bit, rest = 0, p
@@ -367,28 +374,49 @@ def sign_mixture(columns, covariance, times, step, half, three_halves):
                 sign = -2.0 if ((p ^ (p >> 1)) >> bit) & 1 else 2.0
                 for j in range(3):
                     beta[j] += sign * rotated[bit + 1, j]
-            total, along = 0.0, 0.0
+            k1, k2, k3, k4, k5 = 0.0, 0.0, 0.0, 0.0, 0.0  # the cumulants of |x|², as _quadratic_form_moments
             for j in range(3):
-                signed[p, j] = beta[j]
-                beta2[p, j] = beta[j] * beta[j]
-                total += beta2[p, j]
-                along += beta2[p, j] * lam[j]
-            second[p] = total + trace
-            mean_fourth += second[p] ** 2 + 2 * squares + 4 * along
-        mean_fourth /= count_p
+                beta2[j, p] = beta[j] * beta[j]
+                power = 1.0
+                k1 += lam[j] + beta2[j, p]
+                power *= lam[j]
+                k2 += 2 * power * (lam[j] + 2 * beta2[j, p])
+                power *= lam[j]
+                k3 += 8 * power * (lam[j] + 3 * beta2[j, p])
+                power *= lam[j]
+                k4 += 48 * power * (lam[j] + 4 * beta2[j, p])
+                power *= lam[j]
+                k5 += 384 * power * (lam[j] + 5 * beta2[j, p])
+            second_sum += k1
+            mean_fourth += k2 + k1 ** 2
+            mean_sixth += k3 + 3 * k2 * k1 + k1 ** 3
+            mean_eighth += k4 + 4 * k3 * k1 + 3 * k2 ** 2 + 6 * k2 * k1 ** 2 + k1 ** 4
+            mean_tenth += (k5 + 5 * k4 * k1 + 10 * k3 * k2 + 10 * k3 * k1 ** 2 + 15 * k2 ** 2 * k1
+                           + 10 * k2 * k1 ** 3 + k1 ** 5)
+            m = 0
+            for i in range(3):
+                for j in range(i + 1):
+                    products[m, p] = beta[i] * beta[j]
+                    base[m] += products[m, p]
+                    weighted[m] += k1 * products[m, p]
+                    m += 1
+        mean_fourth, mean_sixth = mean_fourth / count_p, mean_sixth / count_p
+        mean_eighth, mean_tenth = mean_eighth / count_p, mean_tenth / count_p
         first, third = 0.0, 0.0
-        for i in range(3):
-            for j in range(3):
-                inner[i, j] = 0.0
+        q = 0
+        for i in range(3):  # below the grid: t L(t) (S_t + m_t m_tᵀ) to first order in t, summed over the nodes
+            for j in range(i + 1):
+                spread, squared = (lam[i], lam[i] ** 2) if i == j else (0.0, 0.0)
+                inner[i, j] = (lower[4] * (count_p * spread + base[q])
+                               - lower[5] * (second_sum * spread + weighted[q] + 2 * count_p * squared
+                                             + 2 * (lam[i] + lam[j]) * base[q]))
+                q += 1
         dead = False  # every pattern's L(t) below e^-44 at a node: at every later one too (the exponent falls with t)
         for m in range(times.shape[0]):
             t = times[m]
-            if dead:  # L(t) = 0 to rounding: what the loop below adds, without its exponentials (the same bits)
-                more = 0.0
-                for p in range(count_p):
-                    more += -1.0 + t * second[p]
+            if dead:  # L(t) = 0 to rounding: what the loop below adds, without its exponentials
                 first += count_p / math.sqrt(t)
-                third += more / (t * math.sqrt(t))
+                third += (t * second_sum - count_p) / (t * math.sqrt(t))
                 continue
             log_det = 0.0
             for j in range(3):
@@ -396,29 +424,32 @@ def sign_mixture(columns, covariance, times, step, half, three_halves):
                 log_det -= 0.5 * math.log1p(grown)
                 slope[j] = t / (1 + grown)
                 tilt[j] = 1 / (1 + grown)
-            less, more, weights = 0.0, 0.0, 0.0
-            for i in range(3):
-                for j in range(i + 1):
-                    pairs[i, j] = 0.0
-            dead = True
+            top = -np.inf
             for p in range(count_p):
-                exponent = log_det - beta2[p, 0] * slope[0] - beta2[p, 1] * slope[1] - beta2[p, 2] * slope[2]
-                alive = exponent > _NEGLIGIBLE_EXPONENT
-                dead = dead and not alive
-                less_one = math.expm1(exponent) if alive else -1.0
-                less -= less_one
-                more += less_one + t * second[p]
-                weight = less_one + 1.0  # L(t) of the pattern
-                weights += weight
-                for i in range(3):
-                    for j in range(i + 1):
-                        pairs[i, j] += weight * signed[p, i] * signed[p, j]
-            first += less / math.sqrt(t)
-            third += more / (t * math.sqrt(t))
+                exponents[p] = log_det - beta2[0, p] * slope[0] - beta2[1, p] * slope[1] - beta2[2, p] * slope[2]
+                top = max(top, exponents[p])
+            dead = not top > _NEGLIGIBLE_EXPONENT
+            less = 0.0
+            for p in range(count_p):
+                e = exponents[p]
+                less_one[p] = math.expm1(e) if e > _NEGLIGIBLE_EXPONENT else -1.0
+                less += less_one[p]
+            for q in range(6):
+                total = 0.0
+                for p in range(count_p):
+                    total += less_one[p] * products[q, p]
+                pairs[q] = total + base[q]
+            first -= less / math.sqrt(t)
+            third += (less + t * second_sum) / (t * math.sqrt(t))
+            weights = less + count_p  # Σ L(t)
+            q = 0
             for i in range(3):  # t L(t) (S_t + m_t m_tᵀ) summed over patterns (dt = t du), in S's eigenvectors
-                inner[i, i] += t * (weights * lam[i] * tilt[i] + pairs[i, i] * tilt[i] * tilt[i])
-                for j in range(i):
-                    inner[i, j] += t * pairs[i, j] * tilt[i] * tilt[j]
+                for j in range(i + 1):
+                    if i == j:
+                        inner[i, i] += t * (weights * lam[i] * tilt[i] + pairs[q] * tilt[i] * tilt[i])
+                    else:
+                        inner[i, j] += t * pairs[q] * tilt[i] * tilt[j]
+                    q += 1
         for i in range(3):
             for j in range(3):
                 total = 0.0
@@ -427,8 +458,10 @@ def sign_mixture(columns, covariance, times, step, half, three_halves):
                         entry = inner[a, b] if b <= a else inner[b, a]
                         total += vectors[i, a] * entry * vectors[j, b]
                 out[4][k, i, j] = step * total / count_p
-        first = step * (first / count_p + 2 * half - mean_fourth / 2 * three_halves)
-        third = step * (third / count_p + (mean_fourth / 2 + 1) * half - three_halves)
+        first = step * (first / count_p + half + lower[0] - mean_fourth / 2 * lower[1] + mean_sixth / 6 * lower[2]
+                        - mean_eighth / 24 * lower[3])
+        third = step * (third / count_p + half - three_halves + mean_fourth / 2 * lower[0]
+                        - mean_sixth / 6 * lower[1] + mean_eighth / 24 * lower[2] - mean_tenth / 120 * lower[3])
         out[0][k] = first / (2 * math.sqrt(math.pi)) * scale
         out[1][k] = scale2
         out[2][k] = 3 * third / (4 * math.sqrt(math.pi)) * scale2 * scale
@@ -452,12 +485,16 @@ def root_with_tails(constant, lam, times, step, half, three_halves):
         squares = 0.0
         for i in range(width):
             squares += (lam[k, i] / scale2) ** 2
-        inner = 0.0
+        inner, dead = 0.0, False  # the exponent falls with t: once below e^-44, e^x - 1 is -1 exactly from there on
         for m in range(times.shape[0]):
             t = times[m]
+            if dead:
+                inner -= -1.0 / math.sqrt(t)
+                continue
             exponent = -ratio * t
             for i in range(width):
                 exponent -= 0.5 * math.log1p(2 * t * (lam[k, i] / scale2))
+            dead = exponent < _NEGLIGIBLE_EXPONENT
             inner -= math.expm1(exponent) / math.sqrt(t)
         rule = step * (inner + 2 * half - (1 + 2 * squares) / 2 * three_halves)
         out[k] = rule * math.sqrt(scale2) / (2 * math.sqrt(math.pi))
