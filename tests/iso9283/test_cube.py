@@ -8,6 +8,7 @@ from conftest import ROOT
 from tribokin.iso9283.cube import (
     APPROACH_DIRECTIONS,
     RANK_TOLERANCE,
+    STILL_RTOL,
     UnreachableCube,
     joint_approach_signs,
     place_cube,
@@ -106,18 +107,51 @@ def test_a_joint_that_does_not_move_on_an_approach_has_sign_zero():
     assert np.allclose(after.rotation, before.rotation, atol=1e-12)
 
 
+def near_singular_jacobians(rng: np.random.Generator, nv: int) -> np.ndarray:
+    """(4000, 6, nv) random Jacobians of singular values from 0.05 to 2, the smallest of the first 3000 from 1e-9 to
+    1e-3."""
+    u, _, vt = np.linalg.svd(rng.normal(size=(4000, 6, nv)))
+    values = np.sort(rng.uniform(0.05, 2.0, size=(4000, 6)), axis=1)[:, ::-1]
+    values[:, -1] = np.where(np.arange(4000) < 3000, 10.0 ** rng.uniform(-9, -3, 4000), values[:, -1])
+    return u @ (values[..., None] * vt[:, :6])
+
+
 @pytest.mark.parametrize("nv", [6, 7])
 def test_full_rank_is_sure_only_where_the_svd_finds_it(nv):
     """The determinant's bound claims full rank only where the SVD's smallest singular value exceeds the tolerance
     (every claim checked, near-singular Jacobians included: σ_6 from 1e-9 to 1e-3) and claims it for well-conditioned
     ones, so the SVD is left to the few near a singularity."""
-    rng = np.random.default_rng(37)
-    u, _, vt = np.linalg.svd(rng.normal(size=(4000, 6, nv)))
-    values = np.sort(rng.uniform(0.05, 2.0, size=(4000, 6)), axis=1)[:, ::-1]
-    values[:, -1] = np.where(np.arange(4000) < 3000, 10.0 ** rng.uniform(-9, -3, 4000), values[:, -1])
-    jacobians = u @ (values[..., None] * vt[:, :6])
+    jacobians = near_singular_jacobians(np.random.default_rng(37), nv)
     smallest = np.linalg.svd(jacobians, compute_uv=False)[:, -1]
     sure = surely_full_rank(jacobians)
     assert not np.any(sure & (smallest <= RANK_TOLERANCE))
     assert sure[3000:].all()  # σ_6 >= 0.05: sure
     assert sure[:3000].any() and not sure[:3000].all()
+
+
+@pytest.mark.parametrize("nv", [6, 7])
+def test_the_compiled_approach_signs_are_numpys(nv, monkeypatch):
+    """Approach signs along +x, +y, +z and three random directions, compiled against NumPy: the same on random
+    Jacobians (near-singular ones and ones of rank 5 included: the SVD decides those) and at 2000 random
+    configurations of a UR5 (nv = 6) or a Panda (7), joints that do not move (sign 0) included."""
+    from tribokin.iso9283.cube import approach_signs_from_jacobians
+    from tribokin.iso9283.cube_kernels import held_signs
+
+    rng = np.random.default_rng(41)
+    robot = load_example_robot("ur5" if nv == 6 else "panda")
+    qs = [robot.random_configuration(rng) for _ in range(2000)]
+    if nv == 6:
+        qs.append(np.array([0.1, -1.0, 1.2, -0.8, 1.3, 0.1]))  # +z moves three joints only
+    near = near_singular_jacobians(rng, nv)
+    rank_five = near[:200] - near[:200] @ np.einsum("ki,kj->kij", *(np.linalg.svd(near[:200])[2][:, 5],) * 2)
+    jacobians = np.concatenate([near, rank_five, [robot.tool_jacobian(q) for q in qs]])
+    directions = np.vstack([np.eye(3), rng.normal(size=(3, 3))])
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    signs = {}
+    for path in ("numpy", "compiled"):
+        monkeypatch.setenv("TRIBOKIN_KERNELS", path)
+        signs[path] = approach_signs_from_jacobians(jacobians, directions)
+    np.testing.assert_array_equal(signs["compiled"], signs["numpy"])
+    sure = held_signs(jacobians, directions, (2 * RANK_TOLERANCE) ** 2, STILL_RTOL)[1]
+    assert sure.mean() > 0.5 and not sure[4000:4200].any()  # most compiled; rank 5 left to the SVD
+    assert nv == 7 or (signs["compiled"][-1, 2] == 0).sum() == 3

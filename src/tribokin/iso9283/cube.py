@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from tribokin.compiled import use_compiled
 from tribokin.iso9283.metrics import cube_test_positions
 from tribokin.kinematics.ik import solve_ik_with_restarts
 from tribokin.kinematics.robot import Robot
@@ -86,8 +87,24 @@ def held_approach_signs(robot: Robot, q, directions) -> np.ndarray:
 
 
 def approach_signs_from_jacobians(jacobians: np.ndarray, directions) -> np.ndarray:
-    """:func:`held_approach_signs` of (k, 6, nv) tool Jacobians: (k, m, nv)."""
+    """:func:`held_approach_signs` of (k, 6, nv) tool Jacobians: (k, m, nv). Compiled where
+    :func:`~tribokin.compiled.use_compiled`, for the Jacobians surely of full rank (:func:`surely_full_rank`); the
+    others, and all on the NumPy path, by :func:`_approach_signs`."""
     directions = np.atleast_2d(np.asarray(directions, dtype=float))
+    if jacobians.shape[2] < 6 or not use_compiled():
+        return _approach_signs(jacobians, directions)
+    from tribokin.iso9283.cube_kernels import held_signs
+
+    signs, sure = held_signs(np.ascontiguousarray(jacobians, dtype=float), np.ascontiguousarray(directions),
+                             (2 * RANK_TOLERANCE) ** 2, STILL_RTOL)
+    signs = np.swapaxes(signs, 1, 2)  # laid out as the NumPy path's: the einsums summing over them round alike
+    if not sure.all():
+        signs[~sure] = _approach_signs(jacobians[~sure], directions)
+    return signs
+
+
+def _approach_signs(jacobians: np.ndarray, directions: np.ndarray) -> np.ndarray:
+    """:func:`approach_signs_from_jacobians` in NumPy, of unit ``directions`` (m, 3)."""
     holds = np.zeros(len(jacobians), dtype=bool)
     if jacobians.shape[2] >= 6:  # full rank, as holds_orientation decides (np.linalg.matrix_rank's tolerance)
         holds = surely_full_rank(jacobians)

@@ -285,8 +285,8 @@ def expected_norm(centre: np.ndarray, covariance: np.ndarray) -> np.ndarray:
         shape = np.broadcast_shapes(centre.shape[:-1], covariance.shape[:-2])
         return gaussian_tests_kernels.expected_norm(
             np.ascontiguousarray(np.broadcast_to(centre, shape + (3,)).reshape(-1, 3)),
-            np.ascontiguousarray(np.broadcast_to(covariance, shape + (3, 3)).reshape(-1, 3, 3)), EXPANSION_RATIO,
-            _NODE_TIMES, _NODE_WEIGHTS, _LOG_STEP).reshape(shape)
+            np.ascontiguousarray(np.broadcast_to(covariance, shape + (3, 3)).reshape(-1, 3, 3)), *NORM_RULE
+            ).reshape(shape)
     magnitude = np.maximum(np.abs(centre).max(axis=-1),
                            np.sqrt(np.abs(np.diagonal(covariance, axis1=-2, axis2=-1)).max(axis=-1)))
     zero = ~(magnitude > 0)
@@ -311,6 +311,9 @@ def expected_norm(centre: np.ndarray, covariance: np.ndarray) -> np.ndarray:
 _LOG_NODES = np.arange(-36.0, 36.0 + 1e-9, 0.25)  # u = ln t + ln scale²: the integrand decays as e^{-|u|/2}
 _LOG_STEP = float(_LOG_NODES[1] - _LOG_NODES[0])
 _NODE_TIMES, _NODE_WEIGHTS = np.exp(_LOG_NODES), np.exp(-_LOG_NODES / 2)  # e^u, e^{-u/2}
+#: :func:`expected_norm`'s rule as its compiled kernel takes it: the expansion's ratio, the quadrature's times, weights
+#: and step.
+NORM_RULE = (EXPANSION_RATIO, _NODE_TIMES, _NODE_WEIGHTS, _LOG_STEP)
 
 
 def _norm_by_quadrature(centre: np.ndarray, covariance: np.ndarray) -> np.ndarray:
@@ -528,6 +531,8 @@ def barycentre_shares(directions: np.ndarray, pooled: np.ndarray, cycles: int) -
 #: deviations either side of its mean the integral spans (the normal's mass beyond: 1e-15).
 MAXIMUM_NODES, MAXIMUM_SPAN = 32, 8.0
 _LEGENDRE = np.polynomial.legendre.leggauss(MAXIMUM_NODES)
+#: :func:`expected_maximum`'s rule as its compiled kernel takes it: the nodes and weights on [-1, 1], the span.
+MAXIMUM_RULE = (*_LEGENDRE, MAXIMUM_SPAN)
 
 
 def expected_maximum(mean: np.ndarray, covariance: np.ndarray) -> np.ndarray:

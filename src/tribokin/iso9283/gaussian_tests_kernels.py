@@ -1,8 +1,8 @@
 """Compiled (numba) kernels of :mod:`tribokin.iso9283.gaussian_tests`, target by target: E[RP_l] and its spread
-(Carlson's R_F and R_D by duplication, the delta method), E|c + w| (expansion or quadrature), the eigenvalues of
-symmetric 3 × 3 matrices by cyclic Jacobi rotations, a sign mixture's moments, a test's barycentre shares and
-E√(a + εᵀ U ε) on the mixture's grid. They agree with the NumPy path (SciPy's Carlson integrals, LAPACK's
-eigenvalues) to rounding, about 1e-14 relative.
+(Carlson's R_F and R_D by duplication, the delta method), E|c + w| (expansion or quadrature), the largest of three
+jointly normal values' expectation, the eigenvalues of symmetric 3 × 3 matrices by cyclic Jacobi rotations, a sign
+mixture's moments, a test's barycentre shares and E√(a + εᵀ U ε) on the mixture's grid. They agree with the NumPy
+path (SciPy's Carlson integrals and normal law, LAPACK's eigenvalues) to rounding, about 1e-14 relative.
 
 Imported only on the compiled path (:func:`tribokin.compiled.use_compiled`). The NumPy module's constants are passed
 in as arguments: numba's cache would keep a module global's old value.
@@ -253,52 +253,91 @@ def eigenvalues(matrices):
 @kernel
 def expected_norm(centre, covariance, ratio, times, weights, step):
     """E|c + w| (k,) [m] for w ~ N(0, S), centres c (k, 3) [m] and covariances S (k, 3, 3) [m²], as
-    ``iso9283.gaussian_tests.expected_norm``: on c and S scaled by a power of two to order one; where tr S < ``ratio``
-    |c|² the expansion |c| + (tr S - ĉᵀ S ĉ) / (2 |c|), else the trapezoid rule of step ``step`` at the quadrature's
-    ``times`` e^u with ``weights`` e^(-u/2)."""
+    ``iso9283.gaussian_tests.expected_norm`` (:func:`_expected_norm`)."""
     out = np.empty(centre.shape[0])
     c = np.empty(3)
     s = np.empty((3, 3))
     lam = np.empty(3)
     vectors = np.empty((3, 3))
     for k in range(centre.shape[0]):
-        magnitude, diagonal = 0.0, 0.0  # NaN if any is
-        for i in range(3):
-            magnitude = np.maximum(magnitude, abs(centre[k, i]))
-            diagonal = np.maximum(diagonal, abs(covariance[k, i, i]))
-        magnitude = np.maximum(magnitude, math.sqrt(diagonal))
-        if not magnitude > 0:
-            out[k] = 0.0
-            continue
-        scale = 2.0 ** np.round(math.log2(magnitude))
-        for i in range(3):
-            c[i] = centre[k, i] / scale
-            for j in range(3):
-                s[i, j] = covariance[k, i, j] / scale / scale
-        size2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2]
-        trace = s[0, 0] + s[1, 1] + s[2, 2]
-        if trace < ratio * size2:
-            size = math.sqrt(size2)
-            along = 0.0
-            for i in range(3):
-                along += c[i] * (s[i, 0] * c[0] + s[i, 1] * c[1] + s[i, 2] * c[2])
-            out[k] = (size + (trace - along / size2) / (2 * size)) * scale
-            continue
-        _jacobi(s, lam, vectors)
-        beta2 = np.empty(3)
-        total = 0.0
-        for j in range(3):
-            lam[j] = np.maximum(lam[j], 0.0)
-            beta2[j] = (vectors[0, j] * c[0] + vectors[1, j] * c[1] + vectors[2, j] * c[2]) ** 2
-        scale2 = np.maximum(beta2[0] + beta2[1] + beta2[2] + (lam[0] + lam[1] + lam[2]), _TINY)
-        for m in range(times.shape[0]):
-            t = times[m] / scale2
-            transform = 0.0
-            for j in range(3):
-                transform += -0.5 * math.log1p(2 * t * lam[j]) - t * beta2[j] / (1 + 2 * t * lam[j])
-            total += -math.expm1(transform) * weights[m]
-        out[k] = total * step * math.sqrt(scale2) / (2 * math.sqrt(math.pi)) * scale
+        out[k] = _expected_norm(centre[k], covariance[k], ratio, times, weights, step, c, s, lam, vectors)
     return out
+
+
+@kernel
+def _expected_norm(centre, covariance, ratio, times, weights, step, c, s, lam, vectors):
+    """E|c + w| [m] for w ~ N(0, S), c ``centre`` (3,) [m] and S ``covariance`` (3, 3) [m²]: on c and S scaled by a
+    power of two to order one (into ``c`` (3,) and ``s`` (3, 3); ``lam`` (3,) and ``vectors`` (3, 3) for their
+    eigenvalues); where tr S < ``ratio`` |c|² the expansion |c| + (tr S - ĉᵀ S ĉ) / (2 |c|), else the trapezoid rule
+    of step ``step`` at the quadrature's ``times`` e^u with ``weights`` e^(-u/2)."""
+    magnitude, diagonal = 0.0, 0.0  # NaN if any is
+    for i in range(3):
+        magnitude = np.maximum(magnitude, abs(centre[i]))
+        diagonal = np.maximum(diagonal, abs(covariance[i, i]))
+    magnitude = np.maximum(magnitude, math.sqrt(diagonal))
+    if not magnitude > 0:
+        return 0.0
+    scale = 2.0 ** np.round(math.log2(magnitude))
+    for i in range(3):
+        c[i] = centre[i] / scale
+        for j in range(3):
+            s[i, j] = covariance[i, j] / scale / scale
+    size2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2]
+    trace = s[0, 0] + s[1, 1] + s[2, 2]
+    if trace < ratio * size2:
+        size = math.sqrt(size2)
+        along = 0.0
+        for i in range(3):
+            along += c[i] * (s[i, 0] * c[0] + s[i, 1] * c[1] + s[i, 2] * c[2])
+        return (size + (trace - along / size2) / (2 * size)) * scale
+    _jacobi(s, lam, vectors)
+    beta2 = np.empty(3)
+    total = 0.0
+    for j in range(3):
+        lam[j] = np.maximum(lam[j], 0.0)
+        beta2[j] = (vectors[0, j] * c[0] + vectors[1, j] * c[1] + vectors[2, j] * c[2]) ** 2
+    scale2 = np.maximum(beta2[0] + beta2[1] + beta2[2] + (lam[0] + lam[1] + lam[2]), _TINY)
+    for m in range(times.shape[0]):
+        t = times[m] / scale2
+        transform = 0.0
+        for j in range(3):
+            transform += -0.5 * math.log1p(2 * t * lam[j]) - t * beta2[j] / (1 + 2 * t * lam[j])
+        total += -math.expm1(transform) * weights[m]
+    return total * step * math.sqrt(scale2) / (2 * math.sqrt(math.pi)) * scale
+
+
+@kernel
+def expected_maximum(mean, covariance, nodes, weights, span):
+    """E[max(Y_1, Y_2, Y_3)] of jointly normal Y of ``mean`` (3,) and ``covariance`` (3, 3), as
+    ``iso9283.gaussian_tests.expected_maximum``: over D = Y_2 - Y_1 by Gauss-Legendre (``nodes`` and ``weights`` on
+    [-1, 1]) on either side of the kink D = 0 within ``span`` standard deviations, E[max(max(0, D), W) | D] in closed
+    form (Φ by ``math.erfc``)."""
+    mean_d, mean_w = mean[1] - mean[0], mean[2] - mean[0]
+    var_d = max(covariance[1, 1] + covariance[0, 0] - 2 * covariance[0, 1], 0.0)
+    var_w = max(covariance[2, 2] + covariance[0, 0] - 2 * covariance[0, 2], 0.0)
+    shared = covariance[1, 2] - covariance[0, 1] - covariance[0, 2] + covariance[0, 0]
+    sd_d = math.sqrt(var_d)
+    slope = shared / var_d if var_d > 0 else 0.0
+    sd_w = math.sqrt(max(var_w - slope * shared, 0.0))
+    kink = -mean_d / sd_d if sd_d > 0 else (span if mean_d < 0 else -span)
+    kink = min(max(kink, -span), span)
+    total, mass = 0.0, 0.0
+    for low, high in ((-span, kink), (kink, span)):
+        half, middle = (high - low) / 2, (high + low) / 2
+        for i in range(nodes.shape[0]):
+            x = half * nodes[i] + middle
+            weight = half * weights[i] * math.exp(-x ** 2 / 2)
+            floor = max(mean_d + sd_d * x, 0.0)
+            excess = mean_w + slope * sd_d * x - floor
+            if sd_w > 0:
+                z = excess / sd_w
+                inner = floor + excess * 0.5 * math.erfc(-z / math.sqrt(2)) + sd_w * math.exp(-z ** 2 / 2) / math.sqrt(
+                    2 * math.pi)
+            else:
+                inner = floor + max(excess, 0.0)
+            total += weight * inner
+            mass += weight
+    return mean[0] + total / mass
 
 
 @kernel
@@ -502,6 +541,19 @@ def root_with_tails(constant, lam, times, step, half, three_halves):
 
 
 @kernel
+def symmetric_root(matrix, lam, vectors, root):
+    """Into ``root`` (3, 3) the symmetric root V √max(Λ, 0) Vᵀ of the symmetric ``matrix`` (3, 3) (:func:`_jacobi`,
+    its eigenvalues and vectors into ``lam`` (3,) and ``vectors`` (3, 3))."""
+    _jacobi(matrix, lam, vectors)
+    for i in range(3):
+        for j in range(3):
+            total = 0.0
+            for m in range(3):
+                total += vectors[i, m] * math.sqrt(max(lam[m], 0.0)) * vectors[j, m]
+            root[i, j] = total
+
+
+@kernel
 def barycentre_shares(directions, pooled, cycles):
     """(k, 3) ascending eigenvalues of R U R / n, R the symmetric root of ``pooled`` Σ̄ (k, 3, 3), U ``directions``
     (k, 3, 3), n ``cycles``, as ``iso9283.gaussian_tests.barycentre_shares`` (:func:`_jacobi` for LAPACK)."""
@@ -512,13 +564,7 @@ def barycentre_shares(directions, pooled, cycles):
     half = np.empty((3, 3))
     product = np.empty((3, 3))
     for k in range(pooled.shape[0]):
-        _jacobi(pooled[k], lam, vectors)
-        for i in range(3):
-            for j in range(3):
-                total = 0.0
-                for m in range(3):
-                    total += vectors[i, m] * math.sqrt(max(lam[m], 0.0)) * vectors[j, m]
-                root[i, j] = total
+        symmetric_root(pooled[k], lam, vectors, root)
         for i in range(3):
             for j in range(3):
                 total = 0.0

@@ -68,6 +68,8 @@ from tribokin.iso9283.gaussian_tests import (
     ANALYTIC_MIN_CYCLES,
     ASYMPTOTIC_CYCLES,
     BAND_PERCENTILES,
+    MAXIMUM_RULE,
+    NORM_RULE,
     ShapeTable,
     band_factors,
     barycentre_shares,
@@ -1060,7 +1062,14 @@ def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.nd
 def _vap_expected(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.ndarray, np.ndarray]:
     """E[vAP_p] [m] (k,) of barycentres ``centres`` (k, 3 directions, 3) [m] with Gaussian noise of covariances
     ``noise`` (k, 3 directions, 3, 3) [m²], and its relative Monte Carlo standard error (k,): the farthest pair's
-    E|g + e| in closed form (0), or :func:`_vap_close` where two pairs are about as far apart."""
+    E|g + e| in closed form (0), or :func:`_vap_close` where two pairs are about as far apart. In one compiled kernel
+    where :func:`~tribokin.compiled.use_compiled` (:func:`~tribokin.maps.expected_figures_kernels.vap_expected`)."""
+    if use_compiled():
+        from tribokin.maps.expected_figures_kernels import vap_expected
+
+        out = vap_expected(np.ascontiguousarray(centres, dtype=float), np.ascontiguousarray(noise, dtype=float),
+                           _vap_draws(seed), TAIL_STDS, NORM_RULE, MAXIMUM_RULE)
+        return out[:, 0], relative(out[:, 1], out[:, 0])
     gaps = np.stack([centres[:, a] - centres[:, b] for a, b in VAP_PAIRS], axis=1)
     spreads = np.stack([noise[:, a] + noise[:, b] for a, b in VAP_PAIRS], axis=1)
     sizes = np.linalg.norm(gaps, axis=-1)
@@ -1087,7 +1096,14 @@ def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.nd
     (:func:`~tribokin.iso9283.gaussian_tests.expected_maximum`), is a control variate: the mean over ``VAP_DRAWS``
     draws (common random numbers) of the exact largest distance less the linearised one is added, whose Monte Carlo
     error is that of the difference (second order in the noise), not of the distance: the differences' standard
-    deviation over √``VAP_DRAWS``, the error stated."""
+    deviation over √``VAP_DRAWS``, the error stated. Compiled where :func:`~tribokin.compiled.use_compiled`
+    (:func:`~tribokin.maps.expected_figures_kernels.vap_close`)."""
+    if use_compiled():
+        from tribokin.maps.expected_figures_kernels import vap_close
+
+        out = vap_close(np.ascontiguousarray(centres, dtype=float), np.ascontiguousarray(noise, dtype=float),
+                        _vap_draws(seed), MAXIMUM_RULE)
+        return out[:, 0], out[:, 1]
     gaps = np.stack([centres[:, a] - centres[:, b] for a, b in VAP_PAIRS], axis=1)  # (k, pairs, 3)
     spreads = np.stack([noise[:, a] + noise[:, b] for a, b in VAP_PAIRS], axis=1)
     sizes = np.linalg.norm(gaps, axis=-1)
@@ -1101,13 +1117,7 @@ def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.nd
         loads[:, p, a], loads[:, p, b] = units[:, p], -units[:, p]
     covariance = np.einsum("kpdi,kdij,kqdj->kpq", loads, noise, loads)
     vap = expected_maximum(means, covariance)
-    z = expected_stream(seed, "vap").standard_normal((VAP_DRAWS, 3, 3))
-    z = np.ascontiguousarray(z.transpose(1, 2, 0))  # (3 directions, 3, draws): each direction's draws by coordinate
-    if use_compiled():
-        from tribokin.maps.expected_figures_kernels import vap_corrections
-
-        correction = vap_corrections(gaps, means, units, np.ascontiguousarray(noise), z)
-        return vap + correction[:, 0], correction[:, 1]
+    z = _vap_draws(seed)
     standard_error = np.empty(len(gaps))
     for k in np.array_split(np.arange(len(gaps)), max(1, len(gaps) * VAP_DRAWS // BLOCK_CYCLES)):
         lam, vectors = np.linalg.eigh(noise[k])  # the symmetric root of each (block, 3 directions, 3, 3)
@@ -1122,6 +1132,16 @@ def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.nd
         vap[k] += differences.mean(axis=1)
         standard_error[k] = differences.std(axis=1, ddof=1) / math.sqrt(VAP_DRAWS)
     return vap, standard_error
+
+
+@lru_cache(maxsize=4)
+def _vap_draws(seed: int) -> np.ndarray:
+    """(3 directions, 3, ``VAP_DRAWS``) the standard normal draws of :func:`_vap_close`'s correction (read-only):
+    each direction's draws by coordinate."""
+    z = expected_stream(seed, "vap").standard_normal((VAP_DRAWS, 3, 3))
+    z = np.ascontiguousarray(z.transpose(1, 2, 0))
+    z.flags.writeable = False
+    return z
 
 
 def _vap_tests(runner: PoseRunner, models: list[LinearModel], moments: JointMoments, k: int, q: np.ndarray,

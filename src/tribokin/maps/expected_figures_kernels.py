@@ -1,10 +1,13 @@
 """Compiled (numba) kernels of :mod:`~tribokin.maps.expected_figures`, target by target: the covariance J diag(var) Jᵀ
-of the tool's position or angle deviation (:class:`~tribokin.maps.expected_figures.LinearModel`), and vAP_p's
-correction over draws where pairs of approach directions are close, with its standard error. They agree with the
-NumPy path to rounding, about 1e-15 relative (the covariance) and 1e-12 (the correction: the noise drawn through the
-symmetric root, which both paths' eigenvalue routines give alike).
+of the tool's position or angle deviation (:class:`~tribokin.maps.expected_figures.LinearModel`), and E[vAP_p] with
+its Monte Carlo standard error: the farthest pair's expected distance, or where pairs of approach directions are
+close, their linearised largest and its correction over draws. They agree with the NumPy path to rounding, about
+1e-15 relative (the covariance, and the farthest pair's distance: the compiled E|c + w|'s to the bit) and 1e-12
+(where pairs are close: the noise drawn through the symmetric root, which both paths' eigenvalue routines give alike,
+and Φ by ``math.erfc`` for SciPy's ``ndtr``).
 
-Imported only on the compiled path (:func:`tribokin.compiled.use_compiled`).
+Imported only on the compiled path (:func:`tribokin.compiled.use_compiled`). Constants are passed in as arguments:
+numba's cache would keep a module global's old value.
 """
 
 from __future__ import annotations
@@ -14,7 +17,7 @@ import math
 import numpy as np
 
 from tribokin.compiled import kernel
-from tribokin.iso9283.gaussian_tests_kernels import _jacobi
+from tribokin.iso9283.gaussian_tests_kernels import _expected_norm, _jacobi, expected_maximum, symmetric_root
 
 
 @kernel
@@ -34,49 +37,125 @@ def covariances(jacobian, variance, first):
 
 
 @kernel
-def vap_corrections(gaps, means, units, noise, z):
-    """(k, 2) the mean over draws of vAP_p's largest distance |g + e| less its largest linearised one, and that
-    mean's standard error (the differences' standard deviation over √draws), as
-    ``maps.expected_figures._vap_close``: the pairs' gaps g (k, 3 pairs, 3), linearised means (k, 3 pairs) and unit
-    gaps (k, 3 pairs, 3), the barycentres' noise covariances (k, 3 directions, 3, 3) (each drawn through its
-    symmetric root) and standard normal draws ``z`` (3 directions, 3, draws)."""
-    count, draws = gaps.shape[0], z.shape[2]
-    out = np.empty((count, 2))
-    differences = np.empty(draws)
-    lam = np.empty(3)
-    vectors = np.empty((3, 3))
-    roots = np.empty((3, 3, 3))
-    shift = np.empty((3, 3))
-    first, second = (0, 0, 1), (1, 2, 2)
-    for k in range(count):
-        for d in range(3):
-            _jacobi(noise[k, d], lam, vectors)
-            for i in range(3):
-                for j in range(3):
-                    total = 0.0
-                    for m in range(3):
-                        total += vectors[i, m] * math.sqrt(max(lam[m], 0.0)) * vectors[j, m]
-                    roots[d, i, j] = total
-        total = 0.0
-        for n in range(draws):
-            for d in range(3):
-                for i in range(3):
-                    shift[d, i] = (roots[d, i, 0] * z[d, 0, n] + roots[d, i, 1] * z[d, 1, n]
-                                   + roots[d, i, 2] * z[d, 2, n])
-            exact, linear = -np.inf, -np.inf
-            for p in range(3):
-                size2, along = 0.0, 0.0
-                for i in range(3):
-                    error = shift[first[p], i] - shift[second[p], i]
-                    size2 += (gaps[k, p, i] + error) ** 2
-                    along += units[k, p, i] * error
-                exact = max(exact, math.sqrt(size2))
-                linear = max(linear, means[k, p] + along)
-            differences[n] = exact - linear
-            total += differences[n]
-        out[k, 0] = total / draws
-        square = 0.0
-        for n in range(draws):
-            square += (differences[n] - out[k, 0]) ** 2
-        out[k, 1] = math.sqrt(square / (draws - 1) / draws)
+def vap_expected(centres, noise, z, tail_stds, norm_rule, maximum_rule):
+    """(k, 2) E[vAP_p] [m] and its Monte Carlo standard error [m], as ``maps.expected_figures._vap_expected``, of
+    barycentres ``centres`` (k, 3 directions, 3) [m] with Gaussian noise of covariances ``noise``
+    (k, 3 directions, 3, 3) [m²]: the farthest pair's E|g + e| (``norm_rule``: ratio, times, weights and step of
+    :func:`~tribokin.iso9283.gaussian_tests_kernels.expected_norm`), or where the two farthest pairs are within
+    ``tail_stds`` of their noises' largest standard deviations (summed) of each other, :func:`_vap_close` (standard
+    normal draws ``z`` (3 directions, 3, draws), ``maximum_rule``: nodes, weights and span of
+    :func:`~tribokin.iso9283.gaussian_tests_kernels.expected_maximum`)."""
+    ratio, times, weights, step = norm_rule
+    out = np.zeros((centres.shape[0], 2))
+    gaps, spreads, sizes = np.empty((3, 3)), np.empty((3, 3, 3)), np.empty(3)
+    c, s, lam, vectors = np.empty(3), np.empty((3, 3)), np.empty(3), np.empty((3, 3))
+    differences, roots, shift = np.empty(z.shape[2]), np.empty((3, 3, 3)), np.empty((3, 3))
+    for k in range(centres.shape[0]):
+        _pairs(centres[k], noise[k], gaps, spreads, sizes)
+        farthest, next_ = 0, 1  # the pairs by decreasing size, the first of equal ones first (a stable sort)
+        if sizes[1] > sizes[0]:
+            farthest, next_ = 1, 0
+        if sizes[2] > sizes[farthest]:
+            farthest, next_ = 2, farthest
+        elif sizes[2] > sizes[next_]:
+            next_ = 2
+        _jacobi(spreads[farthest], lam, vectors)
+        width = math.sqrt(lam[2])
+        _jacobi(spreads[next_], lam, vectors)
+        width += math.sqrt(lam[2])
+        if sizes[farthest] - sizes[next_] <= tail_stds * width:
+            _vap_close(gaps, spreads, sizes, noise[k], z, maximum_rule, out[k], lam, vectors, differences, roots,
+                       shift)
+        else:
+            out[k, 0] = _expected_norm(gaps[farthest], spreads[farthest], ratio, times, weights, step, c, s, lam,
+                                       vectors)
     return out
+
+
+@kernel
+def vap_close(centres, noise, z, maximum_rule):
+    """(k, 2) E[vAP_p] [m] and its Monte Carlo standard error [m] where pairs of approach directions are close, as
+    ``maps.expected_figures._vap_close`` (:func:`_vap_close`; the arguments as :func:`vap_expected`'s)."""
+    out = np.empty((centres.shape[0], 2))
+    gaps, spreads, sizes = np.empty((3, 3)), np.empty((3, 3, 3)), np.empty(3)
+    lam, vectors = np.empty(3), np.empty((3, 3))
+    differences, roots, shift = np.empty(z.shape[2]), np.empty((3, 3, 3)), np.empty((3, 3))
+    for k in range(centres.shape[0]):
+        _pairs(centres[k], noise[k], gaps, spreads, sizes)
+        _vap_close(gaps, spreads, sizes, noise[k], z, maximum_rule, out[k], lam, vectors, differences, roots, shift)
+    return out
+
+
+@kernel
+def _pairs(centres, noise, gaps, spreads, sizes):
+    """Into ``gaps`` (3 pairs, 3) [m], ``spreads`` (3 pairs, 3, 3) [m²] and ``sizes`` (3,) [m] the differences of the
+    pairs' barycentres ``centres`` (3 directions, 3), the sums of their noise covariances ``noise``
+    (3 directions, 3, 3) and the gaps' lengths."""
+    first, second = (0, 0, 1), (1, 2, 2)
+    for p in range(3):
+        for i in range(3):
+            gaps[p, i] = centres[first[p], i] - centres[second[p], i]
+            for j in range(3):
+                spreads[p, i, j] = noise[first[p], i, j] + noise[second[p], i, j]
+        sizes[p] = math.sqrt(gaps[p, 0] * gaps[p, 0] + gaps[p, 1] * gaps[p, 1] + gaps[p, 2] * gaps[p, 2])
+
+
+@kernel
+def _vap_close(gaps, spreads, sizes, noise, z, maximum_rule, out, lam, vectors, differences, roots, shift):
+    """Into ``out`` (2,) E[vAP_p] [m] and its Monte Carlo standard error [m] of one target whose pairs are close, as
+    ``maps.expected_figures._vap_close``: the pairs' gaps g (3 pairs, 3) [m], covariances (3 pairs, 3, 3) [m²] and
+    sizes |g| (3,) [m], the directions' noise covariances (3, 3, 3) [m²] (each drawn through its symmetric root from
+    ``z`` (3 directions, 3, draws)); the rest scratch. The linearised distances' largest in closed form
+    (:func:`~tribokin.iso9283.gaussian_tests_kernels.expected_maximum`), plus the mean over draws of the exact
+    largest less the linearised one."""
+    nodes, weights, span = maximum_rule
+    units, means, covariance = np.zeros((3, 3)), np.empty(3), np.empty((3, 3))
+    first, second = (0, 0, 1), (1, 2, 2)
+    for p in range(3):
+        trace, along = 0.0, 0.0
+        if sizes[p] > 0:
+            for i in range(3):
+                units[p, i] = gaps[p, i] / sizes[p]
+        for i in range(3):
+            trace += spreads[p, i, i]
+            for j in range(3):
+                along += units[p, i] * spreads[p, i, j] * units[p, j]
+        means[p] = sizes[p] + ((trace - along) / (2 * sizes[p]) if trace < sizes[p] ** 2 else 0.0)
+    for p in range(3):  # Σ_d (±ĝ_p)ᵀ N_d (±ĝ_q) over the directions d the pairs p and q share
+        for q in range(p, 3):
+            total = 0.0
+            for d in range(3):
+                sign_p = 1.0 if d == first[p] else -1.0 if d == second[p] else 0.0
+                sign_q = 1.0 if d == first[q] else -1.0 if d == second[q] else 0.0
+                if sign_p * sign_q != 0.0:
+                    for i in range(3):
+                        for j in range(3):
+                            total += sign_p * sign_q * units[p, i] * noise[d, i, j] * units[q, j]
+            covariance[p, q] = total
+            covariance[q, p] = total
+    out[0] = expected_maximum(means, covariance, nodes, weights, span)
+    for d in range(3):
+        symmetric_root(noise[d], lam, vectors, roots[d])
+    draws = z.shape[2]
+    total = 0.0
+    for n in range(draws):
+        for d in range(3):
+            for i in range(3):
+                shift[d, i] = roots[d, i, 0] * z[d, 0, n] + roots[d, i, 1] * z[d, 1, n] + roots[d, i, 2] * z[d, 2, n]
+        exact2, linear = -np.inf, -np.inf  # the largest square distance: its root is the largest distance
+        for p in range(3):
+            size2, along = 0.0, 0.0
+            for i in range(3):
+                error = shift[first[p], i] - shift[second[p], i]
+                size2 += (gaps[p, i] + error) ** 2
+                along += units[p, i] * error
+            exact2 = max(exact2, size2)
+            linear = max(linear, means[p] + along)
+        differences[n] = math.sqrt(exact2) - linear
+        total += differences[n]
+    correction = total / draws
+    square = 0.0
+    for n in range(draws):
+        square += (differences[n] - correction) ** 2
+    out[0] += correction
+    out[1] = math.sqrt(square / (draws - 1) / draws)
