@@ -56,7 +56,8 @@ fallback: orders 2-3, else exact FK), whose own bound then takes b's place. Per 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from functools import cached_property, lru_cache
 from typing import NamedTuple
 
@@ -112,6 +113,8 @@ MAX_BAND_FACTOR = 16
 #: Cycles and fewest tests of the random-direction mixture where it is sampled (only its mean is kept, its Monte Carlo
 #: error stated: 0.6-0.8 % at 30 cycles on a UR5).
 MULTI_CYCLES, MIN_MULTI_TESTS = 12_000, 20
+#: Cycles whose offsets :func:`tests_rp_l`'s kernel holds at once (three coordinates' worth within a core's L1 cache).
+TESTS_CHUNK = 1024
 #: Most joints whose 2^(nv - 1) sign patterns RP_l_multi is summed over (:func:`_multi_moments`); more are sampled.
 MIXTURE_MAX_JOINTS = 10
 #: Sampled cycles of the targets computed together (their positions and angles in memory at once).
@@ -271,6 +274,14 @@ def shape_table(cycles: int, seed: int) -> ShapeTable:
     return ShapeTable.simulate(cycles, expected_stream(seed, "table"))
 
 
+class Drawn(dict):
+    """Arrays an :class:`ExpectedSetup` has drawn in this process, by name; pickled empty (a worker draws its own,
+    the same numbers)."""
+
+    def __reduce__(self):
+        return Drawn, ()
+
+
 @dataclass(frozen=True)
 class ExpectedSetup:
     """What every block of one scenario's expected map shares, built once per map: the tests' ``cycles`` (of each
@@ -278,7 +289,8 @@ class ExpectedSetup:
     (:class:`~tribokin.iso9283.gaussian_tests.ShapeTable`; ``None`` from ``ASYMPTOTIC_CYCLES`` cycles on), the map's
     ``figure_set`` (``"directional"``: vAP_p and RP_l_multi too) and ``band_factor`` (:func:`band_factor`);
     ``series``: a joint's friction is a time series, every test sampled whole from the runner's state
-    (:func:`series_draws`), its moments those of the draws (:meth:`JointMoments.of_draws`)."""
+    (:func:`series_draws`), its moments those of the draws (:meth:`JointMoments.of_draws`); ``drawn``: the common
+    random numbers its blocks have drawn (:meth:`once`)."""
 
     cycles: int
     moments: JointMoments
@@ -286,6 +298,14 @@ class ExpectedSetup:
     figure_set: str
     band_factor: int = 1
     series: bool = False
+    drawn: Drawn = field(default_factory=Drawn, repr=False, compare=False)
+
+    def once(self, name: str, draw: Callable[[], np.ndarray]) -> np.ndarray:
+        """``draw()`` the first time ``name`` is asked for in this process, the same array after: numbers that every
+        block of the map shares (common random numbers, independent of chunking)."""
+        if name not in self.drawn:
+            self.drawn[name] = draw()
+        return self.drawn[name]
 
     @classmethod
     def build(cls, runner: PoseRunner, table: ShapeTable | None, figure_set: str) -> ExpectedSetup:
@@ -390,6 +410,31 @@ def sampled_tests(model: LinearModel, moments: JointMoments, chosen: np.ndarray,
     figures' sums over the cycles read memory in order."""
     moved = (responses(model, moments, chosen, rows).T @ numbers.T).reshape(len(chosen), 3, *shape)
     return np.moveaxis(moved, 1, -1) + shift_of(model, moments, chosen, rows)[:, None, None, :]
+
+
+def centred_numbers(numbers: np.ndarray, shape: tuple) -> np.ndarray:
+    """(3 nv, tests × cycles) :func:`common_numbers` ``numbers`` of tests of ``shape`` (tests, cycles) less their test's
+    mean (taken about the test's first cycle, as :func:`~tribokin.iso9283.metrics.barycenter` does), a column after
+    another: what :func:`tests_rp_l`'s kernel reads."""
+    per_test = numbers.reshape(*shape, -1)
+    first = per_test[:, :1]
+    centred = per_test - (first + (per_test - first).mean(axis=1, keepdims=True))
+    return np.ascontiguousarray(centred.reshape(numbers.shape).T)
+
+
+def tests_rp_l(model: LinearModel, moments: JointMoments, chosen: np.ndarray, numbers: np.ndarray, shape: tuple,
+               centred: np.ndarray) -> np.ndarray:
+    """(k, tests) RP_l [m] of each sampled test (``shape``: tests, cycles) of targets ``chosen`` through the
+    first-order model, for :func:`common_numbers` ``numbers``: of :func:`sampled_tests`' positions, or where
+    :func:`~tribokin.compiled.use_compiled`, from each cycle's offset from its test's barycentre W (n - n̄) (W the
+    target's :func:`responses`, n - n̄ the numbers' ``centred``, :func:`centred_numbers`: the tool's position and
+    E[dq] cancel)."""
+    if not use_compiled():
+        return position_repeatability(sampled_tests(model, moments, chosen, numbers, shape, slice(0, 3)))[0]
+    from tribokin.maps.expected_figures_kernels import tests_repeatability
+
+    weights = responses(model, moments, chosen, slice(0, 3)).reshape(numbers.shape[1], len(chosen), 3)
+    return tests_repeatability(np.ascontiguousarray(weights.transpose(1, 2, 0)), centred, *shape, TESTS_CHUNK)
 
 
 def shift_of(model: LinearModel, moments: JointMoments, chosen: np.ndarray, rows: slice) -> np.ndarray:
@@ -1179,11 +1224,13 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
     single = n >= ASYMPTOTIC_CYCLES and not setup.series  # single cycles, not whole tests
     shape = sampled_shape(MULTI_CYCLES, n, MIN_MULTI_TESTS, whole_tests=setup.series)
 
-    @lru_cache(maxsize=1)
-    def numbers() -> np.ndarray:  # the sampled cycles' common random numbers, drawn only where cycles are sampled
+    def draw() -> np.ndarray:
         rng = expected_stream(runner.settings.seed, "multi signs")
         signs = rng.integers(0, 2, size=(*shape, len(runner.models))) * 2.0 - 1.0
         return common_numbers(runner, signs, shape[0], "multi")
+
+    def numbers() -> np.ndarray:  # the sampled cycles' common random numbers, drawn only where cycles are sampled
+        return setup.once("multi", draw)
 
     def repeatability(positions: np.ndarray, centre: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(k,) each of (k, tests, cycles, 3) ``positions``, from ``ASYMPTOTIC_CYCLES`` cycles on about the mixture's
@@ -1204,8 +1251,13 @@ def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: Line
     else:
         rp, error = np.empty(len(qs)), np.empty(len(qs))
         for block in blocks_of(np.arange(len(qs)), math.prod(shape)):
-            rp[block], error[block] = repeatability(sampled_tests(model, moments, block, numbers(), shape,
-                                                                  slice(0, 3)), model.position_m[block])
+            if single:
+                rp[block], error[block] = repeatability(sampled_tests(model, moments, block, numbers(), shape,
+                                                                      slice(0, 3)), model.position_m[block])
+            else:
+                centred = setup.once("multi centred", lambda: centred_numbers(numbers(), shape))
+                per_test = tests_rp_l(model, moments, block, numbers(), shape, centred)
+                rp[block], error[block] = per_test.mean(axis=1), mean_error(per_test)
     rp *= UM_PER_M
     used = EngineUsed.first_order(model)
     fallen = ~serves(model.bound, n, {"RP_l_multi_um": rp}, "multi")  # exact: NaN, served nowhere

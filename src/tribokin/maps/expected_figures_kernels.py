@@ -1,10 +1,11 @@
 """Compiled (numba) kernels of :mod:`~tribokin.maps.expected_figures`, target by target: the covariance J diag(var) Jᵀ
-of the tool's position or angle deviation (:class:`~tribokin.maps.expected_figures.LinearModel`), and E[vAP_p] with
-its Monte Carlo standard error: the farthest pair's expected distance, or where pairs of approach directions are
-close, their linearised largest and its correction over draws. They agree with the NumPy path to rounding, about
-1e-15 relative (the covariance, and the farthest pair's distance: the compiled E|c + w|'s to the bit) and 1e-12
-(where pairs are close: the noise drawn through the symmetric root, which both paths' eigenvalue routines give alike,
-and Φ by ``math.erfc`` for SciPy's ``ndtr``).
+of the tool's position or angle deviation (:class:`~tribokin.maps.expected_figures.LinearModel`), RP_l of each
+sampled test through the first-order model, and E[vAP_p] with its Monte Carlo standard error: the farthest pair's
+expected distance, or where pairs of approach directions are close, their linearised largest and its correction over
+draws. They agree with the NumPy path to rounding, about 1e-15 relative (the covariance, and the farthest pair's
+distance: the compiled E|c + w|'s to the bit), 1e-12 (where pairs are close: the noise drawn through the symmetric
+root, which both paths' eigenvalue routines give alike, and Φ by ``math.erfc`` for SciPy's ``ndtr``) and about 1e-11
+(the tests' RP_l: their NumPy path adds the tool's position before it takes the barycentre away).
 
 Imported only on the compiled path (:func:`tribokin.compiled.use_compiled`). Constants are passed in as arguments:
 numba's cache would keep a module global's old value.
@@ -159,3 +160,40 @@ def _vap_close(gaps, spreads, sizes, noise, z, maximum_rule, out, lam, vectors, 
         square += (differences[n] - correction) ** 2
     out[0] += correction
     out[1] = math.sqrt(square / (draws - 1) / draws)
+
+
+@kernel
+def tests_repeatability(weights, centred, tests, cycles, chunk):
+    """(k, tests) RP_l = l̄ + 3 S_l (S_l with n - 1) of each test of ``cycles`` cycles of k targets, as
+    ``maps.expected_figures.tests_rp_l``: a cycle's offset from its test's barycentre is W (n - n̄), W the target's
+    position responses (k, 3, m) and n - n̄ its common random numbers less their test's mean, ``centred``
+    (m, tests × cycles); ``chunk`` cycles' offsets at a time, a number's column after another (so the loop over
+    cycles runs in vector registers)."""
+    count, width, total = weights.shape[0], weights.shape[2], centred.shape[1]
+    out = np.empty((count, tests))
+    distances = np.empty(total)
+    x, y, z = np.empty(chunk), np.empty(chunk), np.empty(chunk)
+    for k in range(count):
+        for start in range(0, total, chunk):
+            length = min(chunk, total - start)
+            x[:length], y[:length], z[:length] = 0.0, 0.0, 0.0
+            for j in range(width):
+                w0, w1, w2 = weights[k, 0, j], weights[k, 1, j], weights[k, 2, j]
+                for c in range(length):
+                    number = centred[j, start + c]
+                    x[c] += w0 * number
+                    y[c] += w1 * number
+                    z[c] += w2 * number
+            for c in range(length):
+                distances[start + c] = math.sqrt(x[c] * x[c] + y[c] * y[c] + z[c] * z[c])
+        for t in range(tests):
+            first = t * cycles
+            mean = 0.0
+            for c in range(first, first + cycles):
+                mean += distances[c]
+            mean /= cycles
+            square = 0.0
+            for c in range(first, first + cycles):
+                square += (distances[c] - mean) ** 2
+            out[k, t] = mean + 3 * math.sqrt(square / (cycles - 1)) if cycles > 1 else mean
+    return out
