@@ -128,6 +128,10 @@ def local_pool(executor: Executor | None) -> Executor | None:
     return executor if isinstance(executor, (ProcessPoolExecutor, ThreadPoolExecutor)) else None
 
 
+#: How long an interrupted local pool's managing thread is waited for [s] (:func:`run_chunks`).
+MANAGER_WAIT_S = 30.0
+
+
 @contextmanager
 def run_chunks(function: Callable, chunks: dict, executor: Executor | None = None) -> Iterator[Iterator]:
     """Within the block, an iterator of ``(key, function(*arguments))`` for every ``key: arguments`` of
@@ -141,7 +145,9 @@ def run_chunks(function: Callable, chunks: dict, executor: Executor | None = Non
     A :class:`~concurrent.futures.ProcessPoolExecutor` left with chunks not done (an error, Ctrl-C) is shut down: its
     own thread cancels them. Cancelling them from here races with that thread's handling of a worker that died (Ctrl-C
     ends the workers too): before Python 3.12 it then stops with ``InvalidStateError`` and the process hangs at exit
-    (CPython gh-107219).
+    (CPython gh-107219). That thread is then waited for (at most ``MANAGER_WAIT_S``), as the interpreter's exit would
+    wait for it: otherwise the exit's wake-up of it can write to the pipe it is closing, and print an ignored
+    ``OSError`` (Bad file descriptor) after the command's last line.
     """
     if executor is None:
         yield ((key, function(*arguments)) for key, arguments in chunks.items())
@@ -153,6 +159,9 @@ def run_chunks(function: Callable, chunks: dict, executor: Executor | None = Non
     finally:
         if futures and isinstance(executor, ProcessPoolExecutor):
             executor.shutdown(wait=False, cancel_futures=True)
+            manager = getattr(executor, "_executor_manager_thread", None)  # CPython's, no public handle
+            if manager is not None:
+                manager.join(MANAGER_WAIT_S)
         else:
             for future in futures:
                 future.cancel()

@@ -180,7 +180,8 @@ def test_a_sign_mixtures_series_below_its_grid_agrees_with_the_same_rule_carried
     """The series in t that stands for :func:`sign_mixture`'s nodes below ``SIGN_LOG_START`` against the same trapezoid
     rule carried down to u = -20 (the series below it less than 1e-25 of the integral's): E|x| to 1e-13, E|x|³ to
     2e-12 (the rule's own rounding there, in L(t) - 1 + t E|x|² at small t), U to 1e-10 (first order in t below the
-    grid; 4e-8 off without its second term), on mixtures with offsets far beyond the noise (a map's), about as large, and none with anisotropic noise."""
+    grid; 4e-8 off without its second term), on mixtures with offsets far beyond the noise (a map's), about as
+    large, and none with anisotropic noise."""
     from tribokin.iso9283 import gaussian_tests as gt
 
     rng = np.random.default_rng(7)

@@ -167,8 +167,7 @@ def tests_repeatability(weights, centred, tests, cycles, chunk):
     """(k, tests) RP_l = l̄ + 3 S_l (S_l with n - 1) of each test of ``cycles`` cycles of k targets, as
     ``maps.expected_figures.tests_rp_l``: a cycle's offset from its test's barycentre is W (n - n̄), W the target's
     position responses (k, 3, m) and n - n̄ its common random numbers less their test's mean, ``centred``
-    (m, tests × cycles); ``chunk`` cycles' offsets at a time, a number's column after another (so the loop over
-    cycles runs in vector registers)."""
+    (m, tests × cycles); ``chunk`` cycles' offsets at a time, one number's column after another."""
     count, width, total = weights.shape[0], weights.shape[2], centred.shape[1]
     out = np.empty((count, tests))
     distances = np.empty(total)
