@@ -220,23 +220,25 @@ class LinearModel:
     @cached_property
     def position_covariance(self) -> np.ndarray:
         """(k, 3, 3) covariance of the tool's position deviation [m²]."""
-        return self._covariance(0)
+        return jacobian_covariance(self.jacobian, self.deviation_variance, 0)
 
     @cached_property
     def angle_covariance(self) -> np.ndarray:
         """(k, 3, 3) covariance of the tool's angle deviation [rad²]."""
-        return self._covariance(3)
+        return jacobian_covariance(self.jacobian, self.deviation_variance, 3)
 
-    def _covariance(self, first: int) -> np.ndarray:
-        """J diag(var) Jᵀ of the Jacobian's rows ``first`` to ``first + 2``; compiled where
-        :func:`~tribokin.compiled.use_compiled`."""
-        if use_compiled():
-            from tribokin.maps.expected_figures_kernels import covariances
 
-            return covariances(np.ascontiguousarray(self.jacobian, dtype=float),
-                               np.ascontiguousarray(self.deviation_variance, dtype=float), first)
-        part = self.jacobian[:, first:first + 3]
-        return np.einsum("kin,kn,kjn->kij", part, self.deviation_variance, part)
+def jacobian_covariance(jacobian: np.ndarray, variance: np.ndarray, first: int) -> np.ndarray:
+    """(k, 3, 3) J diag(var) Jᵀ of the rows ``first`` to ``first + 2`` of Jacobians (k, 6, nv) and the joints'
+    independent deviations' variances (k, nv) (their units' product, squared); compiled where
+    :func:`~tribokin.compiled.use_compiled`."""
+    if use_compiled():
+        from tribokin.maps.expected_figures_kernels import covariances
+
+        return covariances(np.ascontiguousarray(jacobian, dtype=float), np.ascontiguousarray(variance, dtype=float),
+                           first)
+    part = jacobian[:, first:first + 3]
+    return np.einsum("kin,kn,kjn->kij", part, variance, part)
 
 
 def linear_model(robot, moments: JointMoments, qs: np.ndarray, lever: np.ndarray, signs: np.ndarray,
@@ -1081,7 +1083,8 @@ def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.nd
     lost = lever * moments.mean + moments.half_backlash
     centres = mixed.position_m[:, None] + np.einsum("kin,kdn->kdi", position, signs * lost[:, None])
     variance = signs ** 2 * ((lever * moments.std) ** 2)[:, None] + moments.noise_std ** 2  # (k, 3 directions, nv)
-    vap, error = _vap_expected(centres, np.einsum("kin,kdn,kjn->kdij", position, variance, position) / cycles,
+    noise = np.stack([jacobian_covariance(mixed.jacobian, variance[:, d], 0) for d in range(len(directions))], axis=1)
+    vap, error = _vap_expected(centres, noise / cycles,
                                runner.settings.seed)
     vap *= UM_PER_M
     used = EngineUsed.first_order(mixed)
@@ -1291,7 +1294,7 @@ def _multi_moments(model: LinearModel, moments: JointMoments, cycles: int) -> np
     lost = model.lever * moments.mean + moments.half_backlash
     columns = np.swapaxes(position * lost[:, None, :], 1, 2)  # (k, nv, 3): J_i m_i
     spread = (model.lever * moments.std) ** 2 + moments.noise_std ** 2
-    pattern = np.einsum("kin,kn,kjn->kij", position, spread, position)
+    pattern = jacobian_covariance(model.jacobian, spread, 0)
     pooled = pattern + np.einsum("kni,knj->kij", columns, columns)
     covariance = (1 - 1 / n) ** 2 * pattern + (n - 1) / n ** 2 * pooled
     moments, directions = sign_mixture((1 - 1 / n) * columns, covariance)
