@@ -32,9 +32,9 @@ default ``map.statistic = "expected"``) with only ``map.resolution`` and ``study
   just before it, in wall time; ``cpu_cost_ratio``: in processor time, which a shared machine's load moves less);
   ``profile``: where a directional map's time goes, from cProfile of one in-process run on 1 worker
   of a ``--profile-side`` plane: the expected figures, RP_l_multi's sampled cycles over random sign patterns (their
-  random numbers, the cycles through the first-order model, RP_l from the cycles' moments, fast-engine fallbacks),
-  vAP_p (its close pairs, whose barycentres are drawn, and the rest), the rest of the expected figures and of the
-  command;
+  random numbers, the cycles through the first-order model, RP_l from the cycles' moments, the sampled tests' RP_l,
+  fast-engine fallbacks), vAP_p (its expected distances, close pairs within the compiled kernel, its approach signs
+  and the rest), the rest of the expected figures and of the command;
 * ``one_test``: the same command with ``map.statistic = "one-test"`` (one simulated test per target: the engine
   before expected maps) on a ``--one-test-side`` plane (a 600 × 600 one would take minutes), beside the expected
   map on the same plane; its time per reachable target scaled to the big plane's reachable targets (``scaled``) for
@@ -462,6 +462,7 @@ def profile_child(study: str, out: str) -> None:
              "cycles sampled (sampled_tests)": profiled(stats, "sampled_tests", "_multi"),
              "random numbers (numbers)": profiled(stats, "numbers", "_multi"),
              "RP_l from the cycles (cycle_moments)": profiled(stats, "repeatability", "_multi"),
+             "sampled tests' RP_l (tests_rp_l)": profiled(stats, "tests_rp_l", "_multi"),
              "fast-engine fallbacks (engine_tests)": profiled(stats, "engine_tests", "_multi"),
              "first-order model (linear_model)": profiled(stats, "linear_model", "_multi")}
     multi["other"] = profiled(stats, "_multi") - sum(multi.values())
@@ -471,7 +472,6 @@ def profile_child(study: str, out: str) -> None:
            "fast-engine fallbacks (_vap_tests)": profiled(stats, "_vap_tests", "_vap")}
     vap["other (the barycentres through the mixed model; each direction's own models where it does not serve)"] = (
         vap_total - sum(vap.values()))
-    vap["of the expected distances, close pairs (_vap_close)"] = profiled(stats, "_vap_close", "_vap_expected")
     expected = profiled(stats, "expected_targets")
     mixed = profiled(stats, "linear_model", "expected_targets")  # the test's model and the mixed (directional) one
     print(json.dumps({"command_s": seconds, "expected_figures_s": expected,

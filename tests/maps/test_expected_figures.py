@@ -190,11 +190,12 @@ def test_sampled_rp_l_multi_at_500_cycles_states_its_monte_carlo_error(monkeypat
     assert np.sqrt(np.mean(np.square(z))) <= 1.3, z
 
 
-def test_vap_p_where_pairs_of_directions_are_close_agrees_with_many_draws_of_the_barycentres(kernel_path):
+def test_vap_p_where_pairs_of_directions_are_close_agrees_with_many_draws_of_the_barycentres():
     """vAP_p where two or three pairs of approach directions are about as far apart (the linearised closed form and
-    its correction over 256 draws) against 200 000 draws of the three barycentres (the largest pair distance's mean):
-    within 4.5 of both standard errors (the correction's from 20 seeds), for noise of 2e-3 and 0.2 of the
-    distances; the correction's error is below 1e-6 of vAP_p at the first, 0.5 % at the second."""
+    its correction over 256 draws; :func:`_vap_close`, the NumPy path's, which the compiled kernel is held to by
+    :func:`test_the_compiled_vap_p_agrees_with_numpy`) against 200 000 draws of the three barycentres (the largest
+    pair distance's mean): within 4.5 of both standard errors (the correction's from 20 seeds), for noise of 2e-3 and
+    0.2 of the distances; the correction's error is below 1e-6 of vAP_p at the first, 0.5 % at the second."""
     from tribokin.maps.expected_figures import _vap_close
 
     centres = np.array([[[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [5.0, 8.66, 0.0]],  # three pairs about 10 apart

@@ -52,7 +52,8 @@ def _coordinates(points: np.ndarray) -> np.ndarray:
 
 
 def barycenter(positions: np.ndarray) -> np.ndarray:
-    """Mean of (..., n, 3) positions [m], summed relative to the first so identical points give it exactly."""
+    """Mean of (..., n, 3) positions [m] (or of any n points' coordinates, (..., n, d)), summed relative to the first
+    so identical points give it exactly."""
     coordinates = _coordinates(positions)
     first = coordinates[..., :1]
     return (first + (coordinates - first).mean(axis=-1, keepdims=True))[..., 0]

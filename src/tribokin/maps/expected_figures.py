@@ -90,7 +90,7 @@ from tribokin.iso9283.gaussian_tests import (
     skewed_band,
     standardised_shape,
 )
-from tribokin.iso9283.metrics import orientation_repeatability, position_repeatability, position_spread
+from tribokin.iso9283.metrics import barycenter, orientation_repeatability, position_repeatability, position_spread
 from tribokin.kinematics.se3_log import skew
 from tribokin.maps.schema import DIRECTIONS, direction_figure, map_figures, per_direction
 from tribokin.propagation.exact import engine_orders, tool_deviations_at_poses, tool_frames
@@ -416,11 +416,10 @@ def sampled_tests(model: LinearModel, moments: JointMoments, chosen: np.ndarray,
 
 def centred_numbers(numbers: np.ndarray, shape: tuple) -> np.ndarray:
     """(3 nv, tests × cycles) :func:`common_numbers` ``numbers`` of tests of ``shape`` (tests, cycles) less their test's
-    mean (taken about the test's first cycle, as :func:`~tribokin.iso9283.metrics.barycenter` does), a column after
+    mean (:func:`~tribokin.iso9283.metrics.barycenter`, as a test's positions are taken from theirs), a column after
     another: what :func:`tests_rp_l`'s kernel reads."""
     per_test = numbers.reshape(*shape, -1)
-    first = per_test[:, :1]
-    centred = per_test - (first + (per_test - first).mean(axis=1, keepdims=True))
+    centred = per_test - barycenter(per_test)[:, None, :]
     return np.ascontiguousarray(centred.reshape(numbers.shape).T)
 
 
@@ -1144,14 +1143,8 @@ def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.nd
     (:func:`~tribokin.iso9283.gaussian_tests.expected_maximum`), is a control variate: the mean over ``VAP_DRAWS``
     draws (common random numbers) of the exact largest distance less the linearised one is added, whose Monte Carlo
     error is that of the difference (second order in the noise), not of the distance: the differences' standard
-    deviation over √``VAP_DRAWS``, the error stated. Compiled where :func:`~tribokin.compiled.use_compiled`
-    (:func:`~tribokin.maps.expected_figures_kernels.vap_close`)."""
-    if use_compiled():
-        from tribokin.maps.expected_figures_kernels import vap_close
-
-        out = vap_close(np.ascontiguousarray(centres, dtype=float), np.ascontiguousarray(noise, dtype=float),
-                        _vap_draws(seed), MAXIMUM_RULE)
-        return out[:, 0], out[:, 1]
+    deviation over √``VAP_DRAWS``, the error stated. The NumPy path's; the compiled one is within
+    :func:`~tribokin.maps.expected_figures_kernels.vap_expected`."""
     gaps = np.stack([centres[:, a] - centres[:, b] for a, b in VAP_PAIRS], axis=1)  # (k, pairs, 3)
     spreads = np.stack([noise[:, a] + noise[:, b] for a, b in VAP_PAIRS], axis=1)
     sizes = np.linalg.norm(gaps, axis=-1)

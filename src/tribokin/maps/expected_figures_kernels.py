@@ -74,20 +74,6 @@ def vap_expected(centres, noise, z, tail_stds, norm_rule, maximum_rule):
 
 
 @kernel
-def vap_close(centres, noise, z, maximum_rule):
-    """(k, 2) E[vAP_p] [m] and its Monte Carlo standard error [m] where pairs of approach directions are close, as
-    ``maps.expected_figures._vap_close`` (:func:`_vap_close`; the arguments as :func:`vap_expected`'s)."""
-    out = np.empty((centres.shape[0], 2))
-    gaps, spreads, sizes = np.empty((3, 3)), np.empty((3, 3, 3)), np.empty(3)
-    lam, vectors = np.empty(3), np.empty((3, 3))
-    differences, roots, shift = np.empty(z.shape[2]), np.empty((3, 3, 3)), np.empty((3, 3))
-    for k in range(centres.shape[0]):
-        _pairs(centres[k], noise[k], gaps, spreads, sizes)
-        _vap_close(gaps, spreads, sizes, noise[k], z, maximum_rule, out[k], lam, vectors, differences, roots, shift)
-    return out
-
-
-@kernel
 def _pairs(centres, noise, gaps, spreads, sizes):
     """Into ``gaps`` (3 pairs, 3) [m], ``spreads`` (3 pairs, 3, 3) [m²] and ``sizes`` (3,) [m] the differences of the
     pairs' barycentres ``centres`` (3 directions, 3), the sums of their noise covariances ``noise``
