@@ -14,6 +14,7 @@ import pytest
 from scipy.stats import wishart
 
 from tribokin.iso9283.gaussian_tests import (
+    barycentre_shares,
     eigenvalues,
     expected_norm,
     expected_rp_l,
@@ -299,6 +300,33 @@ def test_the_compiled_barycentre_shares_and_expected_root_agree_with_numpy(monke
         got, expected = (with_path(monkeypatch, path, expected_root, constant, lam) for path in ("compiled", "numpy"))
         np.testing.assert_allclose(got, expected, rtol=1e-14, atol=0)
 
+
+
+def test_rp_l_from_a_mixture_in_one_kernel_agrees_with_its_shares_and_root_on_numpy(monkeypatch):
+    """E[RP_l] from a cycle's four moments and the barycentre its cycles share (U, Σ̄), compiled in one kernel per
+    target (U Σ̄ / n's trace, principal minors and determinant for R U R's eigenvalues) against the NumPy path's
+    :func:`barycentre_shares` and :func:`rp_l_from_moments`: to 1e-12, at sizes from 1e-60 to 1e60 m, where the
+    constant a is ample (the grid's root) and where it is not (the NumPy quadrature, which the kernel leaves to it)."""
+    from tribokin.iso9283.gaussian_tests import rp_l_from_mixture
+
+    rng = np.random.default_rng(41)
+    pooled = covariances(rng, 400)
+    units = rng.normal(size=(400, 3, 3)) * (np.arange(3) < rng.integers(1, 4, (400, 1)))[:, None, :]
+    directions = units @ np.swapaxes(units, 1, 2)
+    directions /= np.trace(directions, axis1=1, axis2=2)[:, None, None]
+    m1 = rng.uniform(1.0, 2.0, 400)
+    m2 = m1 ** 2 * (1 + rng.uniform(0.01, 0.3, 400))
+    m2[:40] = m1[:40] ** 2 + np.trace(pooled[:40] @ directions[:40], axis1=1, axis2=2) / 1000 * 1.000001  # a ≈ 0
+    m3, m4 = m1 * m2 * 1.1, m2 ** 2 * 1.3
+    for size in (1e-60, 1e-6, 1.0, 1e60):
+        moments = (m1 * size, m2 * size ** 2, m3 * size ** 3, m4 * size ** 4)
+        got, expected = (with_path(monkeypatch, path, rp_l_from_mixture, moments, directions, pooled * size ** 2,
+                                   1000) for path in ("compiled", "numpy"))
+        np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0)
+    monkeypatch.setenv("TRIBOKIN_KERNELS", "numpy")
+    shares = barycentre_shares(directions, pooled, 1000)
+    variance = m2 - m1 ** 2
+    assert np.sum(variance - shares.sum(axis=1) < 1e-5 * variance) >= 20  # the quadrature's targets are there
 
 def test_the_sixth_order_norm_moments_keep_the_half_normal_and_maxwell_closed_forms():
     """E|w|⁵ and E|w|⁶ (Stein's lemma; a polynomial) of a one-dimensional and an isotropic cloud: 8 √(2/π) and 15,

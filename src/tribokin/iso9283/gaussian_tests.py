@@ -356,25 +356,28 @@ ROOT_CONSTANT_SHARE = 1e-5
 
 def _root_with_tails(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
     """E√(a + Σ_i λ_i z_i²) (k,) as :func:`_root_by_quadrature` (no β), on the grid of :func:`sign_mixture` (step
-    ``MIXTURE_LOG_STEP``, t in units of a + Σ λ) and its tails beyond in closed form, where a is at least
-    ``ROOT_CONSTANT_SHARE`` of a + Σ λ: above the grid the integrand is t^{-1/2}, below it
-    t^{1/2} - t^{3/2} E(a + q)² / 2 (q = Σ λ_i z_i², E(a + q)² = 1 + 2 Σ λ_i² in these units). Within 1.5e-10 of √a
-    (λ = 0) and of a finer grid's (step 0.125 to |u| = 40, tails added); :func:`_root_by_quadrature`, whose grid
-    leaves out its tail beyond t = e^36, lies about 2e-8 below both. Compiled where :func:`~tribokin.compiled.
-    use_compiled` (the same to rounding)."""
+    ``MIXTURE_LOG_STEP`` from ``SIGN_LOG_START``, t in units of a + Σ λ) and its tails beyond in closed form, where a
+    is at least ``ROOT_CONSTANT_SHARE`` of a + Σ λ: above the grid the integrand is t^{-1/2}, below it the series of
+    1 - E e^{-tY} in E Y^k, k <= 4 (:func:`_root_rule`; Y = a + q, q = Σ λ_i z_i², its moments from the cumulants
+    κ_1 = 1, κ_r = 2^(r-1) (r-1)! Σ λ_i^r in these units). Within 1.5e-10 of √a (λ = 0) and of a finer grid's (step
+    0.125 to |u| = 40, tails added); :func:`_root_by_quadrature`, whose grid leaves out its tail beyond t = e^36, lies
+    about 2e-8 below both. Compiled where :func:`~tribokin.compiled.use_compiled` (the same to rounding, through
+    det(I + 2tΛ)'s elementary symmetric polynomials)."""
     if use_compiled():
         from tribokin.iso9283 import gaussian_tests_kernels
 
         return gaussian_tests_kernels.root_with_tails(np.ascontiguousarray(constant, dtype=float),
-                                                      np.ascontiguousarray(lam, dtype=float),
-                                                      np.exp(_MIXTURE_LOGS), MIXTURE_LOG_STEP, *_mixture_tails())
+                                                      np.ascontiguousarray(lam, dtype=float), np.exp(_SIGN_LOGS),
+                                                      MIXTURE_LOG_STEP, _mixture_tails()[0], _sign_lower_tails())
     scale2 = np.maximum(constant + lam.sum(axis=-1), np.finfo(float).tiny)
     unit = lam / scale2[:, None]
-    times = np.exp(_MIXTURE_LOGS)
+    times = np.exp(_SIGN_LOGS)
     log_transform = -0.5 * np.log1p(2 * times[None, :, None] * unit[:, None, :]).sum(axis=-1) - np.outer(
         constant / scale2, times)
     total = (-np.expm1(log_transform) * times ** -0.5).sum(axis=-1)
-    total = _root_rule(total, 1 + 2 * (unit ** 2).sum(axis=-1), _mixture_tails())
+    p2, p3, p4 = ((unit ** r).sum(axis=-1) for r in (2, 3, 4))
+    total = _root_rule(total, 1 + 2 * p2, 1 + 6 * p2 + 8 * p3, 1 + 12 * p2 + 12 * p2 ** 2 + 32 * p3 + 48 * p4,
+                       _sign_lower_tails())
     return total * np.sqrt(scale2) / (2 * math.sqrt(math.pi))
 
 
@@ -410,12 +413,14 @@ def _quadratic_form_moments(lam: np.ndarray, beta2: np.ndarray) -> tuple[np.ndar
             k5 + 5 * k4 * k1 + 10 * k3 * k2 + 10 * k3 * k1 ** 2 + 15 * k2 ** 2 * k1 + 10 * k2 * k1 ** 3 + k1 ** 5)
 
 
-def _root_rule(inner: np.ndarray, mean_square2: np.ndarray, tails: tuple[float, float]) -> np.ndarray:
-    """(2√π)·E√Y on the mixture's grid (u = ln t) with its tails in closed form, Y in units of its mean (E Y = 1):
-    ``inner`` the grid's Σ (1 - L(t)) t^{-1/2}, ``mean_square2`` E Y² (the tail below the grid,
-    t^{1/2} - t^{3/2} E Y² / 2), ``tails`` :func:`_mixture_tails` (above the grid, t^{-1/2})."""
-    half, three_halves = tails
-    return MIXTURE_LOG_STEP * (inner + 2 * half - mean_square2 / 2 * three_halves)
+def _root_rule(inner: np.ndarray, second: np.ndarray, third: np.ndarray, fourth: np.ndarray, lower: np.ndarray
+               ) -> np.ndarray:
+    """(2√π)·E√Y on :func:`sign_mixture`'s grid (u = ln t) with its tails in closed form, Y in units of its mean
+    (E Y = 1): ``inner`` the grid's Σ (1 - L(t)) t^{-1/2}; above the grid t^{-1/2}; below it (``lower``:
+    :func:`_sign_lower_tails`) t^{1/2} - t^{3/2} E Y² / 2 + t^{5/2} E Y³ / 6 - t^{7/2} E Y⁴ / 24 (``second``,
+    ``third``, ``fourth``)."""
+    return MIXTURE_LOG_STEP * (inner + _mixture_tails()[0] + lower[0] - second / 2 * lower[1] + third / 6 * lower[2]
+                               - fourth / 24 * lower[3])
 
 
 def _mixture_tails() -> tuple[float, float]:
@@ -487,8 +492,7 @@ def _mixture_block(columns: np.ndarray, covariance: np.ndarray, times: np.ndarra
     third = ((less_one + times * second[..., None]) * times ** -1.5).sum(axis=-1).mean(axis=-1)
     half, three_halves = tails
     mean_fourth, mean_sixth, mean_eighth, mean_tenth = (m.mean(axis=-1) for m in (fourth, sixth, eighth, tenth))
-    first = MIXTURE_LOG_STEP * (first + half + lower[0] - mean_fourth / 2 * lower[1] + mean_sixth / 6 * lower[2]
-                                - mean_eighth / 24 * lower[3])  # E|x|² = 1 in these units
+    first = _root_rule(first, mean_fourth, mean_sixth, mean_eighth, lower)  # E|x|² = 1 in these units
     third = MIXTURE_LOG_STEP * (third + half - three_halves + mean_fourth / 2 * lower[0] - mean_sixth / 6 * lower[1]
                                 + mean_eighth / 24 * lower[2] - mean_tenth / 120 * lower[3])
     scale = np.sqrt(np.where(scale2 > 0, scale2, 0.0))
@@ -526,6 +530,28 @@ def barycentre_shares(directions: np.ndarray, pooled: np.ndarray, cycles: int) -
     root = vectors * np.sqrt(np.maximum(lam, 0.0))[:, None, :] @ np.swapaxes(vectors, 1, 2)
     return np.linalg.eigvalsh(root @ directions @ root) / cycles
 
+
+
+def rp_l_from_mixture(moments: tuple[np.ndarray, ...], directions: np.ndarray, pooled: np.ndarray, cycles: int
+                      ) -> np.ndarray:
+    """E[RP_l] [m] (k,) of :func:`rp_l_from_moments` with the barycentre a test's cycles share from
+    :func:`sign_mixture`'s ``directions`` U (k, 3, 3) and the cycles' ``pooled`` covariance Σ̄ (k, 3, 3) [m²]
+    (:func:`barycentre_shares`); compiled where :func:`~tribokin.compiled.use_compiled`, in one kernel per target (the
+    same to rounding)."""
+    if use_compiled():
+        from tribokin.iso9283 import gaussian_tests_kernels
+
+        mean = gaussian_tests_kernels.mixture_rp_l(*(np.ascontiguousarray(m, dtype=float) for m in moments),
+                                                   np.ascontiguousarray(directions, dtype=float),
+                                                   np.ascontiguousarray(pooled, dtype=float), cycles,
+                                                   np.exp(_SIGN_LOGS), MIXTURE_LOG_STEP, _mixture_tails()[0],
+                                                   _sign_lower_tails(), ROOT_CONSTANT_SHARE)
+        rest = np.flatnonzero(np.isnan(mean))  # E√(a + εᵀ U ε) with a below its share: the quadrature's
+        if len(rest):
+            mean[rest] = rp_l_from_moments(tuple(m[rest] for m in moments), cycles,
+                                           barycentre_shares(directions[rest], pooled[rest], cycles))[0]
+        return mean
+    return rp_l_from_moments(moments, cycles, barycentre_shares(directions, pooled, cycles))[0]
 
 #: Gauss-Legendre nodes on either side of the kink of :func:`expected_maximum`'s integral, and how many standard
 #: deviations either side of its mean the integral spans (the normal's mass beyond: 1e-15).

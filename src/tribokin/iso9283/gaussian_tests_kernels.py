@@ -358,7 +358,7 @@ def sign_mixture(columns, covariance, times, step, half, three_halves, lower):
     beta = np.empty(3)
     patterns = 2 ** max(width - 1, 0)
     beta2 = np.empty((3, patterns))
-    products = np.empty((6, patterns))
+    products = np.empty((patterns, 6))
     exponents = np.empty(patterns)
     less_one = np.empty(patterns)
     base = np.empty(6)
@@ -366,6 +366,7 @@ def sign_mixture(columns, covariance, times, step, half, three_halves, lower):
     pairs = np.empty(6)
     slope = np.empty(3)
     tilt = np.empty(3)
+    elementary = np.empty(4)
     inner = np.empty((3, 3))
     for k in range(count):
         for i in range(3):
@@ -392,6 +393,9 @@ def sign_mixture(columns, covariance, times, step, half, three_halves, lower):
         scale = math.sqrt(scale2)
         for i in range(3):
             lam[i] /= scale2
+        elementary[1] = lam[0] + lam[1] + lam[2]
+        elementary[2] = lam[0] * lam[1] + lam[0] * lam[2] + lam[1] * lam[2]
+        elementary[3] = lam[0] * lam[1] * lam[2]
         for c in range(used):
             for j in range(3):
                 rotated[c, j] /= scale
@@ -435,9 +439,9 @@ def sign_mixture(columns, covariance, times, step, half, three_halves, lower):
             m = 0
             for i in range(3):
                 for j in range(i + 1):
-                    products[m, p] = beta[i] * beta[j]
-                    base[m] += products[m, p]
-                    weighted[m] += k1 * products[m, p]
+                    products[p, m] = beta[i] * beta[j]
+                    base[m] += products[p, m]
+                    weighted[m] += k1 * products[p, m]
                     m += 1
         mean_fourth, mean_sixth = mean_fourth / count_p, mean_sixth / count_p
         mean_eighth, mean_tenth = mean_eighth / count_p, mean_tenth / count_p
@@ -457,27 +461,33 @@ def sign_mixture(columns, covariance, times, step, half, three_halves, lower):
                 first += count_p / math.sqrt(t)
                 third += (t * second_sum - count_p) / (t * math.sqrt(t))
                 continue
-            log_det = 0.0
             for j in range(3):
-                grown = 2 * t * lam[j]
-                log_det -= 0.5 * math.log1p(grown)
-                slope[j] = t / (1 + grown)
-                tilt[j] = 1 / (1 + grown)
+                tilt[j] = 1 / (1 + 2 * t * lam[j])
+                slope[j] = t * tilt[j]
+            # ln det(I + 2tΛ)^{-1/2}, det(I + 2tΛ) - 1 = 2t (e_1 + 2t (e_2 + 2t e_3)) of the eigenvalues' elementary
+            # symmetric polynomials (every term >= 0: no cancellation)
+            log_det = -0.5 * math.log1p(2 * t * (elementary[1] + 2 * t * (elementary[2] + 2 * t * elementary[3])))
             top = -np.inf
             for p in range(count_p):
                 exponents[p] = log_det - beta2[0, p] * slope[0] - beta2[1, p] * slope[1] - beta2[2, p] * slope[2]
                 top = max(top, exponents[p])
             dead = not top > _NEGLIGIBLE_EXPONENT
             less = 0.0
-            for p in range(count_p):
+            for p in range(count_p):  # e^x - 1: expm1 near 0, e^x - 1 below -1 (within 1.5 ulp there, and cheaper)
                 e = exponents[p]
-                less_one[p] = math.expm1(e) if e > _NEGLIGIBLE_EXPONENT else -1.0
+                less_one[p] = math.expm1(e) if e > -1.0 else math.exp(e) - 1.0 if e > _NEGLIGIBLE_EXPONENT else -1.0
                 less += less_one[p]
-            for q in range(6):
-                total = 0.0
-                for p in range(count_p):
-                    total += less_one[p] * products[q, p]
-                pairs[q] = total + base[q]
+            p0, p1, p2, p3, p4, p5 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+            for p in range(count_p):
+                weight = less_one[p]
+                p0 += weight * products[p, 0]
+                p1 += weight * products[p, 1]
+                p2 += weight * products[p, 2]
+                p3 += weight * products[p, 3]
+                p4 += weight * products[p, 4]
+                p5 += weight * products[p, 5]
+            pairs[0], pairs[1], pairs[2] = p0 + base[0], p1 + base[1], p2 + base[2]
+            pairs[3], pairs[4], pairs[5] = p3 + base[3], p4 + base[4], p5 + base[5]
             first -= less / math.sqrt(t)
             third += (less + t * second_sum) / (t * math.sqrt(t))
             weights = less + count_p  # Σ L(t)
@@ -509,35 +519,58 @@ def sign_mixture(columns, covariance, times, step, half, three_halves, lower):
 
 
 @kernel
-def root_with_tails(constant, lam, times, step, half, three_halves):
+def root_with_tails(constant, lam, times, step, half, lower):
     """E√(a + Σ_i λ_i z_i²) (k,) of constants a (k,) >= 0 and λ (k, m) >= 0, as ``iso9283.gaussian_tests.
-    _root_with_tails``: the trapezoid rule of step ``step`` at the mixture grid's ``times`` e^u (t in units of
-    a + Σ λ), its tails' sums ``half``, ``three_halves`` beyond the grid in closed form."""
-    count, width = lam.shape
-    out = np.empty(count)
-    for k in range(count):
+    _root_with_tails`` (:func:`_root`)."""
+    out = np.empty(lam.shape[0])
+    elementary = np.empty(lam.shape[1] + 1)
+    for k in range(lam.shape[0]):
         total = 0.0
-        for i in range(width):
+        for i in range(lam.shape[1]):
             total += lam[k, i]
         scale2 = max(constant[k] + total, _TINY)
-        ratio = constant[k] / scale2
-        squares = 0.0
-        for i in range(width):
-            squares += (lam[k, i] / scale2) ** 2
-        inner, dead = 0.0, False  # the exponent falls with t: once below e^-44, e^x - 1 is -1 exactly from there on
-        for m in range(times.shape[0]):
-            t = times[m]
-            if dead:
-                inner -= -1.0 / math.sqrt(t)
-                continue
-            exponent = -ratio * t
-            for i in range(width):
-                exponent -= 0.5 * math.log1p(2 * t * (lam[k, i] / scale2))
-            dead = exponent < _NEGLIGIBLE_EXPONENT
-            inner -= math.expm1(exponent) / math.sqrt(t)
-        rule = step * (inner + 2 * half - (1 + 2 * squares) / 2 * three_halves)
-        out[k] = rule * math.sqrt(scale2) / (2 * math.sqrt(math.pi))
+        elementary[0] = 1.0
+        elementary[1:] = 0.0
+        for i in range(lam.shape[1]):  # e_j of λ / (a + Σ λ)
+            unit = lam[k, i] / scale2
+            for j in range(i + 1, 0, -1):
+                elementary[j] += unit * elementary[j - 1]
+        out[k] = _root(constant[k] / scale2, elementary, times, step, half, lower) * math.sqrt(scale2)
     return out
+
+
+@kernel
+def _root(ratio, elementary, times, step, half, lower):
+    """E√Y of Y = a + Σ_i λ_i z_i² in units of E Y = a + Σ λ (``ratio`` a / E Y, ``elementary`` (m + 1,) the
+    elementary symmetric polynomials e_0 = 1, e_1, ..., e_m of λ / E Y): the trapezoid rule of step ``step`` at the
+    mixture grid's ``times`` e^u of the Laplace transform e^{-ta} det(I + 2tΛ)^{-1/2}, det(I + 2tΛ) = Σ_j (2t)^j e_j;
+    above the grid (``half``) its tail t^{-1/2}, below it (``lower``: the sums of t^{1/2}, t^{3/2}, t^{5/2}, t^{7/2}
+    over the nodes below) the series of 1 - e^{-tY} in E Y^k, from the power sums of λ (Newton's identities)."""
+    m = elementary.shape[0] - 1
+    e1 = elementary[1] if m >= 1 else 0.0
+    e2 = elementary[2] if m >= 2 else 0.0
+    e3 = elementary[3] if m >= 3 else 0.0
+    e4 = elementary[4] if m >= 4 else 0.0
+    p2 = e1 * e1 - 2 * e2
+    p3 = e1 * p2 - e2 * e1 + 3 * e3
+    p4 = e1 * p3 - e2 * p2 + e3 * e1 - 4 * e4
+    second = 1 + 2 * p2  # E Y^k from the cumulants κ_1 = 1, κ_r = 2^(r-1) (r-1)! p_r
+    third = 1 + 6 * p2 + 8 * p3
+    fourth = 1 + 12 * p2 + 12 * p2 * p2 + 32 * p3 + 48 * p4
+    inner, dead = 0.0, False  # the exponent falls with t: once below e^-44, e^x - 1 is -1 exactly from there on
+    for node in range(times.shape[0]):
+        t = times[node]
+        if dead:
+            inner -= -1.0 / math.sqrt(t)
+            continue
+        grown = 0.0
+        for j in range(m, 0, -1):
+            grown = 2 * t * (elementary[j] + grown)
+        exponent = -ratio * t - 0.5 * math.log1p(grown)
+        dead = exponent < _NEGLIGIBLE_EXPONENT
+        inner -= math.expm1(exponent) / math.sqrt(t)
+    rule = step * (inner + half + lower[0] - second / 2 * lower[1] + third / 6 * lower[2] - fourth / 24 * lower[3])
+    return rule / (2 * math.sqrt(math.pi))
 
 
 @kernel
@@ -580,4 +613,49 @@ def barycentre_shares(directions, pooled, cycles):
         _jacobi(product, out[k], vectors)
         for i in range(3):
             out[k, i] /= cycles
+    return out
+
+
+@kernel
+def mixture_rp_l(m1, m2, m3, m4, directions, pooled, cycles, times, step, half, lower, share):
+    """E[RP_l] (k,) [m] of tests of ``cycles`` cycles from one cycle's distance moments ``m1`` .. ``m4`` (k,) each
+    [m^k] and the barycentre its cycles share (U ``directions``, Σ̄ ``pooled`` (k, 3, 3) [m²]), as
+    ``iso9283.gaussian_tests.rp_l_from_moments(moments, cycles, barycentre_shares(directions, pooled, cycles))``'s
+    mean: E√(a + εᵀ U ε) by :func:`_root` from the elementary symmetric polynomials of U Σ̄ / n (trace, principal
+    minors, determinant: R U R's eigenvalues' without them), NaN where a is below ``share`` of a + tr(U Σ̄) / n (the
+    NumPy path's quadrature then)."""
+    n = cycles
+    out = np.empty(m1.shape[0])
+    product = np.empty((3, 3))
+    elementary = np.empty(4)
+    for k in range(m1.shape[0]):
+        for i in range(3):
+            for j in range(3):
+                total = 0.0
+                for m in range(3):
+                    total += directions[k, i, m] * pooled[k, m, j]
+                product[i, j] = total / n
+        trace = product[0, 0] + product[1, 1] + product[2, 2]
+        mean1 = m1[k]
+        variance = max(m2[k] - mean1 ** 2, 0.0)
+        central4 = m4[k] - 4 * m3[k] * mean1 + 6 * m2[k] * mean1 ** 2 - 3 * math.pow(mean1, 4.0)
+        variance_of_s2 = central4 / n - variance ** 2 * (n - 3) / (n * (n - 1))
+        factor = 1 - variance_of_s2 / (8 * variance ** 2) if variance ** 2 > 0 else 1.0  # (underflow: NumPy's inf)
+        trace = max(trace, 0.0)
+        constant = max(variance - trace, 0.0)
+        if not constant >= share * (constant + trace):
+            out[k] = np.nan
+            continue
+        scale2 = max(constant + trace, _TINY)
+        for i in range(3):
+            for j in range(3):
+                product[i, j] /= scale2
+        a = product
+        elementary[0], elementary[1] = 1.0, trace / scale2
+        elementary[2] = max(a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0] + a[0, 0] * a[2, 2] - a[0, 2] * a[2, 0]
+                            + a[1, 1] * a[2, 2] - a[1, 2] * a[2, 1], 0.0)
+        elementary[3] = max(a[0, 0] * (a[1, 1] * a[2, 2] - a[1, 2] * a[2, 1]) - a[0, 1] * (a[1, 0] * a[2, 2]
+                            - a[1, 2] * a[2, 0]) + a[0, 2] * (a[1, 0] * a[2, 1] - a[1, 1] * a[2, 0]), 0.0)
+        deviation = _root(constant / scale2, elementary, times, step, half, lower) * math.sqrt(scale2)
+        out[k] = mean1 + 3 * deviation * factor
     return out

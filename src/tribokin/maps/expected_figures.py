@@ -85,6 +85,7 @@ from tribokin.iso9283.gaussian_tests import (
     influence_skewness,
     mean_error,
     percentile_error,
+    rp_l_from_mixture,
     rp_l_from_moments,
     sign_mixture,
     skewed_band,
@@ -124,8 +125,9 @@ SAMPLED_FIGURES = ("RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "AP_p_um", "RP_a_mdeg"
                    "largest_semi_axis_um")
 #: Draws of the barycentres' noise correcting vAP_p's linearised expectation where two pairs of approach directions
 #: are about as far apart (:func:`_vap_close`; on the UR5 plane the correction's standard deviation over draws is
-#: 6e-5 of vAP_p at 30 cycles, 2e-6 at 1 000, against 1e-2 and 2e-3 for the distance itself).
-VAP_DRAWS = 256
+#: 6e-5 of vAP_p at 30 cycles, 2e-6 at 1 000, against 1e-2 and 2e-3 for the distance itself: over 64 draws the
+#: stated error is below 1e-5 of vAP_p, and the draws cost a quarter of what 256 did).
+VAP_DRAWS = 64
 #: The pairs of vAP_p's approach directions.
 VAP_PAIRS = ((0, 1), (0, 2), (1, 2))
 #: Truncation of a Gaussian law below this probability counts as none: its tests are computed analytically.
@@ -242,16 +244,18 @@ def jacobian_covariance(jacobian: np.ndarray, variance: np.ndarray, first: int) 
 
 
 def linear_model(robot, moments: JointMoments, qs: np.ndarray, lever: np.ndarray, signs: np.ndarray,
-                 mixed: bool) -> LinearModel:
+                 mixed: bool, frames: tuple[np.ndarray, np.ndarray] | None = None) -> LinearModel:
     """:class:`LinearModel` at configurations ``qs`` (k, nv) with levers ``lever`` (k, nv): every cycle with joint
-    signs ``signs`` (k, nv) (+1, -1, 0: still), or (``mixed``) each joint's sign drawn per cycle with mean ``signs``.
+    signs ``signs`` (k, nv) (+1, -1, 0: still), or (``mixed``) each joint's sign drawn per cycle with mean ``signs``;
+    ``frames``: the :func:`~tribokin.propagation.exact.tool_frames` at ``qs``, used where E[dq] is 0 at every joint
+    (no offset, no sign: the mixed model of a scenario without offsets) instead of computing them again.
 
     A joint's lost motion m = L μ + backlash / 2 departs from its mean by at most L d (d: the law's
     :func:`largest_departure`) unidirectionally, by (1 + |s̄|)(L (μ̄ + d) + backlash / 2) when its sign flips; its
     variance is s² L² σ² + (s² - s̄²) E[m]², with s² = 1 when mixed; and noise_std is added, up to ``TAIL_STDS`` of it.
     """
     mean_dq = moments.offset + signs * (lever * moments.mean + moments.half_backlash)
-    twists, positions = tool_frames(robot, qs + mean_dq)
+    twists, positions = frames if frames is not None and not np.any(mean_dq) else tool_frames(robot, qs + mean_dq)
     square = np.ones_like(signs) if mixed else signs ** 2
     lost = lever * moments.mean + moments.half_backlash
     variance = square * (lever * moments.std) ** 2 + (square - signs ** 2) * lost ** 2 + moments.noise_std ** 2
@@ -675,7 +679,8 @@ def expected_targets(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, f
     # the engine of each model: the tests', and vAP_p's and RP_l_multi's by their figure
     engines = {"test": EngineUsed.combined([t.used for t in tests])}
     if setup.figure_set == "directional":
-        mixed = linear_model(robot, moments, qs, lever, np.zeros_like(lever), mixed=True)  # random directions
+        mixed = linear_model(robot, moments, qs, lever, np.zeros_like(lever), mixed=True,  # random directions
+                             frames=(twists, translations))
         vap, mc_errors[:, columns["vAP_p_um"]], engines["vAP_p_um"], fallbacks = _vap(runner, moments, qs, lever,
                                                                                       twists, n, mixed)
         figures[:, columns["vAP_p_um"]] = vap
@@ -1291,4 +1296,4 @@ def _multi_moments(model: LinearModel, moments: JointMoments, cycles: int) -> np
     pooled = pattern + np.einsum("kni,knj->kij", columns, columns)
     covariance = (1 - 1 / n) ** 2 * pattern + (n - 1) / n ** 2 * pooled
     moments, directions = sign_mixture((1 - 1 / n) * columns, covariance)
-    return rp_l_from_moments(moments, n, barycentre_shares(directions, pooled, n))[0]
+    return rp_l_from_mixture(moments, directions, pooled, n)

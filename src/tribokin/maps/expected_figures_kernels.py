@@ -60,17 +60,27 @@ def vap_expected(centres, noise, z, tail_stds, norm_rule, maximum_rule):
             farthest, next_ = 2, farthest
         elif sizes[2] > sizes[next_]:
             next_ = 2
-        _jacobi(spreads[farthest], lam, vectors)
-        width = math.sqrt(lam[2])
-        _jacobi(spreads[next_], lam, vectors)
-        width += math.sqrt(lam[2])
-        if sizes[farthest] - sizes[next_] <= tail_stds * width:
+        gap = sizes[farthest] - sizes[next_]
+        close = gap <= tail_stds * (_trace_root(spreads[farthest]) + _trace_root(spreads[next_]))
+        if close:  # √tr S >= the largest standard deviation: only then can the widths themselves say close
+            _jacobi(spreads[farthest], lam, vectors)
+            width = math.sqrt(lam[2])
+            _jacobi(spreads[next_], lam, vectors)
+            width += math.sqrt(lam[2])
+            close = gap <= tail_stds * width
+        if close:
             _vap_close(gaps, spreads, sizes, noise[k], z, maximum_rule, out[k], lam, vectors, differences, roots,
                        shift)
         else:
             out[k, 0] = _expected_norm(gaps[farthest], spreads[farthest], ratio, times, weights, step, c, s, lam,
                                        vectors)
     return out
+
+
+@kernel
+def _trace_root(matrix):
+    """√tr of a (3, 3) covariance: at least the square root of its largest eigenvalue."""
+    return math.sqrt(max(matrix[0, 0] + matrix[1, 1] + matrix[2, 2], 0.0))
 
 
 @kernel
