@@ -50,6 +50,22 @@ def test_every_float_is_written_as_repr_and_round_trips_bit_for_bit():
     assert float_lines(np.empty((0, 3))) == []
 
 
+
+def test_columns_of_small_floats_formatted_whole_are_written_as_repr():
+    """Columns where many cells are small (1e-12 to 1e-2: orjson's one-digit exponents and positional values below
+    1e-4, which ``repr`` writes otherwise), with NaN, ±inf and zeros among them, beside an ordinary column: formatted
+    a column at a time, every cell is repr's."""
+    rng = np.random.default_rng(23)
+    small = rng.choice([-1.0, 1.0], 60_000) * 10.0 ** rng.uniform(-12, -2, 60_000)
+    small = np.array([float(f"{v:.{digits}g}") for v, digits in  # short digit strings too: 1e-05, 1.5e-06
+                      zip(small.tolist(), rng.integers(1, 18, 60_000).tolist(), strict=True)])
+    small[rng.random(60_000) < 0.05] = np.nan
+    small[:6] = [np.inf, -np.inf, 0.0, -0.0, 1e-5, 1.5e-5]
+    values = np.column_stack([small, rng.normal(size=60_000), small[::-1]])
+    expected = [",".join("" if np.isnan(v) else repr(v) for v in row).encode() for row in values.tolist()]
+    assert float_lines(values) == expected
+    assert float_lines(values[:, :1]) == [line.split(b",")[0] for line in expected]
+
 def test_rows_of_nan_only_and_rows_with_some_nan_have_empty_cells():
     values = np.array([[np.nan, np.nan, np.nan], [1.0, np.nan, -2.5], [np.nan, 3e-5, np.nan], [0.5, 1.0, 2.0]])
     assert float_lines(values) == [b",,", b"1.0,,-2.5", b",3e-05,", b"0.5,1.0,2.0"]

@@ -297,6 +297,29 @@ def test_the_compiled_bounds_agree_with_numpy(robots, name, monkeypatch):
             np.testing.assert_allclose(compiled[finite], expected[finite], rtol=1e-12, atol=0)
 
 
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_the_compiled_first_order_model_bounds_agree_with_numpy(robots, name, monkeypatch):
+    """The first-order model's three bounds compiled against the NumPy path on 40 poses, deviations from none to
+    3 rad, about a mean deviation of none (the mixed model's: no composition, 0 or, past the series' radius, inf) or
+    of the same size: to 1e-12, infinite where NumPy's are."""
+    from tribokin.propagation.poe import first_order_model_bounds
+
+    robot = robots[name]
+    rng = np.random.default_rng(14)
+    twists = np.array([tool_twists(robot, q) for q in random_configurations(robot, 40, rng)])
+    for size in (0.0, 1e-9, 1e-3, 0.05, 0.3, 3.0):
+        departure = rng.uniform(0, size, (40, robot.model.nv))
+        for mean_dq in (np.zeros((40, robot.model.nv)), rng.uniform(-size, size, (40, robot.model.nv))):
+            results = {}
+            for path in ("numpy", "compiled"):
+                monkeypatch.setenv("TRIBOKIN_KERNELS", path)
+                results[path] = first_order_model_bounds(twists, departure, mean_dq)
+            for compiled, expected in zip(results["compiled"], results["numpy"], strict=True):
+                assert np.array_equal(np.isinf(compiled), np.isinf(expected))
+                finite = np.isfinite(expected)
+                np.testing.assert_allclose(compiled[finite], expected[finite], rtol=1e-12, atol=0)
+
 def test_deviations_too_large_for_any_series_are_bounded_by_infinity_not_nan(robots, kernel_path):
     """Deviations of 1e5 to 1e200 rad overflow the series' terms: the bounds are infinite (so exact FK is used), not
     NaN (which no tolerance refuses)."""

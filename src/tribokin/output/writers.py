@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import io
+import re
 import shutil
 from collections.abc import Callable, Iterator
 from concurrent.futures import Executor
@@ -66,13 +67,38 @@ def write_samples(result: StudyResult, folder: Path) -> None:
     np.savez_compressed(folder / "samples.npz", **arrays)
 
 
+#: A float column whose cells ``repr`` must write (:func:`float_lines`) make up more than this share of its rows is
+#: formatted as a column of cells (its rows joined to the others' after), not by splitting each of those rows.
+REPR_COLUMN_SHARE = 1 / 64
+
+
 def float_lines(values: np.ndarray) -> list[bytes]:
     """Each row of an (n, k) float array as CSV cells (UTF-8) joined by commas, every float as ``repr`` writes it, NaN
     empty: orjson's shortest round-trip digits, or ``repr`` for the cells whose styles differ (±inf, and
-    1e-9 <= |value| < 1e-4, which orjson writes ``1e-9``, ``0.00001``; only those cells: a map's column of small
-    relative errors would otherwise send whole rows through ``repr``). A row of NaN only is commas, and only rows
-    with some NaN are searched for orjson's ``null``."""
+    1e-9 <= |value| < 1e-4, which orjson writes ``1e-9``, ``0.00001``). A column where such cells are common (more than
+    ``REPR_COLUMN_SHARE`` of its rows: a map's small relative errors) is formatted on its own (:func:`_float_cells`)
+    and joined to its neighbours' lines; elsewhere only the rows holding such cells are split into their cells, those
+    cells written by ``repr``, and joined again."""
     values = np.ascontiguousarray(values, dtype=np.float64)
+    magnitude = np.abs(values)
+    styled = np.isinf(values) | ((magnitude >= 1e-9) & (magnitude < 1e-4))
+    apart = np.flatnonzero(styled.sum(axis=0) > REPR_COLUMN_SHARE * len(values))
+    if not len(apart):
+        return _float_rows(values, styled)
+    pieces, start = [], 0
+    for column in [*apart.tolist(), values.shape[1]]:
+        if column > start:
+            pieces.append(_float_rows(values[:, start:column], styled[:, start:column]))
+        if column < values.shape[1]:
+            pieces.append(_float_cells(values[:, column]))
+        start = column + 1
+    return list(map(b",".join, zip(*pieces, strict=True)))
+
+
+def _float_rows(values: np.ndarray, styled: np.ndarray) -> list[bytes]:
+    """:func:`float_lines` of ``values`` (n, k), ``styled`` (n, k) the cells ``repr`` writes: a row of NaN only is
+    commas, and only rows with some NaN are searched for orjson's ``null``."""
+    values = np.ascontiguousarray(values)
     lines = orjson.dumps(values, option=orjson.OPT_SERIALIZE_NUMPY)[2:-2].split(b"],[")
     missing = np.isnan(values)
     empty = missing.all(axis=1)
@@ -80,8 +106,7 @@ def float_lines(values: np.ndarray) -> list[bytes]:
         lines[i] = b"," * (values.shape[1] - 1)
     for i in np.flatnonzero(missing.any(axis=1) & ~empty).tolist():
         lines[i] = lines[i].replace(b"null", b"")
-    magnitude = np.abs(values)
-    rows, columns = np.nonzero(np.isinf(values) | ((magnitude >= 1e-9) & (magnitude < 1e-4)))
+    rows, columns = np.nonzero(styled)
     cells = {}  # the rows holding such cells, split into their cells
     for i, j, value in zip(rows.tolist(), columns.tolist(), values[rows, columns].tolist(), strict=True):
         if i not in cells:
@@ -90,6 +115,29 @@ def float_lines(values: np.ndarray) -> list[bytes]:
     for i, row in cells.items():
         lines[i] = b",".join(row)
     return lines[:len(values)]  # no rows: "[]" splits into one empty line
+
+
+#: orjson's styles that ``repr`` writes otherwise, in a column's text: one-digit negative exponents (``1e-9``:
+#: ``1e-09``), and positional values below 1e-4 (``0.000015``: ``1.5e-05``), one digit or more.
+_ONE_DIGIT_EXPONENT = re.compile(rb"e-(\d)(?=[,\]])")
+_POSITIONAL_DIGIT = re.compile(rb"(?<=[\[,-])0\.0000(\d)(?=[,\]])")
+_POSITIONAL_DIGITS = re.compile(rb"(?<=[\[,-])0\.0000(\d)(\d+)")
+
+
+def _float_cells(values: np.ndarray) -> list[bytes]:
+    """The cells of a float column ``values`` (n,) as :func:`float_lines` writes them: orjson's text with its styles
+    turned into ``repr``'s (the same shortest digits) in three passes over the whole column; ±inf by ``repr``, NaN
+    empty."""
+    values = np.ascontiguousarray(values)
+    text = orjson.dumps(values, option=orjson.OPT_SERIALIZE_NUMPY)
+    text = _ONE_DIGIT_EXPONENT.sub(rb"e-0\1", text)
+    text = _POSITIONAL_DIGITS.sub(rb"\1.\2e-05", _POSITIONAL_DIGIT.sub(rb"\1e-05", text))
+    cells = text[1:-1].split(b",")[:len(values)]
+    for i, value in zip(np.flatnonzero(np.isinf(values)).tolist(), values[np.isinf(values)].tolist(), strict=True):
+        cells[i] = repr(value).encode()
+    for i in np.flatnonzero(np.isnan(values)).tolist():
+        cells[i] = b""
+    return cells
 
 
 def header_line(names) -> bytes:

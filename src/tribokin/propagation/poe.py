@@ -273,8 +273,8 @@ def first_order_model_bounds(twists: np.ndarray, departure: np.ndarray, mean_dq:
     mean = np.sum(turns * np.abs(mean_dq), axis=1)
     rest = np.minimum(_exp_tail(full, 3, True), speed * _exp_tail(turn, 2, True))
     size, miss = _log_tail(turn, 1, True), _log_tail(mean, 2, True)  # |x|, |c - c̃|
-    return (position + rest, angle + _log_tail(turn, 3, True),
-            composition_bound(turn, mean) + size * miss / 2)
+    twice = np.multiply(size, miss, out=np.zeros_like(miss), where=miss > 0)  # |x| |c - c̃|: 0 where c = 0 (|x| inf)
+    return position + rest, angle + _log_tail(turn, 3, True), composition_bound(turn, mean) + twice / 2
 
 
 def composition_bound(first_rad, second_rad) -> np.ndarray:
@@ -287,7 +287,7 @@ def composition_bound(first_rad, second_rad) -> np.ndarray:
     u, v = _log_tail(np.stack([first_rad, second_rad]), 1, True)
     with np.errstate(invalid="ignore"):
         both, first, second = _log_tail(np.stack([u + v, u, v]), 3, True)
-        return np.where(np.isfinite(u + v), np.maximum(both - first - second, 0.0), np.inf)
+        return np.where(np.isfinite(both), np.maximum(both - first - second, 0.0), np.inf)  # inf from u + v = ln 2
 
 
 # --- the polynomial -----------------------------------------------------------------------------

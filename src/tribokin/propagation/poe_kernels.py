@@ -120,6 +120,9 @@ def first_order_model_bounds(twists, departure, mean_dq, exp_coefficients, log_c
         position[k] = moved + min(rest, speed_sum * out[0])
         angle[k] = turned + _log_tail(log_coefficients, log_radius, turn_sum, 3, terms, out)
         u = _log_tail(log_coefficients, log_radius, turn_sum, 1, terms, out)
+        if mean_sum == 0:  # no mean rotation (c = 0): nothing to compose with, as the terms below give exactly
+            extra[k] = math.inf if u >= ln2 else 0.0
+            continue
         v = _log_tail(log_coefficients, log_radius, mean_sum, 1, terms, out)
         miss = _log_tail(log_coefficients, log_radius, mean_sum, 2, terms, out)
         if u + v >= ln2:
