@@ -116,3 +116,44 @@ def test_the_command_prints_the_cache_warning_as_one_note(capsys):
 
     _show_warning(compiled.CacheWarning("numba's cache cannot be used"), compiled.CacheWarning, "kernels.py", 1)
     assert capsys.readouterr().err == "tribokin: note: numba's cache cannot be used\n"
+
+
+#: Two kernel modules of a package: the first's kernel calls the second's (compiled into it).
+CALLER = """
+from fakepkg.inner.value_kernels import value
+from tribokin.compiled import kernel
+
+
+@kernel
+def twice():
+    return 2.0 * value()
+"""
+CALLEE = """
+from tribokin.compiled import kernel
+
+
+@kernel
+def value():
+    return {value}
+"""
+
+
+def test_a_kernel_is_compiled_again_when_a_kernel_module_it_calls_changes(tmp_path):
+    """numba keys a kernel's cache on its own file; tribokin's key adds every kernel module of its package, so a
+    caller whose file did not change is not loaded from the cache with the old code of the kernel it calls."""
+    package = tmp_path / "fakepkg"
+    (package / "inner").mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    (package / "inner" / "__init__.py").write_text("")
+    (package / "caller_kernels.py").write_text(CALLER)
+    environment = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+                   "PYTHONPATH": os.pathsep.join([str(tmp_path), str(ROOT / "src")]), compiled.VARIABLE: "compiled"}
+    results = []
+    for value in (1.0, 5.0):
+        (package / "inner" / "value_kernels.py").write_text(CALLEE.format(value=value))
+        done = subprocess.run([sys.executable, "-c", "from fakepkg.caller_kernels import twice; print(twice())"],
+                              env=environment, capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+        results.append(float(done.stdout))
+    assert results == [2.0, 10.0]
+    assert list((tmp_path / "cache").rglob("*caller_kernels.twice*.nbi"))  # cached, not compiled in memory

@@ -16,10 +16,12 @@ the kernels are compiled in memory for the process, and it warns once (:class:`C
 
 from __future__ import annotations
 
+import hashlib
 import importlib.util
 import os
 import warnings
 from functools import lru_cache
+from pathlib import Path
 
 from tribokin.errors import InputError
 
@@ -50,6 +52,12 @@ def _cache_class():
     from numba.core.caching import FunctionCache
 
     class Cache(FunctionCache):
+        def __init__(self, py_func):
+            super().__init__(py_func)
+            if hasattr(self, "_cache_file"):  # numba's key: the kernel's own file's source (IndexDataCacheFile)
+                root = _package_root(Path(py_func.__code__.co_filename))
+                self._cache_file._source_stamp = (self._cache_file._source_stamp, kernel_sources_digest(root))
+
         def load_overload(self, sig, target_context):
             try:
                 return super().load_overload(sig, target_context)
@@ -64,6 +72,25 @@ def _cache_class():
                 _warn_once(f"{self.cache_path} cannot be written: {type(error).__name__}")
 
     return Cache
+
+
+@lru_cache(maxsize=4)
+def kernel_sources_digest(package: Path) -> str:
+    """SHA-256 of the source of every kernel module (``*_kernels.py``) in the folder ``package`` and below: part of
+    each kernel's key in numba's cache, which numba keys on the kernel's own file alone, so that a kernel calling
+    another module's kernels (compiled into it) is compiled again when they change, not loaded with their old code."""
+    digest = hashlib.sha256()
+    for path in sorted(package.glob("**/*_kernels.py")):
+        digest.update(path.relative_to(package).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()
+
+
+def _package_root(path: Path) -> Path:
+    """The folder of the top-level package holding the module at ``path`` (its own folder if not in a package)."""
+    folder = path.resolve().parent
+    while (folder.parent / "__init__.py").exists():
+        folder = folder.parent
+    return folder
 
 
 def kernel(function):

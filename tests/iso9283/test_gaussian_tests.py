@@ -219,6 +219,34 @@ def test_the_expected_maximum_of_three_normals_agrees_with_a_monte_carlo_and_ign
                                    rtol=1e-12)
 
 
+
+def test_the_expected_maximum_leaves_a_normal_far_below_the_others_out(monkeypatch):
+    """Where one Y lies ``MAXIMUM_SPAN`` standard deviations below both others (two approach directions with the same
+    joint signs: their distance about 0), E[max Y] is the other two's in closed form: against a direct integral of
+    the largest of those two to 1e-12 (where the quadrature over D is 5e-5 off: W given D spreads far less than D),
+    on both kernel paths, the same whichever Y is low, and about the same (1e-12) just within the span, by
+    quadrature."""
+    from scipy import integrate
+
+    from tribokin.iso9283.gaussian_tests import MAXIMUM_SPAN, expected_maximum
+
+    covariance = np.array([[0.0025, 0.0, 0.0], [0.0, 0.1527, 0.058], [0.0, 0.058, 0.0226]])
+    means = np.array([5.49, 10.0, 10.0389])
+    spread = math.sqrt(covariance[1, 1] + covariance[2, 2] - 2 * covariance[1, 2])
+    gap = means[1] - means[2]
+    direct = means[2] + integrate.quad(lambda x: max(x, 0.0) * math.exp(-(x - gap) ** 2 / (2 * spread ** 2)),
+                                       gap - 12 * spread, gap + 12 * spread, points=[0.0], epsabs=0,
+                                       epsrel=1e-13)[0] / (spread * math.sqrt(2 * math.pi))
+    for path in ("numpy", "compiled"):
+        monkeypatch.setenv("TRIBOKIN_KERNELS", path)
+        for order in ([0, 1, 2], [1, 0, 2], [2, 1, 0]):
+            found = expected_maximum(means[None, order], covariance[None][:, order][:, :, order])[0]
+            assert found == pytest.approx(direct, rel=1e-12, abs=0), (path, order)
+        below = means[1] - MAXIMUM_SPAN * math.sqrt(2 * 0.0025)  # at the span's edge
+        edges = [expected_maximum(np.array([[low, means[1], means[1] + 0.5]]), np.diag([0.0025, 0.0025, 0.0025])[None]
+                                  )[0] for low in (below - 1e-9, below + 1e-9)]
+        assert edges[0] == pytest.approx(edges[1], rel=1e-12, abs=0)
+
 def test_the_largest_eigenvalue_in_closed_form_is_lapacks():
     """Sample covariances of 5 Gaussian cycles (the shape table's) scaled to every shape, and the cases where the
     cubic's angle is ill-conditioned: two eigenvalues equal (largest or not), three equal, a zero and a rank-one

@@ -311,7 +311,17 @@ def expected_maximum(mean, covariance, nodes, weights, span):
     """E[max(Y_1, Y_2, Y_3)] of jointly normal Y of ``mean`` (3,) and ``covariance`` (3, 3), as
     ``iso9283.gaussian_tests.expected_maximum``: over D = Y_2 - Y_1 by Gauss-Legendre (``nodes`` and ``weights`` on
     [-1, 1]) on either side of the kink D = 0 within ``span`` standard deviations, E[max(max(0, D), W) | D] in closed
-    form (Φ by ``math.erfc``)."""
+    form (Φ by ``math.erfc``); where one of them lies ``span`` standard deviations of its differences below both
+    others, the others' largest in closed form (Clark's)."""
+    for low in range(3):
+        a, b = (1, 2) if low == 0 else (0, 2) if low == 1 else (0, 1)
+        if _far_below(mean, covariance, low, a, span) and _far_below(mean, covariance, low, b, span):
+            spread = math.sqrt(max(covariance[a, a] + covariance[b, b] - 2 * covariance[a, b], 0.0))
+            if not spread > 0:
+                return max(mean[a], mean[b])
+            alpha = (mean[a] - mean[b]) / spread
+            return (mean[a] * 0.5 * math.erfc(-alpha / math.sqrt(2)) + mean[b] * 0.5 * math.erfc(alpha / math.sqrt(2))
+                    + spread * math.exp(-alpha ** 2 / 2) / math.sqrt(2 * math.pi))
     mean_d, mean_w = mean[1] - mean[0], mean[2] - mean[0]
     var_d = max(covariance[1, 1] + covariance[0, 0] - 2 * covariance[0, 1], 0.0)
     var_w = max(covariance[2, 2] + covariance[0, 0] - 2 * covariance[0, 2], 0.0)
@@ -338,6 +348,14 @@ def expected_maximum(mean, covariance, nodes, weights, span):
             total += weight * inner
             mass += weight
     return mean[0] + total / mass
+
+
+@kernel
+def _far_below(mean, covariance, low, other, span):
+    """Whether normal ``low`` of jointly normal Y (``mean`` (3,), ``covariance`` (3, 3)) lies ``span`` standard
+    deviations of Y_other - Y_low below Y_other's mean."""
+    spread = math.sqrt(max(covariance[other, other] + covariance[low, low] - 2 * covariance[other, low], 0.0))
+    return mean[other] - mean[low] >= span * spread
 
 
 @kernel

@@ -1085,7 +1085,7 @@ def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.nd
         return sampled[:, 0] * UM_PER_M, sampled[:, 1], used, np.zeros(len(qs), dtype=int)
     position = mixed.jacobian[:, :3]
     lost = lever * moments.mean + moments.half_backlash
-    centres = mixed.position_m[:, None] + np.einsum("kin,kdn->kdi", position, signs * lost[:, None])
+    centres = mixed.position_m[:, None] + (signs * lost[:, None]) @ np.swapaxes(position, 1, 2)
     variance = signs ** 2 * ((lever * moments.std) ** 2)[:, None] + moments.noise_std ** 2  # (k, 3 directions, nv)
     noise = np.stack([jacobian_covariance(mixed.jacobian, variance[:, d], 0) for d in range(len(directions))], axis=1)
     vap, error = _vap_expected(centres, noise / cycles,
@@ -1293,7 +1293,7 @@ def _multi_moments(model: LinearModel, moments: JointMoments, cycles: int) -> np
     columns = np.swapaxes(position * lost[:, None, :], 1, 2)  # (k, nv, 3): J_i m_i
     spread = (model.lever * moments.std) ** 2 + moments.noise_std ** 2
     pattern = jacobian_covariance(model.jacobian, spread, 0)
-    pooled = pattern + np.einsum("kni,knj->kij", columns, columns)
+    pooled = pattern + jacobian_covariance(model.jacobian, lost ** 2, 0)  # + Σ_i (J_i m_i)(J_i m_i)ᵀ
     covariance = (1 - 1 / n) ** 2 * pattern + (n - 1) / n ** 2 * pooled
     moments, directions = sign_mixture((1 - 1 / n) * columns, covariance)
     return rp_l_from_mixture(moments, directions, pooled, n)
