@@ -136,8 +136,8 @@ def test_rp_l_multi_s_spread_over_seeds_is_what_its_stated_errors_say_and_within
 def test_vap_p_s_spread_over_seeds_is_what_its_stated_errors_say(engine, monkeypatch):
     """vAP_p at a UR5 target where two pairs of approach directions are about as far apart (the raw steel's uniform
     law, tests of 10 cycles): over 150 seeds its standard deviation within a factor 1.3 of the root mean square of
-    its stated errors: the default engine's, its close pairs' correction over 256 draws of the barycentres' noise
-    (about 1e-5 of vAP_p); exact FK's, the mean over 100 sampled tests (the fewest) of the three directions."""
+    its stated errors: the default engine's, its close pairs' correction over ``VAP_DRAWS`` draws of the barycentres'
+    noise (about 1e-5 of vAP_p); exact FK's, the mean over 100 sampled tests (the fewest) of the three directions."""
     monkeypatch.setattr(expected, "SAMPLED_CYCLES", 1_000)
     runner = runner_for(10, "unidirectional", RAW, engine=engine)
     target = TARGETS[1:]

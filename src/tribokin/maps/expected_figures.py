@@ -128,6 +128,11 @@ SAMPLED_FIGURES = ("RP_l_um", "RP_l_lo_um", "RP_l_hi_um", "AP_p_um", "RP_a_mdeg"
 #: 6e-5 of vAP_p at 30 cycles, 2e-6 at 1 000, against 1e-2 and 2e-3 for the distance itself: over 64 draws the
 #: stated error is below 1e-5 of vAP_p, and the draws cost a quarter of what 256 did).
 VAP_DRAWS = 64
+#: Where ``VAP_DRAWS`` leave that correction's stated relative error above ``MC_ERROR_AIM`` (pairs close and their
+#: noise as large as their distances, where the linearised distances stand for little: a Panda plane's smallest
+#: vAP_p, up to 18 % over 64 draws), it is drawn again over ``VAP_MORE_DRAWS`` times as many draws (the first of them
+#: the same), its error 16 times smaller, and so on up to ``VAP_MOST_DRAWS``.
+VAP_MORE_DRAWS, VAP_MOST_DRAWS = 256, 4096 * VAP_DRAWS
 #: The pairs of vAP_p's approach directions.
 VAP_PAIRS = ((0, 1), (0, 2), (1, 2))
 #: Truncation of a Gaussian law below this probability counts as none: its tests are computed analytically.
@@ -1114,13 +1119,28 @@ def _vap(runner: PoseRunner, moments: JointMoments, qs: np.ndarray, lever: np.nd
 def _vap_expected(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.ndarray, np.ndarray]:
     """E[vAP_p] [m] (k,) of barycentres ``centres`` (k, 3 directions, 3) [m] with Gaussian noise of covariances
     ``noise`` (k, 3 directions, 3, 3) [m²], and its relative Monte Carlo standard error (k,): the farthest pair's
-    E|g + e| in closed form (0), or :func:`_vap_close` where two pairs are about as far apart. In one compiled kernel
-    where :func:`~tribokin.compiled.use_compiled` (:func:`~tribokin.maps.expected_figures_kernels.vap_expected`)."""
+    E|g + e| in closed form (0), or :func:`_vap_close` where two pairs are about as far apart, over ``VAP_DRAWS``
+    draws, and where that leaves the error above ``MC_ERROR_AIM``, over ``VAP_MORE_DRAWS`` times as many, up to
+    ``VAP_MOST_DRAWS``. In one compiled kernel where :func:`~tribokin.compiled.use_compiled`
+    (:func:`~tribokin.maps.expected_figures_kernels.vap_expected`)."""
+    draws = VAP_DRAWS
+    vap, error = _vap_expected_over(centres, noise, seed, draws)
+    again = np.flatnonzero(error > MC_ERROR_AIM)
+    while len(again) and draws < VAP_MOST_DRAWS:
+        draws = min(draws * VAP_MORE_DRAWS, VAP_MOST_DRAWS)
+        vap[again], error[again] = _vap_expected_over(centres[again], noise[again], seed, draws)
+        again = again[error[again] > MC_ERROR_AIM]
+    return vap, error
+
+
+def _vap_expected_over(centres: np.ndarray, noise: np.ndarray, seed: int, draws: int
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_vap_expected`, close pairs corrected over ``draws`` draws."""
     if use_compiled():
         from tribokin.maps.expected_figures_kernels import vap_expected
 
         out = vap_expected(np.ascontiguousarray(centres, dtype=float), np.ascontiguousarray(noise, dtype=float),
-                           _vap_draws(seed), TAIL_STDS, NORM_RULE, MAXIMUM_RULE)
+                           _vap_draws(seed, draws), TAIL_STDS, NORM_RULE, MAXIMUM_RULE)
         return out[:, 0], relative(out[:, 1], out[:, 0])
     gaps = np.stack([centres[:, a] - centres[:, b] for a, b in VAP_PAIRS], axis=1)
     spreads = np.stack([noise[:, a] + noise[:, b] for a, b in VAP_PAIRS], axis=1)
@@ -1133,11 +1153,12 @@ def _vap_expected(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np
     vap, error = expected_norm(gaps[farthest], spreads[farthest]), np.zeros(len(gaps))
     close = np.flatnonzero(first - second <= TAIL_STDS * widths)
     if len(close):
-        vap[close], error[close] = _vap_close(centres[close], noise[close], seed)
+        vap[close], error[close] = _vap_close(centres[close], noise[close], seed, draws)
     return vap, relative(error, vap)
 
 
-def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.ndarray, np.ndarray]:
+def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int, draws: int = VAP_DRAWS
+               ) -> tuple[np.ndarray, np.ndarray]:
     """E[vAP_p] [m] (k,) and its Monte Carlo standard error [m] (k,) where two or three pairs of approach directions
     are about as far apart: the largest of the pairs' distances |g + e| between barycentres of ``centres``
     (k, 3 directions, 3) [m] and Gaussian noise of covariances ``noise`` (k, 3 directions, 3, 3) [m²] (e: the
@@ -1145,10 +1166,10 @@ def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.nd
 
     Linearised, each distance is |g| + (tr S - ĝᵀ S ĝ) / (2 |g|) + ĝᵀ e (S the pair's covariance; the middle term
     only where tr S < |g|²): jointly normal, their largest's expectation in closed form
-    (:func:`~tribokin.iso9283.gaussian_tests.expected_maximum`), is a control variate: the mean over ``VAP_DRAWS``
+    (:func:`~tribokin.iso9283.gaussian_tests.expected_maximum`), is a control variate: the mean over ``draws``
     draws (common random numbers) of the exact largest distance less the linearised one is added, whose Monte Carlo
     error is that of the difference (second order in the noise), not of the distance: the differences' standard
-    deviation over √``VAP_DRAWS``, the error stated. The NumPy path's; the compiled one is within
+    deviation over √``draws``, the error stated. The NumPy path's; the compiled one is within
     :func:`~tribokin.maps.expected_figures_kernels.vap_expected`."""
     gaps = np.stack([centres[:, a] - centres[:, b] for a, b in VAP_PAIRS], axis=1)  # (k, pairs, 3)
     spreads = np.stack([noise[:, a] + noise[:, b] for a, b in VAP_PAIRS], axis=1)
@@ -1163,9 +1184,9 @@ def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.nd
         loads[:, p, a], loads[:, p, b] = units[:, p], -units[:, p]
     covariance = np.einsum("kpdi,kdij,kqdj->kpq", loads, noise, loads)
     vap = expected_maximum(means, covariance)
-    z = _vap_draws(seed)
+    z = _vap_draws(seed, draws)
     standard_error = np.empty(len(gaps))
-    for k in np.array_split(np.arange(len(gaps)), max(1, len(gaps) * VAP_DRAWS // BLOCK_CYCLES)):
+    for k in np.array_split(np.arange(len(gaps)), max(1, len(gaps) * draws // BLOCK_CYCLES)):
         lam, vectors = np.linalg.eigh(noise[k])  # the symmetric root of each (block, 3 directions, 3, 3)
         roots = (vectors * np.sqrt(np.maximum(lam, 0.0))[..., None, :]) @ np.swapaxes(vectors, -1, -2)
         shifts = roots @ z  # (block, 3 directions, 3, draws)
@@ -1176,15 +1197,15 @@ def _vap_close(centres: np.ndarray, noise: np.ndarray, seed: int) -> tuple[np.nd
             linearised.append(means[k, p, None] + np.sum(units[k, p, :, None] * error, axis=1))
         differences = np.max(exact, axis=0) - np.max(linearised, axis=0)
         vap[k] += differences.mean(axis=1)
-        standard_error[k] = differences.std(axis=1, ddof=1) / math.sqrt(VAP_DRAWS)
+        standard_error[k] = differences.std(axis=1, ddof=1) / math.sqrt(draws)
     return vap, standard_error
 
 
 @lru_cache(maxsize=4)
-def _vap_draws(seed: int) -> np.ndarray:
-    """(3 directions, 3, ``VAP_DRAWS``) the standard normal draws of :func:`_vap_close`'s correction (read-only):
-    each direction's draws by coordinate."""
-    z = expected_stream(seed, "vap").standard_normal((VAP_DRAWS, 3, 3))
+def _vap_draws(seed: int, draws: int = VAP_DRAWS) -> np.ndarray:
+    """(3 directions, 3, ``draws``) the standard normal draws of :func:`_vap_close`'s correction (read-only): each
+    direction's draws by coordinate; the first ``VAP_DRAWS`` of any count the same."""
+    z = expected_stream(seed, "vap").standard_normal((draws, 3, 3))
     z = np.ascontiguousarray(z.transpose(1, 2, 0))
     z.flags.writeable = False
     return z
@@ -1196,12 +1217,26 @@ def _vap_tests(runner: PoseRunner, models: list[LinearModel], moments: JointMome
     """vAP_p [m] of target ``k`` through the engine of :func:`engine_tests`: the mean over ``tests_for``
     sampled tests (common random numbers, ``unsigned``: :func:`common_numbers` of ``"vap tests"`` with every sign +1,
     drawn here when not given) of the largest distance between the barycentres of ``cycles`` cycles approached with
-    each direction's joint signs ``signs`` (3, nv), and its relative standard error; the directions' engines recorded
-    in ``used``."""
-    tests = tests_for(SAMPLED_CYCLES, cycles)
-    nv = len(q)
+    each direction's joint signs ``signs`` (3, nv), and its relative standard error; where that error is above
+    ``MC_ERROR_AIM`` (a vAP_p small beside its barycentres' spread), with as many more tests (``"vap more tests"``)
+    as bring it within (:func:`pilot_factor`, at most ``MAX_BAND_FACTOR`` times as many in all); the directions'
+    engines recorded in ``used``."""
+    tests, nv = tests_for(SAMPLED_CYCLES, cycles), len(q)
     if unsigned is None:
         unsigned = common_numbers(runner, np.ones((1, cycles, nv)), len(signs) * tests, "vap tests")
+    largest = _vap_largest(runner, models, moments, k, q, signs, cycles, used, unsigned)
+    factor = pilot_factor(float(mean_error(largest)), MAX_BAND_FACTOR)
+    if factor > 1:
+        more = common_numbers(runner, np.ones((1, cycles, nv)), len(signs) * (factor - 1) * tests, "vap more tests")
+        largest = np.concatenate([largest, _vap_largest(runner, models, moments, k, q, signs, cycles, used, more)])
+    return float(largest.mean()), float(mean_error(largest))
+
+
+def _vap_largest(runner: PoseRunner, models: list[LinearModel], moments: JointMoments, k: int, q: np.ndarray,
+                 signs: np.ndarray, cycles: int, used: EngineUsed, unsigned: np.ndarray) -> np.ndarray:
+    """(tests,) the largest distance between the three directions' barycentres of each test of ``cycles`` cycles
+    drawn from ``unsigned`` (3 tests × cycles, 3 nv) (:func:`_vap_tests`)."""
+    nv, tests = len(q), len(unsigned) // (len(signs) * cycles)
     barycentres, engines = [], []
     for d, part in enumerate(np.split(unsigned, len(signs))):
         numbers = np.concatenate([part[:, :nv] * signs[d], np.broadcast_to(signs[d], (len(part), nv)),
@@ -1210,8 +1245,7 @@ def _vap_tests(runner: PoseRunner, models: list[LinearModel], moments: JointMome
         barycentres.append(positions.mean(axis=1))
         engines.append(EngineUsed.of(engine))
     used.fall_back(k, EngineUsed.combined(engines))
-    largest = np.max([np.linalg.norm(barycentres[a] - barycentres[b], axis=1) for a, b in VAP_PAIRS], axis=0)
-    return float(largest.mean()), float(mean_error(largest))
+    return np.max([np.linalg.norm(barycentres[a] - barycentres[b], axis=1) for a, b in VAP_PAIRS], axis=0)
 
 
 def _multi(runner: PoseRunner, setup: ExpectedSetup, qs: np.ndarray, model: LinearModel
