@@ -114,7 +114,8 @@ def scenarios_of(job: MapJob, runners: list[PoseRunner]) -> list[list[tuple]]:
 def compute_chunk(job: MapJob, chunk: int, rows: list[int], starts: tuple[np.ndarray, ...],
                   store: ChunkStore | None = None) -> dict[str, np.ndarray] | None:
     """Solve grid rows ``rows`` for each robot from its ``starts`` (rows, nv), together (:func:`solve_rows`), then
-    measure them row by row (a row's reached targets measured together, in blocks: :func:`measure_into`).
+    measure their reached targets together, in blocks of rows that follow each other (:func:`measure_into`: a
+    target's figures do not depend on the others in its block).
 
     Returns:
         the chunk's targets' values of every column of the map's layout (:class:`~tribokin.maps.schema.MapLayout`),
@@ -128,6 +129,7 @@ def compute_chunk(job: MapJob, chunk: int, rows: list[int], starts: tuple[np.nda
     for r, (robot, grid, robot_starts) in enumerate(zip(robots, job.grids, starts, strict=True)):
         scenarios = scenarios_by_robot[r]
         solved = solve_rows(robot, grid, rows, robot_starts)
+        reached = []  # each row's (slots, configurations, indices) of its reached targets
         for k, (row, q, reachable, closest, routes) in enumerate(zip(rows, *solved, strict=True)):
             span = slice(k * row_length, (k + 1) * row_length)
             indices = grid.row_indices(row)
@@ -135,8 +137,9 @@ def compute_chunk(job: MapJob, chunk: int, rows: list[int], starts: tuple[np.nda
                 arrays[robot_column(r, name)][span] = value
             if r == 0:
                 arrays["position_m"][span] = target_positions_m(robot, grid, indices, q)
-            measure_into(arrays, span.start + np.flatnonzero(reachable), robot, scenarios, q[reachable],
-                         indices[reachable])
+            reached.append((span.start + np.flatnonzero(reachable), q[reachable], indices[reachable]))
+        slots, qs, indices = (np.concatenate(parts) for parts in zip(*reached, strict=True))
+        measure_into(arrays, slots, robot, scenarios, qs, indices)
     if store is None:
         return arrays
     store.save(chunk, rows[0] * row_length, arrays)
@@ -153,7 +156,8 @@ def empty_arrays(n: int, layout: MapLayout, robot: int | None = None) -> dict[st
     return arrays
 
 
-#: Targets measured at once (a row longer than this in pieces): what measuring holds in memory stays bounded.
+#: Targets measured at once (a chunk's reached targets in pieces of this many): what measuring holds in memory stays
+#: bounded, and each piece pays NumPy's per-call costs once for many targets.
 MEASURE_TARGETS = 1024
 
 
