@@ -358,8 +358,8 @@ def _root_with_tails(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
     """E√(a + Σ_i λ_i z_i²) (k,) as :func:`_root_by_quadrature` (no β), on the grid of :func:`sign_mixture` (step
     ``MIXTURE_LOG_STEP`` from ``SIGN_LOG_START``, t in units of a + Σ λ) and its tails beyond in closed form, where a
     is at least ``ROOT_CONSTANT_SHARE`` of a + Σ λ: above the grid the integrand is t^{-1/2}, below it the series of
-    1 - E e^{-tY} in E Y^k, k <= 4 (:func:`_root_rule`; Y = a + q, q = Σ λ_i z_i², its moments from the cumulants
-    κ_1 = 1, κ_r = 2^(r-1) (r-1)! Σ λ_i^r in these units). Within 1.5e-10 of √a (λ = 0) and of a finer grid's (step
+    1 - E e^{-tY} in E Y^k, k <= 4 (:func:`_root_rule`; Y = a + q, q = Σ λ_i z_i², its moments by
+    :func:`_quadratic_form_moments`). Within 1.5e-10 of √a (λ = 0) and of a finer grid's (step
     0.125 to |u| = 40, tails added); :func:`_root_by_quadrature`, whose grid leaves out its tail beyond t = e^36, lies
     about 2e-8 below both. Compiled where :func:`~tribokin.compiled.use_compiled` (the same to rounding, through
     det(I + 2tΛ)'s elementary symmetric polynomials)."""
@@ -375,9 +375,11 @@ def _root_with_tails(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
     log_transform = -0.5 * np.log1p(2 * times[None, :, None] * unit[:, None, :]).sum(axis=-1) - np.outer(
         constant / scale2, times)
     total = (-np.expm1(log_transform) * times ** -0.5).sum(axis=-1)
-    p2, p3, p4 = ((unit ** r).sum(axis=-1) for r in (2, 3, 4))
-    total = _root_rule(total, 1 + 2 * p2, 1 + 6 * p2 + 8 * p3, 1 + 12 * p2 + 12 * p2 ** 2 + 32 * p3 + 48 * p4,
-                       _sign_lower_tails())
+    # Y = a + q a quadratic form whose extra term of λ = 0 and β² = a carries the constant
+    zero = np.zeros((len(unit), 1))
+    _, second, third, fourth, _ = (m[:, 0] for m in _quadratic_form_moments(
+        np.hstack([unit, zero]), np.hstack([np.zeros_like(unit), (constant / scale2)[:, None]])[:, None]))
+    total = _root_rule(total, second, third, fourth, _sign_lower_tails())
     return total * np.sqrt(scale2) / (2 * math.sqrt(math.pi))
 
 
@@ -531,7 +533,6 @@ def barycentre_shares(directions: np.ndarray, pooled: np.ndarray, cycles: int) -
     return np.linalg.eigvalsh(root @ directions @ root) / cycles
 
 
-
 def rp_l_from_mixture(moments: tuple[np.ndarray, ...], directions: np.ndarray, pooled: np.ndarray, cycles: int
                       ) -> np.ndarray:
     """E[RP_l] [m] (k,) of :func:`rp_l_from_moments` with the barycentre a test's cycles share from
@@ -552,6 +553,7 @@ def rp_l_from_mixture(moments: tuple[np.ndarray, ...], directions: np.ndarray, p
                                            barycentre_shares(directions[rest], pooled[rest], cycles))[0]
         return mean
     return rp_l_from_moments(moments, cycles, barycentre_shares(directions, pooled, cycles))[0]
+
 
 #: Gauss-Legendre nodes on either side of the kink of :func:`expected_maximum`'s integral, and how many standard
 #: deviations either side of its mean the integral spans (the normal's mass beyond: 1e-15).

@@ -102,16 +102,25 @@ def _unit_moments(u, mean_norm, slopes):
 
 
 @kernel
-def _rp_l_from_moments(m1, m2, m3, m4, n):
-    """(E[RP_l], its standard deviation) from one cycle's four moments, as
-    ``iso9283.gaussian_tests.rp_l_from_moments``."""
+def _delta_terms(m1, m2, m3, m4, n):
+    """(σ², the third and fourth central moments, 1 - Var(S_l²) / (8 σ⁴)) of one cycle's distance from its four
+    moments, as ``iso9283.gaussian_tests.rp_l_from_moments`` (the factor 1 where σ⁴ is 0, or underflows)."""
     variance = np.maximum(m2 - m1 ** 2, 0.0)
     central3 = m3 - 3 * m2 * m1 + 2 * m1 ** 3
     central4 = m4 - 4 * m3 * m1 + 6 * m2 * m1 ** 2 - 3 * m1 ** 4
     variance_of_s2 = central4 / n - variance ** 2 * (n - 3) / (n * (n - 1))
+    factor = 1 - variance_of_s2 / (8 * variance ** 2) if variance ** 2 > 0 else 1.0
+    return variance, central3, central4, factor
+
+
+@kernel
+def _rp_l_from_moments(m1, m2, m3, m4, n):
+    """(E[RP_l], its standard deviation) from one cycle's four moments, as
+    ``iso9283.gaussian_tests.rp_l_from_moments``."""
+    variance, central3, central4, factor = _delta_terms(m1, m2, m3, m4, n)
     sigma = math.sqrt(variance)
     if variance > 0:
-        mean = m1 + 3 * sigma * (1 - variance_of_s2 / (8 * variance ** 2))
+        mean = m1 + 3 * sigma * factor
         spread = (variance + 9 * (central4 - variance ** 2) / (4 * variance) + 3 * central3 / sigma) / n
     else:
         mean, spread = m1 + 3 * sigma, 0.0
@@ -655,11 +664,7 @@ def mixture_rp_l(m1, m2, m3, m4, directions, pooled, cycles, times, step, half, 
                     total += directions[k, i, m] * pooled[k, m, j]
                 product[i, j] = total / n
         trace = product[0, 0] + product[1, 1] + product[2, 2]
-        mean1 = m1[k]
-        variance = max(m2[k] - mean1 ** 2, 0.0)
-        central4 = m4[k] - 4 * m3[k] * mean1 + 6 * m2[k] * mean1 ** 2 - 3 * math.pow(mean1, 4.0)
-        variance_of_s2 = central4 / n - variance ** 2 * (n - 3) / (n * (n - 1))
-        factor = 1 - variance_of_s2 / (8 * variance ** 2) if variance ** 2 > 0 else 1.0  # (underflow: NumPy's inf)
+        variance, _, _, factor = _delta_terms(m1[k], m2[k], m3[k], m4[k], n)
         trace = max(trace, 0.0)
         constant = max(variance - trace, 0.0)
         if not constant >= share * (constant + trace):
@@ -676,5 +681,5 @@ def mixture_rp_l(m1, m2, m3, m4, directions, pooled, cycles, times, step, half, 
         elementary[3] = max(a[0, 0] * (a[1, 1] * a[2, 2] - a[1, 2] * a[2, 1]) - a[0, 1] * (a[1, 0] * a[2, 2]
                             - a[1, 2] * a[2, 0]) + a[0, 2] * (a[1, 0] * a[2, 1] - a[1, 1] * a[2, 0]), 0.0)
         deviation = _root(constant / scale2, elementary, times, step, half, lower) * math.sqrt(scale2)
-        out[k] = mean1 + 3 * deviation * factor
+        out[k] = m1[k] + 3 * deviation * factor
     return out
