@@ -90,6 +90,93 @@ def test_the_views_process_draws_the_same_files_and_summary_as_the_writing_proce
     assert result.map.summary() == json.loads(there["summary.json"])["map"]  # the summary it sent back
 
 
+def record_map_figure_drawers(monkeypatch, tmp_path, fails_in_helpers: str | None = None) -> None:
+    """Each process that draws map figures records which (a file per process and call: the views' process and its
+    helpers are forked after this patch); a helper (a process whose parent is not this one) ``"raises"`` or is
+    ``"killed"`` when it would draw, if asked."""
+    import tribokin.viz.contents as contents
+    import tribokin.viz.maps as maps
+
+    real, here = maps.save_map_figures, os.getpid()
+
+    def save_map_figures(workspace_map, folder, study_name, names=None):
+        drawn = real(workspace_map, folder, study_name, names)
+        helper = os.getpid() != here and os.getppid() != here
+        if helper and fails_in_helpers == "raises":
+            raise OSError("a helper's error")
+        if helper and fails_in_helpers == "killed":
+            os.kill(os.getpid(), signal.SIGKILL)
+        (tmp_path / f"{'helper' if helper else 'views'}-{os.getpid()}-{time.monotonic_ns()}").write_text(
+            json.dumps([path.name for path in drawn]))
+        return drawn
+
+    for module in (contents, maps):
+        monkeypatch.setattr(module, "save_map_figures", save_map_figures)
+
+
+def map_figure_drawers(tmp_path) -> dict[str, dict[int, list[str]]]:
+    """``"helper"`` and ``"views"``: each process's pid -> the map figures it drew, in the order drawn
+    (:func:`record_map_figure_drawers`)."""
+    drawers = {"helper": {}, "views": {}}
+    for path in sorted(tmp_path.glob("*-*-*"), key=lambda path: int(path.name.split("-")[2])):  # in time order
+        kind, pid, _ = path.name.split("-")
+        drawers[kind].setdefault(int(pid), []).extend(json.loads(path.read_text()))
+    return drawers
+
+
+@pytest.mark.parametrize("helper", ["draws", "raises", "killed"])
+def test_a_helper_of_the_views_process_draws_a_share_of_the_map_figures(study, drawn_here, tmp_path, monkeypatch,
+                                                                       helper):
+    """On two cores the views' process forks a helper for every second map figure (the same bytes); a helper that
+    fails, or is killed, leaves its figures to the views' process, which draws them. No helper outlives the run."""
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0, 1})
+    record_map_figure_drawers(monkeypatch, tmp_path, None if helper == "draws" else helper)
+    from tribokin.viz.maps import map_figure_names
+
+    views = ViewsProcess.start(study, None, None, "light")
+    result = run_study(study)
+    write_results(result, tmp_path / "there", report="light", views=views)
+    assert files(tmp_path / "there") == drawn_here
+    names = map_figure_names(result.map)
+    drawers = map_figure_drawers(tmp_path)
+    (views_pid, drawn), = drawers["views"].items()
+    assert views_pid != os.getpid() and len(names) == 5
+    if helper == "draws":
+        (helper_pid, share), = drawers["helper"].items()
+        assert drawn == names[0::2] and share == names[1::2]
+        assert not Path(f"/proc/{helper_pid}").exists()
+    else:  # drawn again by the views' process
+        assert not drawers["helper"] and drawn == names[0::2] + names[1::2]
+
+
+def test_an_error_in_the_views_process_ends_its_helpers(study, tmp_path, monkeypatch):
+    """The views' process fails while its helper still draws: the helper is ended, the error raised, nothing kept."""
+    import tribokin.viz.maps as maps
+
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0, 1})
+    real, here = maps.save_map_figures, os.getpid()
+
+    def save_map_figures(workspace_map, folder, study_name, names=None):
+        if os.getppid() == here:  # the views' process
+            raise OSError(28, "No space left on device")
+        (tmp_path / f"helper-{os.getpid()}").touch()
+        time.sleep(60)  # still drawing
+        return real(workspace_map, folder, study_name, names)
+
+    monkeypatch.setattr(maps, "save_map_figures", save_map_figures)
+    record_drawing_pid(monkeypatch, tmp_path)
+    monkeypatch.setattr(
+        "tribokin.viz.contents.save_map_figures",
+        lambda workspace_map, folder, study_name, names=None: save_map_figures(workspace_map, folder, study_name))
+    views = ViewsProcess.start(study, None, None, "light")
+    started = time.monotonic()
+    with pytest.raises(InputError, match="disk"):
+        write_results(run_study(study), tmp_path / "out", report="light", views=views)
+    assert time.monotonic() - started < 30 and not (tmp_path / "out").exists()
+    helper, = (int(path.name.split("-")[1]) for path in tmp_path.glob("helper-*"))
+    assert not Path(f"/proc/{helper}").exists()
+
+
 #: The axis warming by its own friction, with a drift test of 12 cycles in sets of 4.
 DRIFT_STUDY = f"""
 [study]

@@ -39,12 +39,14 @@ def folders(tmp_path_factory) -> dict[str, Path]:
     """Output folders written by `tribokin run --report light`: a pose study, a map study, and both; without their
     PNG figures, which the viewer never reads (it serves scene.npz, summary.json says what the folder holds)."""
     import tribokin.viz.contents as contents
+    import tribokin.viz.maps as maps
 
     assert "resolution = [3, 3]" in SMALL_MAP_TOML
     root = tmp_path_factory.mktemp("view")
-    with pytest.MonkeyPatch.context() as patch:  # in the views' process too: it is forked with the patch
+    with pytest.MonkeyPatch.context() as patch:  # in the views' process too (and its helpers): forked with the patch
         patch.setattr(contents, "save_repeatability_field", lambda pose, path, title="": None)
-        patch.setattr(contents, "save_map_figures", lambda workspace_map, folder, study_name: [])
+        for module in (contents, maps):
+            patch.setattr(module, "save_map_figures", lambda workspace_map, folder, study_name, names=None: [])
         for kind, text in STUDY_TEXTS.items():
             (root / f"{kind}.toml").write_text(text)
             assert main(["run", root / f"{kind}.toml", "--out", root / kind, "--report", "light"]) == 0

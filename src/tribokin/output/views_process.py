@@ -13,6 +13,10 @@ other thread; else (and through the Python API) the views are drawn by the writi
 (:func:`~tribokin.output.writers.write_results` without one), as they are for results whose poses' samples are large
 (:data:`SENT_POSE_BYTES`), and if this process is lost, or declines: its study or robot did not load, or the study
 file changed between its reading and the command's.
+
+A map's figures, the end of the run's critical path, are shared with helpers this process forks when it is sent
+them (:class:`FigureHelpers`): one per further core, each drawing every (k + 1)-th figure into the same folder
+meanwhile; a figure a helper did not draw (it failed, or was killed) is drawn here, its error raised here.
 """
 
 from __future__ import annotations
@@ -23,9 +27,10 @@ import signal
 import threading
 import traceback
 from concurrent.futures import Future
+from contextlib import suppress
 from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NoReturn
 
 from tribokin.execution import end_with_parent
 
@@ -55,8 +60,7 @@ class ViewsProcess:
         """Fork the process for the study at path ``study`` (with the command line's ``cycles`` and ``seed``) and its
         ``report`` (``"full"``, ``"light"``, ``"none"``), or ``None`` where it would not pay or could deadlock
         (see the module)."""
-        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
-        if cores < 2 or "fork" not in multiprocessing.get_all_start_methods() or threading.active_count() > 1:
+        if _cores() < 2 or "fork" not in multiprocessing.get_all_start_methods() or threading.active_count() > 1:
             return None
         here, there = multiprocessing.Pipe()
         process = multiprocessing.get_context("fork").Process(
@@ -119,16 +123,21 @@ def _serve(connection, parent: int, study, cycles, seed, report: str) -> None:
     if robot is None or result.reproduce.get("study_sha256") != study_sha256:  # the study changed since, or did not
         connection.send(("declined", None, None))                               # load here: the command draws
         return
+    helpers = None
     try:
         from tribokin.viz.contents import write_views
 
         result = replace(result, robot=robot)
+        helpers = FigureHelpers.start(result, folder)  # before this process starts a thread
         if result.map is not None and summary_follows:
             result.map.use_statistics(_received(connection))
-        write_views(result, folder, report, map_layers, cube)
+        write_views(result, folder, report, map_layers, cube, None if helpers is None else helpers.elsewhere())
         reply = ("done", None if result.map is None or summary_follows else result.map.statistics(), None)
     except BaseException as error:  # noqa: BLE001 - every error goes back to the command, which raises it
         reply = ("error", error, None if isinstance(error, TribokinError) else traceback.format_exc())
+    finally:
+        if helpers is not None:
+            helpers.close()
     try:
         connection.send(reply)
     except Exception:  # noqa: BLE001 - an error that does not pickle goes back as its text
@@ -168,3 +177,81 @@ def _prepared(study, cycles, seed, report: str):
         return robot, loaded.sha256
     except Exception:  # noqa: BLE001 - reported by the command, which checks every input
         return None, None
+
+
+def _cores() -> int:
+    """The cores this process may run on."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
+class FigureHelpers:
+    """Processes forked from the views' process that draw shares of a map's figures into its output folder meanwhile:
+    :meth:`start`, hand :meth:`elsewhere` to :func:`~tribokin.viz.contents.write_views`, :meth:`close` in any
+    case."""
+
+    def __init__(self, result, folder: Path, shares: dict[int, list[str]]):
+        self._result, self._folder, self._shares = result, folder, shares
+
+    @classmethod
+    def start(cls, result, folder: Path) -> FigureHelpers | None:
+        """Fork one helper per core beyond this process's first (at most one per map figure but this process's
+        first), the i-th drawing figures i, i + k + 1, ... (k helpers) of the map of ``result`` (a
+        :class:`~tribokin.run.StudyResult`) into ``folder``; ``None`` without a map, a further core or a second
+        figure, or beside another thread (a fork could deadlock)."""
+        if result.map is None or threading.active_count() > 1:
+            return None
+        from tribokin.viz.maps import map_figure_names
+
+        names = map_figure_names(result.map)
+        count = min(_cores() - 1, len(names) - 1)
+        if count < 1:
+            return None
+        shares, parent = {}, os.getpid()
+        for i in range(1, count + 1):
+            share = names[i::count + 1]
+            pid = os.fork()
+            if pid == 0:
+                _draw_share(parent, result, folder, share)
+            shares[pid] = share
+        return cls(result, folder, shares)
+
+    def elsewhere(self):
+        """The figures the helpers draw, and how to wait for them (:class:`~tribokin.viz.contents.DrawnElsewhere`)."""
+        from tribokin.viz.contents import DrawnElsewhere
+
+        return DrawnElsewhere(frozenset(name for share in self._shares.values() for name in share), self.wait)
+
+    def wait(self) -> None:
+        """Return once every helper has ended; the figures of one that did not end well are drawn here (its error,
+        if any, raised here)."""
+        from tribokin.viz.maps import save_map_figures
+
+        while self._shares:
+            pid, share = next(iter(self._shares.items()))
+            _, status = os.waitpid(pid, 0)
+            del self._shares[pid]
+            if os.waitstatus_to_exitcode(status) != 0:
+                save_map_figures(self._result.map, self._folder, self._result.name, share)
+
+    def close(self) -> None:
+        """End the helpers still drawing (an error here: the output folder is being discarded)."""
+        for pid in self._shares:
+            with suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+        self._shares.clear()
+
+
+def _draw_share(parent: int, result, folder: Path, share: list[str]) -> NoReturn:
+    """A helper's life: draw the map figures ``share`` of ``result`` into ``folder``, and end (status 0 once drawn,
+    1 on any error: its parent draws them again, and raises it)."""
+    status = 1
+    try:
+        end_with_parent(parent)
+        from tribokin.viz.maps import save_map_figures
+
+        save_map_figures(result.map, folder, result.name, share)
+        status = 0
+    finally:
+        os._exit(status)
+

@@ -3,6 +3,8 @@ layers in the scene (thinned), the test cube; :func:`write_views` writes them in
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 from matplotlib.figure import Figure
@@ -80,20 +82,33 @@ def study_figures(result: StudyResult) -> dict[str, Figure]:
     return figures | (map_figures_drawn(result.map, result.name) if result.map is not None else {})
 
 
+@dataclass(frozen=True)
+class DrawnElsewhere:
+    """Map figures another process draws into the same folder meanwhile: their file ``names``, and ``wait()``,
+    which returns once they are there."""
+
+    names: frozenset[str]
+    wait: Callable[[], None]
+
+
 def write_views(result: StudyResult, folder: Path, report: str = "full", map_layers: dict[str, MapLayer] | None = None,
-                cube: Cube | None = None) -> None:
+                cube: Cube | None = None, elsewhere: DrawnElsewhere | None = None) -> None:
     """Draw into ``folder`` the placement's heat map, one figure per pose (and its drift test's) and the map's
-    figures; with ``report`` ``"full"`` or ``"light"`` (robot visual or collision meshes) also ``report.html`` and
-    ``scene.npz`` (for ``tribokin view``), drawing ``map_layers`` (default: the map's scenarios,
-    :func:`map_scene_layers`) and ``cube`` (default: the study's)."""
+    figures (but those drawn ``elsewhere``, waited for before the report); with ``report`` ``"full"`` or
+    ``"light"`` (robot visual or collision meshes) also ``report.html`` and ``scene.npz`` (for ``tribokin view``),
+    drawing ``map_layers`` (default: the map's scenarios, :func:`map_scene_layers`) and ``cube`` (default: the
+    study's)."""
     for pose in result.poses:
         save_repeatability_field(pose, folder / pose_figure_file(pose.name), pose_title(result, pose))
     for drift in result.drifts:
         save_drift_figure(drift, folder / drift_figure_file(drift.pose), drift_title(result, drift))
     if result.map is not None:
-        save_map_figures(result.map, folder, result.name)
+        save_map_figures(result.map, folder, result.name, None if elsewhere is None else
+                         [name for name in map_figure_names(result.map) if name not in elsewhere.names])
     if result.placement is not None:
         save_placement_figure(result.placement, folder / PLACEMENT_FIGURE, result.name)
+    if elsewhere is not None:
+        elsewhere.wait()
     if report == "none":
         return
     cube = study_cube(result) if cube is None else cube

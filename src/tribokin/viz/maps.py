@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import textwrap
+from collections.abc import Collection
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -400,15 +401,19 @@ def map_figure_names(workspace_map: MapResult) -> list[str]:
     return list(_map_figures(workspace_map, "", None))
 
 
-def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str) -> list[Path]:
+def save_map_figures(workspace_map: MapResult, folder: Path, study_name: str,
+                     names: Collection[str] | None = None) -> list[Path]:
     """``map_RP_l.png`` and ``map_dominant_joint.png`` (reference scenario); with scenarios, each other
     scenario's RP_l (all RP_l maps on one colour scale, :func:`rp_l_norm`), its ratio and difference to
     the reference, comparing two states each one's changes (each change's maps on one scale, :func:`change_norms`),
-    and ``map_winner.png`` (which scenario has the smallest RP_l); returns their paths in that order."""
+    and ``map_winner.png`` (which scenario has the smallest RP_l); returns their paths in that order. Only those
+    of file ``names`` (:func:`map_figure_names`) where given: the same bytes as drawn with the others."""
     figures = _map_figures(workspace_map, study_name, rp_l_norm(workspace_map), change_norms(workspace_map))
-    for name, (values, label, title, options) in figures.items():
+    drawn = [name for name in figures if names is None or name in names]
+    for name in drawn:
+        values, label, title, options = figures[name]
         save_grid_image(workspace_map.grid, values, folder / name, label, f"{study_name}: {title}", **options)
-    return [folder / name for name in figures]
+    return [folder / name for name in drawn]
 
 
 def map_figures_drawn(workspace_map: MapResult, study_name: str) -> dict[str, Figure]:
