@@ -177,12 +177,12 @@ def test_a_sign_mixture_without_columns_has_a_gaussians_moments_and_compiled_agr
     np.testing.assert_allclose(results["compiled"][1], results["numpy"][1], rtol=0, atol=1e-12)
 
 
-def test_a_sign_mixtures_series_below_its_grid_agrees_with_the_same_rule_carried_twelve_units_further_down():
-    """The series in t that stands for :func:`sign_mixture`'s nodes below ``SIGN_LOG_START`` against the same trapezoid
-    rule carried down to u = -20 (the series below it less than 1e-25 of the integral's): E|x| to 1e-13, E|x|³ to
-    2e-12 (the rule's own rounding there, in L(t) - 1 + t E|x|² at small t), U to 1e-10 (first order in t below the
-    grid; 4e-8 off without its second term), on mixtures with offsets far beyond the noise (a map's), about as
-    large, and none with anisotropic noise."""
+def test_a_sign_mixtures_series_below_its_grid_agrees_with_the_same_rule_carried_further_down():
+    """The series in t that stands for :func:`sign_mixture`'s nodes below ``SIGN_LOG_START`` (u = -4.5) against the
+    same trapezoid rule carried down to u = -20 (the series below it less than 1e-25 of the integral's): E|x| and
+    E|x|³ to 2e-10 (1.4e-10 here: the first terms the series leave out), U to 1e-8 (second order in t below the grid;
+    5e-7 off without its third term), on mixtures with offsets far beyond the noise (a map's), about as large, and
+    none with anisotropic noise."""
     from tribokin.iso9283 import gaussian_tests as gt
 
     rng = np.random.default_rng(7)
@@ -191,11 +191,13 @@ def test_a_sign_mixtures_series_below_its_grid_agrees_with_the_same_rule_carried
     covariance = roots @ np.swapaxes(roots, 1, 2)
     columns, covariance = columns / 40, covariance / 1600  # to order one, as sign_mixture scales them
     deeper = np.exp(np.arange(-20.0, gt.MIXTURE_LOG_RANGE + 1e-9, gt.MIXTURE_LOG_STEP))
-    series = gt._mixture_block(columns, covariance, np.exp(gt._SIGN_LOGS), gt._mixture_tails(), gt._sign_lower_tails())
-    carried = gt._mixture_block(columns, covariance, deeper, gt._mixture_tails(), gt._sign_lower_tails(-20.0))
-    np.testing.assert_allclose(series[0], carried[0], rtol=1e-13)
-    np.testing.assert_allclose(series[2], carried[2], rtol=2e-12)
-    np.testing.assert_allclose(series[4], carried[4], rtol=0, atol=1e-10)
+    series = gt._mixture_block(columns, covariance, np.exp(gt._SIGN_LOGS), gt._mixture_tails(),
+                               gt._lower_tails(gt.SIGN_LOG_START))
+    carried = gt._mixture_block(columns, covariance, deeper, gt._mixture_tails(), gt._lower_tails(-20.0))
+    assert gt.SIGN_LOG_START == -4.5
+    np.testing.assert_allclose(series[0], carried[0], rtol=2e-10)
+    np.testing.assert_allclose(series[2], carried[2], rtol=2e-10)
+    np.testing.assert_allclose(series[4], carried[4], rtol=0, atol=1e-8)
 
 
 def test_the_expected_maximum_of_three_normals_agrees_with_a_monte_carlo_and_ignores_their_order():

@@ -356,7 +356,7 @@ ROOT_CONSTANT_SHARE = 1e-5
 
 def _root_with_tails(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
     """E√(a + Σ_i λ_i z_i²) (k,) as :func:`_root_by_quadrature` (no β), on the grid of :func:`sign_mixture` (step
-    ``MIXTURE_LOG_STEP`` from ``SIGN_LOG_START``, t in units of a + Σ λ) and its tails beyond in closed form, where a
+    ``MIXTURE_LOG_STEP`` from ``ROOT_LOG_START``, t in units of a + Σ λ) and its tails beyond in closed form, where a
     is at least ``ROOT_CONSTANT_SHARE`` of a + Σ λ: above the grid the integrand is t^{-1/2}, below it the series of
     1 - E e^{-tY} in E Y^k, k <= 4 (:func:`_root_rule`; Y = a + q, q = Σ λ_i z_i², its moments by
     :func:`_quadratic_form_moments`). Within 1.5e-10 of √a (λ = 0) and of a finer grid's (step
@@ -367,11 +367,12 @@ def _root_with_tails(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
         from tribokin.iso9283 import gaussian_tests_kernels
 
         return gaussian_tests_kernels.root_with_tails(np.ascontiguousarray(constant, dtype=float),
-                                                      np.ascontiguousarray(lam, dtype=float), np.exp(_SIGN_LOGS),
-                                                      MIXTURE_LOG_STEP, _mixture_tails()[0], _sign_lower_tails())
+                                                      np.ascontiguousarray(lam, dtype=float), np.exp(_ROOT_LOGS),
+                                                      MIXTURE_LOG_STEP, _mixture_tails()[0],
+                                                      _lower_tails(ROOT_LOG_START))
     scale2 = np.maximum(constant + lam.sum(axis=-1), np.finfo(float).tiny)
     unit = lam / scale2[:, None]
-    times = np.exp(_SIGN_LOGS)
+    times = np.exp(_ROOT_LOGS)
     log_transform = -0.5 * np.log1p(2 * times[None, :, None] * unit[:, None, :]).sum(axis=-1) - np.outer(
         constant / scale2, times)
     total = (-np.expm1(log_transform) * times ** -0.5).sum(axis=-1)
@@ -379,7 +380,7 @@ def _root_with_tails(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
     zero = np.zeros((len(unit), 1))
     _, second, third, fourth, _ = (m[:, 0] for m in _quadratic_form_moments(
         np.hstack([unit, zero]), np.hstack([np.zeros_like(unit), (constant / scale2)[:, None]])[:, None]))
-    total = _root_rule(total, second, third, fourth, _sign_lower_tails())
+    total = _root_rule(total, second, third, fourth, _lower_tails(ROOT_LOG_START))
     return total * np.sqrt(scale2) / (2 * math.sqrt(math.pi))
 
 
@@ -392,17 +393,24 @@ MIXTURE_BLOCK = 512
 _MIXTURE_LOGS = np.arange(-MIXTURE_LOG_RANGE, MIXTURE_LOG_RANGE + 1e-9, MIXTURE_LOG_STEP)
 
 
-#: Where :func:`sign_mixture`'s grid starts (u = ln t): below it each integrand is its series in t (the patterns'
-#: E|x|^2k to k = 5; the first term left out, t^4 E|x|^10 / 5! at most 2e-15 beside the leading one there, far less
-#: summed), over the nodes below summed in closed form (:func:`_sign_lower_tails`).
-SIGN_LOG_START = -8.0
+#: Where :func:`sign_mixture`'s grid starts (u = ln t): below it each integrand is its series in t, over the nodes
+#: below summed in closed form (:func:`_lower_tails`): E|x| and E|x|³ from the patterns' E|x|^2k to k = 4 and 5, U to
+#: second order in t. The series' error: within 2e-10 of the same rule carried twelve units further down, beside the
+#: rule's own (about 3e-9); where the grid started at -8, it was within 2e-13, at the cost of nodes where no pattern's
+#: L(t) has yet fallen below e^-44 (a third of a map's patterns and nodes).
+SIGN_LOG_START = -4.5
 _SIGN_LOGS = _MIXTURE_LOGS[_MIXTURE_LOGS >= SIGN_LOG_START - 1e-9]
+#: Where :func:`_root_with_tails`' grid starts: below it, the series of 1 - E e^{-tY} in E Y^k, k <= 4 (Y in units of
+#: its mean; E Y^k may be as large as a χ²₁'s: 945 for k = 5).
+ROOT_LOG_START = -8.0
+_ROOT_LOGS = _MIXTURE_LOGS[_MIXTURE_LOGS >= ROOT_LOG_START - 1e-9]
 
 
-def _sign_lower_tails(start: float = SIGN_LOG_START) -> np.ndarray:
-    """Σ_{j >= 1} t_j^a over the nodes t_j = e^(``start`` - j h) below :func:`sign_mixture`'s grid (h the step), for
-    a = 1/2, 3/2, 5/2, 7/2, 1, 2."""
-    return np.array([math.exp(a * start) / math.expm1(a * MIXTURE_LOG_STEP) for a in (0.5, 1.5, 2.5, 3.5, 1.0, 2.0)])
+def _lower_tails(start: float) -> np.ndarray:
+    """Σ_{j >= 1} t_j^a over the nodes t_j = e^(``start`` - j h) below a grid of :func:`sign_mixture`'s step h that
+    starts at u = ``start``, for a = 1/2, 3/2, 5/2, 7/2, 1, 2, 3."""
+    return np.array([math.exp(a * start) / math.expm1(a * MIXTURE_LOG_STEP)
+                     for a in (0.5, 1.5, 2.5, 3.5, 1.0, 2.0, 3.0)])
 
 
 def _quadratic_form_moments(lam: np.ndarray, beta2: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -419,7 +427,7 @@ def _root_rule(inner: np.ndarray, second: np.ndarray, third: np.ndarray, fourth:
                ) -> np.ndarray:
     """(2√π)·E√Y on :func:`sign_mixture`'s grid (u = ln t) with its tails in closed form, Y in units of its mean
     (E Y = 1): ``inner`` the grid's Σ (1 - L(t)) t^{-1/2}; above the grid t^{-1/2}; below it (``lower``:
-    :func:`_sign_lower_tails`) t^{1/2} - t^{3/2} E Y² / 2 + t^{5/2} E Y³ / 6 - t^{7/2} E Y⁴ / 24 (``second``,
+    :func:`_lower_tails`) t^{1/2} - t^{3/2} E Y² / 2 + t^{5/2} E Y³ / 6 - t^{7/2} E Y⁴ / 24 (``second``,
     ``third``, ``fourth``)."""
     return MIXTURE_LOG_STEP * (inner + _mixture_tails()[0] + lower[0] - second / 2 * lower[1] + third / 6 * lower[2]
                                - fourth / 24 * lower[3])
@@ -450,15 +458,15 @@ def sign_mixture(columns: np.ndarray, covariance: np.ndarray) -> tuple[tuple[np.
     grid of ``MIXTURE_LOG_STEP`` from ``SIGN_LOG_START`` for every pattern of a target, below it each integrand's
     series in t from the patterns' E|x|^2k (:func:`_quadratic_form_moments`); on b and S scaled by a power of two to
     order one. U from the same nodes: ∫₀^∞ E[x xᵀ e^{-t|x|²}] dt, whose integrand is L(t) (S_t + m_t m_tᵀ),
-    S_t = S (I + 2 t S)⁻¹, m_t = (I + 2 t S)⁻¹ c_p (the Gaussian tilted by e^{-t|x|²}), below the grid to first order
-    in t; its trace is 1 to about 1e-8.
+    S_t = S (I + 2 t S)⁻¹, m_t = (I + 2 t S)⁻¹ c_p (the Gaussian tilted by e^{-t|x|²}), below the grid to second
+    order in t; its trace is 1 to about 1e-8.
     """
     columns, covariance = np.asarray(columns, dtype=float), np.asarray(covariance, dtype=float)
     magnitude = np.maximum(np.abs(columns).max(axis=(1, 2), initial=0.0),
                            np.sqrt(np.abs(np.diagonal(covariance, axis1=1, axis2=2)).max(axis=1, initial=0.0)))
     scale = np.exp2(np.round(np.log2(np.where(magnitude > 0, magnitude, 1.0))))  # to order one, exactly
     columns, covariance = columns / scale[:, None, None], covariance / scale[:, None, None] / scale[:, None, None]
-    times, tails, lower = np.exp(_SIGN_LOGS), _mixture_tails(), _sign_lower_tails()
+    times, tails, lower = np.exp(_SIGN_LOGS), _mixture_tails(), _lower_tails(SIGN_LOG_START)
     if use_compiled():
         from tribokin.iso9283 import gaussian_tests_kernels
 
@@ -505,9 +513,16 @@ def _mixture_block(columns: np.ndarray, covariance: np.ndarray, times: np.ndarra
     inner = (tilt[..., :, None] * tilt[..., None, :] * pairs.reshape(*pairs.shape[:2], 3, 3)
              + (weight.sum(axis=1)[..., None] * lam[:, None] * tilt)[..., None] * np.eye(3))  # (k, nodes, 3, 3)
     spread, summed = lam[:, :, None] * np.eye(3), products.sum(axis=1)
-    below = (lower[4] * (beta.shape[1] * spread + summed)  # t L(t) (S_t + m_t m_tᵀ) to first order in t, below
-             - lower[5] * (second.sum(axis=1)[:, None, None] * spread + np.einsum("kp,kpij->kij", second, products)
-                           + 2 * beta.shape[1] * spread ** 2 + 2 * (lam[:, :, None] + lam[:, None, :]) * summed))
+    pairwise = lam[:, :, None] + lam[:, None, :]
+    weighted = np.einsum("kp,kpij->kij", second, products)
+    below = (lower[4] * (beta.shape[1] * spread + summed)  # t L(t) (S_t + m_t m_tᵀ) to second order in t, below
+             - lower[5] * (second.sum(axis=1)[:, None, None] * spread + weighted + 2 * beta.shape[1] * spread ** 2
+                           + 2 * pairwise * summed)
+             + lower[6] * (fourth.sum(axis=1)[:, None, None] / 2 * spread
+                           + np.einsum("kp,kpij->kij", fourth, products) / 2
+                           + 2 * (second.sum(axis=1)[:, None, None] * spread ** 2 + pairwise * weighted)
+                           + 4 * (beta.shape[1] * spread ** 3 + (pairwise ** 2 - lam[:, :, None] * lam[:, None, :])
+                                  * summed)))
     inner = (np.einsum("t,ktij->kij", times, inner) + below) * MIXTURE_LOG_STEP / beta.shape[1]
     directions = np.where((scale2 > 0)[:, None, None], vectors @ inner @ np.swapaxes(vectors, 1, 2), 0.0)
     return (first / (2 * math.sqrt(math.pi)) * scale, scale2, 3 * third / (4 * math.sqrt(math.pi)) * scale ** 3,
@@ -545,8 +560,8 @@ def rp_l_from_mixture(moments: tuple[np.ndarray, ...], directions: np.ndarray, p
         mean = gaussian_tests_kernels.mixture_rp_l(*(np.ascontiguousarray(m, dtype=float) for m in moments),
                                                    np.ascontiguousarray(directions, dtype=float),
                                                    np.ascontiguousarray(pooled, dtype=float), cycles,
-                                                   np.exp(_SIGN_LOGS), MIXTURE_LOG_STEP, _mixture_tails()[0],
-                                                   _sign_lower_tails(), ROOT_CONSTANT_SHARE)
+                                                   np.exp(_ROOT_LOGS), MIXTURE_LOG_STEP, _mixture_tails()[0],
+                                                   _lower_tails(ROOT_LOG_START), ROOT_CONSTANT_SHARE)
         rest = np.flatnonzero(np.isnan(mean))  # E√(a + εᵀ U ε) with a below its share: the quadrature's
         if len(rest):
             mean[rest] = rp_l_from_moments(tuple(m[rest] for m in moments), cycles,

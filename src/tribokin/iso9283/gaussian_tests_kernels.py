@@ -390,6 +390,7 @@ def sign_mixture(columns, covariance, times, step, half, three_halves, lower):
     less_one = np.empty(patterns)
     base = np.empty(6)
     weighted = np.empty(6)
+    weighted_fourth = np.empty(6)
     pairs = np.empty(6)
     slope = np.empty(3)
     tilt = np.empty(3)
@@ -435,6 +436,7 @@ def sign_mixture(columns, covariance, times, step, half, three_halves, lower):
         for m in range(6):
             base[m] = 0.0
             weighted[m] = 0.0
+            weighted_fourth[m] = 0.0
         for p in range(count_p):
             if p > 0:  # Gray code: flip the column of p's lowest set bit (the first column keeps its +1)
                 bit, rest = 0, p
@@ -458,7 +460,8 @@ def sign_mixture(columns, covariance, times, step, half, three_halves, lower):
                 power *= lam[j]
                 k5 += 384 * power * (lam[j] + 5 * beta2[j, p])
             second_sum += k1
-            mean_fourth += k2 + k1 ** 2
+            fourth = k2 + k1 ** 2
+            mean_fourth += fourth
             mean_sixth += k3 + 3 * k2 * k1 + k1 ** 3
             mean_eighth += k4 + 4 * k3 * k1 + 3 * k2 ** 2 + 6 * k2 * k1 ** 2 + k1 ** 4
             mean_tenth += (k5 + 5 * k4 * k1 + 10 * k3 * k2 + 10 * k3 * k1 ** 2 + 15 * k2 ** 2 * k1
@@ -469,17 +472,23 @@ def sign_mixture(columns, covariance, times, step, half, three_halves, lower):
                     products[p, m] = beta[i] * beta[j]
                     base[m] += products[p, m]
                     weighted[m] += k1 * products[p, m]
+                    weighted_fourth[m] += fourth * products[p, m]
                     m += 1
+        fourth_sum = mean_fourth
         mean_fourth, mean_sixth = mean_fourth / count_p, mean_sixth / count_p
         mean_eighth, mean_tenth = mean_eighth / count_p, mean_tenth / count_p
         first, third = 0.0, 0.0
         q = 0
-        for i in range(3):  # below the grid: t L(t) (S_t + m_t m_tᵀ) to first order in t, summed over the nodes
+        for i in range(3):  # below the grid: t L(t) (S_t + m_t m_tᵀ) to second order in t, summed over the nodes
             for j in range(i + 1):
-                spread, squared = (lam[i], lam[i] ** 2) if i == j else (0.0, 0.0)
+                spread, squared, cubed = (lam[i], lam[i] ** 2, lam[i] ** 3) if i == j else (0.0, 0.0, 0.0)
                 inner[i, j] = (lower[4] * (count_p * spread + base[q])
                                - lower[5] * (second_sum * spread + weighted[q] + 2 * count_p * squared
-                                             + 2 * (lam[i] + lam[j]) * base[q]))
+                                             + 2 * (lam[i] + lam[j]) * base[q])
+                               + lower[6] * (fourth_sum / 2 * spread + weighted_fourth[q] / 2
+                                             + 2 * (second_sum * squared + (lam[i] + lam[j]) * weighted[q])
+                                             + 4 * (count_p * cubed + (lam[i] ** 2 + lam[i] * lam[j] + lam[j] ** 2)
+                                                    * base[q])))
                 q += 1
         dead = False  # every pattern's L(t) below e^-44 at a node: at every later one too (the exponent falls with t)
         for m in range(times.shape[0]):
