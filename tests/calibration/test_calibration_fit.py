@@ -46,11 +46,12 @@ def test_round_trip_recovers_the_truth_within_the_intervals(backlash_fixed):
 
 
 def test_pooled_intervals_of_identifiable_parameters_cover_the_truth():
-    """200 seeded data sets, all 13 parameters free (stiffness, backlash per joint, noise floor)."""
+    """120 seeded data sets, all 13 parameters free (stiffness, backlash per joint, noise floor): at least 720
+    intervals, whose pooled coverage 0.90 lies about six binomial standard errors below 95 %."""
     kinematics, model = arm_kinematics(), arm_model()
-    hits = [covered(fit(model, simulate(kinematics, np.random.default_rng([21, seed])))) for seed in range(200)]
+    hits = [covered(fit(model, simulate(kinematics, np.random.default_rng([21, seed])))) for seed in range(120)]
     pooled = np.concatenate(hits)
-    assert len(pooled) >= 1200  # most parameters are identifiable in most repetitions
+    assert len(pooled) >= 720  # most parameters are identifiable in most repetitions
     assert pooled.mean() >= 0.90
 
 

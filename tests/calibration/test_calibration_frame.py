@@ -73,13 +73,15 @@ def test_recovers_the_measuring_frames_rotation():
 
 
 def test_pooled_intervals_of_identifiable_parameters_cover_the_truth():
-    """100 seeded data sets, each in its own random frame, all 13 parameters free."""
+    """60 seeded data sets, each in its own random frame, all 13 parameters free: at least 500 intervals (most
+    parameters are identifiable in most data sets), whose pooled coverage 0.90 lies about five binomial standard
+    errors below 95 %."""
     model, hits = arm_model(), []
-    for seed in range(100):
+    for seed in range(60):
         motion = Rotation.random(rng=np.random.default_rng([22, seed]))
         calibration = fit(model, tracker_poses([21, seed], motion), frame="unknown")
         hits += [p.ci95[0] <= TRUTH[p.name] <= p.ci95[1] for p in calibration.parameters if p.identifiable]
-    assert len(hits) >= 900
+    assert len(hits) >= 500
     assert np.mean(hits) >= 0.90
 
 
