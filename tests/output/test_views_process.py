@@ -149,6 +149,26 @@ def test_a_helper_of_the_views_process_draws_a_share_of_the_map_figures(study, d
         assert not drawers["helper"] and drawn == names[0::2] + names[1::2]
 
 
+def test_where_no_helper_can_be_forked_the_views_process_draws_every_figure(study, drawn_here, tmp_path,
+                                                                           monkeypatch):
+    """A fork refused in the views' process (a process limit): its figures are drawn there, the same files."""
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0, 1})
+    record_map_figure_drawers(monkeypatch, tmp_path)
+    real, here = os.fork, os.getpid()
+
+    def fork():
+        if os.getpid() != here:  # the views' process, forking its helper
+            raise BlockingIOError(11, "Resource temporarily unavailable")
+        return real()
+
+    monkeypatch.setattr(os, "fork", fork)
+    views = ViewsProcess.start(study, None, None, "light")
+    write_results(run_study(study), tmp_path / "there", report="light", views=views)
+    assert files(tmp_path / "there") == drawn_here
+    drawers = map_figure_drawers(tmp_path)
+    assert not drawers["helper"] and len(next(iter(drawers["views"].values()))) == 5
+
+
 def test_an_error_in_the_views_process_ends_its_helpers(study, tmp_path, monkeypatch):
     """The views' process fails while its helper still draws: the helper is ended, the error raised, nothing kept."""
     import tribokin.viz.maps as maps

@@ -197,7 +197,7 @@ class FigureHelpers:
         """Fork one helper per core beyond this process's first (at most one per map figure but this process's
         first), the i-th drawing figures i, i + k + 1, ... (k helpers) of the map of ``result`` (a
         :class:`~tribokin.run.StudyResult`) into ``folder``; ``None`` without a map, a further core or a second
-        figure, or beside another thread (a fork could deadlock)."""
+        figure, or beside another thread (a fork could deadlock). A share whose fork fails is drawn here."""
         if result.map is None or threading.active_count() > 1:
             return None
         from tribokin.viz.maps import map_figure_names
@@ -209,11 +209,14 @@ class FigureHelpers:
         shares, parent = {}, os.getpid()
         for i in range(1, count + 1):
             share = names[i::count + 1]
-            pid = os.fork()
+            try:
+                pid = os.fork()
+            except OSError:  # no process to spare (a limit, memory): this share and the next are drawn here
+                break
             if pid == 0:
                 _draw_share(parent, result, folder, share)
             shares[pid] = share
-        return cls(result, folder, shares)
+        return cls(result, folder, shares) if shares else None
 
     def elsewhere(self):
         """The figures the helpers draw, and how to wait for them (:class:`~tribokin.viz.contents.DrawnElsewhere`)."""
