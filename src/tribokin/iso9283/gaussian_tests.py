@@ -396,8 +396,8 @@ _MIXTURE_LOGS = np.arange(-MIXTURE_LOG_RANGE, MIXTURE_LOG_RANGE + 1e-9, MIXTURE_
 #: Where :func:`sign_mixture`'s grid starts (u = ln t): below it each integrand is its series in t, over the nodes
 #: below summed in closed form (:func:`_lower_tails`): E|x| and E|x|³ from the patterns' E|x|^2k to k = 4 and 5, U to
 #: second order in t. The series' error: within 2e-10 of the same rule carried twelve units further down, beside the
-#: rule's own (about 3e-9); where the grid started at -8, it was within 2e-13, at the cost of nodes where no pattern's
-#: L(t) has yet fallen below e^-44 (a third of a map's patterns and nodes).
+#: rule's own (about 3e-9); from -8 it was within 2e-13, at the cost of seven more nodes at which no pattern's L(t) is
+#: yet negligible (the kernel a third slower on a UR5 plane's targets).
 SIGN_LOG_START = -4.5
 _SIGN_LOGS = _MIXTURE_LOGS[_MIXTURE_LOGS >= SIGN_LOG_START - 1e-9]
 #: Where :func:`_root_with_tails`' grid starts: below it, the series of 1 - E e^{-tY} in E Y^k, k <= 4 (Y in units of
