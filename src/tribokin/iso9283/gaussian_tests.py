@@ -348,15 +348,15 @@ def expected_root(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
     return result
 
 
-#: Where a is at least this share of a + Σ λ, E√(a + Σ λ_i z_i²) is taken on the mixture's grid
+#: Where a is at least this share of a + Σ λ, E√(a + Σ λ_i z_i²) is taken on a grid of the mixture's step
 #: (:func:`_root_with_tails`): e^{-t a} then vanishes at the grid's last node (below e^-150), so its tail is t^{-1/2}'s
 #: alone.
 ROOT_CONSTANT_SHARE = 1e-5
 
 
 def _root_with_tails(constant: np.ndarray, lam: np.ndarray) -> np.ndarray:
-    """E√(a + Σ_i λ_i z_i²) (k,) as :func:`_root_by_quadrature` (no β), on the grid of :func:`sign_mixture` (step
-    ``MIXTURE_LOG_STEP`` from ``ROOT_LOG_START``, t in units of a + Σ λ) and its tails beyond in closed form, where a
+    """E√(a + Σ_i λ_i z_i²) (k,) as :func:`_root_by_quadrature` (no β), on a grid of :func:`sign_mixture`'s step
+    (``MIXTURE_LOG_STEP``, from ``ROOT_LOG_START``; t in units of a + Σ λ) and its tails beyond in closed form, where a
     is at least ``ROOT_CONSTANT_SHARE`` of a + Σ λ: above the grid the integrand is t^{-1/2}, below it the series of
     1 - E e^{-tY} in E Y^k, k <= 4 (:func:`_root_rule`; Y = a + q, q = Σ λ_i z_i², its moments by
     :func:`_quadratic_form_moments`). Within 1.5e-10 of √a (λ = 0) and of a finer grid's (step
@@ -514,13 +514,12 @@ def _mixture_block(columns: np.ndarray, covariance: np.ndarray, times: np.ndarra
              + (weight.sum(axis=1)[..., None] * lam[:, None] * tilt)[..., None] * np.eye(3))  # (k, nodes, 3, 3)
     spread, summed = lam[:, :, None] * np.eye(3), products.sum(axis=1)
     pairwise = lam[:, :, None] + lam[:, None, :]
-    weighted = np.einsum("kp,kpij->kij", second, products)
+    second_sum, weighted = second.sum(axis=1)[:, None, None], np.einsum("kp,kpij->kij", second, products)
     below = (lower[4] * (beta.shape[1] * spread + summed)  # t L(t) (S_t + m_t m_tᵀ) to second order in t, below
-             - lower[5] * (second.sum(axis=1)[:, None, None] * spread + weighted + 2 * beta.shape[1] * spread ** 2
-                           + 2 * pairwise * summed)
+             - lower[5] * (second_sum * spread + weighted + 2 * beta.shape[1] * spread ** 2 + 2 * pairwise * summed)
              + lower[6] * (fourth.sum(axis=1)[:, None, None] / 2 * spread
                            + np.einsum("kp,kpij->kij", fourth, products) / 2
-                           + 2 * (second.sum(axis=1)[:, None, None] * spread ** 2 + pairwise * weighted)
+                           + 2 * (second_sum * spread ** 2 + pairwise * weighted)
                            + 4 * (beta.shape[1] * spread ** 3 + (pairwise ** 2 - lam[:, :, None] * lam[:, None, :])
                                   * summed)))
     inner = (np.einsum("t,ktij->kij", times, inner) + below) * MIXTURE_LOG_STEP / beta.shape[1]

@@ -368,6 +368,12 @@ def _far_below(mean, covariance, low, other, span):
 
 
 @kernel
+def _exp_less_one(x):
+    """e^x - 1: ``expm1`` above x = -1, ``exp`` less 1 below (within 1.5 ulp there, and cheaper)."""
+    return math.expm1(x) if x > -1.0 else math.exp(x) - 1.0
+
+
+@kernel
 def sign_mixture(columns, covariance, times, step, half, three_halves, lower):
     """E|x|^k, k = 1..4, (k,) each [m^k] and E[x xᵀ / |x|²] (k, 3, 3) of x = Σ_i s_i b_i + w over independent signs
     s_i = ±1, w ~ N(0, S), of (k, m, 3) ``columns`` and (k, 3, 3) ``covariance``, as ``iso9283.gaussian_tests.
@@ -509,9 +515,9 @@ def sign_mixture(columns, covariance, times, step, half, three_halves, lower):
                 top = max(top, exponents[p])
             dead = not top > _NEGLIGIBLE_EXPONENT
             less = 0.0
-            for p in range(count_p):  # e^x - 1: expm1 near 0, e^x - 1 below -1 (within 1.5 ulp there, and cheaper)
+            for p in range(count_p):
                 e = exponents[p]
-                less_one[p] = math.expm1(e) if e > -1.0 else math.exp(e) - 1.0 if e > _NEGLIGIBLE_EXPONENT else -1.0
+                less_one[p] = _exp_less_one(e) if e > _NEGLIGIBLE_EXPONENT else -1.0
                 less += less_one[p]
             p0, p1, p2, p3, p4, p5 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
             for p in range(count_p):
@@ -582,7 +588,7 @@ def _root(ratio, elementary, times, step, half, lower):
     mixture grid's ``times`` e^u of the Laplace transform e^{-ta} det(I + 2tΛ)^{-1/2}, det(I + 2tΛ) = Σ_j (2t)^j e_j;
     above the grid (``half``) its tail t^{-1/2}, below it (``lower``: the sums of t^{1/2}, t^{3/2}, t^{5/2}, t^{7/2}
     over the nodes below) the series of 1 - e^{-tY} in E Y^k, from the power sums of λ (Newton's identities); e^x - 1
-    by ``expm1`` above x = -1, e^x - 1 below (within 1.5 ulp there, and cheaper)."""
+    by :func:`_exp_less_one`."""
     m = elementary.shape[0] - 1
     e1 = elementary[1] if m >= 1 else 0.0
     e2 = elementary[2] if m >= 2 else 0.0
@@ -605,7 +611,7 @@ def _root(ratio, elementary, times, step, half, lower):
             grown = 2 * t * (elementary[j] + grown)
         exponent = -ratio * t - 0.5 * math.log1p(grown)
         dead = exponent < _NEGLIGIBLE_EXPONENT
-        inner -= (math.expm1(exponent) if exponent > -1.0 else math.exp(exponent) - 1.0) / math.sqrt(t)
+        inner -= _exp_less_one(exponent) / math.sqrt(t)
     rule = step * (inner + half + lower[0] - second / 2 * lower[1] + third / 6 * lower[2] - fourth / 24 * lower[3])
     return rule / (2 * math.sqrt(math.pi))
 
